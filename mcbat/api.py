@@ -1,0 +1,429 @@
+"""Python API for single impacts: build a case, solve it, read the result.
+
+Example
+-------
+>>> from mcbat.api import Ball, Bat, Contact, ImpactCase, solve
+>>> case = ImpactCase(
+...     ball=Ball(mass=0.145, radius=0.036),
+...     bat=Bat(mass=0.989, radius=0.03335, transverse_inertia=0.046, axial_inertia=4.39e-4),
+...     contact=Contact(axial=0.115, angle=0.0),
+...     ball_velocity=(-4.0, 0.0, 0.0), mu=0.5, e=0.618)
+>>> result = solve(case)
+>>> result.end_state
+'stuck'
+
+All quantities are SI, in the lab frame of PHYSICS.md: the bat CM at the origin, ``z``
+along the bat axis towards the barrel end.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mcbat.core import status as st
+from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
+from mcbat.core.cabo2012.contact import (
+    DEFAULT_MAX_STEPS,
+    DEFAULT_SLIP_RESOLUTION,
+    DEFAULT_STEPS,
+)
+from mcbat.core.geometry import (
+    angle_from_impact_parameter,
+    contact_frame,
+    impact_parameter_from_angle,
+)
+from mcbat.core.rigid_bodies import relative_contact_velocity
+from mcbat.errors import InputError
+
+Vector = tuple[float, float, float]
+
+
+def _real(value, name, *, positive=False, minimum=None, maximum=None):
+    """A finite float, or :class:`InputError` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise InputError(name, f"must be a number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(name, f"must be finite, got {value!r}")
+    if positive and not value > 0.0:
+        raise InputError(name, f"must be > 0, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise InputError(name, f"must be >= {minimum}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise InputError(name, f"must be <= {maximum}, got {value!r}")
+    return value
+
+
+def _vector(value, name) -> Vector:
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
+        raise InputError(name, f"must be a list of 3 numbers [x, y, z], got {value!r}")
+    return tuple(_real(v, f"{name}[{i}]") for i, v in enumerate(value))
+
+
+@dataclass(frozen=True)
+class Ball:
+    """A uniform-inertia sphere.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    radius : float
+        m.
+    inertia_factor : float
+        ``f`` in ``I = f m R^2`` (0.4 for a uniform solid sphere).
+    """
+
+    mass: float
+    radius: float
+    inertia_factor: float = 0.4
+
+    def __post_init__(self):
+        _real(self.mass, "mass", positive=True)
+        _real(self.radius, "radius", positive=True)
+        _real(self.inertia_factor, "inertia_factor", positive=True)
+
+
+@dataclass(frozen=True)
+class Bat:
+    """A rigid bat: a solid of revolution about ``z``, free during the impact.
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    transverse_inertia, axial_inertia : float
+        Moments of inertia about the CM, perpendicular to and along the axis, kg m^2.
+    radius : float, optional
+        Barrel radius (m) for a cylinder at the contact.
+    profile : mcbat.core.profile.BatProfile, optional
+        A tabulated profile r(z) (z from the CM, m) instead of ``radius``; the contact
+        normal then tilts by r'(z).
+    """
+
+    mass: float
+    transverse_inertia: float
+    axial_inertia: float
+    radius: float | None = None
+    profile: object | None = field(default=None, compare=False)
+
+    def __post_init__(self):
+        _real(self.mass, "mass", positive=True)
+        _real(self.transverse_inertia, "transverse_inertia", positive=True)
+        _real(self.axial_inertia, "axial_inertia", positive=True)
+        if (self.radius is None) == (self.profile is None):
+            raise InputError("radius", "give exactly one of a barrel radius or a profile")
+        if self.radius is not None:
+            _real(self.radius, "radius", positive=True)
+
+    def surface(self, axial: float) -> tuple[float, float]:
+        """Radius (m) and slope dr/dz at axial position ``axial`` (m from the CM)."""
+        if self.profile is None:
+            return float(self.radius), 0.0
+        lo, hi = self.profile.knob_end, self.profile.barrel_end
+        if not lo <= axial <= hi:
+            raise InputError("axial", f"must lie on the bat, within [{lo:.4g}, {hi:.4g}] m, "
+                             f"got {axial!r}")
+        return float(self.profile.radius(axial)), float(self.profile.slope(axial))
+
+    @classmethod
+    def from_profile(cls, profile) -> "Bat":
+        """A uniform-density bat whose mass properties come from its profile."""
+        return cls(mass=profile.mass, transverse_inertia=profile.transverse_inertia,
+                   axial_inertia=profile.axial_inertia, profile=profile)
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Contact point on the bat surface: axial position (m from the CM) and azimuth (rad)."""
+
+    axial: float
+    angle: float
+
+    def __post_init__(self):
+        _real(self.axial, "axial")
+        _real(self.angle, "angle")
+
+    @classmethod
+    def from_impact_parameter(cls, axial, impact_parameter, ball: Ball, bat: Bat,
+                              approach_azimuth=0.0) -> "Contact":
+        """Contact of a ball arriving perpendicular to the bat along an offset line.
+
+        ``impact_parameter`` (m) is the offset of the ball's line from the bat axis;
+        ``approach_azimuth`` (rad) the side it comes from (0: from ``+x``, moving along
+        ``-x``). For a cylinder, ``b = (R + r_b) sin(theta - approach_azimuth)``.
+        """
+        radius, slope = bat.surface(axial)
+        angle = angle_from_impact_parameter(
+            _real(impact_parameter, "impact_parameter"), ball.radius, radius, slope,
+            _real(approach_azimuth, "approach_azimuth"))
+        if math.isnan(angle):
+            reach = radius + ball.radius / math.sqrt(1.0 + slope * slope)
+            raise InputError("impact_parameter",
+                             f"|b| must be <= {reach:.6g} m (the ball misses), "
+                             f"got {impact_parameter!r}")
+        return cls(axial=axial, angle=angle)
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """Accuracy settings of the kernel (see ``mcbat.core.cabo2012.contact``)."""
+
+    steps: int = DEFAULT_STEPS
+    slip_resolution: float = DEFAULT_SLIP_RESOLUTION
+    max_steps: int = DEFAULT_MAX_STEPS
+
+
+@dataclass(frozen=True)
+class ImpactCase:
+    """One impact: bodies, contact point, initial velocities (lab frame), friction, e*.
+
+    ``e`` is Stronge's energetic coefficient ``e*`` in [0, 1]; the paper's loss fraction
+    ``e^2`` corresponds to ``e* = sqrt(1 - e^2)`` (:meth:`e_from_loss_fraction`).
+    """
+
+    ball: Ball
+    bat: Bat
+    contact: Contact
+    ball_velocity: Vector
+    ball_spin: Vector = (0.0, 0.0, 0.0)
+    bat_velocity: Vector = (0.0, 0.0, 0.0)
+    bat_spin: Vector = (0.0, 0.0, 0.0)
+    mu: float = 0.0
+    e: float = 1.0
+
+    def __post_init__(self):
+        for name in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin"):
+            object.__setattr__(self, name, _vector(getattr(self, name), name))
+        _real(self.mu, "mu", minimum=0.0)
+        _real(self.e, "e", minimum=0.0, maximum=1.0)
+        self.contact_surface()  # the contact must lie on the bat
+
+    @staticmethod
+    def e_from_loss_fraction(loss_fraction: float) -> float:
+        """``e*`` from the paper's fraction ``e^2`` of the peak stored energy that is lost."""
+        return math.sqrt(1.0 - _real(loss_fraction, "loss_fraction", minimum=0.0, maximum=1.0))
+
+    def contact_surface(self) -> tuple[float, float]:
+        """Bat radius and slope at the contact point."""
+        try:
+            return self.bat.surface(self.contact.axial)
+        except InputError as err:
+            raise err.within("contact") from None
+
+    def normal_approach_speed(self) -> float:
+        """Initial normal relative contact velocity ``v_n`` (m/s); negative if approaching."""
+        radius, slope = self.contact_surface()
+        t1, t2, t3, r_c = contact_frame(self.contact.axial, self.contact.angle, radius, slope)
+        v = relative_contact_velocity(self.ball.radius, t3, r_c, self.ball_velocity,
+                                      self.ball_spin, self.bat_velocity, self.bat_spin)
+        return float(np.dot(v, t3))
+
+    def impact_parameter(self, approach_azimuth: float = 0.0) -> float:
+        """Offset (m) of a line perpendicular to the bat through the ball centre, from the axis."""
+        radius, slope = self.contact_surface()
+        return float(impact_parameter_from_angle(self.contact.angle, self.ball.radius,
+                                                 radius, slope, approach_azimuth))
+
+    def validate_approach(self) -> None:
+        """Raise :class:`InputError` unless the contact points approach (``v_n < 0``)."""
+        vn = self.normal_approach_speed()
+        if not vn < 0.0:
+            raise InputError("ball_velocity",
+                             f"the bodies are not approaching at the contact "
+                             f"(normal relative velocity v_n = {vn:.6g} m/s >= 0)")
+
+    @classmethod
+    def from_dict(cls, data) -> "ImpactCase":
+        """Build a case from the JSON contract of ``mcbat impact`` (see the README)."""
+        return _case_from_dict(data)
+
+
+@dataclass(frozen=True)
+class ImpactResult:
+    """Outcome of one impact (SI units, lab frame).
+
+    ``stick_impulse`` is None when sliding never stopped (0 for an impact that starts
+    stuck); ``status`` and ``end_state`` are strings (``"ok"``, ``"stuck"``/``"sliding"``).
+    """
+
+    case: ImpactCase
+    status: str
+    end_state: str
+    ball_velocity: Vector
+    ball_spin: Vector
+    bat_velocity: Vector
+    bat_spin: Vector
+    normal_impulse: float
+    stick_impulse: float | None
+    compression_impulse: float
+    tangential_impulse: tuple[float, float]
+    compression_work: float
+    normal_work: float
+    friction_work: float
+    stick_criterion: float | None
+    energy_in: float
+    energy_out: float
+    rk4_steps: int
+
+    @property
+    def exit_speed(self) -> float:
+        """Speed of the outgoing ball, m/s."""
+        return math.sqrt(sum(v * v for v in self.ball_velocity))
+
+    @property
+    def scattering_angle(self) -> float:
+        """``atan2(v_y, v_x)`` of the outgoing ball, degrees (0 = straight back along ``+x``)."""
+        return math.degrees(math.atan2(self.ball_velocity[1], self.ball_velocity[0]))
+
+    @property
+    def restitution_loss(self) -> float:
+        """Energy lost besides friction, ``-W_n(I_f)`` (J): the paper's extra loss."""
+        return -self.normal_work
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (the output contract of ``mcbat impact``)."""
+        return {
+            "status": self.status,
+            "end_state": self.end_state,
+            "ball_velocity": list(self.ball_velocity),
+            "ball_spin": list(self.ball_spin),
+            "bat_velocity": list(self.bat_velocity),
+            "bat_spin": list(self.bat_spin),
+            "normal_impulse": self.normal_impulse,
+            "stick_impulse": self.stick_impulse,
+            "compression_impulse": self.compression_impulse,
+            "tangential_impulse": list(self.tangential_impulse),
+            "compression_work": self.compression_work,
+            "normal_work": self.normal_work,
+            "friction_work": self.friction_work,
+            "restitution_loss": self.restitution_loss,
+            "energy_in": self.energy_in,
+            "energy_out": self.energy_out,
+            "stick_criterion": self.stick_criterion,
+            "exit_speed": self.exit_speed,
+            "scattering_angle": self.scattering_angle,
+            "impact_parameter": self.case.impact_parameter(),
+            "rk4_steps": self.rk4_steps,
+        }
+
+
+def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> ImpactResult:
+    """Solve one impact with the jitted kernel.
+
+    Raises
+    ------
+    InputError
+        If the bodies are not approaching at the contact.
+    RuntimeError
+        If the kernel reports a failure status (non-convergence, degenerate mechanics).
+    """
+    case.validate_approach()
+    radius, slope = case.contact_surface()
+    out = dict(zip(IMPACT_FIELDS, solve_impact(
+        case.ball.mass, case.ball.radius, case.ball.inertia_factor,
+        case.bat.mass, case.bat.transverse_inertia, case.bat.axial_inertia,
+        case.contact.axial, case.contact.angle, radius, slope,
+        *case.ball_velocity, *case.ball_spin, *case.bat_velocity, *case.bat_spin,
+        case.mu, case.e, settings.steps, settings.slip_resolution, settings.max_steps)))
+    code = int(out["status"])
+    if code != st.OK:
+        raise RuntimeError(f"impact solver failed with status {st.STATUS_NAMES[code]!r}")
+
+    def vec(prefix):
+        return tuple(float(out[f"{prefix}{c}"]) for c in "xyz")
+
+    def optional(value):
+        return None if math.isnan(value) else float(value)
+
+    return ImpactResult(
+        case=case,
+        status=st.STATUS_NAMES[code],
+        end_state=st.END_STATE_NAMES[int(out["end_state"])],
+        ball_velocity=vec("ball_v"), ball_spin=vec("ball_w"),
+        bat_velocity=vec("bat_v"), bat_spin=vec("bat_w"),
+        normal_impulse=float(out["normal_impulse"]),
+        stick_impulse=optional(out["stick_impulse"]),
+        compression_impulse=float(out["compression_impulse"]),
+        tangential_impulse=(float(out["tangential_impulse_1"]),
+                            float(out["tangential_impulse_2"])),
+        compression_work=float(out["compression_work"]),
+        normal_work=float(out["normal_work"]),
+        friction_work=float(out["friction_work"]),
+        stick_criterion=optional(out["stick_criterion"]),
+        energy_in=float(out["energy_in"]),
+        energy_out=float(out["energy_out"]),
+        rk4_steps=int(out["rk4_steps"]),
+    )
+
+
+# ---- the JSON contract of `mcbat impact` ----
+
+_CASE_KEYS = {"ball", "bat", "contact", "ball_velocity", "ball_spin", "bat_velocity",
+              "bat_spin", "mu", "restitution"}
+_REQUIRED = ("ball", "bat", "contact", "ball_velocity", "mu")
+
+
+def _mapping(data, name, allowed, required):
+    if not isinstance(data, dict):
+        raise InputError(name, f"must be an object, got {type(data).__name__}")
+    unknown = sorted(set(data) - set(allowed))
+    if unknown:
+        where = f"{name}." if name else ""
+        raise InputError(f"{where}{unknown[0]}",
+                         f"unknown key (expected one of: {', '.join(sorted(allowed))})")
+    for key in required:
+        if key not in data:
+            where = f"{name}." if name else ""
+            raise InputError(f"{where}{key}", "missing required key")
+    return data
+
+
+def _build(name, builder, **kwargs):
+    try:
+        return builder(**kwargs)
+    except InputError as err:
+        raise err.within(name) from None
+
+
+def _case_from_dict(data) -> ImpactCase:
+    _mapping(data, "", _CASE_KEYS, _REQUIRED)
+    ball_d = _mapping(data["ball"], "ball", {"mass", "radius", "inertia_factor"},
+                      ("mass", "radius"))
+    ball = _build("ball", Ball, **ball_d)
+    bat_d = _mapping(data["bat"], "bat",
+                     {"mass", "radius", "transverse_inertia", "axial_inertia"},
+                     ("mass", "radius", "transverse_inertia", "axial_inertia"))
+    bat = _build("bat", Bat, **bat_d)
+    contact_d = _mapping(data["contact"], "contact",
+                         {"axial", "angle", "impact_parameter", "approach_azimuth"}, ("axial",))
+    if ("angle" in contact_d) == ("impact_parameter" in contact_d):
+        raise InputError("contact", "give exactly one of 'angle' or 'impact_parameter'")
+    if "angle" in contact_d:
+        if "approach_azimuth" in contact_d:
+            raise InputError("contact.approach_azimuth", "only valid with 'impact_parameter'")
+        contact = _build("contact", Contact, **contact_d)
+    else:
+        axial = _build("contact", _real, value=contact_d["axial"], name="axial")
+        contact = _build("contact", Contact.from_impact_parameter, axial=axial,
+                         impact_parameter=contact_d["impact_parameter"], ball=ball, bat=bat,
+                         approach_azimuth=contact_d.get("approach_azimuth", 0.0))
+    e = 1.0
+    if "restitution" in data:
+        rest = _mapping(data["restitution"], "restitution", {"e", "loss_fraction"}, ())
+        if len(rest) != 1:
+            raise InputError("restitution", "give exactly one of 'e' or 'loss_fraction'")
+        if "e" in rest:
+            e = _build("restitution", _real, value=rest["e"], name="e", minimum=0.0,
+                       maximum=1.0)
+        else:
+            e = _build("restitution", ImpactCase.e_from_loss_fraction,
+                       loss_fraction=rest["loss_fraction"])
+    vectors = {k: data[k] for k in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin")
+               if k in data}
+    case = ImpactCase(ball=ball, bat=bat, contact=contact, mu=data["mu"], e=e, **vectors)
+    case.validate_approach()
+    return case

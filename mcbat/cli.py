@@ -1,0 +1,134 @@
+"""The ``mcbat`` command.
+
+Exit codes: 0 success, 2 user error (one line on stderr, no traceback), 1 internal error.
+``--debug`` shows the traceback of any error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+EXIT_OK = 0
+EXIT_INTERNAL = 1
+EXIT_USER = 2
+
+
+class _ArgumentParser(argparse.ArgumentParser):
+    """argparse that reports usage errors on one line with exit code 2."""
+
+    def error(self, message):
+        raise _UsageError(message)
+
+
+class _UsageError(Exception):
+    pass
+
+
+def _reject_constant(name):
+    raise ValueError(f"non-finite number {name} is not allowed")
+
+
+def _read_cases(path):
+    """Parse ``path`` (or ``-`` for stdin) as one JSON case or a JSON array of cases."""
+    from mcbat.errors import InputError
+
+    source = "<stdin>" if path == "-" else path
+    try:
+        if path == "-":
+            text = sys.stdin.read()
+        else:
+            with open(path, encoding="utf-8") as handle:
+                text = handle.read()
+    except OSError as err:
+        raise InputError(None, f"cannot read input: {err.strerror}", source) from None
+    try:
+        data = json.loads(text, parse_constant=_reject_constant)
+    except ValueError as err:
+        raise InputError(None, f"not valid JSON: {err}", source) from None
+    single = isinstance(data, dict)
+    cases = [data] if single else data
+    if not isinstance(cases, list) or not cases:
+        raise InputError(None, "expected a JSON object (one case) or a non-empty array of "
+                         "cases", source)
+    return source, cases, single
+
+
+def _json_value(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, list):
+        return [_json_value(v) for v in value]
+    return value
+
+
+def cmd_impact(args) -> int:
+    from mcbat.api import ImpactCase, solve
+    from mcbat.errors import InputError
+
+    source, raw_cases, single = _read_cases(args.file)
+    cases = []
+    for index, raw in enumerate(raw_cases):
+        try:
+            cases.append(ImpactCase.from_dict(raw))
+        except InputError as err:
+            raise InputError(err.field, err.message, f"{source}: case {index}") from None
+    results = []
+    for case in cases:
+        result = solve(case).to_dict()
+        results.append({k: _json_value(v) for k, v in result.items()})
+    payload = results[0] if single else results
+    json.dump(payload, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+    return EXIT_OK
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _ArgumentParser(
+        prog="mcbat",
+        description="Monte Carlo study of rigid ball-bat impacts with Coulomb friction.",
+    )
+    parser.add_argument("--debug", action="store_true",
+                        help="show Python tracebacks for errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_ArgumentParser)
+    impact = sub.add_parser(
+        "impact", help="solve impacts given as JSON (one case or an array of cases)",
+        description="Read one JSON case, or a JSON array of cases, from FILE (or '-' for "
+                    "stdin) and print the results as JSON in the same order. SI units, lab "
+                    "frame (bat CM at the origin, z along the bat axis).")
+    impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
+    impact.set_defaults(func=cmd_impact)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    debug = "--debug" in (sys.argv[1:] if argv is None else argv)
+    try:
+        args = parser.parse_args(argv)
+        if not getattr(args, "func", None):
+            parser.print_help(sys.stderr)
+            return EXIT_USER
+        return args.func(args)
+    except _UsageError as err:
+        print(f"mcbat: error: {err}", file=sys.stderr)
+        return EXIT_USER
+    except Exception as err:  # noqa: BLE001 - the CLI boundary maps errors to exit codes
+        from mcbat.errors import InputError
+
+        if debug:
+            import traceback
+
+            traceback.print_exc()
+        if isinstance(err, InputError):
+            print(f"mcbat: error: {err}", file=sys.stderr)
+            return EXIT_USER
+        print(f"mcbat: internal error: {type(err).__name__}: {err}"
+              + ("" if debug else " (run with --debug for a traceback)"), file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,404 @@
+"""The contact problem in the normal impulse ``I``: slip, stick, re-slip and separation.
+
+Everything here works in the contact basis ``(t1, t2, t3)``. The state is the impulse
+``P = (P1, P2, I)`` delivered to the ball; the relative contact velocity is linear in it,
+``v = v0 + K P``. See ``README.md`` in this folder for the equations.
+
+Phases
+------
+slip
+    ``dP_t/dI = -mu u``, ``u = v_t/|v_t|``: integrated by fixed-step RK4 in ``I``. Near
+    zero slip the step becomes a fraction of the predicted distance to stick, so no RK4
+    stage ever straddles the singular point ``v_t = 0`` and the stick impulse is located
+    to high order (``slip_resolution``).
+stick, re-slip and ``mu = 0``
+    ``dP_t/dI`` is constant (``f = -K_tt^-1 K_tn``, ``-mu u*``, or 0): closed forms.
+
+Compression ends at ``v_n = 0`` (``I_c``, ``W_c``); separation is the energetic rule
+``W_n(I_f) = (1 - e*^2) W_c``. Every loop is bounded; failures return a status code.
+"""
+
+import math
+
+from mcbat.core import status as st
+from mcbat.core._jit import njit
+
+# Slip speed (relative to the initial relative speed) treated as exactly zero.
+STICK_TOLERANCE = 1e-13
+# Largest fraction of the predicted remaining slip length taken in one step.
+MAX_SLIP_FRACTION = 0.8
+# Landing on the stick point by linear extrapolation is allowed once the direction of slip
+# would turn by less than this (in units of I_scale * mu) over the remaining slip.
+LANDING_TOLERANCE = 1e-13
+# Root finding for events inside a step.
+EVENT_MAX_ITER = 60
+# Re-slip direction search: azimuth samples before bisection.
+RESLIP_SAMPLES = 72
+
+DEFAULT_STEPS = 16
+DEFAULT_SLIP_RESOLUTION = 0.1
+DEFAULT_MAX_STEPS = 20_000
+
+
+@njit(inline="always")
+def _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
+    v1 = v01 + k11 * p1 + k12 * p2 + k13 * imp
+    v2 = v02 + k12 * p1 + k22 * p2 + k23 * imp
+    vn = v0n + k13 * p1 + k23 * p2 + k33 * imp
+    return v1, v2, vn
+
+
+@njit(inline="always")
+def _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp):
+    """Slip rates ``d(P1, P2, W_n, W_fr)/dI``."""
+    v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+    s = math.sqrt(v1 * v1 + v2 * v2)
+    c = mu / s
+    return -c * v1, -c * v2, vn, -mu * s
+
+
+@njit
+def _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h):
+    """One classical RK4 step of the slip ODE from ``imp`` to ``imp + h``."""
+    a1, a2, a3, a4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp)
+    hh = 0.5 * h
+    b1, b2, b3, b4 = _slip_rhs(
+        k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1 + hh * a1, p2 + hh * a2, imp + hh
+    )
+    c1, c2, c3, c4 = _slip_rhs(
+        k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1 + hh * b1, p2 + hh * b2, imp + hh
+    )
+    d1, d2, d3, d4 = _slip_rhs(
+        k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1 + h * c1, p2 + h * c2, imp + h
+    )
+    w = h / 6.0
+    return (
+        imp + h,
+        p1 + w * (a1 + 2.0 * (b1 + c1) + d1),
+        p2 + w * (a2 + 2.0 * (b2 + c2) + d2),
+        wn + w * (a3 + 2.0 * (b3 + c3) + d3),
+        wfr + w * (a4 + 2.0 * (b4 + c4) + d4),
+    )
+
+
+@njit
+def _locate_event(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                  imp, p1, p2, wn, wfr, h, kind, target, g0, g1):
+    """Locate an event inside the RK4 step ``[imp, imp + h]``.
+
+    ``kind`` 0: end of compression, ``g = v_n``; 1: separation, ``g = W_n - target``.
+    ``g0 < 0 <= g1`` at the ends. The root is searched on the RK4 solution itself (partial
+    steps from ``imp``), by Newton's method on the step fraction, safeguarded by bisection;
+    ``dg/dI`` comes from the ODE. Returns the state at the event.
+    """
+    lo = 0.0
+    hi = 1.0
+    g_lo = g0
+    g_hi = g1
+    # Regula falsi start.
+    theta = g_lo / (g_lo - g_hi)
+    out = (imp + h, p1, p2, wn, wfr)
+    for _ in range(EVENT_MAX_ITER):
+        out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                        imp, p1, p2, wn, wfr, theta * h)
+        q1, q2, q3, q4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                                   out[1], out[2], out[0])
+        v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n,
+                               out[1], out[2], out[0])
+        if kind == 0:
+            g = vn
+            dg = (k13 * q1 + k23 * q2 + k33) * h
+        else:
+            g = out[3] - target
+            dg = vn * h
+        if g == 0.0:
+            break
+        if g < 0.0:
+            lo = theta
+            g_lo = g
+        else:
+            hi = theta
+            g_hi = g
+        new = theta - g / dg if dg != 0.0 else -1.0
+        if not (lo < new < hi):
+            new = 0.5 * (lo + hi)
+        if abs(new - theta) <= 4e-16 * max(theta, 1e-300) or hi - lo <= 4e-16:
+            theta = new
+            out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                            imp, p1, p2, wn, wfr, theta * h)
+            break
+        theta = new
+    return out
+
+
+@njit
+def _reslip_direction(k11, k12, k13, k22, k23, mu):
+    """Direction ``u*`` of re-slip after a failed stick, and its rate ``lambda`` > 0.
+
+    Solves ``K_tn - mu K_tt u = lambda u`` on the unit circle (Stronge; Bhatt & Koechling):
+    the sign changes of ``u x g(u)`` are bracketed on a grid and bisected. Among the roots
+    with ``lambda > 0`` the one with the largest ``lambda`` is returned. ``(nan, nan, -1)``
+    if there is none.
+    """
+    best_u1 = math.nan
+    best_u2 = math.nan
+    best_lam = -1.0
+    step = 2.0 * math.pi / RESLIP_SAMPLES
+
+    def cross_fn(phi):
+        u1 = math.cos(phi)
+        u2 = math.sin(phi)
+        g1 = k13 - mu * (k11 * u1 + k12 * u2)
+        g2 = k23 - mu * (k12 * u1 + k22 * u2)
+        return u1 * g2 - u2 * g1
+
+    # Offset the grid so symmetric roots (e.g. exactly +-pi/2) fall inside intervals.
+    a = 0.123456789 * step
+    fa = cross_fn(a)
+    for i in range(RESLIP_SAMPLES):
+        b = a + step
+        fb = cross_fn(b)
+        if fa == 0.0 or fa * fb < 0.0:
+            lo = a
+            hi = b
+            flo = fa
+            for _ in range(80):
+                mid = 0.5 * (lo + hi)
+                fm = cross_fn(mid)
+                if (fm < 0.0) == (flo < 0.0) and fm != 0.0:
+                    lo = mid
+                    flo = fm
+                else:
+                    hi = mid
+            phi = 0.5 * (lo + hi)
+            u1 = math.cos(phi)
+            u2 = math.sin(phi)
+            lam = u1 * (k13 - mu * (k11 * u1 + k12 * u2)) + u2 * (k23 - mu * (k12 * u1 + k22 * u2))
+            if lam > best_lam:
+                best_lam = lam
+                best_u1 = u1
+                best_u2 = u2
+        a = b
+        fa = fb
+    if best_lam <= 0.0:
+        return math.nan, math.nan, -1.0
+    return best_u1, best_u2, best_lam
+
+
+@njit
+def stick_impulse_rate(k11, k12, k13, k22, k23):
+    """Tangential impulse rate ``f = -K_tt^-1 K_tn`` that holds ``v_t = 0`` (dimensionless)."""
+    det = k11 * k22 - k12 * k12
+    f1 = -(k22 * k13 - k12 * k23) / det
+    f2 = -(k11 * k23 - k12 * k13) / det
+    return f1, f2
+
+
+@njit
+def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
+                  steps=DEFAULT_STEPS, slip_resolution=DEFAULT_SLIP_RESOLUTION,
+                  max_steps=DEFAULT_MAX_STEPS):
+    """Solve one impact in the contact basis.
+
+    Parameters
+    ----------
+    k11, k12, k13, k22, k23, k33 : float
+        Delassus matrix in the ``(t1, t2, t3)`` basis, 1/kg.
+    v01, v02, v0n : float
+        Initial relative contact velocity (tangential 1, 2 and normal), m/s. ``v0n < 0``.
+    mu : float
+        Coulomb friction coefficient, >= 0.
+    e : float
+        Energetic coefficient of restitution ``e*`` in [0, 1].
+    steps : int
+        RK4 steps per estimated impact impulse while sliding is far from stopping.
+    slip_resolution : float
+        Fraction (0, 1) of the predicted remaining slip length covered by one step near
+        zero slip; it is the accuracy knob of the stick location (error ~ resolution^4).
+    max_steps : int
+        Bound on RK4 steps; exceeding it returns ``MAX_STEPS``.
+
+    Returns
+    -------
+    tuple
+        ``(status, end_state, P1, P2, I_f, I_s, I_c, W_c, W_n, W_fr, W_n_at_stick, n_rk4)``:
+        tangential impulses ``P1, P2`` and normal impulse ``I_f`` (kg m/s) at separation;
+        the stick impulse ``I_s`` (NaN if sliding never stopped; 0 for incidence with
+        ``v_t = 0``); the end of compression ``I_c`` and ``W_c = W_n(I_c)``; the normal and
+        friction work at separation (J); ``W_n(I_s)`` (the paper's ``C = -W_n(I_s)``); and
+        the number of RK4 steps taken.
+    """
+    nan = math.nan
+    if not (math.isfinite(k11) and math.isfinite(k12) and math.isfinite(k13)
+            and math.isfinite(k22) and math.isfinite(k23) and math.isfinite(k33)
+            and math.isfinite(v01) and math.isfinite(v02) and math.isfinite(v0n)
+            and math.isfinite(mu) and math.isfinite(e)
+            and mu >= 0.0 and 0.0 <= e <= 1.0 and k33 > 0.0
+            and k11 * k22 - k12 * k12 > 0.0 and steps >= 1
+            and 0.0 < slip_resolution < 1.0):
+        return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
+    if not (v0n < 0.0):
+        return (st.NOT_APPROACHING, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
+
+    retained = 1.0 - e * e  # W_n(I_f) = retained * W_c
+    v_scale = math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
+    s_stop = STICK_TOLERANCE * v_scale
+    i_scale = 2.0 * (-v0n) / k33  # frictionless, fully elastic impact impulse
+    h_max = i_scale / steps
+
+    imp = 0.0
+    p1 = 0.0
+    p2 = 0.0
+    wn = 0.0
+    wfr = 0.0
+    compressed = False
+    i_c = nan
+    w_c = nan
+    target = nan
+    i_s = nan
+    wn_s = nan
+    n_rk4 = 0
+
+    s0 = math.sqrt(v01 * v01 + v02 * v02)
+    sliding = mu > 0.0 and s0 > s_stop
+
+    # ---- slip phase: fixed-step RK4 in I with zero-slip detection ----
+    while sliding:
+        if n_rk4 >= max_steps:
+            return (st.MAX_STEPS, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)
+        v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+        s = math.sqrt(v1 * v1 + v2 * v2)
+        u1 = v1 / s
+        u2 = v2 / s
+        g1 = k13 - mu * (k11 * u1 + k12 * u2)  # d v_t / dI
+        g2 = k23 - mu * (k12 * u1 + k22 * u2)
+        sigma = u1 * g1 + u2 * g2  # d|v_t|/dI
+        omega = abs(u1 * g2 - u2 * g1) / s  # |du/dI|: how fast the slip direction turns
+        h = h_max
+        land = False
+        if sigma < 0.0:
+            dist = s / (-sigma)  # predicted impulse left until v_t = 0
+            if s <= s_stop or mu * omega * dist * dist <= LANDING_TOLERANCE * i_scale:
+                # The direction no longer turns: v_t falls linearly to zero.
+                h = dist
+                land = True
+            else:
+                # Resolution grows as slip dies out: the error it can cause scales with |v_t|.
+                z = min(MAX_SLIP_FRACTION, slip_resolution * (v_scale / s) ** 0.2)
+                h = min(h, z * dist, z / omega)
+        elif omega > 0.0:
+            h = min(h, slip_resolution / omega)
+
+        if land:
+            dvn = k13 * (-mu * u1) + k23 * (-mu * u2) + k33
+            n_imp = imp + h
+            n_p1 = p1 - mu * u1 * h
+            n_p2 = p2 - mu * u2 * h
+            n_wn = wn + h * (vn + 0.5 * dvn * h)
+            n_wfr = wfr - 0.5 * mu * s * h
+        else:
+            n_imp, n_p1, n_p2, n_wn, n_wfr = _rk4_step(
+                k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h)
+            n_rk4 += 1
+        n_vn = v0n + k13 * n_p1 + k23 * n_p2 + k33 * n_imp
+
+        if not compressed and n_vn >= 0.0:
+            if land:
+                # Linear in I on this step: the crossing is explicit.
+                frac = -vn / (n_vn - vn)
+                h = frac * h
+                n_imp = imp + h
+                n_p1 = p1 - mu * u1 * h
+                n_p2 = p2 - mu * u2 * h
+                n_wn = wn + h * (vn + 0.5 * dvn * h)
+                n_wfr = wfr - mu * h * (s - 0.5 * (-sigma) * h)
+                land = False
+            else:
+                n_imp, n_p1, n_p2, n_wn, n_wfr = _locate_event(
+                    k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                    imp, p1, p2, wn, wfr, h, 0, 0.0, vn, n_vn)
+            compressed = True
+            i_c = n_imp
+            w_c = n_wn
+            target = retained * w_c
+            imp, p1, p2, wn, wfr = n_imp, n_p1, n_p2, n_wn, n_wfr
+            if retained == 1.0:
+                # e* = 0: the bodies separate at the end of compression.
+                return (st.OK, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)
+            continue
+
+        if compressed and n_wn >= target:
+            if land:
+                # W_n is quadratic in I on this step.
+                a = 0.5 * dvn
+                c = wn - target
+                disc = vn * vn - 4.0 * a * c
+                root = math.sqrt(max(disc, 0.0))
+                h = (2.0 * (-c)) / (vn + root) if vn + root > 0.0 else h
+                n_imp = imp + h
+                n_p1 = p1 - mu * u1 * h
+                n_p2 = p2 - mu * u2 * h
+                n_wn = wn + h * (vn + 0.5 * dvn * h)
+                n_wfr = wfr - mu * h * (s - 0.5 * (-sigma) * h)
+            else:
+                n_imp, n_p1, n_p2, n_wn, n_wfr = _locate_event(
+                    k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                    imp, p1, p2, wn, wfr, h, 1, target, wn - target, n_wn - target)
+            return (st.OK, st.SLIDING, n_p1, n_p2, n_imp, i_s, i_c, w_c, n_wn, n_wfr, wn_s,
+                    n_rk4)
+
+        imp, p1, p2, wn, wfr = n_imp, n_p1, n_p2, n_wn, n_wfr
+        if land:
+            sliding = False
+
+    # ---- sliding has stopped (or never started): stick, re-slip, or frictionless ----
+    if mu > 0.0:
+        i_s = imp
+        wn_s = wn
+        f1, f2 = stick_impulse_rate(k11, k12, k13, k22, k23)
+        if f1 * f1 + f2 * f2 <= mu * mu:
+            end_state = st.STUCK
+            d1 = f1
+            d2 = f2
+        else:
+            u1, u2, lam = _reslip_direction(k11, k12, k13, k22, k23, mu)
+            if lam <= 0.0:
+                return (st.DEGENERATE, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s,
+                        n_rk4)
+            end_state = st.SLIDING
+            d1 = -mu * u1
+            d2 = -mu * u2
+    else:
+        end_state = st.SLIDING  # settled from the final v_t below
+        d1 = 0.0
+        d2 = 0.0
+
+    # ---- linear phase: dP/dI = (d1, d2, 1) exactly, so W_n is quadratic in I ----
+    v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+    slope = k13 * d1 + k23 * d2 + k33  # d v_n / dI
+    if not (slope > 0.0):
+        return (st.DEGENERATE, end_state, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)
+    c1 = k11 * d1 + k12 * d2 + k13  # d v_t / dI
+    c2 = k12 * d1 + k22 * d2 + k23
+    if not compressed:
+        i_c = imp - vn / slope
+        w_c = wn - 0.5 * vn * vn / slope
+        target = retained * w_c
+    gap = target - wn  # >= 0 while still in contact
+    if gap <= 0.0 and vn >= 0.0:
+        dh = 0.0
+    elif vn > 0.0:
+        dh = 2.0 * gap / (vn + math.sqrt(vn * vn + 2.0 * slope * gap))
+    else:
+        dh = (-vn + math.sqrt(max(vn * vn + 2.0 * slope * gap, 0.0))) / slope
+    p1 += d1 * dh
+    p2 += d2 * dh
+    wn += dh * (vn + 0.5 * slope * dh)
+    wfr += dh * (v1 * d1 + v2 * d2) + 0.5 * dh * dh * (c1 * d1 + c2 * d2)
+    imp += dh
+    if mu == 0.0:
+        # Without friction v_t still drifts through K_tn; report what it ends at.
+        f1 = v1 + c1 * dh
+        f2 = v2 + c2 * dh
+        end_state = st.STUCK if math.sqrt(f1 * f1 + f2 * f2) <= s_stop else st.SLIDING
+    return (st.OK, end_state, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)

@@ -1,0 +1,135 @@
+"""One ball-bat impact in the lab frame: geometry -> Delassus matrix -> contact solve.
+
+:func:`solve_impact` is the scalar kernel that the Python API and the batch kernels call.
+It takes plain floats and returns a flat tuple whose fields are named by
+:data:`IMPACT_FIELDS`, so callers can scatter it into struct-of-arrays outputs.
+"""
+
+import math
+
+from mcbat.core import status as st
+from mcbat.core._jit import njit
+from mcbat.core.cabo2012.contact import (
+    DEFAULT_MAX_STEPS,
+    DEFAULT_SLIP_RESOLUTION,
+    DEFAULT_STEPS,
+    solve_contact,
+)
+from mcbat.core.geometry import contact_frame
+from mcbat.core.rigid_bodies import (
+    apply_impulse,
+    delassus_matrix,
+    kinetic_energy,
+    relative_contact_velocity,
+)
+from mcbat.core.vec3 import combine, dot
+
+IMPACT_FIELDS = (
+    "status",
+    "end_state",
+    "ball_vx", "ball_vy", "ball_vz",
+    "ball_wx", "ball_wy", "ball_wz",
+    "bat_vx", "bat_vy", "bat_vz",
+    "bat_wx", "bat_wy", "bat_wz",
+    "normal_impulse",
+    "stick_impulse",
+    "compression_impulse",
+    "tangential_impulse_1",
+    "tangential_impulse_2",
+    "compression_work",
+    "normal_work",
+    "friction_work",
+    "stick_criterion",
+    "energy_in",
+    "energy_out",
+    "rk4_steps",
+)
+"""Names of the entries of the tuple returned by :func:`solve_impact`, in order.
+
+Units: velocities m/s, spins rad/s, impulses kg m/s, works and energies J. ``status`` and
+``end_state`` are codes from :mod:`mcbat.core.status`; ``stick_criterion`` is the paper's
+``C = -W_n(I_s)`` (NaN without stick); ``tangential_impulse_1/2`` are the friction impulse
+components along ``t1`` and ``t2``.
+"""
+
+
+@njit
+def solve_impact(
+    ball_mass, ball_radius, ball_inertia_factor,
+    bat_mass, bat_transverse_inertia, bat_axial_inertia,
+    axial, angle, radius, slope,
+    ball_vx, ball_vy, ball_vz, ball_wx, ball_wy, ball_wz,
+    bat_vx, bat_vy, bat_vz, bat_wx, bat_wy, bat_wz,
+    mu, e,
+    steps=DEFAULT_STEPS, slip_resolution=DEFAULT_SLIP_RESOLUTION,
+    max_steps=DEFAULT_MAX_STEPS,
+):
+    """Solve one rigid impact of a ball on a bat (lab frame, SI units).
+
+    Parameters
+    ----------
+    ball_mass, ball_radius, ball_inertia_factor : float
+        kg, m, and ``f`` in ``I_p = f m R^2``.
+    bat_mass, bat_transverse_inertia, bat_axial_inertia : float
+        kg and kg m^2 about the bat CM.
+    axial, angle, radius, slope : float
+        Contact point: axial position from the bat CM (m), azimuth (rad), bat radius
+        there (m), profile slope dr/dz (0 for a cylinder).
+    ball_v*, ball_w*, bat_v*, bat_w* : float
+        Initial velocities (m/s) and spins (rad/s) of ball and bat.
+    mu, e : float
+        Friction coefficient and energetic restitution ``e*`` in [0, 1].
+    steps, slip_resolution, max_steps
+        Accuracy settings of :func:`mcbat.core.cabo2012.contact.solve_contact`.
+
+    Returns
+    -------
+    tuple
+        Values named by :data:`IMPACT_FIELDS`. On a non-OK status the velocities are NaN.
+    """
+    nan = math.nan
+    ok_bodies = (
+        ball_mass > 0.0 and ball_radius > 0.0 and ball_inertia_factor > 0.0
+        and bat_mass > 0.0 and bat_transverse_inertia > 0.0 and bat_axial_inertia > 0.0
+        and radius > 0.0 and math.isfinite(ball_mass) and math.isfinite(ball_radius)
+        and math.isfinite(ball_inertia_factor) and math.isfinite(bat_mass)
+        and math.isfinite(bat_transverse_inertia) and math.isfinite(bat_axial_inertia)
+        and math.isfinite(axial) and math.isfinite(angle) and math.isfinite(radius)
+        and math.isfinite(slope)
+    )
+    if not ok_bodies:
+        return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+                nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
+    t1, t2, t3, r_c = contact_frame(axial, angle, radius, slope)
+    ball_v = (ball_vx, ball_vy, ball_vz)
+    ball_w = (ball_wx, ball_wy, ball_wz)
+    bat_v = (bat_vx, bat_vy, bat_vz)
+    bat_w = (bat_wx, bat_wy, bat_wz)
+    k11, k12, k13, k22, k23, k33 = delassus_matrix(
+        ball_mass, ball_radius, ball_inertia_factor,
+        bat_mass, bat_transverse_inertia, bat_axial_inertia, t1, t2, t3, r_c)
+    v0 = relative_contact_velocity(ball_radius, t3, r_c, ball_v, ball_w, bat_v, bat_w)
+    energy_in = kinetic_energy(
+        ball_mass, ball_radius, ball_inertia_factor,
+        bat_mass, bat_transverse_inertia, bat_axial_inertia, ball_v, ball_w, bat_v, bat_w)
+    (code, end_state, p1, p2, i_f, i_s, i_c, w_c, w_n, w_fr, w_n_stick,
+     n_rk4) = solve_contact(
+        k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3), mu, e,
+        steps, slip_resolution, max_steps)
+    if code != st.OK:
+        return (code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+                nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, 0)
+    impulse = combine(p1, t1, p2, t2, i_f, t3)
+    ball_v, ball_w, bat_v, bat_w = apply_impulse(
+        impulse, ball_mass, ball_radius, ball_inertia_factor,
+        bat_mass, bat_transverse_inertia, bat_axial_inertia, t3, r_c,
+        ball_v, ball_w, bat_v, bat_w)
+    energy_out = kinetic_energy(
+        ball_mass, ball_radius, ball_inertia_factor,
+        bat_mass, bat_transverse_inertia, bat_axial_inertia, ball_v, ball_w, bat_v, bat_w)
+    return (
+        code, end_state,
+        ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
+        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2],
+        i_f, i_s, i_c, p1, p2, w_c, w_n, w_fr, -w_n_stick, energy_in, energy_out, n_rk4,
+    )
