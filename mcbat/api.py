@@ -382,11 +382,12 @@ def _mapping(data, name, allowed, required):
     return data
 
 
-def _build(name, builder, **kwargs):
+def _build(prefix, builder, *args, **kwargs):
+    """``builder(*args, **kwargs)``, with input errors located inside ``prefix``."""
     try:
-        return builder(**kwargs)
+        return builder(*args, **kwargs)
     except InputError as err:
-        raise err.within(name) from None
+        raise err.within(prefix) from None
 
 
 def _case_from_dict(data) -> ImpactCase:
@@ -407,7 +408,7 @@ def _case_from_dict(data) -> ImpactCase:
             raise InputError("contact.approach_azimuth", "only valid with 'impact_parameter'")
         contact = _build("contact", Contact, **contact_d)
     else:
-        axial = _build("contact", _real, value=contact_d["axial"], name="axial")
+        axial = _build("contact", _real, contact_d["axial"], "axial")
         contact = _build("contact", Contact.from_impact_parameter, axial=axial,
                          impact_parameter=contact_d["impact_parameter"], ball=ball, bat=bat,
                          approach_azimuth=contact_d.get("approach_azimuth", 0.0))
@@ -417,8 +418,7 @@ def _case_from_dict(data) -> ImpactCase:
         if len(rest) != 1:
             raise InputError("restitution", "give exactly one of 'e' or 'loss_fraction'")
         if "e" in rest:
-            e = _build("restitution", _real, value=rest["e"], name="e", minimum=0.0,
-                       maximum=1.0)
+            e = _build("restitution", _real, rest["e"], "e", minimum=0.0, maximum=1.0)
         else:
             e = _build("restitution", ImpactCase.e_from_loss_fraction,
                        loss_fraction=rest["loss_fraction"])

@@ -1,0 +1,160 @@
+"""`mcbat impact`: the JSON contract, and bad input -> exit 2 with one line naming the field."""
+
+import copy
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mcbat.api import ImpactCase, solve
+from mcbat.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "cabo2012_sec5.json"
+GOOD = json.loads(EXAMPLE.read_text())
+
+
+def run_cli(capsys, monkeypatch, payload, *args):
+    """Run ``mcbat impact -`` in-process with ``payload`` on stdin."""
+    text = payload if isinstance(payload, str) else json.dumps(payload)
+    monkeypatch.setattr(sys, "stdin", __import__("io").StringIO(text))
+    code = main(["impact", "-", *args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_example_file_end_to_end():
+    proc = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact", str(EXAMPLE)],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 0, proc.stderr
+    result = json.loads(proc.stdout)
+    assert result["status"] == "ok" and result["end_state"] == "stuck"
+    assert round(result["exit_speed"], 3) == 1.446
+    expected = solve(ImpactCase.from_dict(GOOD)).to_dict()
+    assert result["ball_velocity"] == pytest.approx(expected["ball_velocity"], rel=1e-15)
+    required = {"ball_velocity", "ball_spin", "bat_velocity", "bat_spin", "normal_impulse",
+                "stick_impulse", "compression_impulse", "friction_work", "normal_work",
+                "end_state", "energy_in", "energy_out", "status"}
+    assert required <= set(result)
+
+
+def test_array_in_same_order(capsys, monkeypatch):
+    cases = []
+    for w0 in (79.0, 0.0, -72.0):
+        case = copy.deepcopy(GOOD)
+        case["ball_spin"] = [0.0, 0.0, w0]
+        cases.append(case)
+    code, out, err = run_cli(capsys, monkeypatch, cases)
+    assert code == 0 and err == ""
+    results = json.loads(out)
+    assert isinstance(results, list) and len(results) == 3
+    for case, result in zip(cases, results):
+        assert result["ball_spin"] == pytest.approx(
+            solve(ImpactCase.from_dict(case)).to_dict()["ball_spin"], rel=1e-15)
+    # Different spins give different outgoing spins: the order is really preserved.
+    assert len({round(r["ball_spin"][2], 6) for r in results}) == 3
+
+
+def test_no_stick_gives_null_and_defaults(capsys, monkeypatch):
+    case = copy.deepcopy(GOOD)
+    case["mu"] = 0.0
+    del case["restitution"], case["ball_spin"]
+    code, out, _ = run_cli(capsys, monkeypatch, case)
+    result = json.loads(out)
+    assert code == 0
+    assert result["stick_impulse"] is None and result["stick_criterion"] is None
+    assert result["energy_out"] == pytest.approx(result["energy_in"], rel=1e-12)  # e* = 1
+
+
+def _mutate(path, value):
+    case = copy.deepcopy(GOOD)
+    target = case
+    for key in path[:-1]:
+        target = target[key]
+    if value is KeyError:
+        del target[path[-1]]
+    else:
+        target[path[-1]] = value
+    return case
+
+
+BAD = [
+    ("not json", "{nope", None, "not valid JSON"),
+    ("empty array", [], None, "non-empty array"),
+    ("case not object", [1], "case 0", "must be an object"),
+    ("missing ball", _mutate(["ball"], KeyError), "ball", "missing required key"),
+    ("missing mass", _mutate(["ball", "mass"], KeyError), "ball.mass", "missing"),
+    ("missing mu", _mutate(["mu"], KeyError), "mu", "missing"),
+    ("unknown key", dict(GOOD, colour="red"), "colour", "unknown key"),
+    ("unknown nested key", _mutate(["bat", "length"], 0.84), "bat.length", "unknown key"),
+    ("NaN literal", json.dumps(GOOD).replace('"mu": 0.5', '"mu": NaN'), None, "NaN"),
+    ("infinite", json.dumps(GOOD).replace('"mu": 0.5', '"mu": 1e999'), "mu", "finite"),
+    ("string number", _mutate(["ball", "radius"], "0.036"), "ball.radius", "number"),
+    ("zero mass", _mutate(["ball", "mass"], 0.0), "ball.mass", "> 0"),
+    ("negative bat mass", _mutate(["bat", "mass"], -1.0), "bat.mass", "> 0"),
+    ("zero radius", _mutate(["bat", "radius"], 0.0), "bat.radius", "> 0"),
+    ("negative inertia", _mutate(["bat", "axial_inertia"], -4e-4), "bat.axial_inertia", "> 0"),
+    ("zero inertia factor", _mutate(["ball", "inertia_factor"], 0), "ball.inertia_factor",
+     "> 0"),
+    ("negative mu", _mutate(["mu"], -0.1), "mu", ">= 0"),
+    ("e above 1", _mutate(["restitution"], {"e": 1.2}), "restitution.e", "<= 1"),
+    ("e below 0", _mutate(["restitution"], {"e": -0.2}), "restitution.e", ">= 0"),
+    ("loss fraction above 1", _mutate(["restitution"], {"loss_fraction": 2}),
+     "restitution.loss_fraction", "<= 1"),
+    ("short vector", _mutate(["ball_velocity"], [1.0, 2.0]), "ball_velocity", "3 numbers"),
+    ("receding", _mutate(["ball_velocity"], [4.0, 0.0, 0.0]), "ball_velocity",
+     "not approaching"),
+    ("grazing", _mutate(["ball_velocity"], [0.0, 0.0, -4.0]), "ball_velocity",
+     "not approaching"),
+    ("ball misses", _mutate(["contact"], {"axial": 0.1, "impact_parameter": 0.5}),
+     "contact.impact_parameter", "misses"),
+]
+
+
+@pytest.mark.parametrize("payload, field, words", [b[1:] for b in BAD],
+                         ids=[b[0] for b in BAD])
+def test_bad_input_one_line_exit_2(capsys, monkeypatch, payload, field, words):
+    cases = payload if isinstance(payload, str) or payload == [] or payload == [1] \
+        else [GOOD, payload]
+    code, out, err = run_cli(capsys, monkeypatch, cases)
+    assert code == 2
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("mcbat: error: <stdin>")
+    assert "Traceback" not in err
+    assert words in lines[0]
+    if field is not None:
+        assert f" {field}:" in lines[0]
+    if isinstance(payload, dict):
+        assert "case 1:" in lines[0]  # the second case of the array is the bad one
+
+
+def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(_mutate(["ball", "mass"], -1.0)))
+    proc = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact", str(bad)],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert proc.stderr.strip() == f"mcbat: error: {bad}: case 0: ball.mass: must be > 0, got -1.0"
+    missing = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact",
+                              str(tmp_path / "nope.json")],
+                             capture_output=True, text=True, check=False)
+    assert missing.returncode == 2 and "cannot read input" in missing.stderr
+    assert "Traceback" not in missing.stderr
+
+
+def test_impact_parameter_contact_matches_angle(capsys, monkeypatch):
+    theta = 0.3
+    b = (0.036 + 0.03335) * math.sin(theta)
+    by_b = _mutate(["contact"], {"axial": 0.115, "impact_parameter": b})
+    by_angle = _mutate(["contact"], {"axial": 0.115, "angle": theta})
+    code, out, _ = run_cli(capsys, monkeypatch, [by_b, by_angle])
+    assert code == 0
+    r_b, r_a = json.loads(out)
+    assert r_b["ball_velocity"] == pytest.approx(r_a["ball_velocity"], rel=1e-12)
+    assert r_a["impact_parameter"] == pytest.approx(b, rel=1e-12)
