@@ -27,7 +27,7 @@ from mcbat.core import status as st
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 from mcbat.core.cabo2012.contact import (
     DEFAULT_MAX_STEPS,
-    DEFAULT_SLIP_RESOLUTION,
+    DEFAULT_TOLERANCE,
     DEFAULT_STEPS,
 )
 from mcbat.core.geometry import (
@@ -173,7 +173,7 @@ class SolverSettings:
     """Accuracy settings of the kernel (see ``mcbat.core.cabo2012.contact``)."""
 
     steps: int = DEFAULT_STEPS
-    slip_resolution: float = DEFAULT_SLIP_RESOLUTION
+    tolerance: float = DEFAULT_TOLERANCE
     max_steps: int = DEFAULT_MAX_STEPS
 
 
@@ -328,7 +328,7 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         case.bat.mass, case.bat.transverse_inertia, case.bat.axial_inertia,
         case.contact.axial, case.contact.angle, radius, slope,
         *case.ball_velocity, *case.ball_spin, *case.bat_velocity, *case.bat_spin,
-        case.mu, case.e, settings.steps, settings.slip_resolution, settings.max_steps)))
+        case.mu, case.e, settings.steps, settings.tolerance, settings.max_steps)))
     code = int(out["status"])
     if code != st.OK:
         raise RuntimeError(f"impact solver failed with status {st.STATUS_NAMES[code]!r}")

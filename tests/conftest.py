@@ -3,6 +3,12 @@
 import math
 
 import pytest
+from hypothesis import settings
+
+# CI replays the same examples every run; `--hypothesis-profile=explore` searches afresh.
+settings.register_profile("ci", derandomize=True)
+settings.register_profile("explore", max_examples=2000)
+settings.load_profile("ci")
 
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 

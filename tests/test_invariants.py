@@ -91,16 +91,19 @@ def test_work_bookkeeping_closes_and_converges(case):
     """E_out = E_in + W_n + W_fr.
 
     The works are integrated along the slip path while E_out is exact for the final impulse,
-    so the gap measures the integration error of the works. At the default resolution it
-    stays below 1e-6 E_in even for the extreme inertias drawn here (a slip direction that
-    spirals into the stick point); refining the slip resolution 4x brings it below 1e-8.
+    so the gap measures the integration error of the works. The default tolerance spends
+    its accuracy on the outgoing velocities: on the way into a stick it relaxes the step
+    budget (errors there barely reach the velocities, see ``contact.APPROACH_FACTOR``), so
+    on the extreme inertias drawn here the works are good to ~1e-5 E_in (measured worst
+    5e-6 over 3000 examples). A 3000x tighter tolerance brings the gap down in proportion:
+    the bookkeeping converges.
     """
     gaps = []
-    for settings_ in ((), (16, 0.025, 10**6)):
+    for settings_ in ((), (8, 1e-12, 10**6)):
         r = kernel(settings=settings_, **case)
         gaps.append(abs(r["energy_in"] + r["normal_work"] + r["friction_work"]
                         - r["energy_out"]) / r["energy_in"])
-    assert gaps[0] <= 1e-6
+    assert gaps[0] <= 2e-5
     assert gaps[1] <= 1e-8
 
 

@@ -12,7 +12,7 @@
 
 import numba
 
-JIT_OPTIONS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
+JIT_OPTIONS = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy", "nogil": True}
 
 
 def njit(*args, **overrides):

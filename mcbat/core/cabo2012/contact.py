@@ -29,11 +29,15 @@ STICK_TOLERANCE = 1e-13
 MAX_SLIP_FRACTION = 0.8
 # Landing on the stick point by linear extrapolation is allowed once the direction of slip
 # would turn by less than this (in units of I_scale * mu) over the remaining slip.
-LANDING_TOLERANCE = 1e-13
+LANDING_FRACTION = 1e-2
+APPROACH_FACTOR = 1000
+APPROACH_MARGIN = 0.5
 # Exponent of the growth of the step fraction as |v_t| dies out: the error a step can cause
 # scales like |v_t| z^5, so z ~ |v_t|^-1/5 keeps it level (measured: fewer steps for the same
 # accuracy than a constant fraction, see tests/test_convergence.py).
 RESOLUTION_GROWTH = 0.2
+# Events (end of compression, separation) are located to this fraction of I_scale.
+EVENT_TOLERANCE = 1e-14
 # Root finding for events inside a step.
 EVENT_MAX_ITER = 60
 # Re-slip direction search: azimuth samples before bisection.
@@ -41,8 +45,10 @@ RESLIP_SAMPLES = 72
 
 
 
-DEFAULT_STEPS = 16
-DEFAULT_SLIP_RESOLUTION = 0.1
+ZD = 0.5
+ZW = 0.25
+DEFAULT_STEPS = 8
+DEFAULT_TOLERANCE = 3e-9
 DEFAULT_MAX_STEPS = 20_000
 
 
@@ -63,10 +69,25 @@ def _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp):
     return -c * v1, -c * v2, vn, -mu * s
 
 
-@njit
-def _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h):
-    """One classical RK4 step of the slip ODE from ``imp`` to ``imp + h``."""
-    a1, a2, a3, a4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp)
+@njit(inline="always")
+def _remaining_impulse(vn, dvn, wn, compressed, target, retained):
+    """Impulse left until separation if ``v_n`` kept growing at the rate ``dvn`` (kg m/s)."""
+    if not (dvn > 0.0):
+        return math.inf
+    if not compressed:
+        w_c = wn - 0.5 * vn * vn / dvn
+        target = retained * w_c
+    gap = max(target - wn, 0.0)
+    return (-vn + math.sqrt(max(vn * vn + 2.0 * dvn * gap, 0.0))) / dvn
+
+
+@njit(inline="always")
+def _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h,
+              a1, a2, a3, a4):
+    """One classical RK4 step of the slip ODE from ``imp`` to ``imp + h``.
+
+    ``a1..a4`` are the rates at the start (the first stage), which the caller already has.
+    """
     hh = 0.5 * h
     b1, b2, b3, b4 = _slip_rhs(
         k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1 + hh * a1, p2 + hh * a2, imp + hh
@@ -87,31 +108,57 @@ def _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, 
     )
 
 
+@njit(inline="always")
+def _hermite_root(g0, g1, m0, m1):
+    """Root in [0, 1] of the cubic Hermite interpolant with values ``g0 < 0 <= g1`` and
+    slopes ``m0, m1`` at the ends (Newton's method, safeguarded by bisection)."""
+    lo = 0.0
+    hi = 1.0
+    t = g0 / (g0 - g1)
+    for _ in range(EVENT_MAX_ITER):
+        t2 = t * t
+        t3 = t2 * t
+        val = ((2.0 * t3 - 3.0 * t2 + 1.0) * g0 + (t3 - 2.0 * t2 + t) * m0
+               + (-2.0 * t3 + 3.0 * t2) * g1 + (t3 - t2) * m1)
+        der = ((6.0 * t2 - 6.0 * t) * g0 + (3.0 * t2 - 4.0 * t + 1.0) * m0
+               + (-6.0 * t2 + 6.0 * t) * g1 + (3.0 * t2 - 2.0 * t) * m1)
+        if val < 0.0:
+            lo = t
+        else:
+            hi = t
+        new = t - val / der if der != 0.0 else -1.0
+        if not (lo < new < hi):
+            new = 0.5 * (lo + hi)
+        if abs(new - t) <= 1e-15:
+            return new
+        t = new
+    return t
+
+
 @njit
 def _locate_event(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
-                  imp, p1, p2, wn, wfr, h, kind, target, g0, g1):
+                  imp, p1, p2, wn, wfr, h, kind, target, g0, g1, d0, d1, tol_imp):
     """Locate an event inside the RK4 step ``[imp, imp + h]``.
 
     ``kind`` 0: end of compression, ``g = v_n``; 1: separation, ``g = W_n - target``.
-    ``g0 < 0 <= g1`` at the ends. The root is searched on the RK4 solution itself (partial
-    steps from ``imp``), by Newton's method on the step fraction, safeguarded by bisection;
-    ``dg/dI`` comes from the ODE. Returns the state at the event.
+    ``g0 < 0 <= g1`` at the ends, ``d0, d1`` their derivatives in ``I``. The cubic Hermite
+    interpolant of ``g`` (4th-order accurate, like the step) gives the first guess; Newton's
+    method on the RK4 solution itself (partial steps from ``imp``) then polishes it to
+    ``tol_imp`` in impulse, safeguarded by bisection. Returns the state at the event.
     """
     lo = 0.0
     hi = 1.0
-    g_lo = g0
-    g_hi = g1
-    # Regula falsi start.
-    theta = g_lo / (g_lo - g_hi)
+    theta = _hermite_root(g0, g1, d0 * h, d1 * h)
+    a1, a2, a3, a4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp)
     out = (imp + h, p1, p2, wn, wfr)
     for _ in range(EVENT_MAX_ITER):
         out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
-                        imp, p1, p2, wn, wfr, theta * h)
-        q1, q2, q3, q4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
-                                   out[1], out[2], out[0])
+                        imp, p1, p2, wn, wfr, theta * h, a1, a2, a3, a4)
         v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n,
                                out[1], out[2], out[0])
         if kind == 0:
+            q1, q2, q3, q4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                                       out[1], out[2], out[0])
             g = vn
             dg = (k13 * q1 + k23 * q2 + k33) * h
         else:
@@ -121,19 +168,17 @@ def _locate_event(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
             break
         if g < 0.0:
             lo = theta
-            g_lo = g
         else:
             hi = theta
-            g_hi = g
         new = theta - g / dg if dg != 0.0 else -1.0
         if not (lo < new < hi):
             new = 0.5 * (lo + hi)
-        if abs(new - theta) <= 4e-16 * max(theta, 1e-300) or hi - lo <= 4e-16:
-            theta = new
-            out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
-                            imp, p1, p2, wn, wfr, theta * h)
-            break
+        done = abs(new - theta) * h <= tol_imp or (hi - lo) * h <= tol_imp
         theta = new
+        if done:
+            out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                            imp, p1, p2, wn, wfr, theta * h, a1, a2, a3, a4)
+            break
     return out
 
 
@@ -202,7 +247,7 @@ def stick_impulse_rate(k11, k12, k13, k22, k23):
 
 @njit
 def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
-                  steps=DEFAULT_STEPS, slip_resolution=DEFAULT_SLIP_RESOLUTION,
+                  steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
                   max_steps=DEFAULT_MAX_STEPS):
     """Solve one impact in the contact basis.
 
@@ -241,7 +286,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
             and math.isfinite(mu) and math.isfinite(e)
             and mu >= 0.0 and 0.0 <= e <= 1.0 and k33 > 0.0
             and k11 * k22 - k12 * k12 > 0.0 and steps >= 1
-            and 0.0 < slip_resolution < 1.0):
+            and 0.0 < tolerance < 1.0):
         return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
     if not (v0n < 0.0):
         return (st.NOT_APPROACHING, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
@@ -251,6 +296,8 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     s_stop = STICK_TOLERANCE * v_scale
     i_scale = 2.0 * (-v0n) / k33  # frictionless, fully elastic impact impulse
     h_max = i_scale / steps
+    error_per_step = tolerance * i_scale  # impulse error allowed per slip step, kg m/s
+    event_tolerance = EVENT_TOLERANCE * i_scale
 
     imp = 0.0
     p1 = 0.0
@@ -268,35 +315,50 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     s0 = math.sqrt(v01 * v01 + v02 * v02)
     sliding = mu > 0.0 and s0 > s_stop
 
+    approach = False  # set once sliding is predicted to stop well before separation
     # ---- slip phase: fixed-step RK4 in I with zero-slip detection ----
     while sliding:
         if n_rk4 >= max_steps:
             return (st.MAX_STEPS, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)
         v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
         s = math.sqrt(v1 * v1 + v2 * v2)
-        u1 = v1 / s
-        u2 = v2 / s
+        inv_s = 1.0 / s
+        u1 = v1 * inv_s
+        u2 = v2 * inv_s
         g1 = k13 - mu * (k11 * u1 + k12 * u2)  # d v_t / dI
         g2 = k23 - mu * (k12 * u1 + k22 * u2)
+        dvn = k33 - mu * (k13 * u1 + k23 * u2)  # d v_n / dI
         sigma = u1 * g1 + u2 * g2  # d|v_t|/dI
-        omega = abs(u1 * g2 - u2 * g1) / s  # |du/dI|: how fast the slip direction turns
+        omega = abs(u1 * g2 - u2 * g1) * inv_s  # |du/dI|: how fast the slip direction turns
         h = h_max
         land = False
+        budget = error_per_step
         if sigma < 0.0:
             dist = s / (-sigma)  # predicted impulse left until v_t = 0
-            if s <= s_stop or mu * omega * dist * dist <= LANDING_TOLERANCE * i_scale:
-                # The direction no longer turns: v_t falls linearly to zero.
+            length = dist
+            if not approach:
+                approach = dist < APPROACH_MARGIN * _remaining_impulse(
+                    vn, dvn, wn, compressed, target, retained)
+            if approach:
+                # Sliding will stop well before separation. After stick the constraint
+                # v_t = 0 fixes the tangential impulse from I alone, so errors made on the way
+                # in are mostly forgotten: a looser budget costs no accuracy in the result.
+                budget = APPROACH_FACTOR * error_per_step
+            if s <= s_stop or mu * omega * dist * dist <= LANDING_FRACTION * error_per_step:
+                # The direction has settled: v_t falls linearly to zero. Assuming so costs
+                # about mu * (turn left ~ omega * dist) * dist of impulse.
                 h = dist
                 land = True
             else:
-                # Resolution grows as slip dies out: the error it can cause scales with |v_t|.
-                z = min(MAX_SLIP_FRACTION, slip_resolution * (v_scale / s) ** RESOLUTION_GROWTH)
-                h = min(h, z * dist, z / omega)
-        elif omega > 0.0:
-            h = min(h, slip_resolution / omega)
+                h = min(h, MAX_SLIP_FRACTION * dist)  # no RK4 stage may pass v_t = 0
+        else:
+            length = s / math.sqrt(g1 * g1 + g2 * g2)  # impulse over which v_t changes by |v_t|
+        if not land and omega > 0.0:
+            # RK4 local error ~ mu * omega * h^5 / length^3 (the turning slip direction is the
+            # only nonlinearity); keep it below the budget.
+            h = min(h, (budget * length ** 3 / (mu * omega)) ** 0.2)
 
         if land:
-            dvn = k13 * (-mu * u1) + k23 * (-mu * u2) + k33
             n_imp = imp + h
             n_p1 = p1 - mu * u1 * h
             n_p2 = p2 - mu * u2 * h
@@ -304,7 +366,8 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
             n_wfr = wfr - 0.5 * mu * s * h
         else:
             n_imp, n_p1, n_p2, n_wn, n_wfr = _rk4_step(
-                k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h)
+                k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h,
+                -mu * u1, -mu * u2, vn, -mu * s)
             n_rk4 += 1
         n_vn = v0n + k13 * n_p1 + k23 * n_p2 + k33 * n_imp
 
@@ -320,9 +383,12 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
                 n_wfr = wfr - mu * h * (s - 0.5 * (-sigma) * h)
                 land = False
             else:
+                e1, e2, e3, e4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+                                           n_p1, n_p2, n_imp)
                 n_imp, n_p1, n_p2, n_wn, n_wfr = _locate_event(
                     k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
-                    imp, p1, p2, wn, wfr, h, 0, 0.0, vn, n_vn)
+                    imp, p1, p2, wn, wfr, h, 0, 0.0, vn, n_vn, dvn,
+                    k13 * e1 + k23 * e2 + k33, event_tolerance)
             compressed = True
             i_c = n_imp
             w_c = n_wn
@@ -349,7 +415,8 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
             else:
                 n_imp, n_p1, n_p2, n_wn, n_wfr = _locate_event(
                     k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
-                    imp, p1, p2, wn, wfr, h, 1, target, wn - target, n_wn - target)
+                    imp, p1, p2, wn, wfr, h, 1, target, wn - target, n_wn - target, vn, n_vn,
+                    event_tolerance)
             return (st.OK, st.SLIDING, n_p1, n_p2, n_imp, i_s, i_c, w_c, n_wn, n_wfr, wn_s,
                     n_rk4)
 

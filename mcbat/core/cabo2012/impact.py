@@ -11,7 +11,7 @@ from mcbat.core import status as st
 from mcbat.core._jit import njit
 from mcbat.core.cabo2012.contact import (
     DEFAULT_MAX_STEPS,
-    DEFAULT_SLIP_RESOLUTION,
+    DEFAULT_TOLERANCE,
     DEFAULT_STEPS,
     solve_contact,
 )
@@ -61,7 +61,7 @@ def solve_impact(
     ball_vx, ball_vy, ball_vz, ball_wx, ball_wy, ball_wz,
     bat_vx, bat_vy, bat_vz, bat_wx, bat_wy, bat_wz,
     mu, e,
-    steps=DEFAULT_STEPS, slip_resolution=DEFAULT_SLIP_RESOLUTION,
+    steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
     max_steps=DEFAULT_MAX_STEPS,
 ):
     """Solve one rigid impact of a ball on a bat (lab frame, SI units).
@@ -79,7 +79,7 @@ def solve_impact(
         Initial velocities (m/s) and spins (rad/s) of ball and bat.
     mu, e : float
         Friction coefficient and energetic restitution ``e*`` in [0, 1].
-    steps, slip_resolution, max_steps
+    steps, tolerance, max_steps
         Accuracy settings of :func:`mcbat.core.cabo2012.contact.solve_contact`.
 
     Returns
@@ -115,7 +115,7 @@ def solve_impact(
     (code, end_state, p1, p2, i_f, i_s, i_c, w_c, w_n, w_fr, w_n_stick,
      n_rk4) = solve_contact(
         k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3), mu, e,
-        steps, slip_resolution, max_steps)
+        steps, tolerance, max_steps)
     if code != st.OK:
         return (code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
                 nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, 0)

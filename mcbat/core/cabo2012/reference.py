@@ -1,0 +1,388 @@
+"""Slow, independent reference integrator for one rigid ball-bat impact (tests only).
+
+This module re-solves the impact of :func:`mcbat.core.cabo2012.solve_impact` in a
+deliberately different formulation, so that the two can check each other:
+
+* the state is the twelve body velocities ``(v_p, w_p, v_b, w_b)`` plus the normal and
+  friction works ``W_n``, ``W_fr`` (not the impulse in the contact basis);
+* the impulse rate ``dP/dI`` on the ball is applied through the masses and inertias directly
+  (no Delassus matrix in the equations of motion);
+* the stick rate and the re-slip direction use an impulse-to-velocity map ``K`` obtained
+  numerically, by applying unit impulses to the bodies;
+* the integration is adaptive (``scipy.integrate.solve_ivp``, DOP853) with event location,
+  in the normal impulse ``I`` (kg m/s).
+
+It imports nothing from the kernel (``contact``, ``rigid_bodies``, ``geometry``) and uses only
+numpy and scipy. Production code never calls it; it is far too slow for sampling.
+
+The model is the matrix form of PHYSICS.md: Coulomb friction, stick when the holding rate
+``|f| <= mu``, re-slip along ``u*`` otherwise, and Stronge's energetic restitution
+``W_n(I_f) = (1 - e*^2) W_c``.
+"""
+
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+# Slip speed (relative to |v(0)|) at which slip is declared over. |v_t| falls linearly
+# into the stick point, so a threshold event finds it without touching the singular rate
+# (a second event on minima of |v_t| catches steps that jump over the threshold).
+SLIP_STOP_FRACTION = 1e-10
+# Samples of the azimuth scan that brackets the re-slip directions before brentq.
+RESLIP_SAMPLES = 3600
+# Safety cap on the number of chained solve_ivp segments (phase changes + events).
+MAX_SEGMENTS = 50
+
+
+def _cross(a, b):
+    """Cross product of two 3-vectors (np.cross is ~10x slower on tiny arrays)."""
+    return np.array([a[1] * b[2] - a[2] * b[1],
+                     a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
+def _frame(axial, angle, radius, slope):
+    """Contact basis and contact point, re-derived with numpy.
+
+    Parameters
+    ----------
+    axial : float
+        Axial position of the contact from the bat CM, m.
+    angle : float
+        Azimuth of the contact point, rad.
+    radius : float
+        Bat radius at the contact, m.
+    slope : float
+        Profile slope dr/dz (dimensionless).
+
+    Returns
+    -------
+    t1, t2, t3, r_c : numpy.ndarray
+        Azimuthal tangent, meridional tangent, outward normal (unit), contact point (m).
+    """
+    e_r = np.array([math.cos(angle), math.sin(angle), 0.0])
+    k = np.array([0.0, 0.0, 1.0])
+    # Surface point (r(z) e_r, z): the tangent along z is r' e_r + k, the azimuthal one
+    # e_phi = k x e_r; the outward normal is perpendicular to both.
+    t1 = _cross(k, e_r)
+    meridian = slope * e_r + k
+    t2 = meridian / np.linalg.norm(meridian)
+    t3 = _cross(t1, t2)
+    r_c = radius * e_r + axial * k
+    return t1, t2, t3, r_c
+
+
+class _Bodies:
+    """Masses, inertias and contact geometry; maps impulse rates to velocity rates."""
+
+    def __init__(self, ball_mass, ball_radius, ball_inertia_factor, bat_mass,
+                 bat_transverse_inertia, bat_axial_inertia, t3, r_c):
+        self.m_p = float(ball_mass)
+        self.i_p = float(ball_inertia_factor) * self.m_p * float(ball_radius) ** 2
+        self.m_b = float(bat_mass)
+        # Bat inertia is diagonal in the lab frame (z along the bat axis).
+        self.i_b_inv = 1.0 / np.array(
+            [bat_transverse_inertia, bat_transverse_inertia, bat_axial_inertia], dtype=float)
+        self.rho = -float(ball_radius) * t3  # contact point from the ball centre
+        self.r_c = r_c
+
+    def velocity_rates(self, p_rate):
+        """Rates of ``(v_p, w_p, v_b, w_b)`` (12,) for impulse rate ``p_rate`` on the ball."""
+        out = np.empty(12)
+        out[0:3] = p_rate / self.m_p
+        out[3:6] = _cross(self.rho, p_rate) / self.i_p
+        out[6:9] = -p_rate / self.m_b
+        out[9:12] = -self.i_b_inv * _cross(self.r_c, p_rate)
+        return out
+
+    def relative_velocity(self, y):
+        """Relative velocity (m/s) of the ball's contact point with respect to the bat's."""
+        return (y[0:3] + _cross(y[3:6], self.rho)
+                - y[6:9] - _cross(y[9:12], self.r_c))
+
+    def energy(self, y):
+        """Kinetic energy (J) of both bodies."""
+        return 0.5 * (self.m_p * y[0:3] @ y[0:3] + self.i_p * y[3:6] @ y[3:6]
+                      + self.m_b * y[6:9] @ y[6:9] + (y[9:12] ** 2 / self.i_b_inv).sum())
+
+
+def _numerical_k(bodies, basis):
+    """Impulse-to-velocity map in the contact basis, from unit impulses.
+
+    The relative velocity is linear in the body velocities, which are linear in the
+    impulse, so applying each unit impulse to zero velocities gives the column of ``K``
+    exactly (no difference of large numbers).
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3) matrix, rows and columns in the basis ``(t1, t2, t3)``, units 1/kg.
+    """
+    k = np.empty((3, 3))
+    for j in range(3):
+        y = np.zeros(14)
+        y[:12] = bodies.velocity_rates(basis[j])
+        k[:, j] = basis @ bodies.relative_velocity(y)
+    return k
+
+
+def _reslip_direction(k, mu):
+    """Unit direction ``u*`` (2,) with ``K_tn - mu K_tt u* = lambda u*``, largest lambda > 0.
+
+    Scans the azimuth of ``u`` for sign changes of the 2D cross product ``u x g(u)``,
+    ``g = K_tn - mu K_tt u``, refines each with brentq and keeps the roots with
+    ``u . g > 0``. Returns None if there is none.
+    """
+    k_tt = k[:2, :2]
+    k_tn = k[:2, 2]
+
+    def g(phi):
+        return k_tn - mu * k_tt @ np.array([math.cos(phi), math.sin(phi)])
+
+    def cross(phi):
+        gv = g(phi)
+        return math.cos(phi) * gv[1] - math.sin(phi) * gv[0]
+
+    phis = np.linspace(0.0, 2.0 * math.pi, RESLIP_SAMPLES + 1)
+    u_all = np.array([np.cos(phis), np.sin(phis)])
+    g_all = k_tn[:, None] - mu * (k_tt @ u_all)
+    values = u_all[0] * g_all[1] - u_all[1] * g_all[0]
+    roots = []
+    for a, b, fa, fb in zip(phis[:-1], phis[1:], values[:-1], values[1:]):
+        if fa == 0.0:
+            roots.append(a)
+        elif fa * fb < 0.0:
+            roots.append(brentq(cross, a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps,
+                                 maxiter=200))
+    best, best_lambda = None, 0.0
+    for phi in roots:
+        u = np.array([math.cos(phi), math.sin(phi)])
+        lam = float(u @ g(phi))
+        if lam > best_lambda:
+            best, best_lambda = u, lam
+    return best
+
+
+def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
+                     bat_transverse_inertia, bat_axial_inertia, axial, angle, radius, slope,
+                     ball_v, ball_w, bat_v, bat_w, mu, e, rtol=1e-12, atol=1e-15):
+    """Solve one rigid ball-bat impact by adaptive integration of the body velocities.
+
+    Parameters
+    ----------
+    ball_mass, ball_radius, ball_inertia_factor : float
+        Ball mass (kg), radius (m) and ``f`` in ``I_p = f m_p R^2``.
+    bat_mass, bat_transverse_inertia, bat_axial_inertia : float
+        Bat mass (kg) and principal moments about its CM (kg m^2).
+    axial, angle, radius, slope : float
+        Contact point: axial position from the bat CM (m), azimuth (rad), bat radius
+        there (m), profile slope dr/dz (dimensionless).
+    ball_v, ball_w, bat_v, bat_w : sequence of 3 floats
+        Initial velocities (m/s) and spins (rad/s), lab frame.
+    mu : float
+        Coulomb friction coefficient (>= 0).
+    e : float
+        Energetic coefficient of restitution ``e*`` in [0, 1].
+    rtol, atol : float
+        Tolerances of ``solve_ivp`` (DOP853).
+
+    Returns
+    -------
+    dict
+        ``status`` ("ok" or "not_approaching"), ``end_state`` ("stuck" or "sliding"),
+        ``ball_v``, ``ball_w``, ``bat_v``, ``bat_w`` (numpy arrays, m/s and rad/s),
+        ``normal_impulse`` ``I_f`` (kg m/s), ``stick_impulse`` (kg m/s, 0.0 when the impact
+        starts with no slip, None if slip never stops), ``compression_impulse`` ``I_c``
+        (kg m/s), ``compression_work`` ``W_c``, ``normal_work`` ``W_n(I_f)``,
+        ``friction_work`` ``W_fr(I_f)``, ``energy_in``, ``energy_out`` (J), and ``phases``
+        (list of "slip", "stick", "reslip", "frictionless", in order); for diagnostics,
+        ``slip_near_misses`` lists ``(I, |v_t|)`` at minima of the slip speed that stay
+        above the stick threshold.
+    """
+    t1, t2, t3, r_c = _frame(axial, angle, radius, slope)
+    basis = np.array([t1, t2, t3])
+    bodies = _Bodies(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
+                     bat_transverse_inertia, bat_axial_inertia, t3, r_c)
+    mu = float(mu)
+    e = float(e)
+
+    y0 = np.zeros(14)
+    y0[0:3], y0[3:6], y0[6:9], y0[9:12] = ball_v, ball_w, bat_v, bat_w
+    v0 = bodies.relative_velocity(y0)
+    speed0 = float(np.linalg.norm(v0))
+    energy_in = bodies.energy(y0)
+    if not v0 @ t3 < 0.0:
+        return dict(status="not_approaching", end_state="sliding", ball_v=y0[0:3].copy(),
+                    ball_w=y0[3:6].copy(), bat_v=y0[6:9].copy(), bat_w=y0[9:12].copy(),
+                    normal_impulse=0.0, stick_impulse=None, compression_impulse=0.0,
+                    compression_work=0.0, normal_work=0.0, friction_work=0.0,
+                    energy_in=energy_in, energy_out=energy_in, phases=[],
+                    slip_near_misses=[])
+
+    k = _numerical_k(bodies, basis)
+    # Generous bound on the impulse of one segment; segments are chained until separation.
+    span = 1e3 * speed0 / np.linalg.eigvalsh(0.5 * (k + k.T))[0]
+    slip_stop = SLIP_STOP_FRACTION * speed0
+
+    def velocity_change(p):
+        """Change of the relative velocity (m/s) for an impulse ``p`` (lab, kg m/s)."""
+        yy = np.zeros(14)
+        yy[:12] = bodies.velocity_rates(p)
+        return bodies.relative_velocity(yy)
+
+    def tangential(y):
+        v = bodies.relative_velocity(y)
+        return v, v - (v @ t3) * t3
+
+    def make_rhs(rate_fn):
+        """rhs of the 14-state for a tangential impulse rate ``rate_fn(v_t)`` (lab, 3,)."""
+        def rhs(_, y):
+            v, v_t = tangential(y)
+            q = rate_fn(v_t)
+            out = np.empty(14)
+            out[:12] = bodies.velocity_rates(t3 + q)
+            out[12] = v @ t3        # dW_n/dI = v_n
+            out[13] = v_t @ q       # dW_fr/dI = v_t . (tangential rate)
+            return out
+        return rhs
+
+    def slip_rate(v_t):
+        return -mu * v_t / np.linalg.norm(v_t)
+
+    def constant_rate(q):
+        return lambda _v_t: q
+
+    def stick_or_reslip():
+        """Phase and tangential rate (lab) once |v_t| = 0."""
+        f = -np.linalg.solve(k[:2, :2], k[:2, 2])
+        if np.linalg.norm(f) <= mu:
+            return "stick", f[0] * t1 + f[1] * t2
+        u = _reslip_direction(k, mu)
+        if u is None:
+            raise RuntimeError("no re-slip direction")
+        return "reslip", -mu * (u[0] * t1 + u[1] * t2)
+
+    # Initial phase.
+    _, vt0 = tangential(y0)
+    stick_impulse = None
+    if mu == 0.0:
+        phase, rate = "frictionless", constant_rate(np.zeros(3))
+    elif np.linalg.norm(vt0) <= slip_stop:
+        stick_impulse = 0.0
+        phase, q = stick_or_reslip()
+        rate = constant_rate(q)
+    else:
+        phase, rate = "slip", slip_rate
+    phases = [phase]
+
+    # Rate of change of |v_t| during slip (1/kg * kg m/s -> m/s per kg m/s).
+    def slip_speed_rate(yy):
+        _, v_t = tangential(yy)
+        u = v_t / np.linalg.norm(v_t)
+        return u @ velocity_change(t3 - mu * u)
+
+    imp, y = 0.0, y0
+    compressed, i_c, w_c = False, None, None
+    near_misses = []  # (I, |v_t|) of slip minima that stay clear of zero
+    push_until = None  # end of a short segment without the minimum event
+    for _ in range(MAX_SEGMENTS):
+        events = []
+        if not compressed:
+            def ev_compression(_, yy):
+                return bodies.relative_velocity(yy) @ t3
+            ev_compression.terminal, ev_compression.direction = True, 1.0
+            events.append(ev_compression)
+        else:
+            target = (1.0 - e * e) * w_c
+
+            def ev_separation(_, yy):
+                return yy[12] - target
+            ev_separation.terminal, ev_separation.direction = True, 1.0
+            events.append(ev_separation)
+        if phase == "slip":
+            def ev_slip_stop(_, yy):
+                return np.linalg.norm(tangential(yy)[1]) - slip_stop
+            ev_slip_stop.terminal, ev_slip_stop.direction = True, -1.0
+            events.append(ev_slip_stop)
+            if push_until is None:
+                # solve_ivp only compares event signs at step ends, so a step can straddle
+                # the V of |v_t| passing through zero (re-slip region) with both ends above
+                # the threshold. A minimum of |v_t| is a +1 crossing of d|v_t|/dI.
+                def ev_slip_min(_, yy):
+                    return slip_speed_rate(yy)
+                ev_slip_min.terminal, ev_slip_min.direction = True, 1.0
+                events.append(ev_slip_min)
+
+        end = imp + span if push_until is None else push_until
+        push_until = None
+        sol = solve_ivp(make_rhs(rate), (imp, end), y, method="DOP853",
+                        events=events, rtol=rtol, atol=atol)
+        if sol.status == -1:
+            raise RuntimeError(f"solve_ivp failed: {sol.message}")
+        if sol.status == 0:  # no event inside the span: continue from its end
+            imp, y = sol.t[-1], sol.y[:, -1]
+            continue
+        # Terminal event: find which one fired (the earliest).
+        fired = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
+        imp, j = min(fired)
+        y = sol.y_events[j][0]
+        name = events[j].__name__
+        if name == "ev_compression":
+            compressed, i_c, w_c = True, imp, y[12]
+            if e == 0.0:  # all stored energy lost: separation at I_c
+                break
+        elif name == "ev_separation":
+            break
+        elif name == "ev_slip_min":
+            speed_t = np.linalg.norm(tangential(y)[1])
+            if speed_t > slip_stop:
+                # Near miss: slip goes on. Step past the minimum without this event (it
+                # would fire again at once); |v_t| cannot reach zero within
+                # speed_t / max|dv/dI|, and max|dv/dI| <= ||K|| sqrt(1 + mu^2).
+                near_misses.append((float(imp), float(speed_t)))
+                max_rate = np.linalg.norm(k, 2) * math.hypot(1.0, mu)
+                push_until = imp + 0.5 * speed_t / max_rate
+                continue
+            stick_impulse = imp  # |v_t| went through zero inside a step
+            phase, q = stick_or_reslip()
+            rate = constant_rate(q)
+            phases.append(phase)
+        else:  # slip stopped at the threshold
+            v, v_t = tangential(y)
+            speed_t = np.linalg.norm(v_t)
+            u = v_t / speed_t
+            dv = velocity_change(t3 - mu * u)
+            d_speed = u @ dv  # d|v_t|/dI (u is tangential)
+            if d_speed < 0.0:
+                # Linear extrapolation over the last, negligible stretch of slip.
+                d_imp = speed_t / -d_speed
+                rhs = make_rhs(slip_rate)(imp, y)
+                rhs[13] *= 0.5  # |v_t| falls linearly to zero: the mean of -mu |v_t|
+                y = y + d_imp * rhs
+                imp += d_imp
+                if not compressed and bodies.relative_velocity(y) @ t3 >= 0.0:
+                    # Compression ended inside the extrapolated stretch (~1e-10 of I).
+                    compressed, i_c, w_c = True, imp, y[12]
+                    if e == 0.0:
+                        stick_impulse = imp
+                        break
+            stick_impulse = imp
+            phase, q = stick_or_reslip()
+            rate = constant_rate(q)
+            phases.append(phase)
+    else:
+        raise RuntimeError("too many integration segments")
+
+    return dict(
+        status="ok",
+        end_state="stuck" if phase == "stick" else "sliding",
+        ball_v=y[0:3].copy(), ball_w=y[3:6].copy(), bat_v=y[6:9].copy(),
+        bat_w=y[9:12].copy(),
+        normal_impulse=float(imp), stick_impulse=stick_impulse,
+        compression_impulse=float(i_c), compression_work=float(w_c),
+        normal_work=float(y[12]), friction_work=float(y[13]),
+        energy_in=float(energy_in), energy_out=float(bodies.energy(y)),
+        phases=phases, slip_near_misses=near_misses,
+    )
