@@ -1,0 +1,91 @@
+"""Python API and kernel status codes: tapered bats, bad states, no exceptions in the kernel."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mcbat.api import Ball, Bat, Contact, ImpactCase, SolverSettings, solve
+from mcbat.bats import r161_profile
+from mcbat.core import status as st
+from mcbat.errors import InputError
+from tests.conftest import kernel
+
+BALL = Ball(mass=0.145, radius=0.036)
+CYLINDER = Bat(mass=0.989, radius=0.03335, transverse_inertia=0.046, axial_inertia=4.39e-4)
+
+
+def _case(**kw):
+    base = dict(ball=BALL, bat=CYLINDER, contact=Contact(axial=0.115, angle=0.1),
+                ball_velocity=(-4.0, 0.0, 0.0), ball_spin=(0.0, 0.0, 79.0), mu=0.5, e=0.62)
+    return ImpactCase(**{**base, **kw})
+
+
+def test_result_dict_and_properties():
+    r = solve(_case())
+    d = r.to_dict()
+    assert d["exit_speed"] == pytest.approx(math.hypot(*r.ball_velocity), rel=1e-15)
+    assert d["scattering_angle"] == pytest.approx(
+        math.degrees(math.atan2(r.ball_velocity[1], r.ball_velocity[0])), rel=1e-15)
+    assert d["impact_parameter"] == pytest.approx((0.036 + 0.03335) * math.sin(0.1), rel=1e-12)
+    assert d["restitution_loss"] == pytest.approx(-d["normal_work"])
+    assert d["end_state"] in ("stuck", "sliding") and d["status"] == "ok"
+
+
+def test_loss_fraction_maps_to_energetic_coefficient():
+    assert ImpactCase.e_from_loss_fraction(0.6183822) == pytest.approx(math.sqrt(1 - 0.6183822))
+    with pytest.raises(InputError, match="loss_fraction"):
+        ImpactCase.e_from_loss_fraction(1.5)
+
+
+def test_tapered_profile_bat_tilts_the_normal_and_conserves_momentum():
+    profile = r161_profile()
+    bat = Bat.from_profile(profile)
+    axial = profile.barrel_end - 0.15
+    case = _case(bat=bat, contact=Contact(axial=axial, angle=0.0))
+    radius, slope = case.contact_surface()
+    assert slope > 0.005  # the R161 barrel still tapers 15 cm from its end
+    result = solve(case)
+    m, mb = BALL.mass, bat.mass
+    p_in = m * np.array(case.ball_velocity)
+    p_out = m * np.array(result.ball_velocity) + mb * np.array(result.bat_velocity)
+    assert np.allclose(p_out, p_in, rtol=0, atol=1e-12 * np.abs(p_in).max())
+    # Same bat as a cylinder of the same local radius: the tapered normal tilts towards the
+    # knob (-z) by ~slope, so the ball leaves with an extra axial velocity ~ -slope * dv_n.
+    flat = Bat(mass=bat.mass, radius=radius, transverse_inertia=bat.transverse_inertia,
+               axial_inertia=bat.axial_inertia)
+    flat_result = solve(_case(bat=flat, contact=Contact(axial=axial, angle=0.0)))
+    dv_n = result.ball_velocity[0] - case.ball_velocity[0]
+    extra = result.ball_velocity[2] - flat_result.ball_velocity[2]
+    assert extra < 0.0
+    assert extra == pytest.approx(-slope * dv_n, rel=0.3)
+
+
+def test_contact_off_the_profile_is_rejected():
+    bat = Bat.from_profile(r161_profile())
+    with pytest.raises(InputError, match="contact.axial"):
+        _case(bat=bat, contact=Contact(axial=bat.profile.barrel_end + 0.01, angle=0.0))
+
+
+def test_not_approaching_is_an_input_error():
+    with pytest.raises(InputError, match="not approaching"):
+        solve(_case(ball_velocity=(4.0, 0.0, 0.0)))
+
+
+def test_kernel_status_codes_never_raise():
+    assert kernel(ball_v=(4.0, 0.0, 0.0))["status"] == st.NOT_APPROACHING
+    bad = kernel(ball_v=(math.nan, 0.0, 0.0))
+    assert bad["status"] == st.INVALID_INPUT and math.isnan(bad["ball_vx"])
+    assert kernel(mu=-0.1)["status"] == st.INVALID_INPUT
+    assert kernel(e=1.5)["status"] == st.INVALID_INPUT
+    assert kernel(ball_mass=0.0)["status"] == st.INVALID_INPUT
+    assert kernel(bat_axial_inertia=-1.0)["status"] == st.INVALID_INPUT
+    assert kernel(radius=math.inf)["status"] == st.INVALID_INPUT
+    # A step budget too small for the slip phase is reported, not looped on.
+    capped = kernel(ball_w=(0.0, 200.0, 300.0), mu=0.3, settings=(8, 3e-9, 2))
+    assert capped["status"] == st.MAX_STEPS and math.isnan(capped["ball_vx"])
+
+
+def test_solver_failure_raises_runtime_error_in_api():
+    with pytest.raises(RuntimeError, match="max_steps"):
+        solve(_case(ball_spin=(0.0, 200.0, 300.0)), SolverSettings(max_steps=2))
