@@ -10,6 +10,7 @@ import argparse
 import json
 import math
 import sys
+from pathlib import Path
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -85,6 +86,20 @@ def cmd_impact(args) -> int:
     return EXIT_OK
 
 
+def cmd_run(args) -> int:
+    from mcbat.runner import run_study
+    from mcbat.study import load_study
+
+    study = load_study(args.study)  # validates everything before anything is written
+    out = args.out or str(Path("results") / study.name)
+    summary = run_study(study, out, samples=args.samples, seed=args.seed,
+                        threads=args.threads, chunk_size=args.chunk_size,
+                        overwrite=args.overwrite, progress=not args.quiet)
+    for line in summary.lines():
+        print(line)
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _ArgumentParser(
         prog="mcbat",
@@ -100,7 +115,38 @@ def build_parser() -> argparse.ArgumentParser:
                     "frame (bat CM at the origin, z along the bat axis).")
     impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
     impact.set_defaults(func=cmd_impact)
+
+    run = sub.add_parser(
+        "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
+        description="Sample the study's inputs, solve every impact with the parallel kernel "
+                    "and write a Parquet dataset (one file per chunk). An interrupted run "
+                    "resumes: complete chunk files are kept.")
+    run.add_argument("study", metavar="STUDY.toml")
+    run.add_argument("--out", metavar="DIR", help="dataset directory "
+                     "(default: results/<study name>)")
+    run.add_argument("--samples", type=_int_arg("--samples"), metavar="N",
+                     help="number of impacts (default: the study's)")
+    run.add_argument("--seed", type=_int_arg("--seed"), metavar="S",
+                     help="random seed (default: the study's)")
+    run.add_argument("--threads", type=_int_arg("--threads"), metavar="K",
+                     help="kernel threads (default: all cores)")
+    run.add_argument("--chunk-size", type=_int_arg("--chunk-size"), metavar="C",
+                     help="rows per Parquet file (default: the study's, or 250,000)")
+    run.add_argument("--overwrite", action="store_true",
+                     help="replace an existing dataset written with another config")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(func=cmd_run)
     return parser
+
+
+def _int_arg(flag):
+    def parse(text):
+        try:
+            return int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{flag} must be an integer, got {text!r}") \
+                from None
+    return parse
 
 
 def main(argv=None) -> int:
@@ -115,6 +161,10 @@ def main(argv=None) -> int:
     except _UsageError as err:
         print(f"mcbat: error: {err}", file=sys.stderr)
         return EXIT_USER
+    except KeyboardInterrupt:
+        print("mcbat: interrupted; complete chunk files are kept, rerun the same command "
+              "to resume", file=sys.stderr)
+        return 130
     except Exception as err:  # noqa: BLE001 - the CLI boundary maps errors to exit codes
         from mcbat.errors import InputError
 

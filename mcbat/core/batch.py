@@ -1,0 +1,95 @@
+"""Parallel batch kernel: many impacts, struct-of-arrays in, struct-of-arrays out.
+
+Inputs are the rows of one ``float64[len(INPUT_FIELDS), n]`` array (each row one field,
+contiguous); outputs go to ``float64[len(OUTPUT_FIELDS), n]`` plus ``int8`` status and
+end-state arrays. The loop is a ``numba.prange``: rows are independent, so the result does
+not depend on the thread count. No Python objects and nothing raises inside the loop; a
+row that cannot be solved gets a non-zero status and NaN outputs.
+"""
+
+import numba
+import numpy as np
+
+from mcbat.core._jit import njit
+from mcbat.core.cabo2012.impact import solve_impact
+
+INPUT_FIELDS = (
+    "ball_mass", "ball_radius", "ball_inertia_factor",
+    "bat_mass", "bat_transverse_inertia", "bat_axial_inertia",
+    "axial", "angle", "bat_radius", "bat_slope",
+    "ball_vx_in", "ball_vy_in", "ball_vz_in", "ball_wx_in", "ball_wy_in", "ball_wz_in",
+    "bat_vx_in", "bat_vy_in", "bat_vz_in", "bat_wx_in", "bat_wy_in", "bat_wz_in",
+    "mu", "e",
+)
+"""Solver inputs, in the order of :func:`mcbat.core.cabo2012.solve_impact` (SI units)."""
+
+OUTPUT_FIELDS = (
+    "ball_vx", "ball_vy", "ball_vz", "ball_wx", "ball_wy", "ball_wz",
+    "bat_vx", "bat_vy", "bat_vz", "bat_wx", "bat_wy", "bat_wz",
+    "normal_impulse", "stick_impulse", "compression_impulse",
+    "tangential_impulse_1", "tangential_impulse_2",
+    "compression_work", "normal_work", "friction_work", "stick_criterion",
+    "energy_in", "energy_out", "rk4_steps",
+)
+"""Float outputs, named as in :data:`mcbat.core.cabo2012.IMPACT_FIELDS` (``status`` and
+``end_state`` go to their own ``int8`` arrays)."""
+
+_N_IN = len(INPUT_FIELDS)
+_N_OUT = len(OUTPUT_FIELDS)
+
+
+@njit(parallel=True)
+def solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state):
+    """Solve ``inputs.shape[1]`` impacts in parallel.
+
+    Parameters
+    ----------
+    inputs : float64[len(INPUT_FIELDS), n]
+        One row per field of :data:`INPUT_FIELDS`.
+    steps, tolerance, max_steps
+        Accuracy settings (see :func:`mcbat.core.cabo2012.contact.solve_contact`).
+    out : float64[len(OUTPUT_FIELDS), n]
+        Written: one row per field of :data:`OUTPUT_FIELDS`.
+    status, end_state : int8[n]
+        Written: codes from :mod:`mcbat.core.status`.
+    """
+    n = inputs.shape[1]
+    for i in numba.prange(n):
+        r = solve_impact(
+            inputs[0, i], inputs[1, i], inputs[2, i], inputs[3, i], inputs[4, i],
+            inputs[5, i], inputs[6, i], inputs[7, i], inputs[8, i], inputs[9, i],
+            inputs[10, i], inputs[11, i], inputs[12, i], inputs[13, i], inputs[14, i],
+            inputs[15, i], inputs[16, i], inputs[17, i], inputs[18, i], inputs[19, i],
+            inputs[20, i], inputs[21, i], inputs[22, i], inputs[23, i],
+            steps, tolerance, max_steps)
+        status[i] = r[0]
+        end_state[i] = r[1]
+        out[0, i] = r[2]
+        out[1, i] = r[3]
+        out[2, i] = r[4]
+        out[3, i] = r[5]
+        out[4, i] = r[6]
+        out[5, i] = r[7]
+        out[6, i] = r[8]
+        out[7, i] = r[9]
+        out[8, i] = r[10]
+        out[9, i] = r[11]
+        out[10, i] = r[12]
+        out[11, i] = r[13]
+        out[12, i] = r[14]
+        out[13, i] = r[15]
+        out[14, i] = r[16]
+        out[15, i] = r[17]
+        out[16, i] = r[18]
+        out[17, i] = r[19]
+        out[18, i] = r[20]
+        out[19, i] = r[21]
+        out[20, i] = r[22]
+        out[21, i] = r[23]
+        out[22, i] = r[24]
+        out[23, i] = r[25]
+
+
+def allocate_outputs(n):
+    """Empty output arrays for :func:`solve_batch`: ``(out, status, end_state)``."""
+    return (np.empty((_N_OUT, n), np.float64), np.empty(n, np.int8), np.empty(n, np.int8))

@@ -1,0 +1,237 @@
+"""`mcbat run`: Parquet datasets that are identical whatever the threads, chunking or
+interruption, match the single-impact API row by row, and refuse bad input cleanly."""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+
+import mcbat
+from mcbat import dataset as ds
+from mcbat.api import Ball, Bat, Contact, ImpactCase, SolverSettings, solve
+from mcbat.runner import run_study
+from mcbat.study import load_study
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "studies" / "example.toml"
+
+
+def mcbat_cli(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "mcbat.cli", *map(str, args)],
+                          capture_output=True, text=True, check=False, cwd=cwd)
+
+
+@pytest.fixture(scope="module")
+def study():
+    return load_study(EXAMPLE)
+
+
+@pytest.fixture(scope="module")
+def baseline(study, tmp_path_factory):
+    out = tmp_path_factory.mktemp("baseline") / "ds"
+    run_study(study, out, samples=30_000, seed=11, threads=2, chunk_size=7_000,
+              progress=False)
+    return mcbat.load(out)
+
+
+def _same_rows(a: pd.DataFrame, b: pd.DataFrame, ignore=()):
+    cols = [c for c in ds.COLUMNS if c not in ignore]
+    pd.testing.assert_frame_equal(a[cols].reset_index(drop=True),
+                                  b[cols].reset_index(drop=True), check_exact=True)
+
+
+def test_dataset_columns_and_metadata(baseline, study):
+    assert list(baseline.columns) == list(ds.COLUMNS)
+    assert len(baseline) == 30_000
+    assert baseline["sample_id"].tolist() == list(range(30_000))
+    assert (baseline["status"] == 0).mean() > 0.99
+    directory = Path(baseline.attrs["directory"])
+    names = sorted(p.name for p in directory.iterdir())
+    assert names == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
+    meta = json.loads(pq.read_schema(directory / ds.chunk_name(0)).metadata[ds.METADATA_KEY])
+    assert meta["seed"] == 11 and meta["samples"] == 30_000
+    assert meta["config_hash"] == baseline.attrs["mcbat"]["config_hash"]
+    assert meta["units"]["exit_speed"] == "m/s" and meta["units"]["scattering_angle"] == "deg"
+    assert {"mcbat", "numba", "numpy", "pyarrow"} <= set(meta["versions"])
+    assert meta["study"] == study.config()
+    assert "[study]" in meta["study_toml"]
+    # Derived columns agree with the outputs they come from.
+    ok = baseline[baseline["status"] == 0]
+    speed = np.sqrt(ok["ball_vx"] ** 2 + ok["ball_vy"] ** 2 + ok["ball_vz"] ** 2)
+    assert np.allclose(ok["exit_speed"], speed, rtol=1e-15, atol=0)
+    assert np.allclose(ok["scattering_angle"],
+                       np.degrees(np.arctan2(ok["ball_vy"], ok["ball_vx"])), rtol=1e-15)
+    assert (ok["spin_axial"] == ok["ball_wz"]).all()
+
+
+def test_threads_do_not_change_the_data(study, tmp_path, baseline):
+    out = tmp_path / "one-thread"
+    run_study(study, out, samples=30_000, seed=11, threads=1, chunk_size=7_000,
+              progress=False)
+    _same_rows(mcbat.load(out), baseline)
+
+
+def test_chunk_size_does_not_change_the_data(study, tmp_path, baseline):
+    out = tmp_path / "chunks"
+    run_study(study, out, samples=30_000, seed=11, threads=2, chunk_size=4_096,
+              progress=False)
+    other = mcbat.load(out)
+    assert other["chunk"].max() == math.ceil(30_000 / 4_096) - 1
+    # Only the bookkeeping column `chunk` says how rows were grouped into files.
+    _same_rows(other, baseline, ignore=("chunk",))
+
+
+def test_seed_changes_the_data(study, tmp_path, baseline):
+    out = tmp_path / "seed"
+    run_study(study, out, samples=30_000, seed=12, threads=2, chunk_size=7_000,
+              progress=False)
+    assert not np.array_equal(mcbat.load(out)["mu"], baseline["mu"])
+
+
+def test_rows_match_the_single_impact_api(study, baseline):
+    rng = np.random.default_rng(0)
+    settings = SolverSettings(**study.solver)
+    ok = baseline[baseline["status"] == 0]
+    outputs = ("ball_vx", "ball_vy", "ball_vz", "ball_wx", "ball_wy", "ball_wz",
+               "bat_vx", "bat_vy", "bat_vz", "bat_wx", "bat_wy", "bat_wz",
+               "normal_impulse", "compression_impulse", "friction_work", "energy_out")
+    for i in rng.choice(ok.index, size=40, replace=False):
+        row = ok.loc[i]
+        assert row["bat_slope"] == 0.0  # the example study's bat is a cylinder
+        case = ImpactCase(
+            ball=Ball(row["ball_mass"], row["ball_radius"], row["ball_inertia_factor"]),
+            bat=Bat(row["bat_mass"], row["bat_transverse_inertia"], row["bat_axial_inertia"],
+                    radius=row["bat_radius"]),
+            contact=Contact(row["axial"], row["angle"]),
+            ball_velocity=[row[f"ball_v{c}_in"] for c in "xyz"],
+            ball_spin=[row[f"ball_w{c}_in"] for c in "xyz"],
+            bat_velocity=[row[f"bat_v{c}_in"] for c in "xyz"],
+            bat_spin=[row[f"bat_w{c}_in"] for c in "xyz"],
+            mu=row["mu"], e=row["e"])
+        result = solve(case, settings)
+        got = {**{f"ball_v{c}": v for c, v in zip("xyz", result.ball_velocity)},
+               **{f"ball_w{c}": v for c, v in zip("xyz", result.ball_spin)},
+               **{f"bat_v{c}": v for c, v in zip("xyz", result.bat_velocity)},
+               **{f"bat_w{c}": v for c, v in zip("xyz", result.bat_spin)},
+               "normal_impulse": result.normal_impulse,
+               "compression_impulse": result.compression_impulse,
+               "friction_work": result.friction_work, "energy_out": result.energy_out}
+        for name in outputs:
+            assert got[name] == row[name], (i, name)
+        assert (result.end_state == "stuck") == (row["end_state"] == 1)
+
+
+def test_rerun_changes_nothing_and_other_config_is_refused(study, tmp_path):
+    out = tmp_path / "ds"
+    run_study(study, out, samples=5_000, seed=3, chunk_size=2_000, progress=False)
+    stamps = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    summary = run_study(study, out, samples=5_000, seed=3, chunk_size=2_000, progress=False)
+    assert summary.chunks_computed == 0 and summary.chunks_kept == 3
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == stamps
+    proc = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 5_000, "--seed", 4,
+                     "--chunk-size", 2_000, "--quiet")
+    assert proc.returncode == 2
+    assert "different study config, seed or sample count" in proc.stderr
+    assert "--overwrite" in proc.stderr and "Traceback" not in proc.stderr
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == stamps
+    proc = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 5_000, "--seed", 4,
+                     "--chunk-size", 2_000, "--quiet", "--overwrite")
+    assert proc.returncode == 0, proc.stderr
+    assert mcbat.load(out).attrs["mcbat"]["seed"] == 4
+
+
+def test_foreign_directory_is_never_overwritten(study, tmp_path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("precious")
+    for extra in ((), ("--overwrite",)):
+        proc = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 100, "--quiet", *extra)
+        assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert (out / "notes.txt").read_text() == "precious"
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+
+
+def test_truncated_chunk_is_redone(study, tmp_path):
+    out = tmp_path / "ds"
+    run_study(study, out, samples=6_000, seed=5, chunk_size=2_000, progress=False)
+    before = mcbat.load(out)
+    victim = out / ds.chunk_name(1)
+    victim.write_bytes(victim.read_bytes()[:1000])
+    summary = run_study(study, out, samples=6_000, seed=5, chunk_size=2_000, progress=False)
+    assert summary.chunks_computed == 1 and summary.chunks_kept == 2
+    _same_rows(mcbat.load(out), before)
+
+
+def test_sigkill_mid_run_then_resume_gives_identical_data(tmp_path):
+    args = ["run", EXAMPLE, "--samples", 400_000, "--seed", 21, "--chunk-size", 20_000,
+            "--threads", 1, "--quiet"]
+    killed = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "mcbat.cli", *map(str, args),
+                             "--out", str(killed)], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if killed.is_dir() and len(ds.chunk_files(killed)) >= 3:
+            break
+        time.sleep(0.02)
+    assert proc.poll() is None, "the run finished before it could be killed"
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    done_before = len(ds.chunk_files(killed))
+    assert 3 <= done_before < 20
+    resumed = mcbat_cli(*args, "--out", killed)
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"{done_before} kept from before" in resumed.stdout or \
+        f"{done_before + 1} kept from before" in resumed.stdout
+    clean = tmp_path / "clean"
+    assert mcbat_cli(*args, "--out", clean).returncode == 0
+    assert not list(killed.glob(".*tmp"))
+    _same_rows(mcbat.load(killed), mcbat.load(clean))
+
+
+BAD_STUDIES = {
+    "unknown key": ("[study]\nname='x'\nsamples=10\nseed=1\ncolour='red'\n", "study.colour"),
+    "bad distribution": ("[friction]\nmu = { dist = 'gaussian', mean = 0.5, std = 0.1 }\n",
+                         "friction.mu"),
+    "mu out of range": ("[friction]\nmu = -0.5\n", "friction.mu"),
+    "e out of range": ("[restitution]\ne = 1.5\n", "restitution.e"),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD_STUDIES))
+def test_bad_study_exits_2_names_the_key_and_writes_nothing(name, tmp_path):
+    text, key = BAD_STUDIES[name]
+    good = EXAMPLE.read_text()
+    section = text.split("]")[0] + "]"
+    # Replace the section of the good study with the bad one.
+    lines, skip = [], False
+    for line in good.splitlines():
+        if line.strip().startswith("["):
+            skip = line.strip() == section
+            if skip:
+                lines.append(text)
+                continue
+        if not skip:
+            lines.append(line)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "out"
+    proc = mcbat_cli("run", bad, "--out", out, "--quiet")
+    assert proc.returncode == 2, proc.stderr
+    assert key in proc.stderr and "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_load_rejects_a_non_dataset(tmp_path):
+    with pytest.raises(mcbat.errors.InputError, match="not an mcbat dataset"):
+        mcbat.load(tmp_path)
