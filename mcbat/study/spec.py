@@ -1,0 +1,669 @@
+"""Study files: TOML → a validated :class:`Study` → deterministic solver input columns.
+
+A study is a Monte Carlo scan: every numeric input of the impact solver is either fixed
+or drawn from a distribution, and :meth:`Study.sample` turns sample indices into the
+float64 input columns of :func:`mcbat.core.batch.solve_batch`.
+
+File format
+-----------
+::
+
+    [study]
+    name = "example"          # required, non-empty string
+    description = "..."       # optional string
+    samples = 20000           # required: default number of samples (the CLI may override), int >= 1
+    seed = 2012               # optional (default 0): default seed (the CLI may override), int >= 0
+    chunk_size = 100000       # optional: default rows per output file, int >= 1
+
+    [ball]                    # either  preset = "baseball"
+    mass = 0.145              # or fixed numbers: mass, radius, inertia_factor (default 0.4)
+    radius = { value = 3.6, unit = "cm" }
+
+    [bat]                     # either  preset = "cross_nathan_2006" | "r161"
+    mass = 0.989              # or fixed numbers: mass, radius, transverse_inertia,
+    radius = 0.03335          # axial_inertia (a cylinder at the contact), and optionally
+    transverse_inertia = 0.046  # length and cm_from_barrel_end (needed for
+    axial_inertia = 4.39e-4   # contact.from_barrel_end; both bound the contact position)
+
+    [contact]                 # exactly one of axial | from_barrel_end (length),
+    from_barrel_end = { dist = "uniform", low = 14, high = 16, unit = "cm" }
+    impact_parameter = { dist = "uniform", low = -1.5, high = 1.5, unit = "in" }
+                              # exactly one of angle (angle) | impact_parameter (length);
+                              # optional approach_azimuth (angle, default 0)
+
+    [ball_velocity]           # required; x, y, z each a number or a distribution (speed),
+    x = { value = -4.0 }      # missing components are 0
+    [ball_spin]               # optional; x, y, z (spin), default 0
+    z = { dist = "choice", values = [79, 0, -72] }
+    [bat_velocity]            # optional; x, y, z (speed), default 0
+    [bat_spin]                # optional; x, y, z (spin), default 0
+
+    [friction]                # required
+    mu = { dist = "truncnormal", mean = 0.5, std = 0.05, low = 0.0, high = 1.0 }
+
+    [restitution]             # optional: exactly one of e (Stronge's energetic e*, in
+    loss_fraction = 0.6183822 # [0, 1]) | loss_fraction (the paper's e^2, in [0, 1],
+                              # e* = sqrt(1 - e^2)); without the section e* = 1
+
+    [solver]                  # optional: steps (int >= 1), tolerance (0 < tol < 1),
+    tolerance = 1e-9          # max_steps (int >= 1); defaults of mcbat.core.cabo2012.contact
+
+Quantities: axial, from_barrel_end, impact_parameter and the bat/ball radii are lengths;
+angle and approach_azimuth angles; velocities speeds; spins spins; mu, e, loss_fraction
+and inertia_factor dimensionless. Without a ``unit`` a value is SI (m, m/s, rad/s, rad,
+kg, kg m^2). The lab frame is PHYSICS.md's: the bat CM at the origin, ``z`` along the bat
+towards the barrel end; ``axial`` is measured from the CM, ``from_barrel_end`` from the
+barrel end (``axial = cm_from_barrel_end - from_barrel_end``). The impact parameter is
+the offset of a ball line perpendicular to the bat, arriving from azimuth
+``approach_azimuth``: ``b = (r + R/sqrt(1 + r'^2)) sin(angle - approach_azimuth)``.
+
+Distributions (:mod:`mcbat.study.distributions`): a number, ``{ value, unit }``,
+``uniform(low, high)``, ``normal(mean, std)``, ``truncnormal(mean, std, low, high)``,
+``choice(values, weights?)``, ``mixture(components, weights?)``, ``grid(start, stop,
+num)``, ``sobol(low, high)``, ``lhs(low, high)``; each with an optional ``unit``.
+
+Validation happens completely in :meth:`Study.from_dict`, before anything is sampled:
+unknown or missing keys, wrong types, bad parameters (``std <= 0``, ``low >= high``,
+weights), units of the wrong quantity, and values or supports outside the physical range
+(masses, radii, inertias > 0; ``mu >= 0``; ``e``, ``loss_fraction`` in [0, 1]; the contact
+on the bat; ``|b|`` within the reach ``r(z) + R/sqrt(1 + r'^2)`` over every axial position
+the contact can take). Errors are :class:`mcbat.errors.InputError` with the dotted key,
+e.g. ``studies/x.toml: contact.impact_parameter.high: ...``.
+
+Determinism
+-----------
+Sample ``i`` depends only on the study, the seed and ``i``, never on how rows are grouped
+into chunks: ``sample(0, n)`` equals any concatenation of ``sample(a, b)`` pieces.
+
+* Random inputs (uniform, normal, truncnormal, choice, mixture) are drawn in blocks of
+  :data:`RANDOM_BLOCK` = 65,536 samples. Block ``k`` (samples ``k*B .. (k+1)*B - 1``) uses
+  ``numpy.random.default_rng(SeedSequence(seed, spawn_key=(k,)))`` and draws every random
+  input for the whole block, one input after the other in declaration order (the order of
+  the sections and keys in the file). A range ``[start, stop)`` is cut out of the blocks
+  it overlaps.
+* Grid inputs form an outer product (the first declared varies slowest); sample ``i``
+  takes grid point ``i mod G``, ``G`` the product of the ``num`` s.
+* Sobol inputs share one scrambled :class:`scipy.stats.qmc.Sobol` engine (one dimension
+  each, in declaration order) seeded with ``SeedSequence(seed, spawn_key=(2**31,))``;
+  sample ``i`` is its point ``i`` (``fast_forward(start)``).
+* LHS inputs share one :class:`scipy.stats.qmc.LatinHypercube` design *per random block*
+  of 65,536 samples, seeded with ``SeedSequence(seed, spawn_key=(2**31 + 1, k))``: the
+  stratification holds within each full block (a last, partial block is a subset).
+
+Changing the order of the inputs in the file, adding or removing a random input changes
+the samples (the canonical :meth:`Study.config` and its hash record the order).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import re
+import tomllib
+import warnings
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+from scipy.stats import qmc
+
+from mcbat.core._jit import njit
+from mcbat.core.batch import INPUT_FIELDS
+from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.geometry import angle_from_impact_parameter, impact_parameter_from_angle
+from mcbat.errors import InputError
+from mcbat.study import units as u
+from mcbat.study.distributions import (
+    Dist,
+    check_keys,
+    check_range,
+    integer,
+    number,
+    parse,
+)
+from mcbat.study.presets import BALL_PRESETS, BAT_PRESETS, BallSpec, BatSpec, bat_preset
+
+#: Samples per block of the random stream (and per LHS design).
+RANDOM_BLOCK = 65536
+#: ``spawn_key`` of the Sobol engine's SeedSequence.
+SOBOL_SPAWN_KEY = 2**31
+#: First element of the ``spawn_key`` of the per-block LHS designs.
+LHS_SPAWN_KEY = 2**31 + 1
+#: Bits of the Sobol engine: at most ``2**SOBOL_BITS`` samples.
+SOBOL_BITS = 32
+#: Version of the study format and sampling scheme, recorded in :meth:`Study.config`.
+FORMAT_VERSION = 1
+
+#: Columns returned by :meth:`Study.sample`: the solver inputs, then the impact parameter.
+COLUMNS = INPUT_FIELDS + ("impact_parameter",)
+
+_REQUIRED_SECTIONS = ("study", "ball", "bat", "contact", "ball_velocity", "friction")
+_OPTIONAL_SECTIONS = ("ball_spin", "bat_velocity", "bat_spin", "restitution", "solver")
+_VECTORS = {
+    "ball_velocity": ("ball_v", u.SPEED),
+    "ball_spin": ("ball_w", u.SPIN),
+    "bat_velocity": ("bat_v", u.SPEED),
+    "bat_spin": ("bat_w", u.SPIN),
+}
+_CONTACT_QUANTITIES = {"axial": u.LENGTH, "from_barrel_end": u.LENGTH, "angle": u.ANGLE,
+                       "impact_parameter": u.LENGTH, "approach_azimuth": u.ANGLE}
+_BALL_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "inertia_factor": u.DIMENSIONLESS}
+_BAT_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "transverse_inertia": u.INERTIA,
+             "axial_inertia": u.INERTIA, "length": u.LENGTH, "cm_from_barrel_end": u.LENGTH}
+_BAT_REQUIRED = ("mass", "radius", "transverse_inertia", "axial_inertia")
+
+
+# ---------------------------------------------------------------- vectorised geometry
+
+
+@njit
+def _angles(impact_parameter, ball_radius, radius, slope, azimuth, out):
+    for i in range(out.shape[0]):
+        out[i] = angle_from_impact_parameter(impact_parameter[i], ball_radius, radius[i],
+                                             slope[i], azimuth[i])
+
+
+@njit
+def _impact_parameters(angle, ball_radius, radius, slope, azimuth, out):
+    for i in range(out.shape[0]):
+        out[i] = impact_parameter_from_angle(angle[i], ball_radius, radius[i], slope[i],
+                                             azimuth[i])
+
+
+# ---------------------------------------------------------------- parsing helpers
+
+
+def _string(value, field):
+    if not isinstance(value, str):
+        raise InputError(field, f"must be a string, got {value!r}")
+    return value
+
+
+def _fixed(spec, field, quantity, *, positive=True):
+    """A fixed number (plain or ``{value, unit}``) in SI, ``> 0`` if ``positive``."""
+    dist = parse(spec, field, quantity, kinds=("fixed",))
+    if positive:
+        check_range(dist, minimum=0.0, strict_minimum=True, what=field.rsplit(".", 1)[-1])
+    return dist.value
+
+
+def _parse_ball(table):
+    check_keys(table, "ball", (), ("preset",) + tuple(_BALL_KEYS))
+    if "preset" in table:
+        for key in table:
+            if key != "preset":
+                raise InputError(f"ball.{key}", "cannot be combined with 'preset' (give "
+                                                "either a preset or the ball's properties)")
+        name = _string(table["preset"], "ball.preset")
+        if name not in BALL_PRESETS:
+            raise InputError("ball.preset", f"unknown ball preset {name!r} "
+                                            f"(expected one of: {', '.join(BALL_PRESETS)})")
+        return BALL_PRESETS[name]
+    check_keys(table, "ball", ("mass", "radius"), ("inertia_factor",))
+    values = {k: _fixed(v, f"ball.{k}", _BALL_KEYS[k]) for k, v in table.items()}
+    return BallSpec(**values)
+
+
+def _parse_bat(table):
+    check_keys(table, "bat", (), ("preset",) + tuple(_BAT_KEYS))
+    if "preset" in table:
+        for key in table:
+            if key != "preset":
+                raise InputError(f"bat.{key}", "cannot be combined with 'preset' (give "
+                                               "either a preset or the bat's properties)")
+        name = _string(table["preset"], "bat.preset")
+        if name not in BAT_PRESETS:
+            raise InputError("bat.preset", f"unknown bat preset {name!r} "
+                                           f"(expected one of: {', '.join(BAT_PRESETS)})")
+        return bat_preset(name)
+    check_keys(table, "bat", _BAT_REQUIRED, ("length", "cm_from_barrel_end"))
+    values = {}
+    for key, spec in table.items():
+        values[key] = _fixed(spec, f"bat.{key}", _BAT_KEYS[key],
+                             positive=key != "cm_from_barrel_end")
+    cm = values.get("cm_from_barrel_end")
+    if cm is not None:
+        length = values.get("length")
+        if cm < 0.0 or (length is not None and cm > length):
+            limit = "" if length is None else f" and <= the length {length:.6g} m"
+            raise InputError("bat.cm_from_barrel_end",
+                             f"must be >= 0{limit}, got {cm:.6g} m")
+    return BatSpec(**values)
+
+
+def _check_solver(table):
+    check_keys(table, "solver", (), ("steps", "tolerance", "max_steps"))
+    steps = integer(table.get("steps", DEFAULT_STEPS), "solver.steps", minimum=1)
+    max_steps = integer(table.get("max_steps", DEFAULT_MAX_STEPS), "solver.max_steps",
+                        minimum=1)
+    tolerance = number(table.get("tolerance", DEFAULT_TOLERANCE), "solver.tolerance")
+    if not 0.0 < tolerance < 1.0:
+        raise InputError("solver.tolerance", f"must be > 0 and < 1, got {tolerance!r}")
+    return {"steps": steps, "tolerance": tolerance, "max_steps": max_steps}
+
+
+def _exactly_one(table, section, a, b):
+    if a in table and b in table:
+        raise InputError(f"{section}.{b}", f"give exactly one of '{a}' or '{b}', not both")
+    if a not in table and b not in table:
+        raise InputError(section, f"missing key: give exactly one of '{a}' or '{b}'")
+    return a if a in table else b
+
+
+def _toml_error(exc, text, source):
+    message = str(exc)
+    m = re.match(r"^(.*) \(at line (\d+), column (\d+)\)$", message, re.S)
+    if m:
+        where = f"line {m.group(2)}, column {m.group(3)}"
+        message = m.group(1)
+    else:
+        m = re.match(r"^(.*) \(at end of document\)$", message, re.S)
+        lines = max(1, len(text.splitlines()))
+        where = f"line {lines} (end of document)"
+        message = m.group(1) if m else message
+    return InputError(None, f"{where}: invalid TOML: {message}", source=source)
+
+
+# ---------------------------------------------------------------- the study
+
+
+class Study:
+    """A validated study: bodies, input distributions, sampling defaults, solver settings.
+
+    Build it with :func:`load_study` (a TOML file) or :meth:`from_dict` (parsed TOML).
+    Everything is validated on construction; :meth:`sample` then never raises for input
+    reasons.
+
+    Attributes
+    ----------
+    name, description : str
+    samples : int
+        Default number of samples.
+    seed : int
+        Default seed.
+    chunk_size : int or None
+        Default rows per output file.
+    solver : dict
+        ``{"steps", "tolerance", "max_steps"}`` for :func:`mcbat.core.batch.solve_batch`.
+    ball : BallSpec
+    bat : BatSpec
+    inputs : mapping
+        Declared numeric inputs, dotted key → :class:`~mcbat.study.distributions.Dist`,
+        in declaration order.
+    grid_size : int or None
+        ``G``, the number of points of the grid inputs' outer product (None: no grid).
+    source : str or None
+        The file the study came from.
+    source_text : str or None
+        The raw TOML text.
+    """
+
+    def __init__(self, data, source=None, text=None):
+        self.source = None if source is None else str(source)
+        self.source_text = text
+        try:
+            self._parse(data)
+        except InputError as err:
+            raise err.within(source=self.source) from None
+
+    # ------------------------------------------------------------ construction
+
+    @classmethod
+    def from_dict(cls, data, source=None, text=None) -> "Study":
+        """Validate a parsed study (the dict ``tomllib`` returns).
+
+        Parameters
+        ----------
+        data : dict
+            The study, as in the file format (module docstring).
+        source : str, optional
+            Where it came from (for error messages).
+        text : str, optional
+            The raw TOML text, kept as :attr:`source_text`.
+
+        Raises
+        ------
+        InputError
+            Naming ``source``, the dotted key and the offending value.
+        """
+        return cls(data, source=source, text=text)
+
+    def _parse(self, data):
+        check_keys(data, "", (), _REQUIRED_SECTIONS + _OPTIONAL_SECTIONS)
+        for section in _REQUIRED_SECTIONS:
+            if section not in data:
+                raise InputError(section, "missing required section "
+                                          f"[{section}]")
+        for section in data:
+            if not isinstance(data[section], dict):
+                raise InputError(section, f"must be a table ([{section}]), "
+                                          f"got {data[section]!r}")
+
+        study = check_keys(data["study"], "study", ("name", "samples"),
+                           ("description", "seed", "chunk_size"))
+        self.name = _string(study["name"], "study.name")
+        if not self.name.strip():
+            raise InputError("study.name", "must not be empty")
+        self.description = _string(study.get("description", ""), "study.description")
+        self.samples = integer(study["samples"], "study.samples", minimum=1)
+        self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
+        self.chunk_size = (None if "chunk_size" not in study
+                           else integer(study["chunk_size"], "study.chunk_size", minimum=1))
+
+        self.ball = _parse_ball(data["ball"])
+        self.bat = _parse_bat(data["bat"])
+        self._solver = _check_solver(data.get("solver", {}))
+
+        # Numeric inputs, in declaration order (sections, then keys, as in the file).
+        inputs: dict[str, Dist] = {}
+        for section, table in data.items():
+            if section == "contact":
+                check_keys(table, "contact", (), tuple(_CONTACT_QUANTITIES))
+                for key, spec in table.items():
+                    inputs[f"contact.{key}"] = parse(spec, f"contact.{key}",
+                                                     _CONTACT_QUANTITIES[key])
+            elif section in _VECTORS:
+                check_keys(table, section, (), ("x", "y", "z"))
+                for key, spec in table.items():
+                    inputs[f"{section}.{key}"] = parse(spec, f"{section}.{key}",
+                                                       _VECTORS[section][1])
+            elif section == "friction":
+                check_keys(table, "friction", ("mu",))
+                inputs["friction.mu"] = parse(table["mu"], "friction.mu", u.DIMENSIONLESS)
+            elif section == "restitution":
+                check_keys(table, "restitution", (), ("e", "loss_fraction"))
+                key = _exactly_one(table, "restitution", "e", "loss_fraction")
+                inputs[f"restitution.{key}"] = parse(table[key], f"restitution.{key}",
+                                                     u.DIMENSIONLESS)
+        contact = data["contact"]
+        self._axial_key = _exactly_one(contact, "contact", "axial", "from_barrel_end")
+        self._angle_key = _exactly_one(contact, "contact", "angle", "impact_parameter")
+        self.inputs = MappingProxyType(inputs)
+        self._check_ranges()
+        self._plan()
+
+    def _check_ranges(self):
+        inputs = self.inputs
+        check_range(inputs["friction.mu"], minimum=0.0, what="mu")
+        for key in ("restitution.e", "restitution.loss_fraction"):
+            if key in inputs:
+                check_range(inputs[key], minimum=0.0, maximum=1.0, what=key.split(".")[1])
+
+        bounds = self.bat.axial_bounds()
+        if self._axial_key == "axial":
+            axial = inputs["contact.axial"]
+            if bounds is not None:  # (1e-12 m of slack for rounding in unit conversions)
+                check_range(axial, minimum=bounds[0] - 1e-12, maximum=bounds[1] + 1e-12,
+                            what="the contact's axial position (m from the bat CM)")
+            axial_low, axial_high = axial.support()
+        else:
+            distance = inputs["contact.from_barrel_end"]
+            if self.bat.cm_from_barrel_end is None:
+                raise InputError("contact.from_barrel_end",
+                                 "needs bat.cm_from_barrel_end (or a bat preset) to place "
+                                 "the contact; give contact.axial instead")
+            check_range(distance, minimum=0.0,
+                        maximum=None if self.bat.length is None else self.bat.length + 1e-12,
+                        what="the contact's distance from the barrel end")
+            d_low, d_high = distance.support()
+            axial_low = self.bat.axial_from_barrel_end(d_high)
+            axial_high = self.bat.axial_from_barrel_end(d_low)
+
+        if self._angle_key == "impact_parameter":
+            if not (math.isfinite(axial_low) and math.isfinite(axial_high)):
+                axial_low = axial_high = 0.0  # unbounded: only for a cylinder (checked)
+            reach = self.bat.min_reach(self.ball.radius, axial_low, axial_high)
+            where = ("" if self.bat.profile is None else
+                     f" for contacts between {axial_low:.6g} and {axial_high:.6g} m from "
+                     "the bat CM")
+            check_range(inputs["contact.impact_parameter"], minimum=-reach, maximum=reach,
+                        what=f"the impact parameter (within the reach r + R of bat and "
+                             f"ball{where}; beyond it the ball misses)")
+        # With an angle, approach_azimuth only sets the impact-parameter column: any value.
+
+    def _plan(self):
+        """Group the inputs by how they are sampled."""
+        families = {"fixed": [], "random": [], "grid": [], "sobol": [], "lhs": []}
+        for name, dist in self.inputs.items():
+            families[dist.family].append((name, dist))
+        self._families = families
+        grids = families["grid"]
+        self.grid_size = int(np.prod([d.num for _, d in grids])) if grids else None
+
+    @property
+    def solver(self) -> dict:
+        """``{"steps", "tolerance", "max_steps"}`` (a copy) for the kernel."""
+        return dict(self._solver)
+
+    # ------------------------------------------------------------ overrides and config
+
+    def with_overrides(self, *, samples=None, seed=None, chunk_size=None) -> "Study":
+        """A copy with the run's sample count, seed or chunk size replacing the defaults
+        (``None`` keeps the study's), validated like the file's values."""
+        new = object.__new__(Study)
+        new.__dict__.update(self.__dict__)
+        if samples is not None:
+            new.samples = integer(samples, "samples", minimum=1)
+        if seed is not None:
+            new.seed = integer(seed, "seed", minimum=0)
+        if chunk_size is not None:
+            new.chunk_size = integer(chunk_size, "chunk_size", minimum=1)
+        return new
+
+    def config(self) -> dict:
+        """Canonical, JSON-serialisable description of the validated study, units resolved
+        to SI (what the samples depend on, plus name, description and defaults)."""
+        restitution = next((k.split(".")[1] for k in ("restitution.e",
+                                                      "restitution.loss_fraction")
+                            if k in self.inputs), None)
+        return {
+            "format": "mcbat.study",
+            "version": FORMAT_VERSION,
+            "sampling": {
+                "random_block": RANDOM_BLOCK,
+                "bit_generator": "PCG64",
+                "block_seed": "SeedSequence(seed, spawn_key=(block,))",
+                "sobol": f"scipy.stats.qmc.Sobol(scramble=True, bits={SOBOL_BITS}), "
+                         f"SeedSequence(seed, spawn_key=({SOBOL_SPAWN_KEY},))",
+                "lhs": "scipy.stats.qmc.LatinHypercube per block, "
+                       f"SeedSequence(seed, spawn_key=({LHS_SPAWN_KEY}, block))",
+            },
+            "study": {"name": self.name, "description": self.description,
+                      "samples": self.samples, "seed": self.seed,
+                      "chunk_size": self.chunk_size},
+            "ball": self.ball.config(),
+            "bat": self.bat.config(),
+            "contact": {"position": self._axial_key, "azimuth": self._angle_key},
+            "restitution": restitution,
+            "inputs": [{"name": name, "quantity": dist.quantity,
+                        "unit": u.SI_UNITS[dist.quantity], **dist.config()}
+                       for name, dist in self.inputs.items()],
+            "solver": self.solver,
+        }
+
+    def config_json(self) -> str:
+        """:meth:`config` as canonical JSON (sorted keys, no whitespace)."""
+        return json.dumps(self.config(), sort_keys=True, separators=(",", ":"),
+                          allow_nan=False)
+
+    def config_hash(self) -> str:
+        """SHA-256 (hex) of :meth:`config_json`."""
+        return hashlib.sha256(self.config_json().encode("utf-8")).hexdigest()
+
+    def __repr__(self):
+        return (f"Study(name={self.name!r}, samples={self.samples}, seed={self.seed}, "
+                f"inputs={len(self.inputs)}, source={self.source!r})")
+
+    # ------------------------------------------------------------ sampling
+
+    def _draw(self, start, stop, seed, dest):
+        """Write the values of every declared input for samples ``[start, stop)`` into
+        ``dest[name]`` (float64 arrays of length ``stop - start``)."""
+        n = stop - start
+        fam = self._families
+        for name, dist in fam["fixed"]:
+            dest[name][:] = dist.value
+        first, last = start // RANDOM_BLOCK, (stop - 1) // RANDOM_BLOCK
+        B = RANDOM_BLOCK
+
+        if fam["random"]:
+            for k in range(first, last + 1):
+                rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(k,)))
+                lo, hi = max(start, k * B), min(stop, (k + 1) * B)
+                for name, dist in fam["random"]:
+                    block = dist.draw(rng, B)
+                    dest[name][lo - start:hi - start] = block[lo - k * B:hi - k * B]
+
+        if fam["grid"]:
+            g = np.arange(start, stop, dtype=np.int64) % self.grid_size
+            stride = self.grid_size
+            for name, dist in fam["grid"]:
+                stride //= dist.num
+                np.take(dist.values(), (g // stride) % dist.num, out=dest[name])
+
+        if fam["sobol"]:
+            if stop > 2**SOBOL_BITS:
+                raise ValueError(f"sobol inputs support at most 2**{SOBOL_BITS} samples, "
+                                 f"asked for sample {stop - 1}")
+            rng = np.random.default_rng(np.random.SeedSequence(seed,
+                                                               spawn_key=(SOBOL_SPAWN_KEY,)))
+            engine = _qmc(qmc.Sobol, len(fam["sobol"]), rng, scramble=True, bits=SOBOL_BITS)
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message=".*balance properties.*")
+                if start:  # (scipy's fast_forward(0) on a fresh engine fails)
+                    engine.fast_forward(start)
+                points = engine.random(n)
+            for j, (name, dist) in enumerate(fam["sobol"]):
+                dest[name][:] = dist.from_unit(points[:, j])
+
+        if fam["lhs"]:
+            for k in range(first, last + 1):
+                rng = np.random.default_rng(np.random.SeedSequence(
+                    seed, spawn_key=(LHS_SPAWN_KEY, k)))
+                design = _qmc(qmc.LatinHypercube, len(fam["lhs"]), rng).random(B)
+                lo, hi = max(start, k * B), min(stop, (k + 1) * B)
+                for j, (name, dist) in enumerate(fam["lhs"]):
+                    dest[name][lo - start:hi - start] = dist.from_unit(
+                        design[lo - k * B:hi - k * B, j])
+
+    def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
+        """Solver inputs of samples ``start .. stop - 1``.
+
+        Parameters
+        ----------
+        start, stop : int
+            Sample indices, ``0 <= start <= stop`` (``stop`` defaults to :attr:`samples`;
+            indices past it are defined too).
+        seed : int, optional
+            Default :attr:`seed`.
+
+        Returns
+        -------
+        dict
+            float64 arrays of length ``stop - start`` (SI units) for every name in
+            :data:`COLUMNS`: :data:`mcbat.core.batch.INPUT_FIELDS` in order, then
+            ``"impact_parameter"`` (m, for the study's approach azimuth). They are the
+            rows of one C-contiguous ``(len(COLUMNS), n)`` array, so
+            ``np.stack([cols[f] for f in INPUT_FIELDS])`` is a plain copy.
+        """
+        stop = self.samples if stop is None else stop
+        seed = self.seed if seed is None else seed
+        for label, value in (("start", start), ("stop", stop), ("seed", seed)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                raise TypeError(f"{label} must be an integer, got {value!r}")
+        if not 0 <= start <= stop:
+            raise ValueError(f"need 0 <= start <= stop, got start={start}, stop={stop}")
+        if seed < 0:
+            raise ValueError(f"seed must be >= 0, got {seed}")
+        start, stop, seed = int(start), int(stop), int(seed)
+        n = stop - start
+        table = np.empty((len(COLUMNS), n))
+        cols = {name: table[i] for i, name in enumerate(COLUMNS)}
+        if n == 0:
+            return cols
+
+        # Inputs are drawn straight into their columns (from_barrel_end into "axial" and
+        # loss_fraction into "e", converted in place below).
+        dest = {name: cols[_TARGETS[name]] if name in _TARGETS else np.empty(n)
+                for name in self.inputs}
+        self._draw(start, stop, seed, dest)
+        for section, (prefix, _) in _VECTORS.items():
+            for axis in "xyz":
+                if f"{section}.{axis}" not in dest:
+                    cols[f"{prefix}{axis}_in"][:] = 0.0
+        if "restitution.loss_fraction" in dest:
+            e = cols["e"]
+            np.subtract(1.0, e, out=e)
+            np.sqrt(e, out=e)
+        elif "restitution.e" not in dest:
+            cols["e"][:] = 1.0
+
+        ball, bat = self.ball, self.bat
+        cols["ball_mass"][:] = ball.mass
+        cols["ball_radius"][:] = ball.radius
+        cols["ball_inertia_factor"][:] = ball.inertia_factor
+        cols["bat_mass"][:] = bat.mass
+        cols["bat_transverse_inertia"][:] = bat.transverse_inertia
+        cols["bat_axial_inertia"][:] = bat.axial_inertia
+
+        axial = cols["axial"]
+        if self._axial_key == "from_barrel_end":
+            np.subtract(bat.cm_from_barrel_end, axial, out=axial)
+        if bat.profile is None:
+            cols["bat_radius"][:] = bat.radius
+            cols["bat_slope"][:] = 0.0
+        else:
+            np.clip(axial, *bat.axial_bounds(), out=axial)  # rounding in unit conversions
+            cols["bat_radius"][:], cols["bat_slope"][:] = bat.surface(axial)
+
+        azimuth = dest.get("contact.approach_azimuth")
+        if azimuth is None:
+            azimuth = np.zeros(n)
+        if self._angle_key == "angle":
+            _impact_parameters(cols["angle"], ball.radius, cols["bat_radius"],
+                               cols["bat_slope"], azimuth, cols["impact_parameter"])
+        else:
+            _angles(cols["impact_parameter"], ball.radius, cols["bat_radius"],
+                    cols["bat_slope"], azimuth, cols["angle"])
+        return cols
+
+
+# Input → the column it is drawn into.
+_TARGETS = {
+    "contact.axial": "axial", "contact.from_barrel_end": "axial",
+    "contact.angle": "angle", "contact.impact_parameter": "impact_parameter",
+    "friction.mu": "mu", "restitution.e": "e", "restitution.loss_fraction": "e",
+    **{f"{section}.{axis}": f"{prefix}{axis}_in"
+       for section, (prefix, _) in _VECTORS.items() for axis in "xyz"},
+}
+
+
+def _qmc(engine, d, rng, **kwargs):
+    """A scipy.stats.qmc engine seeded with a Generator (``rng=`` from scipy 1.15 on)."""
+    try:
+        return engine(d, rng=rng, **kwargs)
+    except TypeError:  # scipy < 1.15
+        return engine(d, seed=rng, **kwargs)
+
+
+def load_study(path) -> Study:
+    """Read and validate a TOML study file.
+
+    Raises
+    ------
+    InputError
+        Naming the file: unreadable, invalid TOML (with line and column) or an invalid
+        study (with the dotted key and the offending value).
+    """
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise InputError(None, f"cannot read the study file: {reason}", source=source) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise _toml_error(exc, text, source) from None
+    return Study.from_dict(data, source=source, text=text)

@@ -1,0 +1,161 @@
+"""Units accepted in study files, and their conversion to SI.
+
+Every numeric input of a study has a *quantity* (length, speed, ...). Its values may be
+written in any unit of that quantity (``unit = "cm"``); without a unit they are SI. The
+factors are the exact definitions (``1 in = 0.0254 m``, ``1 mph = 0.44704 m/s``,
+``1 km/h = 1/3.6 m/s``, ``1 rpm = 2 pi / 60 rad/s`` with the double nearest pi), and the
+conversion is exact: the value as written (its shortest decimal form) times the factor,
+in rational arithmetic, rounded once to the nearest double. So ``15 cm`` is exactly
+``0.15`` and ``1.5 in`` exactly ``0.0381``.
+
+===============  =========  ==========================================
+quantity         SI unit    accepted units
+===============  =========  ==========================================
+length           m          m, cm, mm, in, ft
+speed            m/s        m/s, km/h, mph, ft/s
+spin             rad/s      rad/s, rpm, rps
+angle            rad        rad, deg
+mass             kg         kg, g, oz, lb
+inertia          kg m^2     kg m^2 (also written kg*m^2), g cm^2
+dimensionless    1          1
+===============  =========  ==========================================
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+
+from mcbat.errors import InputError
+
+LENGTH = "length"
+SPEED = "speed"
+SPIN = "spin"
+ANGLE = "angle"
+MASS = "mass"
+INERTIA = "inertia"
+DIMENSIONLESS = "dimensionless"
+
+#: Conversion factor to SI of every accepted unit, by quantity.
+UNITS: dict[str, dict[str, float]] = {
+    LENGTH: {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048},
+    SPEED: {"m/s": 1.0, "km/h": 1.0 / 3.6, "mph": 0.44704, "ft/s": 0.3048},
+    SPIN: {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "rps": 2.0 * math.pi},
+    ANGLE: {"rad": 1.0, "deg": math.pi / 180.0},
+    MASS: {"kg": 1.0, "g": 0.001, "oz": 0.028349523125, "lb": 0.45359237},
+    INERTIA: {"kg m^2": 1.0, "kg*m^2": 1.0, "g cm^2": 1e-7},
+    DIMENSIONLESS: {"1": 1.0},
+}
+
+_PI = Fraction(math.pi)
+# The exact factors behind UNITS.
+_EXACT: dict[str, dict[str, Fraction]] = {
+    LENGTH: {"m": Fraction(1), "cm": Fraction("0.01"), "mm": Fraction("0.001"),
+             "in": Fraction("0.0254"), "ft": Fraction("0.3048")},
+    SPEED: {"m/s": Fraction(1), "km/h": Fraction(10, 36), "mph": Fraction("0.44704"),
+            "ft/s": Fraction("0.3048")},
+    SPIN: {"rad/s": Fraction(1), "rpm": 2 * _PI / 60, "rps": 2 * _PI},
+    ANGLE: {"rad": Fraction(1), "deg": _PI / 180},
+    MASS: {"kg": Fraction(1), "g": Fraction("0.001"), "oz": Fraction("0.028349523125"),
+           "lb": Fraction("0.45359237")},
+    INERTIA: {"kg m^2": Fraction(1), "kg*m^2": Fraction(1), "g cm^2": Fraction("1e-7")},
+    DIMENSIONLESS: {"1": Fraction(1)},
+}
+
+#: The SI unit of each quantity (what values without a ``unit`` are taken to be).
+SI_UNITS: dict[str, str] = {
+    LENGTH: "m", SPEED: "m/s", SPIN: "rad/s", ANGLE: "rad", MASS: "kg",
+    INERTIA: "kg m^2", DIMENSIONLESS: "1",
+}
+
+_QUANTITY_OF = {unit: quantity for quantity, table in UNITS.items() for unit in table}
+
+
+def factor(unit, quantity, field=None):
+    """SI factor of ``unit`` (``None``: the SI unit, factor 1) for a ``quantity``.
+
+    Raises
+    ------
+    InputError
+        On ``field``: an unknown unit, a unit of another quantity, or a non-string unit.
+    """
+    if quantity not in UNITS:
+        raise ValueError(f"unknown quantity {quantity!r} (expected one of: {', '.join(UNITS)})")
+    if unit is None:
+        return 1.0
+    accepted = ", ".join(UNITS[quantity])
+    if not isinstance(unit, str):
+        raise InputError(field, f"unit must be a string, got {unit!r} "
+                                f"({quantity} units: {accepted})")
+    table = UNITS[quantity]
+    if unit in table:
+        return table[unit]
+    other = _QUANTITY_OF.get(unit)
+    if other is not None:
+        kind = "dimensionless" if quantity == DIMENSIONLESS else f"a {quantity}"
+        raise InputError(field, f"unit {unit!r} is a {other} unit, but this input is "
+                                f"{kind} (use one of: {accepted})")
+    raise InputError(field, f"unknown unit {unit!r} ({quantity} units: {accepted})")
+
+
+def to_si(value_or_array, unit, quantity, field=None):
+    """Convert a value (or array of values) written in ``unit`` to SI.
+
+    Parameters
+    ----------
+    value_or_array : float or array_like
+        The value(s) as written.
+    unit : str or None
+        One of :data:`UNITS` ``[quantity]``; ``None`` means the values are already SI.
+    quantity : str
+        ``"length"``, ``"speed"``, ``"spin"``, ``"angle"``, ``"mass"``, ``"inertia"`` or
+        ``"dimensionless"``.
+    field : str, optional
+        Dotted name of the input, for the error message.
+
+    Returns
+    -------
+    float or ndarray
+        A float for a scalar input, else a float64 array.
+
+    Raises
+    ------
+    InputError
+        For an unknown unit or a unit of another quantity (naming ``field``).
+
+    Examples
+    --------
+    >>> to_si(90.0, "mph", "speed")
+    40.2336
+    >>> to_si(15, "cm", "length")
+    0.15
+    """
+    factor(unit, quantity, field)  # validates the unit
+    if unit is None or _EXACT[quantity][unit] == 1:
+        if np.ndim(value_or_array) == 0:
+            return float(value_or_array)
+        return np.array(value_or_array, dtype=np.float64)
+    exact = _EXACT[quantity][unit]
+    if np.ndim(value_or_array) == 0:
+        return _convert(float(value_or_array), exact)
+    values = np.asarray(value_or_array, dtype=np.float64)
+    return np.array([_convert(float(v), exact) for v in values.ravel()],
+                    dtype=np.float64).reshape(values.shape)
+
+
+def _convert(value, exact):
+    """``value * exact``, the value read as its shortest decimal, rounded once."""
+    if not math.isfinite(value):
+        return value * float(exact)
+    return float(Fraction(repr(value)) * exact)
+
+
+def format_value(si_value, raw_value, unit, quantity):
+    """``"2.5 in (= 0.0635 m)"`` or ``"0.0635 m"``: a value as written and in SI."""
+    si_unit = SI_UNITS[quantity]
+    si_text = f"{si_value:.6g}" if quantity == DIMENSIONLESS else f"{si_value:.6g} {si_unit}"
+    if unit is None or unit == si_unit:
+        return f"{raw_value!r}" if quantity == DIMENSIONLESS else f"{raw_value!r} {si_unit}"
+    return f"{raw_value!r} {unit} (= {si_text})"
