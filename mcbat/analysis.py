@@ -50,13 +50,14 @@ def binned(df: pd.DataFrame, x: str, y: str, bins=20, quantiles=(0.16, 0.5, 0.84
         edges = np.linspace(lo, hi, int(bins) + 1)
     else:
         edges = np.asarray(bins, float)
-    which = pd.cut(data[x], edges, include_lowest=True)
-    grouped = data.groupby(which, observed=True)[y]
+    which = pd.cut(data[x], edges, include_lowest=True, labels=False)
+    grouped = data.groupby(which)[y]
     table = pd.DataFrame({"count": grouped.size(), "mean": grouped.mean()})
     for q in quantiles:
         table[f"q{round(100 * q):d}"] = grouped.quantile(q)
-    table.insert(0, "x_low", [iv.left for iv in table.index])
-    table.insert(1, "x_high", [iv.right for iv in table.index])
+    index = table.index.to_numpy(dtype=int)
+    table.insert(0, "x_low", edges[index])
+    table.insert(1, "x_high", edges[index + 1])
     table.insert(2, "x_center", 0.5 * (table["x_low"] + table["x_high"]))
     return table.reset_index(drop=True)
 

@@ -235,3 +235,34 @@ def test_bad_study_exits_2_names_the_key_and_writes_nothing(name, tmp_path):
 def test_load_rejects_a_non_dataset(tmp_path):
     with pytest.raises(mcbat.errors.InputError, match="not an mcbat dataset"):
         mcbat.load(tmp_path)
+
+
+def test_binned_quantiles_match_a_direct_computation(baseline):
+    band = mcbat.analysis.binned(baseline, "scattering_angle", "exit_speed", bins=8)
+    ok = baseline[baseline["status"] == 0]
+    assert band["count"].sum() == len(ok)
+    edges = np.linspace(ok["scattering_angle"].min(), ok["scattering_angle"].max(), 9)
+    row = band.iloc[3]
+    assert row["x_low"] == pytest.approx(edges[3]) and row["x_high"] == pytest.approx(edges[4])
+    inside = ok[(ok["scattering_angle"] > edges[3]) & (ok["scattering_angle"] <= edges[4])]
+    assert row["count"] == len(inside)
+    assert row["q50"] == pytest.approx(inside["exit_speed"].median())
+    assert row["q16"] == pytest.approx(inside["exit_speed"].quantile(0.16))
+    assert row["q16"] <= row["q50"] <= row["q84"]
+
+
+def test_end_state_fractions(baseline):
+    overall = mcbat.analysis.end_state_fractions(baseline)
+    assert overall["fraction"].sum() == pytest.approx(1.0)
+    ok = baseline[baseline["status"] == 0]
+    assert overall.loc["stuck", "fraction"] == pytest.approx((ok["end_state"] == 1).mean())
+    by_spin = mcbat.analysis.end_state_fractions(baseline, by="ball_wz_in")
+    assert sorted(by_spin.index) == [-72.0, 0.0, 79.0]
+    assert np.allclose(by_spin.sum(axis=1), 1.0)
+
+
+def test_progress_bar_shows_impacts_per_second(tmp_path):
+    proc = mcbat_cli("run", EXAMPLE, "--out", tmp_path / "p", "--samples", 2_000)
+    assert proc.returncode == 0, proc.stderr
+    assert "impacts/s" in proc.stderr
+    assert "rows: 2,000" in proc.stdout and str(tmp_path / "p") in proc.stdout
