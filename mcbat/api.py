@@ -35,7 +35,7 @@ from mcbat.core.geometry import (
     contact_frame,
     impact_parameter_from_angle,
 )
-from mcbat.core.rigid_bodies import relative_contact_velocity
+from mcbat.core.rigid_bodies import delassus_matrix, relative_contact_velocity
 from mcbat.errors import InputError
 
 Vector = tuple[float, float, float]
@@ -358,6 +358,65 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         energy_out=float(out["energy_out"]),
         rk4_steps=int(out["rk4_steps"]),
     )
+
+
+def contact_problem(case: ImpactCase) -> dict:
+    """The impact in its contact basis: the Delassus matrix and the initial slip.
+
+    Returns a dict with ``K`` (3x3, 1/kg, basis ``t1, t2, t3``), ``v0`` (initial relative
+    contact velocity in that basis, m/s), ``t1, t2, t3, r_c`` (lab frame) and the paper's
+    ``s1 = mu K11``, ``s2 = mu K22``, ``s0 = K23``.
+    """
+    radius, slope = case.contact_surface()
+    t1, t2, t3, r_c = contact_frame(case.contact.axial, case.contact.angle, radius, slope)
+    k11, k12, k13, k22, k23, k33 = delassus_matrix(
+        case.ball.mass, case.ball.radius, case.ball.inertia_factor, case.bat.mass,
+        case.bat.transverse_inertia, case.bat.axial_inertia, t1, t2, t3, r_c)
+    v = relative_contact_velocity(case.ball.radius, t3, r_c, case.ball_velocity,
+                                  case.ball_spin, case.bat_velocity, case.bat_spin)
+    K = np.array([[k11, k12, k13], [k12, k22, k23], [k13, k23, k33]])
+    v0 = np.array([np.dot(v, t1), np.dot(v, t2), np.dot(v, t3)])
+    return {"K": K, "v0": v0, "t1": np.array(t1), "t2": np.array(t2), "t3": np.array(t3),
+            "r_c": np.array(r_c), "s1": case.mu * k11, "s2": case.mu * k22, "s0": k23}
+
+
+def history(case: ImpactCase, impulses, settings: SolverSettings = SolverSettings()) -> dict:
+    """The impact as a function of the normal impulse (for plots and checks).
+
+    Parameters
+    ----------
+    case : ImpactCase
+    impulses : array_like
+        Sorted normal impulses ``I >= 0`` (kg m/s). The curves continue past separation.
+
+    Returns
+    -------
+    dict
+        Arrays ``I``, ``v1``, ``v2`` (tangential relative velocity along ``t1``, ``t2``),
+        ``slip_speed``, ``v_n`` (m/s), ``normal_work``, ``friction_work``, ``energy``
+        (kinetic energy ``E_in + W_n + W_fr``, J), ``phase`` (0 slip, 1 stick,
+        2 re-slip), and the scalars ``stick_impulse`` (NaN if none) and ``energy_in``.
+    """
+    from mcbat.core.cabo2012.trajectory import contact_history
+    from mcbat.core.rigid_bodies import kinetic_energy
+
+    impulses = np.asarray(impulses, dtype=np.float64)
+    if impulses.ndim != 1 or np.any(np.diff(impulses) < 0) or np.any(impulses < 0):
+        raise InputError("impulses", "must be a sorted 1-D array of impulses >= 0")
+    case.validate_approach()
+    prob = contact_problem(case)
+    K, v0 = prob["K"], prob["v0"]
+    out, i_s = contact_history(K[0, 0], K[0, 1], K[0, 2], K[1, 1], K[1, 2], K[2, 2],
+                               v0[0], v0[1], v0[2], case.mu, impulses, settings.tolerance)
+    e_in = kinetic_energy(case.ball.mass, case.ball.radius, case.ball.inertia_factor,
+                          case.bat.mass, case.bat.transverse_inertia, case.bat.axial_inertia,
+                          case.ball_velocity, case.ball_spin, case.bat_velocity,
+                          case.bat_spin)
+    return {"I": impulses, "v1": out[:, 0], "v2": out[:, 1],
+            "slip_speed": np.hypot(out[:, 0], out[:, 1]), "v_n": out[:, 2],
+            "normal_work": out[:, 3], "friction_work": out[:, 4],
+            "energy": e_in + out[:, 3] + out[:, 4], "phase": out[:, 5].astype(int),
+            "stick_impulse": float(i_s), "energy_in": float(e_in)}
 
 
 # ---- the JSON contract of `mcbat impact` ----

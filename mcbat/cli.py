@@ -100,6 +100,22 @@ def cmd_run(args) -> int:
     return EXIT_OK
 
 
+def cmd_reproduce(args) -> int:
+    from mcbat.reproduce import reproduce
+
+    reproduce(args.out, samples=args.samples, threads=args.threads, progress=not args.quiet)
+    return EXIT_OK
+
+
+def cmd_calibrate(args) -> int:
+    from mcbat.calibration import calibrate_restitution
+
+    result = calibrate_restitution(args.target)
+    json.dump(result.to_dict(), sys.stdout, indent=2)
+    sys.stdout.write("\n")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _ArgumentParser(
         prog="mcbat",
@@ -136,6 +152,29 @@ def build_parser() -> argparse.ArgumentParser:
                      help="replace an existing dataset written with another config")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=cmd_run)
+
+    rep = sub.add_parser(
+        "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter",
+        description="Run studies/cross_nathan_2006.toml, calibrate e* on the paper's target "
+                    "exit speed, draw Figs. 2-8 and write a summary, all into one "
+                    "results directory.")
+    rep.add_argument("--out", default="results", metavar="DIR",
+                     help="results directory (default: results)")
+    rep.add_argument("--samples", type=_int_arg("--samples"), metavar="N",
+                     help="Monte Carlo samples (default: the study's)")
+    rep.add_argument("--threads", type=_int_arg("--threads"), metavar="K",
+                     help="kernel threads (default: all cores)")
+    rep.add_argument("--quiet", action="store_true", help="no progress bar")
+    rep.set_defaults(func=cmd_reproduce)
+
+    cal = sub.add_parser(
+        "calibrate", help="find e* so that the Sec. V exit speed matches a target",
+        description="Solve for the energetic coefficient e* (scipy brentq) such that the "
+                    "exit speed at theta = pi/400 with no spin equals TARGET (m/s); prints "
+                    "e* and the paper's e^2 = 1 - e*^2 as JSON.")
+    cal.add_argument("--target", type=float, default=1.44629, metavar="TARGET",
+                     help="target exit speed, m/s (default: the paper's 1.44629)")
+    cal.set_defaults(func=cmd_calibrate)
     return parser
 
 

@@ -24,7 +24,10 @@ Column contract (SI units; see ``UNITS``), used by tools outside the package:
   ``status`` (int8: 0 ok, see ``mcbat.core.status``);
 * derived: ``exit_speed``, ``scattering_angle`` (degrees, ``atan2(v_y, v_x)``),
   ``spin_axial`` (ball spin about the bat axis), ``spin`` (magnitude);
-* bookkeeping: ``sample_id`` (int64), ``chunk`` (int32).
+* bookkeeping: ``sample_id`` (int64), ``chunk`` (int32);
+* optional simulated measurements (a study's ``[noise]``): ``exit_speed_measured``,
+  ``scattering_angle_measured``, ``spin_axial_measured``, ``spin_measured`` (the model
+  value plus a Gaussian error; the model columns are never altered).
 
 A row whose status is not 0 has NaN outputs: it is flagged, never passed off as a result.
 """
@@ -65,6 +68,8 @@ UNITS = {
     "end_state": "code", "status": "code",
     "exit_speed": "m/s", "scattering_angle": "deg", "spin_axial": "rad/s", "spin": "rad/s",
     "sample_id": "1", "chunk": "1",
+    "exit_speed_measured": "m/s", "scattering_angle_measured": "deg",
+    "spin_axial_measured": "rad/s", "spin_measured": "rad/s",
 }
 """Unit of every column."""
 
@@ -95,7 +100,7 @@ def package_versions() -> dict:
 
 
 def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_inputs,
-                metadata) -> pa.Table:
+                metadata, noise=None) -> pa.Table:
     """Assemble one chunk's table from the kernel's struct-of-arrays.
 
     Parameters
@@ -112,6 +117,9 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
         Inputs not passed to the kernel (``impact_parameter``).
     metadata : dict
         JSON-serialisable dataset metadata stored in the schema.
+    noise : dict of str -> float64[n], optional
+        Simulated measurement errors: column ``<name>_measured`` = ``<name>`` + error,
+        appended after the contract columns (the model value stays untouched).
     """
     n = inputs.shape[1]
     cols = {name: inputs[i] for i, name in enumerate(INPUT_FIELDS)}
@@ -142,9 +150,13 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
             arrays.append(pa.array(np.full(n, chunk, np.int32)))
         else:
             arrays.append(pa.array(cols[name]))
+    names = list(COLUMNS)
+    for name, error in (noise or {}).items():
+        value = derived[name] if name in derived else cols[name]
+        arrays.append(pa.array(value + error))
+        names.append(f"{name}_measured")
     schema_meta = {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()}
-    return pa.Table.from_arrays(arrays, names=list(COLUMNS)).replace_schema_metadata(
-        schema_meta)
+    return pa.Table.from_arrays(arrays, names=names).replace_schema_metadata(schema_meta)
 
 
 def write_atomic(table: pa.Table, path: Path) -> None:
@@ -246,7 +258,7 @@ def load(directory, columns=None, labels=False):
     files = [path for _, path in sorted(chunk_files(directory).items())]
     if not files:
         raise InputError(None, "the dataset has no chunk files yet", str(directory))
-    unknown = sorted(set(columns or ()) - set(COLUMNS))
+    unknown = sorted(set(columns or ()) - set(UNITS))
     if unknown:
         raise InputError("columns", f"unknown column {unknown[0]!r}")
     table = pa.concat_tables(pq.read_table(path, columns=columns) for path in files)

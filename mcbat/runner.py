@@ -194,7 +194,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                 pending.result()  # at most one chunk in flight: bounded memory
             table_args = (start, k, inputs, out_arr, status, end_state,
                           {"impact_parameter": np.asarray(columns["impact_parameter"])},
-                          metadata)
+                          metadata, study.measurement_noise(start, stop, int(seed)))
             pending = writer.submit(_write_chunk, table_args, out / ds.chunk_name(k))
             if bar is not None:
                 bar.update(stop - start)

@@ -130,6 +130,13 @@ RANDOM_BLOCK = 65536
 SOBOL_SPAWN_KEY = 2**31
 #: First element of the ``spawn_key`` of the per-block LHS designs.
 LHS_SPAWN_KEY = 2**31 + 1
+# Measurement noise (section [noise]) is drawn per block from SeedSequence(seed,
+# spawn_key=(NOISE_SPAWN_KEY, block)): independent of the inputs' streams.
+NOISE_SPAWN_KEY = 2**31 + 2
+# Outputs that can get simulated measurement noise, and their quantities. The noisy copy
+# goes to a separate column "<name>_measured"; the model value is never altered.
+NOISE_OUTPUTS = {"exit_speed": "speed", "scattering_angle": "angle",
+                 "spin_axial": "spin", "spin": "spin"}
 #: Bits of the Sobol engine: at most ``2**SOBOL_BITS`` samples.
 SOBOL_BITS = 32
 #: Version of the study format and sampling scheme, recorded in :meth:`Study.config`.
@@ -139,7 +146,8 @@ FORMAT_VERSION = 1
 COLUMNS = INPUT_FIELDS + ("impact_parameter",)
 
 _REQUIRED_SECTIONS = ("study", "ball", "bat", "contact", "ball_velocity", "friction")
-_OPTIONAL_SECTIONS = ("ball_spin", "bat_velocity", "bat_spin", "restitution", "solver")
+_OPTIONAL_SECTIONS = ("ball_spin", "bat_velocity", "bat_spin", "restitution", "solver",
+                      "noise")
 _VECTORS = {
     "ball_velocity": ("ball_v", u.SPEED),
     "ball_spin": ("ball_w", u.SPIN),
@@ -354,6 +362,16 @@ class Study:
         self.ball = _parse_ball(data["ball"])
         self.bat = _parse_bat(data["bat"])
         self._solver = _check_solver(data.get("solver", {}))
+        noise = check_keys(data.get("noise", {}), "noise", (), tuple(NOISE_OUTPUTS))
+        # Standard deviations in SI (the scattering angle's in degrees, like its column).
+        self.noise = MappingProxyType({
+            name: _fixed(spec, f"noise.{name}", NOISE_OUTPUTS[name], positive=False)
+            * (180.0 / math.pi if name == "scattering_angle" else 1.0)
+            for name, spec in noise.items()})
+        for name, std in self.noise.items():
+            if not std >= 0.0:
+                raise InputError(f"noise.{name}", f"must be a standard deviation >= 0, "
+                                 f"got {std!r}")
 
         # Numeric inputs, in declaration order (sections, then keys, as in the file).
         inputs: dict[str, Dist] = {}
@@ -480,6 +498,7 @@ class Study:
                         "unit": u.SI_UNITS[dist.quantity], **dist.config()}
                        for name, dist in self.inputs.items()],
             "solver": self.solver,
+            "noise": dict(self.noise),
         }
 
     def config_json(self) -> str:
@@ -546,6 +565,23 @@ class Study:
                 for j, (name, dist) in enumerate(fam["lhs"]):
                     dest[name][lo - start:hi - start] = dist.from_unit(
                         design[lo - k * B:hi - k * B, j])
+
+    def measurement_noise(self, start, stop, seed=None) -> dict[str, np.ndarray]:
+        """Gaussian measurement errors for the ``[noise]`` outputs of samples
+        ``start .. stop - 1`` (same units as the columns; deterministic in the index)."""
+        seed = self.seed if seed is None else seed
+        out = {name: np.empty(stop - start) for name in self.noise}
+        if not out or stop <= start:
+            return out
+        B = RANDOM_BLOCK
+        for k in range(start // B, (stop - 1) // B + 1):
+            rng = np.random.default_rng(np.random.SeedSequence(
+                seed, spawn_key=(NOISE_SPAWN_KEY, k)))
+            lo, hi = max(start, k * B), min(stop, (k + 1) * B)
+            for name, std in self.noise.items():
+                draws = rng.standard_normal(B)
+                out[name][lo - start:hi - start] = std * draws[lo - k * B:hi - k * B]
+        return out
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
         """Solver inputs of samples ``start .. stop - 1``.

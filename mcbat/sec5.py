@@ -1,0 +1,47 @@
+"""The paper's Sec. V configuration (Cross & Nathan's drop test), in one place.
+
+PHYSICS.md: ball 0.145 kg, R = 0.036 m, I = 0.4 m R^2; bat 0.989 kg, barrel radius
+0.03335 m, I_t = 0.046, I_3 = 4.39e-4 kg m^2, CM 0.265 m from the barrel end; contact plane
+a = 0.115 m from the CM (15 cm from the barrel end); mu = 0.5; the ball falls along -x at
+4 m/s with spin w0 about the bat axis, w0 in {+79, 0, -72} rad/s; the bat is at rest.
+"""
+
+from __future__ import annotations
+
+import math
+
+from mcbat.api import Ball, Bat, Contact, ImpactCase
+
+BALL = Ball(mass=0.145, radius=0.036, inertia_factor=0.4)
+BAT = Bat(mass=0.989, radius=0.03335, transverse_inertia=0.0460, axial_inertia=4.39e-4)
+CM_FROM_BARREL_END = 0.265  # m
+AXIAL = 0.115  # m, contact plane 15 cm from the barrel end
+MU = 0.5
+SPEED = 4.0  # m/s, falling along -x
+SPINS = (79.0, 0.0, -72.0)  # rad/s about the bat axis
+THETA_NEAR_ZERO = math.pi / 400  # the paper's "nearly vanishing impact parameter"
+LOSS_FRACTION = 0.6183822  # the paper's calibrated e^2
+TARGET_SPEED = 1.44629  # m/s, the paper's exit speed at theta = pi/400, w0 = 0
+REACH = BALL.radius + BAT.radius  # m, largest impact parameter that still hits
+
+
+def e_star_paper() -> float:
+    """The paper's calibration as an energetic coefficient, ``e* = sqrt(1 - e^2)``."""
+    return math.sqrt(1.0 - LOSS_FRACTION)
+
+
+def case(theta: float = THETA_NEAR_ZERO, w0: float = 0.0, *, mu: float = MU,
+         e: float | None = None, axial: float = AXIAL, speed: float = SPEED) -> ImpactCase:
+    """The Sec. V impact at contact angle ``theta`` (rad) with incoming spin ``w0`` (rad/s).
+
+    ``e`` is the energetic coefficient e* (default: the paper's calibration).
+    """
+    return ImpactCase(ball=BALL, bat=BAT, contact=Contact(axial=axial, angle=theta),
+                      ball_velocity=(-speed, 0.0, 0.0), ball_spin=(0.0, 0.0, w0),
+                      mu=mu, e=e_star_paper() if e is None else e)
+
+
+def case_at_impact_parameter(b: float, w0: float = 0.0, **kwargs) -> ImpactCase:
+    """The Sec. V impact for a ball line offset ``b`` (m) from the bat axis:
+    ``b = (R + r_b) sin(theta)`` (PHYSICS.md; the paper's ``cos`` is a misprint)."""
+    return case(math.asin(b / REACH), w0, **kwargs)
