@@ -266,3 +266,25 @@ def test_progress_bar_shows_impacts_per_second(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "impacts/s" in proc.stderr
     assert "rows: 2,000" in proc.stdout and str(tmp_path / "p") in proc.stdout
+
+
+def test_measurement_noise_goes_to_separate_columns(tmp_path):
+    study = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
+    runs = []
+    for chunk_size in (3_000, 4_096):
+        out = tmp_path / f"noise{chunk_size}"
+        run_study(study, out, samples=12_000, chunk_size=chunk_size, progress=False)
+        runs.append(mcbat.load(out))
+    a, b = runs
+    measured = ["exit_speed_measured", "scattering_angle_measured", "spin_axial_measured"]
+    assert list(a.columns) == list(ds.COLUMNS) + measured
+    pd.testing.assert_frame_equal(a.drop(columns="chunk"), b.drop(columns="chunk"),
+                                  check_exact=True)
+    ok = a[a["status"] == 0]
+    # The model values are untouched; the errors have the study's spreads.
+    speed = np.sqrt(ok["ball_vx"] ** 2 + ok["ball_vy"] ** 2 + ok["ball_vz"] ** 2)
+    assert np.array_equal(ok["exit_speed"], speed)
+    for name, std in (("exit_speed", 0.03), ("scattering_angle", 1.5), ("spin_axial", 3.0)):
+        error = ok[f"{name}_measured"] - ok[name]
+        assert abs(error.mean()) < 4 * std / np.sqrt(len(ok))
+        assert error.std() == pytest.approx(std, rel=0.03)
