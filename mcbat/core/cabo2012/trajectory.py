@@ -45,7 +45,11 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     v_scale = math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
     s_stop = STICK_TOLERANCE * v_scale
     i_scale = 2.0 * abs(v0n) / k33
-    h_max = i_scale / 256.0  # fine steps: these curves are for the eye and for checks
+    # Fine steps, also relative to the span plotted: the curves are evaluated inside steps
+    # by partial RK4 steps, which must not span a large part of the plot.
+    h_max = i_scale / 256.0
+    if n and impulses[n - 1] > 0.0:
+        h_max = min(h_max, impulses[n - 1] / 512.0)
     imp = 0.0
     p1 = 0.0
     p2 = 0.0
