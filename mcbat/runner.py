@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import shutil
 import sys
 import time
@@ -152,8 +153,9 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                 "study": config, "study_name": study.name}
     try:
         _prepare_directory(out, manifest, chunk_size, overwrite)
-    except PermissionError as err:
-        raise InputError("--out", f"cannot write: {err.strerror}", str(out)) from None
+    except OSError as err:
+        reason = os.strerror(err.errno) if err.errno else str(err)
+        raise InputError("--out", f"cannot write: {reason}", str(out)) from None
 
     metadata = {"config_hash": config_hash, "seed": int(seed), "samples": samples,
                 "chunk_size": chunk_size, "study": config, "study_toml": study.source_text,
@@ -191,7 +193,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                         out_arr, status, end_state)
             counts += np.bincount(status, minlength=len(counts))
             if pending is not None:
-                pending.result()  # at most one chunk in flight: bounded memory
+                _finish(pending, out)  # at most one chunk in flight: bounded memory
             table_args = (start, k, inputs, out_arr, status, end_state,
                           {"impact_parameter": np.asarray(columns["impact_parameter"])},
                           metadata, study.measurement_noise(start, stop, int(seed)))
@@ -199,13 +201,24 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
             if bar is not None:
                 bar.update(stop - start)
         if pending is not None:
-            pending.result()
+            _finish(pending, out)
     seconds = time.perf_counter() - t0
     if bar is not None:
         bar.close()
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
     return RunSummary(out, samples, n_chunks, len(todo), kept, seconds, status_counts)
+
+
+def _finish(pending, out):
+    """Wait for a chunk write; a full or unwritable disk is a clear error, not a crash."""
+    try:
+        pending.result()
+    except OSError as err:
+        reason = os.strerror(err.errno) if err.errno else str(err)
+        raise InputError("--out", f"cannot write a chunk file: {reason}; complete chunk "
+                         "files are kept, free space (or fix permissions) and rerun to "
+                         "resume", str(out)) from None
 
 
 def _write_chunk(table_args, path):
