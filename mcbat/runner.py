@@ -135,8 +135,9 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     seed = study.seed if seed is None else seed
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("--seed", f"must be an integer >= 0, got {seed!r}")
-    chunk_size = _positive_int(
-        chunk_size or getattr(study, "chunk_size", None) or DEFAULT_CHUNK_SIZE, "--chunk-size")
+    if chunk_size is None:
+        chunk_size = getattr(study, "chunk_size", None) or DEFAULT_CHUNK_SIZE
+    chunk_size = _positive_int(chunk_size, "--chunk-size")
     if threads is not None:
         threads = _positive_int(threads, "--threads")
         if threads > numba.config.NUMBA_NUM_THREADS:

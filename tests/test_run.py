@@ -288,3 +288,19 @@ def test_measurement_noise_goes_to_separate_columns(tmp_path):
         error = ok[f"{name}_measured"] - ok[name]
         assert abs(error.mean()) < 4 * std / np.sqrt(len(ok))
         assert error.std() == pytest.approx(std, rel=0.03)
+
+
+@pytest.mark.parametrize("flag, value, words", [
+    ("--samples", "abc", "--samples must be an integer"),
+    ("--samples", "0", "--samples: must be an integer >= 1"),
+    ("--threads", "0", "--threads: must be an integer >= 1"),
+    ("--threads", "64", "--threads: at most"),
+    ("--seed", "-1", "--seed: must be an integer >= 0"),
+    ("--chunk-size", "0", "--chunk-size: must be an integer >= 1"),
+])
+def test_bad_flags_exit_2_and_write_nothing(tmp_path, flag, value, words):
+    out = tmp_path / "out"
+    proc = mcbat_cli("run", EXAMPLE, "--out", out, flag, value, "--quiet")
+    assert proc.returncode == 2
+    assert len(proc.stderr.strip().splitlines()) == 1 and words in proc.stderr
+    assert "Traceback" not in proc.stderr and not out.exists()
