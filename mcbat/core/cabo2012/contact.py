@@ -256,6 +256,16 @@ def _reslip_direction(k11, k12, k13, k22, k23, mu):
     return best_u1, best_u2, best_lam
 
 
+@njit(inline="always")
+def inverse_slip_stiffness(k11, k12, k22, mu):
+    """``1 / (mu lambda_max(K_tt))`` (kg): the slip direction relaxes at the rate
+    ``mu K_tt / |v_t|``, so an RK4 step must stay below ~``|v_t|`` times this (inf if
+    ``mu = 0``)."""
+    if not mu > 0.0:
+        return math.inf
+    return 1.0 / (mu * (0.5 * (k11 + k22) + math.sqrt(0.25 * (k11 - k22) ** 2 + k12 * k12)))
+
+
 @njit
 def stick_impulse_rate(k11, k12, k13, k22, k23):
     """Tangential impulse rate ``f = -K_tt^-1 K_tn`` that holds ``v_t = 0`` (dimensionless)."""
@@ -335,10 +345,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     s0 = math.sqrt(v01 * v01 + v02 * v02)
     sliding = mu > 0.0 and s0 > s_stop
 
-    # 1 / (mu * largest eigenvalue of K_tt), for the stability bound of the step.
-    inv_mu_ktt = 1.0 / (mu * (0.5 * (k11 + k22)
-                              + math.sqrt(0.25 * (k11 - k22) ** 2 + k12 * k12))) if mu > 0.0 \
-        else math.inf
+    inv_mu_ktt = inverse_slip_stiffness(k11, k12, k22, mu)
     approach = False  # set once sliding is predicted to stop well before separation
     # The relaxed budget on the way into a stick needs a stick that holds with margin: near
     # |f| = mu the outcome (stick or re-slip) depends on exactly how slip dies out.

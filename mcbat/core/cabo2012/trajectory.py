@@ -19,6 +19,7 @@ from mcbat.core.cabo2012.contact import (
     _reslip_direction,
     _rk4_step,
     _velocity,
+    inverse_slip_stiffness,
     stick_impulse_rate,
 )
 
@@ -58,9 +59,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     i_s = math.nan
     j = 0
     phase = SLIP
-    inv_mu_ktt = 1.0 / (mu * (0.5 * (k11 + k22) + math.sqrt(0.25 * (k11 - k22) ** 2
-                                                          + k12 * k12))) if mu > 0.0 \
-        else math.inf
+    inv_mu_ktt = inverse_slip_stiffness(k11, k12, k22, mu)
     # ---- slip, recorded at the requested impulses by partial steps ----
     while j < n and mu > 0.0:
         v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
