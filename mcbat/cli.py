@@ -25,7 +25,7 @@ class _ArgumentParser(argparse.ArgumentParser):
 
 
 class _UsageError(Exception):
-    pass
+    """A command-line usage error (bad flag or value): exit code 2."""
 
 
 def _reject_constant(name):

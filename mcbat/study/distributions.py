@@ -29,6 +29,7 @@ by one input never depends on the values drawn.
 
 from __future__ import annotations
 
+import abc
 import math
 from dataclasses import dataclass, field as dc_field
 from typing import NamedTuple
@@ -120,7 +121,7 @@ def check_keys(table, field, required=(), optional=()):
 
 
 @dataclass(frozen=True, eq=False)
-class Dist:
+class Dist(abc.ABC):
     """Base class: one numeric input's distribution, values in SI.
 
     Attributes
@@ -140,10 +141,10 @@ class Dist:
     family = "?"
     bounded = True
 
+    @abc.abstractmethod
     def points(self) -> list[Point]:
         """Points whose convex hull is the support (every value the input can take lies
         between the smallest and the largest)."""
-        raise NotImplementedError
 
     def support(self) -> tuple[float, float]:
         """``(smallest, largest)`` value, SI (``-inf``/``inf`` when unbounded)."""
@@ -152,9 +153,9 @@ class Dist:
         values = [p.si for p in self.points()]
         return min(values), max(values)
 
+    @abc.abstractmethod
     def config(self) -> dict:
         """Canonical JSON-ready description, SI values."""
-        raise NotImplementedError
 
     def describe(self, point: Point) -> str:
         return u.format_value(point.si, point.raw, self.unit, self.quantity)
@@ -187,8 +188,9 @@ class RandomDist(Dist):
 
     family = "random"
 
+    @abc.abstractmethod
     def draw(self, rng: np.random.Generator, n: int) -> np.ndarray:
-        raise NotImplementedError
+        """``n`` values from ``rng``, consuming a fixed amount of the stream."""
 
 
 @dataclass(frozen=True, eq=False)
