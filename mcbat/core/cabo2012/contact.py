@@ -352,8 +352,10 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     f1, f2 = stick_impulse_rate(k11, k12, k13, k22, k23)
     robust_stick = f1 * f1 + f2 * f2 <= (ROBUST_STICK * mu) ** 2
     # ---- slip phase: fixed-step RK4 in I with zero-slip detection ----
+    n_iter = 0  # every pass, RK4 or not: the loop is bounded whatever happens
     while sliding:
-        if n_rk4 >= max_steps:
+        n_iter += 1
+        if n_rk4 >= max_steps or n_iter > max_steps + 8:
             return (st.MAX_STEPS, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)
         v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
         s = math.sqrt(v1 * v1 + v2 * v2)

@@ -26,6 +26,7 @@ from mcbat.core.cabo2012.contact import (
 SLIP = 0
 STICK = 1
 RESLIP = 2
+MAX_HISTORY_STEPS = 1_000_000
 
 
 @njit
@@ -61,7 +62,11 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     phase = SLIP
     inv_mu_ktt = inverse_slip_stiffness(k11, k12, k22, mu)
     # ---- slip, recorded at the requested impulses by partial steps ----
+    passes = 0
     while j < n and mu > 0.0:
+        passes += 1
+        if passes > MAX_HISTORY_STEPS:
+            break  # bounded: the remaining points stay NaN
         v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
         s = math.sqrt(v1 * v1 + v2 * v2)
         if s <= s_stop:
@@ -110,7 +115,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
             j += 1
         imp, p1, p2, wn, wfr = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
                                          imp, p1, p2, wn, wfr, h, a[0], a[1], a[2], a[3])
-    if j >= n:
+    if j >= n or passes > MAX_HISTORY_STEPS:
         return out, i_s
     # ---- slip has stopped: stick or re-slip, linear in I ----
     if mu > 0.0:
