@@ -158,3 +158,20 @@ def test_impact_parameter_contact_matches_angle(capsys, monkeypatch):
     r_b, r_a = json.loads(out)
     assert r_b["ball_velocity"] == pytest.approx(r_a["ball_velocity"], rel=1e-12)
     assert r_a["impact_parameter"] == pytest.approx(b, rel=1e-12)
+
+
+def test_internal_error_exits_1_and_debug_shows_the_traceback(capsys, monkeypatch):
+    import mcbat.api
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("simulated bug")
+
+    monkeypatch.setattr(mcbat.api, "solve", broken)
+    code, out, err = run_cli(capsys, monkeypatch, GOOD)
+    assert code == 1 and out == ""
+    assert err.strip() == ("mcbat: internal error: RuntimeError: simulated bug "
+                           "(run with --debug for a traceback)")
+    monkeypatch.setattr(sys, "stdin", __import__("io").StringIO(json.dumps(GOOD)))
+    code = main(["--debug", "impact", "-"])
+    err = capsys.readouterr().err
+    assert code == 1 and "Traceback" in err and "simulated bug" in err
