@@ -116,6 +116,22 @@ def cmd_calibrate(args) -> int:
     return EXIT_OK
 
 
+def cmd_synth(args) -> int:
+    from mcbat.measurements import synthesize, write_table_atomic
+    from mcbat.study import load_study
+
+    study = load_study(args.study)
+    table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu,
+                       speed_noise=args.speed_noise, angle_noise=args.angle_noise,
+                       spin_noise=args.spin_noise)
+    if args.out:
+        write_table_atomic(table, args.out)
+        print(f"{len(table)} rows written to {args.out}")
+    else:
+        table.to_csv(sys.stdout, index=False, float_format="%.10g")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _ArgumentParser(
         prog="mcbat",
@@ -175,6 +191,25 @@ def build_parser() -> argparse.ArgumentParser:
     cal.add_argument("--target", type=float, default=1.44629, metavar="TARGET",
                      help="target exit speed, m/s (default: the paper's 1.44629)")
     cal.set_defaults(func=cmd_calibrate)
+
+    syn = sub.add_parser(
+        "synth", help="draw a noisy synthetic measurement table from the model",
+        description="Sample the study's setup and nuisance scatter, solve with the given e* "
+                    "and mu, and add measurement noise: the kind of table an experiment "
+                    "produces (format: mcbat/measurements.py).")
+    syn.add_argument("--study", required=True, metavar="S.toml")
+    syn.add_argument("--rows", type=_int_arg("--rows"), default=60, metavar="N")
+    syn.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S")
+    syn.add_argument("--e", type=float, default=None, help="energetic restitution e*")
+    syn.add_argument("--mu", type=float, default=None, help="friction coefficient")
+    syn.add_argument("--speed-noise", type=float, default=0.05,
+                     help="relative 1-sigma error of the exit speed (default 0.05)")
+    syn.add_argument("--angle-noise", type=float, default=3.0,
+                     help="1-sigma error of the scattering angle, deg (default 3)")
+    syn.add_argument("--spin-noise", type=float, default=0.10,
+                     help="relative 1-sigma error of the outgoing spin (default 0.10)")
+    syn.add_argument("--out", metavar="M.csv", help="output file (default: stdout)")
+    syn.set_defaults(func=cmd_synth)
     return parser
 
 

@@ -1,0 +1,168 @@
+"""Measurement tables: the format, validation, and synthetic tables drawn from the model.
+
+Format (CSV with a header line, ``#`` comment lines allowed, or Parquet); any subset of:
+
+========================  ========  ==============================================
+column                    unit      meaning
+========================  ========  ==============================================
+``impact_parameter``      m         offset of the ball's incoming line from the bat axis
+``spin_in``               rad/s     incoming ball spin about the bat axis
+``exit_speed``            m/s       outgoing ball speed
+``scattering_angle``      deg       ``atan2(v_y, v_x)`` of the outgoing ball
+``spin_out``              rad/s     outgoing ball spin about the bat axis
+``<column>_err``          as above  optional 1-sigma uncertainty of that column
+========================  ========  ==============================================
+
+The fixed setup (bat, ball, incoming speed) comes from a study TOML. Every value must be a
+finite number; uncertainties must be > 0; an ``_err`` column needs its value column.
+Errors name the file, the column and the data row (1-based) with the offending value.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from mcbat.errors import InputError
+
+COLUMNS = {"impact_parameter": "m", "spin_in": "rad/s", "exit_speed": "m/s",
+           "scattering_angle": "deg", "spin_out": "rad/s"}
+"""Measured quantities and their units."""
+OBSERVABLES = ("exit_speed", "scattering_angle", "spin_out")
+"""The columns a fit compares with the model."""
+
+
+def read_measurements(path, required=()):
+    """Read and validate a measurement table (CSV or Parquet) into a pandas DataFrame.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.csv`` or ``.parquet`` file.
+    required : sequence of str
+        Columns that must be present.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the column and the row, for any malformed content.
+    """
+    import pandas as pd
+
+    path = Path(path)
+    source = str(path)
+    if not path.is_file():
+        raise InputError(None, "no such file", source)
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".csv":
+            df = pd.read_csv(path, comment="#", skipinitialspace=True, dtype=str)
+        elif suffix in (".parquet", ".pq"):
+            df = pd.read_parquet(path)
+        else:
+            raise InputError(None, f"unknown table format {suffix!r} (use .csv or .parquet)",
+                             source)
+    except InputError:
+        raise
+    except Exception as err:  # noqa: BLE001 - any parser failure is the file's fault
+        raise InputError(None, f"cannot read the table: {err}", source) from None
+    df.columns = [str(c).strip() for c in df.columns]
+    allowed = set(COLUMNS) | {f"{c}_err" for c in COLUMNS}
+    for name in df.columns:
+        if name not in allowed:
+            raise InputError(name, f"unknown column (expected any of: "
+                             f"{', '.join(COLUMNS)}, each optionally with a _err column)",
+                             source)
+    if len(set(df.columns)) != len(df.columns):
+        raise InputError(None, "duplicate column names", source)
+    for name in required:
+        if name not in df.columns:
+            raise InputError(name, "missing required column", source)
+    if len(df) == 0:
+        raise InputError(None, "the table has no data rows", source)
+    out = pd.DataFrame(index=range(len(df)))
+    for name in df.columns:
+        values = df[name].to_numpy()
+        numbers = np.empty(len(values))
+        for i, value in enumerate(values):
+            try:
+                numbers[i] = float(value)
+            except (TypeError, ValueError):
+                raise InputError(name, f"row {i + 1}: not a number: {value!r}",
+                                 source) from None
+            if not math.isfinite(numbers[i]):
+                raise InputError(name, f"row {i + 1}: must be finite, got {value!r}", source)
+            if name.endswith("_err") and not numbers[i] > 0.0:
+                raise InputError(name, f"row {i + 1}: an uncertainty must be > 0, got "
+                                 f"{value!r}", source)
+        out[name] = numbers
+    for name in out.columns:
+        if name.endswith("_err") and name[:-4] not in out.columns:
+            raise InputError(name, f"uncertainty without its value column {name[:-4]!r}",
+                             source)
+    out.attrs["source"] = source
+    return out
+
+
+def synthesize(study, rows, seed=0, *, e=None, mu=None, speed_noise=0.05,
+               angle_noise=3.0, spin_noise=0.10, spin_floor=1.0):
+    """A noisy synthetic measurement table drawn from the model (what an experiment yields).
+
+    The study supplies the setup and the nuisance scatter (impact point, incoming spin, ...);
+    ``e`` (e*) and ``mu`` override the study's values. Noise: relative ``speed_noise`` on the
+    exit speed, ``angle_noise`` degrees on the angle, relative ``spin_noise`` on the outgoing
+    spin (with a floor of ``spin_floor`` rad/s, so spins near zero keep an error). The
+    ``_err`` columns hold the sigmas used. Deterministic in ``seed``.
+    """
+    import pandas as pd
+
+    from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+
+    cols = study.sample(0, rows, seed)
+    if e is not None:
+        cols["e"] = np.full(rows, float(e))
+    if mu is not None:
+        cols["mu"] = np.full(rows, float(mu))
+    inputs = np.stack([np.asarray(cols[name], np.float64) for name in INPUT_FIELDS])
+    out, status, _ = allocate_outputs(rows)
+    solver = study.solver
+    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
+                _)
+    o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
+    ok = status == 0
+    speed = np.sqrt(o["ball_vx"] ** 2 + o["ball_vy"] ** 2 + o["ball_vz"] ** 2)
+    angle = np.degrees(np.arctan2(o["ball_vy"], o["ball_vx"]))
+    spin = o["ball_wz"]
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
+    speed_err = speed_noise * speed
+    angle_err = np.full(rows, float(angle_noise))
+    spin_err = np.maximum(spin_noise * np.abs(spin), spin_floor)
+    table = pd.DataFrame({
+        "impact_parameter": cols["impact_parameter"],
+        "spin_in": cols["ball_wz_in"],
+        "exit_speed": speed + speed_err * rng.standard_normal(rows),
+        "exit_speed_err": speed_err,
+        "scattering_angle": angle + angle_err * rng.standard_normal(rows),
+        "scattering_angle_err": angle_err,
+        "spin_out": spin + spin_err * rng.standard_normal(rows),
+        "spin_out_err": spin_err,
+    })
+    return table[ok].reset_index(drop=True)
+
+
+def write_table_atomic(table, path):
+    """Write a measurement table as CSV (or Parquet by suffix) via a temporary file."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        if path.suffix.lower() in (".parquet", ".pq"):
+            table.to_parquet(tmp, index=False)
+        else:
+            table.to_csv(tmp, index=False, float_format="%.10g")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
