@@ -132,6 +132,36 @@ def cmd_synth(args) -> int:
     return EXIT_OK
 
 
+def cmd_fit(args) -> int:
+    from mcbat.fit import fit
+    from mcbat.measurements import read_measurements
+    from mcbat.study import load_study
+
+    study = load_study(args.study)
+    table = read_measurements(args.data, required=("impact_parameter",))
+    free = tuple(p.strip() for p in args.free.split(",") if p.strip())
+    result = fit(study, table, free, bootstrap=args.bootstrap)
+    if args.residuals:
+        from mcbat.figures import fig_fit_residuals
+
+        fig_fit_residuals(args.residuals, table, result)
+    if args.json:
+        json.dump(result.to_dict(), sys.stdout, indent=2)
+        sys.stdout.write("\n")
+        return EXIT_OK
+    print(f"fit of {', '.join(free)} to {len(table)} rows of {args.data} "
+          f"(study {study.name}):")
+    for name, value in result.params.items():
+        extra = (f", bootstrap {result.bootstrap_stderr[name]:.4g}"
+                 if name in result.bootstrap_stderr else "")
+        print(f"  {name} = {value:.6g} +- {result.stderr[name]:.2g} (curvature{extra})")
+    print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
+    for name in result.unconstrained:
+        print(f"  warning: the data do not bound {name} (the likelihood is flat up to the "
+              f"edge of its range); its value is not a measurement")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _ArgumentParser(
         prog="mcbat",
@@ -210,6 +240,21 @@ def build_parser() -> argparse.ArgumentParser:
                      help="relative 1-sigma error of the outgoing spin (default 0.10)")
     syn.add_argument("--out", metavar="M.csv", help="output file (default: stdout)")
     syn.set_defaults(func=cmd_synth)
+
+    fit = sub.add_parser(
+        "fit", help="fit model parameters to a measurement table",
+        description="Maximum-likelihood fit of the free parameters (any of e, mu, "
+                    "ball_inertia_factor, axial) to a measurement table, with the study's "
+                    "nuisance scatter marginalised by the kernel; uncertainties from the "
+                    "curvature (and --bootstrap N refits); chi2/dof and its p-value.")
+    fit.add_argument("--study", required=True, metavar="S.toml")
+    fit.add_argument("--data", required=True, metavar="M.csv")
+    fit.add_argument("--free", default="e,mu", help="comma-separated (default: e,mu)")
+    fit.add_argument("--bootstrap", type=_int_arg("--bootstrap"), default=0, metavar="N",
+                     help="parametric bootstrap refits (default 0)")
+    fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure")
+    fit.add_argument("--json", action="store_true", help="print the result as JSON")
+    fit.set_defaults(func=cmd_fit)
     return parser
 
 

@@ -502,3 +502,31 @@ def all_figures(outdir, df: pd.DataFrame | None, e_star: float,
                                                          "fig7_speed_vs_angle_spin")
     out["fig8_spin_vs_impact_parameter"] = fig_spin_vs_impact_parameter(outdir, df, model)
     return out
+
+
+def fig_fit_residuals(path, table, result) -> Path:
+    """Normalised residuals of a fit (``mcbat fit --residuals``) against impact parameter."""
+    fig = _figure((7.2, 4.6))
+    ax = fig.add_subplot()
+    r = np.asarray(result.residuals)
+    b = table["impact_parameter"].to_numpy(float) / 0.0254
+    from mcbat.measurements import OBSERVABLES
+
+    names = [c for c in OBSERVABLES if c in table.columns]
+    markers = ("o", "s", "^")
+    for j, name in enumerate(names):
+        ax.scatter(b, r[:, j], s=18, marker=markers[j % 3], label=name.replace("_", " "))
+    ax.axhline(0.0, color="0.3", lw=1)
+    for level in (-2, 2):
+        ax.axhline(level, color="0.6", lw=0.8, ls="--")
+    params = ", ".join(f"{k} = {v:.4g} ± {result.stderr[k]:.2g}"
+                       for k, v in result.params.items())
+    ax.set_title(f"fit residuals: {params}\nchi2/dof = {result.chi2:.1f}/{result.dof}, "
+                 f"p = {result.p_value:.3f}", fontsize=10)
+    ax.set_xlabel("impact parameter (inches)")
+    ax.set_ylabel("(measured − model) / sigma")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    path = Path(path)
+    fig.savefig(path, dpi=150, bbox_inches="tight")
+    return path

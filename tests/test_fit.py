@@ -1,0 +1,66 @@
+"""Fitting e* and mu to measurement tables (issue 7, the rigid-model part)."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mcbat.errors import InputError
+from mcbat.fit import fit
+from mcbat.measurements import synthesize
+from mcbat.study import load_study
+
+ROOT = Path(__file__).resolve().parents[1]
+STUDY = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
+
+
+def test_recovers_known_parameters_within_their_errors():
+    truth = {"e": 0.6, "mu": 0.15}  # some impacts slide, so mu is measurable
+    table = synthesize(STUDY, 60, seed=7, **truth)
+    result = fit(STUDY, table, ("e", "mu"), seed=7)
+    for name, value in truth.items():
+        assert abs(result.params[name] - value) < 3 * result.stderr[name]
+        assert 0 < result.stderr[name] < 0.05
+    assert result.dof == 3 * len(table) - 2
+    assert 0.001 < result.p_value <= 1.0
+    assert result.unconstrained == []
+
+
+def test_unmeasurable_mu_is_flagged_not_reported_as_precise():
+    # With mu = 0.5 every drop sticks: above the threshold mu leaves no trace in the data.
+    table = synthesize(STUDY, 60, seed=3, e=0.6, mu=0.5)
+    result = fit(STUDY, table, ("e", "mu"), seed=3)
+    assert "mu" in result.unconstrained and result.stderr["mu"] == float("inf")
+    assert abs(result.params["e"] - 0.6) < 4 * result.stderr["e"]
+
+
+def test_bad_free_parameter_is_a_clear_error():
+    table = synthesize(STUDY, 10, seed=1)
+    with pytest.raises(InputError, match="unknown parameter 'gravity'"):
+        fit(STUDY, table, ("gravity",))
+
+
+def test_fit_cli_json(tmp_path):
+    out = subprocess.run([sys.executable, "-m", "mcbat.cli", "fit", "--study",
+                          str(ROOT / "studies" / "cross_nathan_2006.toml"), "--data",
+                          str(ROOT / "data" / "synthetic_cross_nathan_60.csv"), "--json",
+                          "--residuals", str(tmp_path / "r.png")],
+                         capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stderr
+    result = json.loads(out.stdout)
+    assert set(result) >= {"params", "chi2", "dof", "p_value"}
+    assert set(result["params"]["e"]) >= {"value", "stderr"}
+    assert (tmp_path / "r.png").stat().st_size > 10_000
+
+
+@pytest.mark.slow
+def test_injection_and_recovery_50_tables():
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from injection_recovery import run
+
+    coverage, bias, times = run(tables=50, rows=60, log=print)
+    assert max(times) < 30.0
+    assert all(abs(b) < 0.3 for b in bias)
+    assert all(0.60 <= c <= 0.76 for c in coverage)
