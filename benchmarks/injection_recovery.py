@@ -1,13 +1,17 @@
 """Injection and recovery: fit e* and mu to many synthetic tables generated at known values.
 
-Run:  .venv/bin/python benchmarks/injection_recovery.py [--tables 50] [--rows 60]
+Run:  .venv/bin/python benchmarks/injection_recovery.py [--tables 150] [--rows 60]
 
 Each table: `mcbat synth` of studies/cross_nathan_2006.toml at the truth (default e* = 0.6,
 mu = 0.15, where part of the impacts slide so that mu is measurable), noise 5 % on speed,
 3 deg on angle, 10 % on spin. Each fit: maximum likelihood with the nuisance scatter
 marginalised (mcbat.fit). Reported: the fraction of tables whose 1-sigma interval covers
 the truth (expected 68 %; acceptance 60-76 %), the mean pull (bias in sigma; acceptance
-below 0.3) and the time per fit.
+below 0.3) and the time per fit. With 50 tables the binomial spread of a coverage estimate
+is +-6.6 %, as wide as the acceptance window, so the default is 150 (+-3.8 %).
+
+Measured 2026-11-21 (150 tables): e* coverage 64 %, mean pull -0.07 sigma; mu coverage 68 %,
+mean pull +0.09 sigma; 4.4 s per fit (median, with another job running).
 """
 
 import argparse
@@ -46,7 +50,7 @@ def run(tables=50, rows=60, truth=None, log=print):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--tables", type=int, default=50)
+    parser.add_argument("--tables", type=int, default=150)
     parser.add_argument("--rows", type=int, default=60)
     args = parser.parse_args()
     coverage, bias, times = run(args.tables, args.rows)

@@ -56,11 +56,13 @@ def test_fit_cli_json(tmp_path):
 
 
 @pytest.mark.slow
-def test_injection_and_recovery_50_tables():
+def test_injection_and_recovery():
+    # 150 tables: with 50, the binomial spread of the coverage (+-6.6 %) is as wide as the
+    # 60-76 % window itself (a 50-table run gave 52 % and 84 %, pull std 1.05 and 0.95).
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from injection_recovery import run
 
-    coverage, bias, times = run(tables=50, rows=60, log=print)
+    coverage, bias, times = run(tables=150, rows=60, log=print)
     assert max(times) < 30.0
     assert all(abs(b) < 0.3 for b in bias)
     assert all(0.60 <= c <= 0.76 for c in coverage)
