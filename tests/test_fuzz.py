@@ -226,7 +226,7 @@ def test_receding_or_resting_contacts_are_flagged(case):
                                     case["slope"])
     v_n = np.dot(relative_contact_velocity(case["ball_radius"], t3, r_c, case["ball_v"],
                                            case["ball_w"], case["bat_v"], case["bat_w"]), t3)
-    if v_n > 0.0:
+    if v_n > 1e-10:  # well above the rounding of v_n (~1e-13 m/s at these speeds)
         assert r["status"] == st.NOT_APPROACHING
 
 
