@@ -81,6 +81,10 @@ def test_kernel_status_codes_never_raise():
     assert kernel(ball_mass=0.0)["status"] == st.INVALID_INPUT
     assert kernel(bat_axial_inertia=-1.0)["status"] == st.INVALID_INPUT
     assert kernel(radius=math.inf)["status"] == st.INVALID_INPUT
+    # Finite but overflowing inputs: flagged, not an "ok" row full of NaN/inf.
+    huge = kernel(ball_v=(-1e155, 0.0, 0.0))
+    assert huge["status"] == st.INVALID_INPUT and math.isnan(huge["ball_vx"])
+    assert kernel(ball_radius=1e-160)["status"] == st.INVALID_INPUT
     # A step budget too small for the slip phase is reported, not looped on.
     capped = kernel(ball_w=(0.0, 200.0, 300.0), mu=0.3, settings=(8, 3e-9, 2))
     assert capped["status"] == st.MAX_STEPS and math.isnan(capped["ball_vx"])

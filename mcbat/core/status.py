@@ -13,7 +13,8 @@ MAX_STEPS = 2
 DEGENERATE = 3
 """Degenerate mechanics: a non-positive effective normal compliance, or no re-slip direction."""
 INVALID_INPUT = 4
-"""A non-finite or out-of-range number reached the kernel."""
+"""A non-finite or out-of-range number reached the kernel, or finite inputs so extreme that
+the result overflowed (it is then flagged rather than returned as ok)."""
 
 STATUS_NAMES = {
     OK: "ok",

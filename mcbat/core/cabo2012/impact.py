@@ -19,6 +19,7 @@ from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import (
     apply_impulse,
     delassus_matrix,
+    is_finite3,
     kinetic_energy,
     relative_contact_velocity,
 )
@@ -127,6 +128,14 @@ def solve_impact(
     energy_out = kinetic_energy(
         ball_mass, ball_radius, ball_inertia_factor,
         bat_mass, bat_transverse_inertia, bat_axial_inertia, ball_v, ball_w, bat_v, bat_w)
+    # Finite inputs can still overflow or underflow (speeds ~1e154, radii ~1e-160): a result
+    # that is not finite is flagged, never passed off as ok.
+    if not (is_finite3(ball_v) and is_finite3(ball_w) and is_finite3(bat_v)
+            and is_finite3(bat_w) and math.isfinite(i_f) and math.isfinite(energy_out)
+            and math.isfinite(energy_in)):
+        return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+                nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan,
+                n_rk4)
     return (
         code, end_state,
         ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
