@@ -59,7 +59,7 @@ STICK_OUTPUTS = [OUT["stick_impulse"], OUT["stick_criterion"]]
 FINITE_OUTPUTS = [i for i in range(len(OUTPUT_FIELDS)) if i not in STICK_OUTPUTS]
 
 CATEGORIES = ("tiny_ball", "huge_bat", "taper", "grazing", "tiny_vn", "high_spin",
-              "moving_bat", "mu_zero", "mu_high", "e_zero", "e_one", "no_slip", "not_approaching",
+              "moving_bat", "mu_zero", "mu_high", "e_zero", "e_one", "e_x", "no_slip", "not_approaching",
               "invalid")
 
 ENERGY_RTOL = 1e-9
@@ -153,6 +153,8 @@ def extreme_inputs(n, rng):
     flag["e_zero"] = u < 0.15
     flag["e_one"] = (u >= 0.15) & (u < 0.30)
     x[f["e"]] = np.where(flag["e_zero"], 0.0, np.where(flag["e_one"], 1.0, rng.random(n)))
+    flag["e_x"] = share(0.3)  # tangential compliance (Cross & Nathan's e_x), 1 at times
+    x[f["e_x"]] = np.where(flag["e_x"], np.minimum(rng.uniform(0.0, 1.2, n), 1.0), 0.0)
     # Approach speed, imposed along the contact normal (and, for no_slip rows, nothing
     # left in the tangent plane).
     tiny_vn = flag["tiny_vn"] = share(0.2)
@@ -178,7 +180,7 @@ def extreme_inputs(n, rng):
     out_of_range = {  # a value the kernel must reject for each field that has a range
         "ball_mass": 0.0, "ball_radius": -0.01, "ball_inertia_factor": 0.0,
         "bat_mass": -1.0, "bat_transverse_inertia": 0.0, "bat_axial_inertia": -1e-4,
-        "bat_radius": 0.0, "mu": -1e-3, "e": np.nextafter(1.0, 2.0),
+        "bat_radius": 0.0, "mu": -1e-3, "e": np.nextafter(1.0, 2.0), "e_x": -1e-3,
     }
     names = list(out_of_range)
     pick = rows[kind == 3]

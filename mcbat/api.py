@@ -182,7 +182,9 @@ class ImpactCase:
     """One impact: bodies, contact point, initial velocities (lab frame), friction, e*.
 
     ``e`` is Stronge's energetic coefficient ``e*`` in [0, 1]; the paper's loss fraction
-    ``e^2`` corresponds to ``e* = sqrt(1 - e^2)`` (:meth:`e_from_loss_fraction`).
+    ``e^2`` corresponds to ``e* = sqrt(1 - e^2)`` (:meth:`e_from_loss_fraction`). ``e_x``
+    is the tangential restitution in [0, 1] of Cross & Nathan (2006): 0, the default, is
+    the rigid model (see ``mcbat/core/cross_nathan2006/README.md``).
     """
 
     ball: Ball
@@ -194,12 +196,14 @@ class ImpactCase:
     bat_spin: Vector = (0.0, 0.0, 0.0)
     mu: float = 0.0
     e: float = 1.0
+    e_x: float = 0.0
 
     def __post_init__(self):
         for name in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin"):
             object.__setattr__(self, name, _vector(getattr(self, name), name))
         _real(self.mu, "mu", minimum=0.0)
         _real(self.e, "e", minimum=0.0, maximum=1.0)
+        _real(self.e_x, "e_x", minimum=0.0, maximum=1.0)
         self.contact_surface()  # the contact must lie on the bat
 
     @staticmethod
@@ -328,7 +332,7 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         case.bat.mass, case.bat.transverse_inertia, case.bat.axial_inertia,
         case.contact.axial, case.contact.angle, radius, slope,
         *case.ball_velocity, *case.ball_spin, *case.bat_velocity, *case.bat_spin,
-        case.mu, case.e, settings.steps, settings.tolerance, settings.max_steps)))
+        case.mu, case.e, case.e_x, settings.steps, settings.tolerance, settings.max_steps)))
     code = int(out["status"])
     if code != st.OK:
         raise RuntimeError(f"impact solver failed with status {st.STATUS_NAMES[code]!r}")
@@ -471,18 +475,25 @@ def _case_from_dict(data) -> ImpactCase:
         contact = _build("contact", Contact.from_impact_parameter, axial=axial,
                          impact_parameter=contact_d["impact_parameter"], ball=ball, bat=bat,
                          approach_azimuth=contact_d.get("approach_azimuth", 0.0))
-    e = 1.0
+    e, e_x = 1.0, 0.0
     if "restitution" in data:
-        rest = _mapping(data["restitution"], "restitution", {"e", "loss_fraction"}, ())
-        if len(rest) != 1:
+        rest = dict(_mapping(data["restitution"], "restitution",
+                             {"e", "loss_fraction", "e_x"}, ()))
+        if "e_x" in rest:  # tangential restitution (optional; alone it keeps e* = 1)
+            e_x = _build("restitution", _real, rest.pop("e_x"), "e_x", minimum=0.0,
+                         maximum=1.0)
+        elif len(rest) != 1:
+            raise InputError("restitution", "give exactly one of 'e' or 'loss_fraction'")
+        if len(rest) > 1:
             raise InputError("restitution", "give exactly one of 'e' or 'loss_fraction'")
         if "e" in rest:
             e = _build("restitution", _real, rest["e"], "e", minimum=0.0, maximum=1.0)
-        else:
+        elif "loss_fraction" in rest:
             e = _build("restitution", ImpactCase.e_from_loss_fraction,
                        loss_fraction=rest["loss_fraction"])
     vectors = {k: data[k] for k in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin")
                if k in data}
-    case = ImpactCase(ball=ball, bat=bat, contact=contact, mu=data["mu"], e=e, **vectors)
+    case = ImpactCase(ball=ball, bat=bat, contact=contact, mu=data["mu"], e=e, e_x=e_x,
+                        **vectors)
     case.validate_approach()
     return case

@@ -48,14 +48,14 @@ from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.errors import InputError
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 MANIFEST = "_mcbat.json"
 METADATA_KEY = b"mcbat"
 _CHUNK_RE = re.compile(r"^chunk-(\d{6})\.parquet$")
 
 _LINEAR = {"v": "m/s", "w": "rad/s"}
 UNITS = {
-    "mu": "1", "e": "1", "axial": "m", "angle": "rad", "impact_parameter": "m",
+    "mu": "1", "e": "1", "e_x": "1", "axial": "m", "angle": "rad", "impact_parameter": "m",
     "ball_mass": "kg", "ball_radius": "m", "ball_inertia_factor": "1",
     "bat_mass": "kg", "bat_radius": "m", "bat_slope": "1",
     "bat_transverse_inertia": "kg m^2", "bat_axial_inertia": "kg m^2",
@@ -73,7 +73,7 @@ UNITS = {
 }
 """Unit of every column."""
 
-INPUT_COLUMNS = ("mu", "e", "axial", "angle", "impact_parameter", "ball_mass", "ball_radius",
+INPUT_COLUMNS = ("mu", "e", "e_x", "axial", "angle", "impact_parameter", "ball_mass", "ball_radius",
                  "ball_inertia_factor", "bat_mass", "bat_radius", "bat_slope",
                  "bat_transverse_inertia", "bat_axial_inertia",
                  *(f for f in INPUT_FIELDS if f.endswith("_in")))

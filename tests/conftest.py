@@ -23,14 +23,14 @@ SEC5_LOSS_FRACTION = 0.6183822  # the paper's calibrated e^2
 
 
 def kernel(ball_v=(-4.0, 0.0, 0.0), ball_w=(0.0, 0.0, 0.0), bat_v=(0.0, 0.0, 0.0),
-           bat_w=(0.0, 0.0, 0.0), angle=SEC5_THETA, mu=0.5, e=1.0, settings=(), **overrides):
+           bat_w=(0.0, 0.0, 0.0), angle=SEC5_THETA, mu=0.5, e=1.0, e_x=0.0, settings=(), **overrides):
     """Run ``solve_impact`` on the Sec. V bodies (with overrides); return a dict."""
     p = {**SEC5, **overrides}
     out = solve_impact(
         p["ball_mass"], p["ball_radius"], p["ball_inertia_factor"],
         p["bat_mass"], p["bat_transverse_inertia"], p["bat_axial_inertia"],
         p["axial"], angle, p["radius"], p["slope"],
-        *ball_v, *ball_w, *bat_v, *bat_w, mu, e, *settings)
+        *ball_v, *ball_w, *bat_v, *bat_w, mu, e, e_x, *settings)
     return dict(zip(IMPACT_FIELDS, out))
 
 

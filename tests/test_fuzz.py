@@ -105,6 +105,7 @@ def extreme_impacts(draw, normal_velocity=approach_speeds):
     case["bat_w"] = draw(hs.one_of(hs.just(ZERO), vec(1e3)))
     case["mu"] = draw(hs.one_of(hs.just(0.0), floats(0.0, 10.0), hs.just(10.0)))
     case["e"] = draw(hs.one_of(hs.just(0.0), hs.just(1.0), floats(0.0, 1.0)))
+    case["e_x"] = draw(hs.one_of(hs.just(0.0), hs.just(1.0), floats(0.0, 1.0)))
     # Impose v_n by moving the ball along the normal; a fifth of the cases also lose all
     # tangential slip at incidence (start stuck, or re-slip at once).
     t1, t2, t3, r_c = contact_frame(case["axial"], case["angle"], case["radius"],
@@ -121,10 +122,10 @@ def extreme_impacts(draw, normal_velocity=approach_speeds):
 
 
 def as_row(case):
-    """The case as the 24 floats of :data:`mcbat.core.batch.INPUT_FIELDS`."""
+    """The case as the floats of :data:`mcbat.core.batch.INPUT_FIELDS`."""
     return (*(case[k] for k in BODY_KEYS[:6]), case["axial"], case["angle"], case["radius"],
             case["slope"], *case["ball_v"], *case["ball_w"], *case["bat_v"], *case["bat_w"],
-            case["mu"], case["e"])
+            case["mu"], case["e"], case.get("e_x", 0.0))
 
 
 # ---- checks --------------------------------------------------------------------------------
@@ -234,7 +235,7 @@ OUT_OF_RANGE = {  # a value the kernel must reject, per input that has a range
     "ball_mass": [0.0, -0.145], "ball_radius": [0.0, -0.01], "ball_inertia_factor": [0.0],
     "bat_mass": [0.0, -1.0], "bat_transverse_inertia": [0.0, -1e-3],
     "bat_axial_inertia": [0.0, -1e-4], "bat_radius": [0.0, -0.03], "mu": [-1e-3, -10.0],
-    "e": [-1e-12, np.nextafter(1.0, 2.0), 2.0],
+    "e": [-1e-12, np.nextafter(1.0, 2.0), 2.0], "e_x": [-1e-12, np.nextafter(1.0, 2.0)],
 }
 
 

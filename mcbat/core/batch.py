@@ -19,7 +19,7 @@ INPUT_FIELDS = (
     "axial", "angle", "bat_radius", "bat_slope",
     "ball_vx_in", "ball_vy_in", "ball_vz_in", "ball_wx_in", "ball_wy_in", "ball_wz_in",
     "bat_vx_in", "bat_vy_in", "bat_vz_in", "bat_wx_in", "bat_wy_in", "bat_wz_in",
-    "mu", "e",
+    "mu", "e", "e_x",
 )
 """Solver inputs, in the order of :func:`mcbat.core.cabo2012.solve_impact` (SI units)."""
 
@@ -60,7 +60,7 @@ def solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state):
             inputs[5, i], inputs[6, i], inputs[7, i], inputs[8, i], inputs[9, i],
             inputs[10, i], inputs[11, i], inputs[12, i], inputs[13, i], inputs[14, i],
             inputs[15, i], inputs[16, i], inputs[17, i], inputs[18, i], inputs[19, i],
-            inputs[20, i], inputs[21, i], inputs[22, i], inputs[23, i],
+            inputs[20, i], inputs[21, i], inputs[22, i], inputs[23, i], inputs[24, i],
             steps, tolerance, max_steps)
         status[i] = r[0]
         end_state[i] = r[1]

@@ -43,14 +43,16 @@ File format
 
     [restitution]             # optional: exactly one of e (Stronge's energetic e*, in
     loss_fraction = 0.6183822 # [0, 1]) | loss_fraction (the paper's e^2, in [0, 1],
-                              # e* = sqrt(1 - e^2)); without the section e* = 1
+                              # e* = sqrt(1 - e^2)); without them e* = 1. Optionally
+    e_x = 0.16                # e_x, the tangential restitution of Cross & Nathan (2006),
+                              # in [0, 1]; default 0 (the rigid model)
 
     [solver]                  # optional: steps (int >= 1), tolerance (0 < tol < 1),
     tolerance = 1e-9          # max_steps (int >= 1); defaults of mcbat.core.cabo2012.contact
 
 Quantities: axial, from_barrel_end, impact_parameter and the bat/ball radii are lengths;
-angle and approach_azimuth angles; velocities speeds; spins spins; mu, e, loss_fraction
-and inertia_factor dimensionless. Without a ``unit`` a value is SI (m, m/s, rad/s, rad,
+angle and approach_azimuth angles; velocities speeds; spins spins; mu, e, loss_fraction,
+e_x and inertia_factor dimensionless. Without a ``unit`` a value is SI (m, m/s, rad/s, rad,
 kg, kg m^2). The lab frame is PHYSICS.md's: the bat CM at the origin, ``z`` along the bat
 towards the barrel end; ``axial`` is measured from the CM, ``from_barrel_end`` from the
 barrel end (``axial = cm_from_barrel_end - from_barrel_end``). The impact parameter is
@@ -65,7 +67,7 @@ num)``, ``sobol(low, high)``, ``lhs(low, high)``; each with an optional ``unit``
 Validation happens completely in :meth:`Study.from_dict`, before anything is sampled:
 unknown or missing keys, wrong types, bad parameters (``std <= 0``, ``low >= high``,
 weights), units of the wrong quantity, and values or supports outside the physical range
-(masses, radii, inertias > 0; ``mu >= 0``; ``e``, ``loss_fraction`` in [0, 1]; the contact
+(masses, radii, inertias > 0; ``mu >= 0``; ``e``, ``loss_fraction``, ``e_x`` in [0, 1]; the contact
 on the bat; ``|b|`` within the reach ``r(z) + R/sqrt(1 + r'^2)`` over every axial position
 the contact can take). Errors are :class:`mcbat.errors.InputError` with the dotted key,
 e.g. ``studies/x.toml: contact.impact_parameter.high: ...``.
@@ -390,10 +392,12 @@ class Study:
                 check_keys(table, "friction", ("mu",))
                 inputs["friction.mu"] = parse(table["mu"], "friction.mu", u.DIMENSIONLESS)
             elif section == "restitution":
-                check_keys(table, "restitution", (), ("e", "loss_fraction"))
-                key = _exactly_one(table, "restitution", "e", "loss_fraction")
-                inputs[f"restitution.{key}"] = parse(table[key], f"restitution.{key}",
-                                                     u.DIMENSIONLESS)
+                check_keys(table, "restitution", (), ("e", "loss_fraction", "e_x"))
+                if "e_x" not in table or "e" in table or "loss_fraction" in table:
+                    _exactly_one(table, "restitution", "e", "loss_fraction")
+                for key, spec in table.items():
+                    inputs[f"restitution.{key}"] = parse(spec, f"restitution.{key}",
+                                                         u.DIMENSIONLESS)
         contact = data["contact"]
         self._axial_key = _exactly_one(contact, "contact", "axial", "from_barrel_end")
         self._angle_key = _exactly_one(contact, "contact", "angle", "impact_parameter")
@@ -404,7 +408,7 @@ class Study:
     def _check_ranges(self):
         inputs = self.inputs
         check_range(inputs["friction.mu"], minimum=0.0, what="mu")
-        for key in ("restitution.e", "restitution.loss_fraction"):
+        for key in ("restitution.e", "restitution.loss_fraction", "restitution.e_x"):
             if key in inputs:
                 check_range(inputs[key], minimum=0.0, maximum=1.0, what=key.split(".")[1])
 
@@ -634,6 +638,8 @@ class Study:
             np.sqrt(e, out=e)
         elif "restitution.e" not in dest:
             cols["e"][:] = 1.0
+        if "restitution.e_x" not in dest:
+            cols["e_x"][:] = 0.0
 
         ball, bat = self.ball, self.bat
         cols["ball_mass"][:] = ball.mass
@@ -670,6 +676,7 @@ _TARGETS = {
     "contact.axial": "axial", "contact.from_barrel_end": "axial",
     "contact.angle": "angle", "contact.impact_parameter": "impact_parameter",
     "friction.mu": "mu", "restitution.e": "e", "restitution.loss_fraction": "e",
+    "restitution.e_x": "e_x",
     **{f"{section}.{axis}": f"{prefix}{axis}_in"
        for section, (prefix, _) in _VECTORS.items() for axis in "xyz"},
 }

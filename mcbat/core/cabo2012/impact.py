@@ -15,6 +15,7 @@ from mcbat.core.cabo2012.contact import (
     DEFAULT_STEPS,
     solve_contact,
 )
+from mcbat.core.cross_nathan2006.tangential import tangential_rebound
 from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import (
     apply_impulse,
@@ -61,7 +62,7 @@ def solve_impact(
     axial, angle, radius, slope,
     ball_vx, ball_vy, ball_vz, ball_wx, ball_wy, ball_wz,
     bat_vx, bat_vy, bat_vz, bat_wx, bat_wy, bat_wz,
-    mu, e,
+    mu, e, e_x=0.0,
     steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
     max_steps=DEFAULT_MAX_STEPS,
 ):
@@ -80,6 +81,10 @@ def solve_impact(
         Initial velocities (m/s) and spins (rad/s) of ball and bat.
     mu, e : float
         Friction coefficient and energetic restitution ``e*`` in [0, 1].
+    e_x : float
+        Tangential restitution in [0, 1] (Cross & Nathan 2006): a contact that ends stuck
+        leaves with its incoming slip reversed and scaled by ``e_x``
+        (:mod:`mcbat.core.cross_nathan2006`). The default 0 is the rigid model, exactly.
     steps, tolerance, max_steps
         Accuracy settings of :func:`mcbat.core.cabo2012.contact.solve_contact`.
 
@@ -96,7 +101,7 @@ def solve_impact(
         and math.isfinite(ball_inertia_factor) and math.isfinite(bat_mass)
         and math.isfinite(bat_transverse_inertia) and math.isfinite(bat_axial_inertia)
         and math.isfinite(axial) and math.isfinite(angle) and math.isfinite(radius)
-        and math.isfinite(slope)
+        and math.isfinite(slope) and 0.0 <= e_x <= 1.0
     )
     if not ok_bodies:
         return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan,
@@ -120,6 +125,15 @@ def solve_impact(
     if code != st.OK:
         return (code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
                 nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, 0)
+    if e_x > 0.0 and end_state == st.STUCK:
+        # Tangential compliance gives back part of the friction loss as reversed slip;
+        # friction_work becomes the net work of the tangential force (still <= 0).
+        dp1, dp2, returned = tangential_rebound(
+            k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3),
+            p1, p2, i_f, w_fr, mu, e_x)
+        p1 += dp1
+        p2 += dp2
+        w_fr += returned
     impulse = combine(p1, t1, p2, t2, i_f, t3)
     ball_v, ball_w, bat_v, bat_w = apply_impulse(
         impulse, ball_mass, ball_radius, ball_inertia_factor,

@@ -167,7 +167,7 @@ def _reslip_direction(k, mu):
 
 def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                      bat_transverse_inertia, bat_axial_inertia, axial, angle, radius, slope,
-                     ball_v, ball_w, bat_v, bat_w, mu, e, rtol=1e-12, atol=1e-15):
+                     ball_v, ball_w, bat_v, bat_w, mu, e, e_x=0.0, rtol=1e-12, atol=1e-15):
     """Solve one rigid ball-bat impact by adaptive integration of the body velocities.
 
     Parameters
@@ -185,6 +185,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         Coulomb friction coefficient (>= 0).
     e : float
         Energetic coefficient of restitution ``e*`` in [0, 1].
+    e_x : float
+        Tangential restitution (Cross & Nathan 2006) in [0, 1]; applied to a stuck end by
+        :func:`_tangential_rebound` (see ``mcbat/core/cross_nathan2006/README.md``).
     rtol, atol : float
         Tolerances of ``solve_ivp`` (DOP853).
 
@@ -375,9 +378,12 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     else:
         raise RuntimeError("too many integration segments")
 
+    end_state = "stuck" if phase == "stick" else "sliding"
+    if e_x > 0.0 and end_state == "stuck":
+        y = _tangential_rebound(bodies, basis, y0, y, mu, e_x)
     return dict(
         status="ok",
-        end_state="stuck" if phase == "stick" else "sliding",
+        end_state=end_state,
         ball_v=y[0:3].copy(), ball_w=y[3:6].copy(), bat_v=y[6:9].copy(),
         bat_w=y[9:12].copy(),
         normal_impulse=float(imp), stick_impulse=stick_impulse,
@@ -386,3 +392,50 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         energy_in=float(energy_in), energy_out=float(bodies.energy(y)),
         phases=phases, slip_near_misses=near_misses,
     )
+
+
+def _tangential_rebound(bodies, basis, y0, y, mu, e_x):
+    """Reverse the incoming slip by ``e_x`` with a tangential impulse (stuck end only).
+
+    Independent of the kernel's closed forms: the impulse comes from a 2x2 solve with the
+    numerical ``K``, and its scale ``s`` from root finding on the constraints evaluated on
+    the bodies themselves: friction cone on the ball's total tangential impulse, net
+    friction work (integrated ``W_fr`` plus the energy given back) not positive, kinetic
+    energy not above the initial, normal relative velocity not negative.
+    """
+    t1, t2, t3 = basis
+    v_in = bodies.relative_velocity(y0)
+    target = -e_x * np.array([v_in @ t1, v_in @ t2])
+    now = bodies.relative_velocity(y)
+    k = _numerical_k(bodies, basis)
+    dp = np.linalg.solve(k[:2, :2], target - np.array([now @ t1, now @ t2]))
+    dp_lab = dp[0] * t1 + dp[1] * t2
+
+    def moved(s):
+        out = y.copy()
+        out[:12] += bodies.velocity_rates(s * dp_lab)
+        out[13] += bodies.energy(out) - bodies.energy(y)
+        return out
+
+    impulse = bodies.m_p * (y[0:3] - y0[0:3])  # total impulse on the ball so far
+    normal_impulse = impulse @ t3
+    energy_in = bodies.energy(y0)
+
+    def cone(s):
+        p = impulse + s * dp_lab
+        return np.linalg.norm(p - (p @ t3) * t3) - mu * normal_impulse
+
+    def friction(s):
+        return moved(s)[13]
+
+    def energy(s):
+        return bodies.energy(moved(s)) - energy_in
+
+    def receding(s):
+        return -(bodies.relative_velocity(moved(s)) @ t3)
+
+    s = 1.0
+    for g in (cone, friction, energy, receding):
+        if g(s) > 0.0:
+            s = brentq(g, 0.0, s, xtol=1e-15) if g(0.0) < 0.0 else 0.0
+    return moved(s)
