@@ -121,7 +121,7 @@ def cmd_synth(args) -> int:
     from mcbat.study import load_study
 
     study = load_study(args.study)
-    table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu,
+    table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu, e_x=args.e_x,
                        speed_noise=args.speed_noise, angle_noise=args.angle_noise,
                        spin_noise=args.spin_noise)
     if args.out:
@@ -133,7 +133,7 @@ def cmd_synth(args) -> int:
 
 
 def cmd_fit(args) -> int:
-    from mcbat.fit import fit
+    from mcbat.fit import compare_models, fit
     from mcbat.measurements import read_measurements
     from mcbat.study import load_study
 
@@ -141,12 +141,17 @@ def cmd_fit(args) -> int:
     table = read_measurements(args.data, required=("impact_parameter",))
     free = tuple(p.strip() for p in args.free.split(",") if p.strip())
     result = fit(study, table, free, bootstrap=args.bootstrap)
+    comparison = None if args.no_compare else compare_models(study, table, free,
+                                                             fitted=result)
     if args.residuals:
         from mcbat.figures import fig_fit_residuals
 
         fig_fit_residuals(args.residuals, table, result)
     if args.json:
-        json.dump(result.to_dict(), sys.stdout, indent=2)
+        out = result.to_dict()
+        if comparison is not None:
+            out["model_comparison"] = comparison.to_dict()
+        json.dump(out, sys.stdout, indent=2)
         sys.stdout.write("\n")
         return EXIT_OK
     print(f"fit of {', '.join(free)} to {len(table)} rows of {args.data} "
@@ -159,6 +164,8 @@ def cmd_fit(args) -> int:
     for name in result.unconstrained:
         print(f"  warning: the data do not bound {name} (the likelihood is flat up to the "
               f"edge of its range); its value is not a measurement")
+    if comparison is not None:
+        print("\n".join(comparison.lines()))
     return EXIT_OK
 
 
@@ -232,6 +239,9 @@ def build_parser() -> argparse.ArgumentParser:
     syn.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S")
     syn.add_argument("--e", type=float, default=None, help="energetic restitution e*")
     syn.add_argument("--mu", type=float, default=None, help="friction coefficient")
+    syn.add_argument("--e-x", type=float, default=None, dest="e_x",
+                     help="tangential restitution e_x (Cross & Nathan 2006; default: the "
+                          "study's, 0 if unset = rigid)")
     syn.add_argument("--speed-noise", type=float, default=0.05,
                      help="relative 1-sigma error of the exit speed (default 0.05)")
     syn.add_argument("--angle-noise", type=float, default=3.0,
@@ -244,9 +254,12 @@ def build_parser() -> argparse.ArgumentParser:
     fit = sub.add_parser(
         "fit", help="fit model parameters to a measurement table",
         description="Maximum-likelihood fit of the free parameters (any of e, mu, "
-                    "ball_inertia_factor, axial) to a measurement table, with the study's "
-                    "nuisance scatter marginalised by the kernel; uncertainties from the "
-                    "curvature (and --bootstrap N refits); chi2/dof and its p-value.")
+                    "ball_inertia_factor, axial, e_x) to a measurement table, with the "
+                    "study's nuisance scatter marginalised by the kernel; uncertainties from "
+                    "the curvature (and --bootstrap N refits); chi2/dof and its p-value. "
+                    "Then a model comparison: the rigid model (e_x = 0) against tangential "
+                    "compliance (e_x free, Cross & Nathan 2006), by BIC, with AIC and the "
+                    "likelihood ratio.")
     fit.add_argument("--study", required=True, metavar="S.toml")
     fit.add_argument("--data", required=True, metavar="M.csv")
     fit.add_argument("--free", default="e,mu", help="comma-separated (default: e,mu)")
@@ -254,6 +267,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="parametric bootstrap refits (default 0)")
     fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure")
     fit.add_argument("--json", action="store_true", help="print the result as JSON")
+    fit.add_argument("--no-compare", action="store_true",
+                     help="skip the rigid-versus-compliant model comparison")
     fit.set_defaults(func=cmd_fit)
     return parser
 

@@ -29,13 +29,15 @@ from mcbat.errors import InputError
 from mcbat.measurements import OBSERVABLES
 
 FREE = {"e": (1e-3, 1.0), "mu": (1e-3, 2.0), "ball_inertia_factor": (0.05, 1.0),
-        "axial": (-1.0, 1.0)}
-"""Parameters that can be fitted, with their allowed ranges."""
+        "axial": (-1.0, 1.0), "e_x": (0.0, 1.0)}
+"""Parameters that can be fitted, with their allowed ranges (``e_x``: the tangential
+restitution of Cross & Nathan 2006, 0 = the rigid model)."""
 SEARCH = {"e": (0.05, 0.98), "mu": (0.01, 1.0), "ball_inertia_factor": (0.1, 0.8),
-          "axial": (-0.05, 0.05)}
+          "axial": (-0.05, 0.05), "e_x": (0.0, 0.6)}
 """Ranges of the coarse grid that starts the search (mu on a logarithmic grid: where
 impacts slide, the likelihood changes fast with mu; where all stick it is flat)."""
-GRID_POINTS = 16
+GRID_EVALUATIONS = 256
+"""Size of the coarse starting grid (16 x 16 for two parameters, 6^3 for three, ...)."""
 _INDEX = {name: i for i, name in enumerate(INPUT_FIELDS)}
 _OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
 
@@ -76,7 +78,7 @@ class FitResult:
 class Likelihood:
     """``-ln L(theta)`` of a measurement table under a study's model (see module doc)."""
 
-    def __init__(self, study, table, free, draws=48, seed=0):
+    def __init__(self, study, table, free, draws=48, seed=0, fixed=None):
         unknown = [p for p in free if p not in FREE]
         if unknown:
             raise InputError("--free", f"unknown parameter {unknown[0]!r} (choose from "
@@ -112,6 +114,8 @@ class Likelihood:
                              "would miss", table.attrs.get("source"))
         if "spin_in" in table.columns:
             inputs[_INDEX["ball_wz_in"]] = np.repeat(table["spin_in"].to_numpy(float), draws)
+        for name, value in (fixed or {}).items():  # e.g. e_x = 0: the rigid model
+            inputs[_INDEX[name]] = value
         self.inputs = inputs
         self.base = {p: inputs[_INDEX[p]].copy() for p in free}
         self.y = np.stack([table[c].to_numpy(float) for c in self.observables], axis=1)
@@ -166,15 +170,37 @@ def _default_err(column, values):
     return np.maximum(0.10 * np.abs(values), 1.0)
 
 
-def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=None):
-    """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc)."""
-    like = Likelihood(study, table, free, draws=draws, seed=seed)
+def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=None,
+        fixed=None):
+    """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc).
+
+    Parameters
+    ----------
+    study : mcbat.study.Study
+        Fixed setup and nuisance scatter.
+    table : pandas.DataFrame
+        A measurement table (:func:`mcbat.measurements.read_measurements`).
+    free : sequence of str
+        Parameters to fit, from :data:`FREE`.
+    draws : int
+        Nuisance draws per row.
+    seed : int
+        Seed of the nuisance draws (and of the bootstrap).
+    bootstrap : int
+        Number of parametric bootstrap refits (0: none).
+    start : sequence of float, optional
+        Starting point; default: the best point of a coarse grid over :data:`SEARCH`.
+    fixed : dict, optional
+        Inputs held at given values instead of the study's (``{"e_x": 0.0}``: rigid).
+    """
+    like = Likelihood(study, table, free, draws=draws, seed=seed, fixed=fixed)
     if start is None:
         # The likelihood has flat regions (e.g. every impact sticks above some mu, and then
         # mu does not matter): a coarse grid over the search ranges finds the right basin
         # before the local search.
-        axes = [np.geomspace(*SEARCH[p], GRID_POINTS) if p == "mu"
-                else np.linspace(*SEARCH[p], GRID_POINTS) for p in like.free]
+        points = max(4, round(GRID_EVALUATIONS ** (1.0 / len(like.free))))
+        axes = [np.geomspace(*SEARCH[p], points) if p == "mu"
+                else np.linspace(*SEARCH[p], points) for p in like.free]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
         x0 = grid[int(np.argmin([like(x) for x in grid]))]
     else:
@@ -182,7 +208,7 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
     res = optimize.minimize(like, x0, method="Nelder-Mead",
                             options={"xatol": 1e-6, "fatol": 1e-7, "maxiter": 2000})
     best = res.x
-    hess = _hessian(like, best)
+    hess = _hessian(like, best, [FREE[p] for p in like.free])
     try:
         cov = np.linalg.inv(hess)
         err = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
@@ -193,6 +219,8 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
     unconstrained = []
     for i, name in enumerate(like.free):
         for edge in SEARCH[name]:
+            if edge in FREE[name]:
+                continue  # a physical bound (e_x = 0), not the end of the search
             probe = best.copy()
             probe[i] = edge
             if abs(edge - best[i]) > 1e-9 and like(probe) - res.fun < 2.0:
@@ -212,10 +240,127 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
     return result
 
 
-def _hessian(f, x, rel=1e-3):
-    """Central finite-difference Hessian of ``f`` at ``x``."""
+@dataclass
+class ModelComparison:
+    """The rigid model (``e_x = 0``) against tangential compliance (``e_x`` free).
+
+    Both are fitted with the same other free parameters, nuisance draws and data. The
+    verdict is by BIC (``n`` = number of measured values), which for nested models asks
+    the likelihood-ratio statistic to exceed ``ln n`` per extra parameter; AIC and the
+    likelihood-ratio test are reported too. ``e_x = 0`` lies on the edge of its range, so
+    the ratio's null distribution is the mixture ``chi2_0/2 + chi2_1/2`` (Self & Liang
+    1987): ``p = sf_chi2_1(LR) / 2``.
+    """
+
+    rigid: FitResult
+    compliant: FitResult
+    n_points: int
+
+    @property
+    def likelihood_ratio(self) -> float:
+        return max(2.0 * (self.rigid.neg_log_likelihood - self.compliant.neg_log_likelihood),
+                   0.0)
+
+    @property
+    def lr_p_value(self) -> float:
+        return 0.5 * float(stats.chi2.sf(self.likelihood_ratio, 1))
+
+    @property
+    def delta_aic(self) -> float:
+        """AIC(compliant) - AIC(rigid): negative favours tangential compliance."""
+        return self.compliant.aic - self.rigid.aic
+
+    @property
+    def delta_bic(self) -> float:
+        """BIC(compliant) - BIC(rigid): negative favours tangential compliance."""
+        return self.compliant.bic(self.n_points) - self.rigid.bic(self.n_points)
+
+    @property
+    def preferred(self) -> str:
+        return "compliant" if self.delta_bic < 0.0 else "rigid"
+
+    def to_dict(self) -> dict:
+        def model(r):
+            return {"params": {k: {"value": v, "stderr": r.stderr.get(k, math.nan)}
+                               for k, v in r.params.items()},
+                    "neg_log_likelihood": r.neg_log_likelihood, "aic": r.aic,
+                    "bic": r.bic(self.n_points), "chi2": r.chi2, "dof": r.dof,
+                    "p_value": r.p_value}
+
+        return {"preferred": self.preferred, "criterion": "BIC",
+                "delta_aic": self.delta_aic, "delta_bic": self.delta_bic,
+                "likelihood_ratio": self.likelihood_ratio, "lr_p_value": self.lr_p_value,
+                "n_points": self.n_points,
+                "rigid": model(self.rigid), "compliant": model(self.compliant)}
+
+    def lines(self) -> list[str]:
+        e_x = self.compliant.params["e_x"]
+        err = self.compliant.stderr["e_x"]
+        verdict = ("the data prefer tangential compliance (e_x > 0)"
+                   if self.preferred == "compliant" else
+                   "the data do not call for tangential compliance (rigid, e_x = 0)")
+        return [f"model comparison: {verdict}",
+                f"  compliant fit e_x = {e_x:.4g} +- {err:.2g}; delta BIC = "
+                f"{self.delta_bic:+.1f}, delta AIC = {self.delta_aic:+.1f} (negative favours "
+                f"compliance); likelihood ratio {self.likelihood_ratio:.2f}, "
+                f"p = {self.lr_p_value:.3g}"]
+
+
+def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=None):
+    """Fit the rigid model (``e_x = 0``) and the compliant one (``e_x`` free) and compare.
+
+    Parameters
+    ----------
+    study, table, draws, seed
+        As for :func:`fit`.
+    free : sequence of str
+        The other free parameters, shared by both models (``e_x`` in it is ignored).
+    fitted : FitResult, optional
+        An existing fit of one of the two models with these ``free`` parameters, reused.
+
+    Returns
+    -------
+    ModelComparison
+    """
+    base = [p for p in free if p != "e_x"]
+    like_kwargs = dict(draws=draws, seed=seed)
+    rigid_study = "restitution.e_x" not in study.inputs  # the study's own e_x is 0
+    if fitted is not None and "e_x" not in fitted.params and rigid_study:
+        rigid = fitted
+    elif base:
+        rigid = fit(study, table, base, fixed={"e_x": 0.0}, **like_kwargs)
+    else:  # nothing else free: the rigid model is a single point
+        like = Likelihood(study, table, ["e_x"], **like_kwargs)
+        nll = like([0.0])
+        r = like.residuals([0.0])
+        chi2 = float(np.sum(r * r))
+        rigid = FitResult(params={}, stderr={}, chi2=chi2, dof=int(r.size),
+                          p_value=float(stats.chi2.sf(chi2, r.size)),
+                          neg_log_likelihood=float(nll), residuals=r)
+    if fitted is not None and "e_x" in fitted.params:
+        compliant = fitted
+    else:
+        # Nested: start from the rigid optimum, e_x from a scan along its axis.
+        like = Likelihood(study, table, base + ["e_x"], **like_kwargs)
+        x_rigid = [rigid.params[p] for p in base]
+        scan = np.linspace(*SEARCH["e_x"], 13)
+        e_x0 = scan[int(np.argmin([like([*x_rigid, v]) for v in scan]))]
+        compliant = fit(study, table, base + ["e_x"], start=[*x_rigid, e_x0], **like_kwargs)
+    n_points = int(rigid.residuals.size)
+    return ModelComparison(rigid=rigid, compliant=compliant, n_points=n_points)
+
+
+def _hessian(f, x, bounds, rel=1e-3):
+    """Central finite-difference Hessian of ``f`` at ``x``.
+
+    A parameter within a step of an edge of its range (``e_x = 0``, the rigid model, is
+    one) gets its stencil shifted inside the range: the curvature one step away.
+    """
     n = len(x)
     h = np.maximum(np.abs(x) * rel, 1e-4)
+    x = np.array(x, float)
+    for i, (lo, hi) in enumerate(bounds):
+        x[i] = min(max(x[i], lo + h[i]), hi - h[i])
     hess = np.empty((n, n))
     f0 = f(x)
     for i in range(n):

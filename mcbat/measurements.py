@@ -107,12 +107,13 @@ def read_measurements(path, required=()):
     return out
 
 
-def synthesize(study, rows, seed=0, *, e=None, mu=None, speed_noise=0.05,
+def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.05,
                angle_noise=3.0, spin_noise=0.10, spin_floor=1.0):
     """A noisy synthetic measurement table drawn from the model (what an experiment yields).
 
     The study supplies the setup and the nuisance scatter (impact point, incoming spin, ...);
-    ``e`` (e*) and ``mu`` override the study's values. Noise: relative ``speed_noise`` on the
+    ``e`` (e*), ``mu`` and ``e_x`` (tangential restitution, Cross & Nathan 2006) override
+    the study's values. Noise: relative ``speed_noise`` on the
     exit speed, ``angle_noise`` degrees on the angle, relative ``spin_noise`` on the outgoing
     spin (with a floor of ``spin_floor`` rad/s, so spins near zero keep an error). The
     ``_err`` columns hold the sigmas used. Deterministic in ``seed``.
@@ -121,11 +122,17 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, speed_noise=0.05,
 
     from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 
+    limits = {"--e": (e, 0.0, 1.0), "--mu": (mu, 0.0, math.inf), "--e-x": (e_x, 0.0, 1.0),
+              "--speed-noise": (speed_noise, 0.0, math.inf),
+              "--angle-noise": (angle_noise, 0.0, math.inf),
+              "--spin-noise": (spin_noise, 0.0, math.inf)}
+    for flag, (value, low, high) in limits.items():
+        if value is not None and not low <= value <= high:
+            raise InputError(flag, f"must be in [{low:g}, {high:g}], got {value!r}")
     cols = study.sample(0, rows, seed)
-    if e is not None:
-        cols["e"] = np.full(rows, float(e))
-    if mu is not None:
-        cols["mu"] = np.full(rows, float(mu))
+    for name, value in (("e", e), ("mu", mu), ("e_x", e_x)):
+        if value is not None:
+            cols[name] = np.full(rows, float(value))
     inputs = np.stack([np.asarray(cols[name], np.float64) for name in INPUT_FIELDS])
     out, status, _ = allocate_outputs(rows)
     solver = study.solver

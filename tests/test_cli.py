@@ -58,6 +58,21 @@ def test_array_in_same_order(capsys, monkeypatch):
     assert len({round(r["ball_spin"][2], 6) for r in results}) == 3
 
 
+def test_tangential_restitution_in_json(capsys, monkeypatch):
+    """restitution.e_x reaches the kernel: it reverses part of the slip, so the outgoing
+    spin grows in magnitude (the ball sticks in the Sec. V case)."""
+    spins = []
+    for e_x in (None, 0.0, 0.16):
+        case = copy.deepcopy(GOOD)
+        if e_x is not None:
+            case["restitution"] = {**case["restitution"], "e_x": e_x}
+        code, out, err = run_cli(capsys, monkeypatch, case)
+        assert code == 0, err
+        spins.append(json.loads(out)["ball_spin"][2])
+    assert spins[0] == spins[1]  # e_x = 0 is the default, the rigid model
+    assert abs(spins[2]) > abs(spins[1])
+
+
 def test_no_stick_gives_null_and_defaults(capsys, monkeypatch):
     case = copy.deepcopy(GOOD)
     case["mu"] = 0.0
@@ -104,6 +119,8 @@ BAD = [
     ("e below 0", _mutate(["restitution"], {"e": -0.2}), "restitution.e", ">= 0"),
     ("loss fraction above 1", _mutate(["restitution"], {"loss_fraction": 2}),
      "restitution.loss_fraction", "<= 1"),
+    ("e_x above 1", _mutate(["restitution"], {"e": 0.6, "e_x": 1.5}), "restitution.e_x",
+     "<= 1"),
     ("short vector", _mutate(["ball_velocity"], [1.0, 2.0]), "ball_velocity", "3 numbers"),
     ("receding", _mutate(["ball_velocity"], [4.0, 0.0, 0.0]), "ball_velocity",
      "not approaching"),

@@ -1,4 +1,4 @@
-"""Fitting e* and mu to measurement tables (issue 7, the rigid-model part)."""
+"""Fitting e*, mu and e_x to measurement tables, and the rigid-versus-compliant comparison."""
 
 import json
 import subprocess
@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.fit import fit
+from mcbat.fit import compare_models, fit
 from mcbat.measurements import synthesize
 from mcbat.study import load_study
 
@@ -53,6 +53,46 @@ def test_fit_cli_json(tmp_path):
     assert set(result) >= {"params", "chi2", "dof", "p_value"}
     assert set(result["params"]["e"]) >= {"value", "stderr"}
     assert (tmp_path / "r.png").stat().st_size > 10_000
+    comparison = result["model_comparison"]
+    assert comparison["preferred"] in ("rigid", "compliant")
+    assert set(comparison) >= {"delta_aic", "delta_bic", "likelihood_ratio", "lr_p_value"}
+    assert "e_x" in comparison["compliant"]["params"]
+    assert "e_x" not in comparison["rigid"]["params"]
+
+
+@pytest.mark.parametrize("seed", [11, 12, 13])
+def test_model_comparison_identifies_tangential_compliance_only_when_present(seed):
+    """Acceptance 2: tables made with Cross & Nathan's e_x = 0.16 prefer the compliant
+    model (and recover e_x); tables made with the rigid model (e_x = 0) do not.
+    (benchmarks/model_comparison.py runs 30 tables per e_x for the rates.)"""
+    truth = {"e": 0.6, "mu": 0.15}
+    verdicts = {}
+    for e_x in (0.0, 0.16):
+        table = synthesize(STUDY, 60, seed=seed, e_x=e_x, **truth)
+        c = compare_models(STUDY, table, tuple(truth), seed=seed)
+        verdicts[e_x] = c.preferred
+        assert c.likelihood_ratio >= 0.0 and 0.0 <= c.lr_p_value <= 0.5
+        assert c.compliant.neg_log_likelihood <= c.rigid.neg_log_likelihood + 1e-6
+        if e_x > 0:
+            fitted, err = c.compliant.params["e_x"], c.compliant.stderr["e_x"]
+            assert 0 < err < 0.05 and abs(fitted - e_x) < 4 * err
+            assert c.lr_p_value < 1e-6
+    assert verdicts == {0.0: "rigid", 0.16: "compliant"}
+
+
+def test_e_x_at_its_bound_gets_a_finite_error_not_a_flag():
+    table = synthesize(STUDY, 60, seed=4, e=0.6, mu=0.15, e_x=0.0)
+    result = fit(STUDY, table, ("e", "e_x"), seed=4)
+    assert result.params["e_x"] < 3 * result.stderr["e_x"] < 0.05
+    assert result.unconstrained == []
+
+
+def test_synth_rejects_out_of_range_parameters():
+    out = subprocess.run([sys.executable, "-m", "mcbat.cli", "synth", "--study",
+                          str(ROOT / "studies" / "cross_nathan_2006.toml"), "--e-x", "1.5"],
+                         capture_output=True, text=True, check=False)
+    assert out.returncode == 2 and out.stderr.strip().count("\n") == 0
+    assert "--e-x" in out.stderr and "Traceback" not in out.stderr
 
 
 @pytest.mark.slow

@@ -265,6 +265,18 @@ def test_restitution_e_and_default_zero_vectors():
     assert np.all(cols["e"] == 0.25)
     assert np.all(cols["bat_wx_in"] == 0.0) and np.all(cols["bat_wz_in"] == 0.0)
     assert np.all(cols["bat_vz_in"] == 0.5)
+    assert np.all(cols["e_x"] == 0.0)  # no tangential compliance unless asked for
+
+
+def test_tangential_restitution_e_x():
+    data = copy.deepcopy(ALL_KINDS)
+    data["restitution"] = {"e": 0.6, "e_x": {"dist": "uniform", "low": 0.1, "high": 0.2}}
+    cols = Study.from_dict(data).sample(0, 1000)
+    assert np.all(cols["e"] == 0.6)
+    assert 0.1 <= cols["e_x"].min() and cols["e_x"].max() <= 0.2 and cols["e_x"].std() > 0
+    data["restitution"] = {"e_x": 0.16}  # alone: e* = 1
+    cols = Study.from_dict(data).sample(0, 3)
+    assert np.all(cols["e"] == 1.0) and np.all(cols["e_x"] == 0.16)
 
 
 # ---------------------------------------------------------------- units
@@ -472,6 +484,11 @@ BAD = [
     ('mu = 0.5', 'mu = { dist = "normal", mean = 0.5, std = 0.1 }', "friction.mu",
      "truncnormal with low >= 0"),
     ('e = 0.6', 'e = 1.2', "restitution.e", "1.2"),
+    ('e = 0.6', 'e = 0.6\ne_x = -0.1', "restitution.e_x", "-0.1"),
+    ('e = 0.6', 'e = 0.6\ne_x = { dist = "uniform", low = 0.5, high = 1.5 }',
+     "restitution.e_x.high", "1.5"),
+    ('e = 0.6', 'e = 0.6\nloss_fraction = 0.3\ne_x = 0.1', "restitution.loss_fraction",
+     "not both"),
     ('e = 0.6', 'e = { dist = "choice", values = [0.5, -0.1] }', "restitution.e.values[1]",
      "-0.1"),
     ('e = 0.6', 'loss_fraction = { dist = "uniform", low = 0.5, high = 1.5 }',
