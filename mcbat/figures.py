@@ -468,11 +468,29 @@ def fig_spin_vs_impact_parameter(outdir, df: pd.DataFrame | None, model: pd.Data
                                   model_x="impact_parameter_in", model_y="spin_axial",
                                   xscale=1.0 / INCH, bins=bins)
     _window(ax, data, "impact_parameter_in", "spin_axial")
+    # The same model with Cross & Nathan's tangential restitution, for comparison.
+    e_x = sec5.CROSS_NATHAN_E_X
+    compliant = model_curves(model.attrs.get("e_star", sec5.e_star_paper()), spins,
+                             mu=model.attrs.get("mu", sec5.MU), e_x=e_x)
+    slopes = {}
+    for w0, curve in compliant.groupby("w0", sort=False):
+        style = _style(w0)
+        ax.plot(curve["impact_parameter_in"], curve["spin_axial"], ls="--", lw=1.1,
+                color=style["color"], alpha=0.8)
+    for label, frame in (("rigid", model), ("compliant", compliant)):
+        near = frame[(frame["w0"] == spins[0]) & (frame["impact_parameter_in"].abs() < 0.6)]
+        slopes[label] = float(np.polyfit(near["impact_parameter_in"], near["spin_axial"], 1)[0])
+    handles.append(Line2D([], [], ls="--", color="0.3",
+                          label=f"model with tangential compliance, $e_x$ = {e_x:g}"))
+    data["compliant_slope_per_inch"] = slopes["compliant"]
+    data["rigid_slope_per_inch"] = slopes["rigid"]
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.axvline(0.0, color="0.6", lw=0.8)
-    ax.text(0.99, 0.02, "Rigid Coulomb model: no tangential compliance ($e_x$ = 0).\n"
-            "Cross & Nathan's measured spins are larger in magnitude\n"
-            "(the rigid model under-predicts them by ~10–15 %).",
+    ax.text(0.99, 0.02, "Solid lines: the paper's rigid Coulomb model ($e_x$ = 0).\n"
+            f"Dashed: Cross & Nathan's tangential restitution $e_x$ = {e_x:g}:\n"
+            f"slope {slopes['compliant']:.1f} vs {slopes['rigid']:.1f} rad/s per inch "
+            f"({100 * (slopes['compliant'] / slopes['rigid'] - 1):+.0f} %); the rigid\n"
+            "model under-predicts measured spins by ~10–15 %.",
             transform=ax.transAxes, ha="right", va="bottom", fontsize=7.5,
             bbox=dict(boxstyle="round", fc="lightyellow", ec="0.6", alpha=0.9))
     ax.set_xlabel(r"impact parameter $b = (R + r_b)\sin\theta$ (inches)")

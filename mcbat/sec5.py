@@ -21,6 +21,7 @@ SPEED = 4.0  # m/s, falling along -x
 SPINS = (79.0, 0.0, -72.0)  # rad/s about the bat axis
 THETA_NEAR_ZERO = math.pi / 400  # the paper's "nearly vanishing impact parameter"
 LOSS_FRACTION = 0.6183822  # the paper's calibrated e^2
+CROSS_NATHAN_E_X = 0.16  # Cross & Nathan's tangential restitution fit (PHYSICS.md)
 TARGET_SPEED = 1.44629  # m/s, the paper's exit speed at theta = pi/400, w0 = 0
 REACH = BALL.radius + BAT.radius  # m, largest impact parameter that still hits
 
@@ -31,14 +32,16 @@ def e_star_paper() -> float:
 
 
 def case(theta: float = THETA_NEAR_ZERO, w0: float = 0.0, *, mu: float = MU,
-         e: float | None = None, axial: float = AXIAL, speed: float = SPEED) -> ImpactCase:
+         e: float | None = None, axial: float = AXIAL, speed: float = SPEED,
+         e_x: float = 0.0) -> ImpactCase:
     """The Sec. V impact at contact angle ``theta`` (rad) with incoming spin ``w0`` (rad/s).
 
-    ``e`` is the energetic coefficient e* (default: the paper's calibration).
+    ``e`` is the energetic coefficient e* (default: the paper's calibration); ``e_x`` the
+    tangential restitution (default 0: the paper's rigid model).
     """
     return ImpactCase(ball=BALL, bat=BAT, contact=Contact(axial=axial, angle=theta),
                       ball_velocity=(-speed, 0.0, 0.0), ball_spin=(0.0, 0.0, w0),
-                      mu=mu, e=e_star_paper() if e is None else e)
+                      mu=mu, e=e_star_paper() if e is None else e, e_x=e_x)
 
 
 def case_at_impact_parameter(b: float, w0: float = 0.0, **kwargs) -> ImpactCase:

@@ -55,7 +55,7 @@ def spin_label(w0: float) -> str:
 # ---------------------------------------------------------------- model curves
 
 def model_curves(e_star: float, spins=sec5.SPINS, n: int = 121, *, reach_fraction=0.98,
-                 mu: float = sec5.MU) -> pd.DataFrame:
+                 mu: float = sec5.MU, e_x: float = 0.0) -> pd.DataFrame:
     """Noise-free Sec. V impacts along the impact parameter, one curve per incoming spin.
 
     Parameters
@@ -67,6 +67,8 @@ def model_curves(e_star: float, spins=sec5.SPINS, n: int = 121, *, reach_fractio
     n : int
         Points per curve, evenly spaced in ``b`` from ``-reach_fraction`` to
         ``+reach_fraction`` times the reach ``R + r_b`` (an odd ``n`` includes ``b = 0``).
+    mu, e_x : float
+        Friction coefficient and tangential restitution (0: the rigid model).
 
     Returns
     -------
@@ -87,7 +89,7 @@ def model_curves(e_star: float, spins=sec5.SPINS, n: int = 121, *, reach_fractio
     for w0 in spins:
         for b in bs:
             b = float(b)
-            case = sec5.case_at_impact_parameter(b, float(w0), e=e_star, mu=mu)
+            case = sec5.case_at_impact_parameter(b, float(w0), e=e_star, mu=mu, e_x=e_x)
             r = solve(case)
             end = r.end_state
             if end == "sliding" and r.stick_impulse is not None:
@@ -101,6 +103,7 @@ def model_curves(e_star: float, spins=sec5.SPINS, n: int = 121, *, reach_fractio
     frame = pd.DataFrame(rows)
     frame.attrs["e_star"] = float(e_star)
     frame.attrs["mu"] = float(mu)
+    frame.attrs["e_x"] = float(e_x)
     return frame
 
 
