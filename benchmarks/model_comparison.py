@@ -9,8 +9,9 @@ and `mcbat.fit.compare_models` decides by BIC between the rigid model (e_x = 0) 
 compliant one (e_x free). Reported: how often compliance is preferred (the false-positive
 rate at e_x = 0, the power above), the fitted e_x, and the time per comparison.
 
-Measured 2026-11-21 (30 tables per value): see the numbers printed by the run and the
-issue note / README ("Fitting measurements").
+Measured 2026-11-21 (30 tables per value; e_x = 0 also with 100 tables): compliance
+preferred in 2 of 30 (and 2 of 100) rigid tables, 7 of 30 at e_x = 0.02, 30 of 30 at 0.05
+and at 0.16; fitted e_x medians 0.0003, 0.019, 0.050, 0.160; 2-6 s per comparison.
 """
 
 import argparse

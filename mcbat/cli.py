@@ -103,7 +103,8 @@ def cmd_run(args) -> int:
 def cmd_reproduce(args) -> int:
     from mcbat.reproduce import reproduce
 
-    reproduce(args.out, samples=args.samples, threads=args.threads, progress=not args.quiet)
+    reproduce(args.out, samples=args.samples, threads=args.threads, progress=not args.quiet,
+              overwrite=args.overwrite)
     return EXIT_OK
 
 
@@ -217,6 +218,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="Monte Carlo samples (default: the study's)")
     rep.add_argument("--threads", type=_int_arg("--threads"), metavar="K",
                      help="kernel threads (default: all cores)")
+    rep.add_argument("--overwrite", action="store_true",
+                     help="replace a Monte Carlo dataset in DIR written with another sample "
+                          "count or by an older mcbat")
     rep.add_argument("--quiet", action="store_true", help="no progress bar")
     rep.set_defaults(func=cmd_reproduce)
 

@@ -25,8 +25,12 @@ STUDIES_DIR = Path(__file__).resolve().parent.parent / "studies"
 STUDY = STUDIES_DIR / "cross_nathan_2006.toml"
 
 
-def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=print):
-    """Run the Sec. V reproduction into ``out``; returns a dict of the paths written."""
+def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=print,
+              overwrite=False):
+    """Run the Sec. V reproduction into ``out``; returns a dict of the paths written.
+
+    ``overwrite`` replaces a Monte Carlo dataset there that another sample count or an
+    older mcbat wrote (it is otherwise kept and resumed, or refused)."""
     import mcbat
     from mcbat import figures, summary
     from mcbat.calibration import calibrate_restitution
@@ -37,7 +41,8 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
     out = Path(out)
     study = load_study(STUDY)
     dataset_dir = out / study.name
-    run = run_study(study, dataset_dir, samples=samples, threads=threads, progress=progress)
+    run = run_study(study, dataset_dir, samples=samples, threads=threads, progress=progress,
+                    overwrite=overwrite)
     for line in run.lines():
         echo(line)
 
