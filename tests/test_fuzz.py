@@ -375,3 +375,20 @@ def test_fuzz_script_20k_rows(capsys):
 @pytest.mark.slow
 def test_fuzz_script_1m_rows(capsys):
     _run_script(capsys, 1_000_000, 50_000)
+
+
+def test_landing_under_extreme_anisotropy_leaves_no_residual_slip():
+    """Found by fuzzing: one tangential compliance 1e7 times the other. The landing on
+    v_t = 0 bounds the impulse error, which K_tt turned into a residual slip that friction
+    then worked on (friction_work was +1.3e-2, energy gained). Now the stick starts at
+    v_t = 0 exactly."""
+    from mcbat.core.cabo2012.contact import solve_contact
+
+    args = (1e7, 0.0, 0.0, 1.0, 0.5, 1.0, 1.0, -0.01, -1.0, 1.0, 1.0)
+    r = solve_contact(*args)
+    tight = solve_contact(*args, 8, 1e-14)
+    assert r[0] == st.OK and r[1] == st.STUCK
+    assert r[9] <= 0.0  # friction never adds energy
+    assert r[3] == pytest.approx(tight[3], rel=1e-4)  # tangential impulse p2
+    # W_fr is good to ~1e-5 of the energy scale v.K^-1.v/2 (~1 J here), like elsewhere.
+    assert r[9] == pytest.approx(tight[9], abs=1e-4)

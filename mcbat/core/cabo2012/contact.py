@@ -465,6 +465,17 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         imp, p1, p2, wn, wfr = n_imp, n_p1, n_p2, n_wn, n_wfr
         if land:
             sliding = False
+            # The landing bounds the impulse error; K_tt turns it into a residual slip that
+            # the stick phase would carry to the end (and let friction work on it). Remove
+            # it: the tangential impulse that makes v_t = 0 exactly at I_s.
+            r1, r2, _ = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+            det = k11 * k22 - k12 * k12
+            if det > 0.0:
+                q1 = (k22 * r1 - k12 * r2) / det
+                q2 = (k11 * r2 - k12 * r1) / det
+                p1 -= q1
+                p2 -= q2
+                wfr -= 0.5 * (r1 * q1 + r2 * q2)  # the kinetic energy this takes out
 
     # ---- sliding has stopped (or never started): stick, re-slip, or frictionless ----
     if mu > 0.0:
