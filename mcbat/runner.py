@@ -345,21 +345,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     runner = _engine(engine, threads, scheduler, workers)
 
     display = ds.location(out)
-    # Workers may run elsewhere (another working directory, another host): they get an
-    # absolute path, which must name the same shared storage there.
-    where = display if not isinstance(display, Path) else Path(os.path.abspath(display))
-    config = study.config()
-    config_hash = dataset_hash(config, int(seed), samples)
-    n_chunks = -(-samples // chunk_size)
-    manifest = {"schema": ds.SCHEMA_VERSION, "config_hash": config_hash, "seed": int(seed),
-                "samples": samples, "chunk_size": chunk_size, "chunks": n_chunks,
-                "study": config, "study_name": study.name}
-    metadata = {"config_hash": config_hash, "seed": int(seed), "samples": samples,
-                "chunk_size": chunk_size, "study": config, "study_toml": study.source_text,
-                "units": ds.UNITS, "versions": ds.package_versions(),
-                "status_codes": st.STATUS_NAMES, "end_state_codes": st.END_STATE_NAMES,
-                "schema": ds.SCHEMA_VERSION}
-    job = ChunkJob(str(where), samples, int(seed), chunk_size, config_hash, metadata)
+    job, manifest = plan_run(study, display, samples, int(seed), chunk_size)
+    n_chunks, config_hash = job.chunks, job.config_hash
     with _out_errors(display):
         # Everything that can refuse the run, before a cluster is started or joined.
         _prepare_directory(display, manifest, chunk_size, overwrite, check_only=True)
@@ -396,6 +383,28 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                      if todo else {})
     return RunSummary(display, samples, n_chunks, len(todo), kept, seconds, status_counts,
                       runner.note(summaries) if todo else None)
+
+
+def plan_run(study, out, samples: int, seed: int, chunk_size: int) -> tuple[ChunkJob, dict]:
+    """The :class:`ChunkJob` and the dataset manifest of a run (validated arguments).
+
+    A local ``out`` becomes absolute in the job: workers may run in another working
+    directory, or on another host where the same path names the same shared storage.
+    """
+    display = ds.location(out)
+    where = display if not isinstance(display, Path) else Path(os.path.abspath(display))
+    config = study.config()
+    config_hash = dataset_hash(config, seed, samples)
+    n_chunks = -(-samples // chunk_size)
+    manifest = {"schema": ds.SCHEMA_VERSION, "config_hash": config_hash, "seed": seed,
+                "samples": samples, "chunk_size": chunk_size, "chunks": n_chunks,
+                "study": config, "study_name": study.name}
+    metadata = {"config_hash": config_hash, "seed": seed, "samples": samples,
+                "chunk_size": chunk_size, "study": config, "study_toml": study.source_text,
+                "units": ds.UNITS, "versions": ds.package_versions(),
+                "status_codes": st.STATUS_NAMES, "end_state_codes": st.END_STATE_NAMES,
+                "schema": ds.SCHEMA_VERSION}
+    return ChunkJob(str(where), samples, seed, chunk_size, config_hash, metadata), manifest
 
 
 def _engine(engine, threads, scheduler, workers):
