@@ -147,6 +147,9 @@ class DaskEngine:
             if cluster is not None:
                 cluster.close()
 
+    def ready(self):
+        """Nothing to do: the workers were warmed when they joined (:class:`WarmUp`)."""
+
     # ------------------------------------------------------------ the chunks
 
     def run(self, study, job, todo, display):

@@ -330,3 +330,12 @@ def test_url_output_with_the_local_engine(study, tmp_path, baseline, scheme):
     assert (summary.chunks_computed, summary.chunks_kept) == (1, 4)
     _same_rows(mcbat.load(url), baseline)
     assert sorted(ds.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
+
+
+def test_unknown_url_scheme_is_a_clear_error(tmp_path):
+    proc = mcbat_cli("run", EXAMPLE, "--out", "nosuchscheme://bucket/ds", "--samples", 100,
+                     "--quiet")
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mcbat: error: nosuchscheme://bucket/ds: "
+                                                   "--out: ")
