@@ -447,7 +447,7 @@ def _out_errors(display):
     except InputError as err:
         if err.field is not None:
             raise
-        raise err.within("--out") from None
+        raise InputError("--out", err.message, str(display)) from None
 
 
 def _reason(err: OSError) -> str:
