@@ -187,10 +187,11 @@ def test_dask_engine_resumes_a_partial_dataset(cluster, tmp_path, tmp_path_facto
     (out / ".chunk-000004.parquet.999-deadbeef.tmp").write_bytes(b"left by a killed run")
     kept = {k: p.stat().st_mtime_ns for k, p in ds.chunk_files(out).items() if k != 3}
     proc = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 30_000, "--seed", 11,
-                     "--chunk-size", 4_000, "--quiet", "--engine", "dask", "--scheduler",
+                     "--chunk-size", 4_000, "--engine", "dask", "--scheduler",
                      cluster.address, "--threads", 2)
     assert proc.returncode == 0, proc.stderr
     assert "(3 computed, 5 kept from before)" in proc.stdout
+    assert "impacts/s" in proc.stderr  # the progress bar, as in local runs
     # --threads is each worker's numba budget (at most the worker's cores).
     assert engine_note(proc.stdout)[1] == str(min(2, numba.config.NUMBA_NUM_THREADS))
     assert {k: p.stat().st_mtime_ns for k, p in ds.chunk_files(out).items()
@@ -227,6 +228,34 @@ def test_output_the_workers_cannot_see_is_a_clear_error(cluster):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in proc.stderr
     assert "--out: the worker on" in lines[0] and "storage every worker shares" in lines[0]
+
+
+def test_interrupted_dask_run_resumes_identically(cluster, tmp_path, tmp_path_factory):
+    samples, chunk_size = 600_000, 20_000
+    args = ["run", str(EXAMPLE), "--out", str(tmp_path / "ds"), "--samples", str(samples),
+            "--seed", "21", "--chunk-size", str(chunk_size), "--quiet", "--engine", "dask",
+            "--scheduler", cluster.address]
+    run = subprocess.Popen([sys.executable, "-m", "mcbat.cli", *args],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while not ((tmp_path / "ds").is_dir() and len(ds.chunk_files(tmp_path / "ds")) >= 3):
+            assert time.monotonic() < deadline and run.poll() is None
+            time.sleep(0.01)
+        run.send_signal(signal.SIGINT)  # Ctrl-C
+        stdout, stderr = run.communicate(timeout=TIMEOUT)
+    finally:
+        if run.poll() is None:
+            run.kill()
+            run.wait()
+    assert run.returncode == 130, stderr
+    assert "complete chunk files are kept, rerun the same command to resume" in stderr
+    assert len(ds.chunk_files(tmp_path / "ds")) < samples // chunk_size
+    resumed = mcbat_cli(*args)
+    assert resumed.returncode == 0, resumed.stderr
+    assert "kept from before" in resumed.stdout and "(0 computed" not in resumed.stdout
+    reference = local_reference(tmp_path_factory, EXAMPLE, samples, 21, chunk_size)
+    assert_same_dataset(tmp_path / "ds", reference)
 
 
 # ---------------------------------------------------------------- a worker dies
