@@ -117,7 +117,10 @@ class DaskEngine:
                 cluster = LocalCluster(
                     n_workers=self.workers, threads_per_worker=1, processes=True,
                     host="127.0.0.1", dashboard_address=None, silence_logs=logging.CRITICAL,
-                    # Before numba is imported in the worker: its thread pool is the budget.
+                    # Sizes the worker's numba pool to the budget, if numba is imported
+                    # after the worker starts (so with the mcbat command; a __main__ that
+                    # imports numba is re-imported first by the spawned worker). The
+                    # budget itself is enforced in every task (set_numba_threads).
                     env={"NUMBA_NUM_THREADS": str(self.threads)})
                 client = Client(cluster)
             else:
