@@ -114,14 +114,13 @@ class DaskEngine:
         cluster = client = None
         try:
             if self.scheduler is None:
-                cluster = LocalCluster(
-                    n_workers=self.workers, threads_per_worker=1, processes=True,
-                    host="127.0.0.1", dashboard_address=None, silence_logs=logging.CRITICAL,
-                    # Sizes the worker's numba pool to the budget, if numba is imported
-                    # after the worker starts (so with the mcbat command; a __main__ that
-                    # imports numba is re-imported first by the spawned worker). The
-                    # budget itself is enforced in every task (set_numba_threads).
-                    env={"NUMBA_NUM_THREADS": str(self.threads)})
+                import dask
+
+                # The workers' statistical profiler samples the task thread every 10 ms,
+                # for a dashboard we do not start: off, it gave a few per cent more rows/s
+                # on 2 cores (benchmarks/bench_dask.py).
+                with dask.config.set({"distributed.worker.profile.enabled": False}):
+                    cluster = self._local_cluster(LocalCluster)
                 client = Client(cluster)
             else:
                 try:
@@ -152,6 +151,16 @@ class DaskEngine:
 
     def ready(self):
         """Nothing to do: the workers were warmed when they joined (:class:`WarmUp`)."""
+
+    def _local_cluster(self, LocalCluster):
+        return LocalCluster(
+            n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+            dashboard_address=None, silence_logs=logging.CRITICAL,
+            # Sizes the worker's numba pool to the budget, if numba is imported after the
+            # worker starts (so with the mcbat command; a __main__ that imports numba is
+            # re-imported first by the spawned worker). The budget itself is enforced in
+            # every task (set_numba_threads).
+            env={"NUMBA_NUM_THREADS": str(self.threads)})
 
     # ------------------------------------------------------------ the chunks
 
