@@ -94,7 +94,8 @@ def cmd_run(args) -> int:
     out = args.out or str(Path("results") / study.name)
     summary = run_study(study, out, samples=args.samples, seed=args.seed,
                         threads=args.threads, chunk_size=args.chunk_size,
-                        overwrite=args.overwrite, progress=not args.quiet)
+                        overwrite=args.overwrite, progress=not args.quiet,
+                        engine=args.engine, scheduler=args.scheduler, workers=args.workers)
     for line in summary.lines():
         print(line)
     return EXIT_OK
@@ -192,16 +193,27 @@ def build_parser() -> argparse.ArgumentParser:
                     "and write a Parquet dataset (one file per chunk). An interrupted run "
                     "resumes: complete chunk files are kept.")
     run.add_argument("study", metavar="STUDY.toml")
-    run.add_argument("--out", metavar="DIR", help="dataset directory "
-                     "(default: results/<study name>)")
+    run.add_argument("--out", metavar="DIR", help="dataset directory, or a URL that pyarrow "
+                     "or fsspec can write (default: results/<study name>)")
     run.add_argument("--samples", type=_int_arg("--samples"), metavar="N",
                      help="number of impacts (default: the study's)")
     run.add_argument("--seed", type=_int_arg("--seed"), metavar="S",
                      help="random seed (default: the study's)")
     run.add_argument("--threads", type=_int_arg("--threads"), metavar="K",
-                     help="kernel threads (default: all cores)")
+                     help="kernel threads (default: all cores); with --engine dask, numba "
+                          "threads per worker (default: cores / workers, or 1 with "
+                          "--scheduler)")
     run.add_argument("--chunk-size", type=_int_arg("--chunk-size"), metavar="C",
                      help="rows per Parquet file (default: the study's, or 250,000)")
+    run.add_argument("--engine", choices=("local", "dask"), default="local",
+                     help="local: numba threads in this process (default); dask: one task "
+                          "per chunk on a Dask cluster (docs/cluster.md)")
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="--engine dask: join the running Dask scheduler at ADDRESS "
+                          "(tcp://host:8786); --out must be storage every worker shares")
+    run.add_argument("--workers", type=_int_arg("--workers"), metavar="N",
+                     help="--engine dask: start a local cluster of N worker processes "
+                          "(default: one per core)")
     run.add_argument("--overwrite", action="store_true",
                      help="replace an existing dataset written with another config")
     run.add_argument("--quiet", action="store_true", help="no progress bar")

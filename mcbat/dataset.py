@@ -30,18 +30,30 @@ Column contract (SI units; see ``UNITS``), used by tools outside the package:
   value plus a Gaussian error; the model columns are never altered).
 
 A row whose status is not 0 has NaN outputs: it is flagged, never passed off as a result.
+
+Locations: a dataset directory is a local path (also written ``file:///abs/path``), or a
+URL of a file system that pyarrow can write: one ``pyarrow.fs.FileSystem.from_uri``
+understands (``s3://``, ``gs://``, ``hdfs://``, ...) or, failing that, any fsspec URL
+(wrapped with ``pyarrow.fs.FSSpecHandler``). Local paths use plain ``os`` calls (fsync, an
+atomic ``os.replace``); URLs write the temporary file and then ``move`` it, which is a
+rename on POSIX-like file systems and a copy (atomic per object) on object stores.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import platform
 import re
+import shutil
+import uuid
 from pathlib import Path
+from urllib.parse import unquote, urlparse
 
 import numpy as np
 import pyarrow as pa
+import pyarrow.fs as pafs
 import pyarrow.parquet as pq
 
 from mcbat.core import status as st
@@ -85,6 +97,126 @@ COLUMNS = (*INPUT_COLUMNS, *(f for f in OUTPUT_FIELDS), "end_state", "status",
 
 def chunk_name(index: int) -> str:
     return f"chunk-{index:06d}.parquet"
+
+
+# ---------------------------------------------------------------- locations
+
+_URL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
+
+
+def location(where) -> Path | str:
+    """A dataset location: a :class:`~pathlib.Path` for a local path (a ``file://`` URL
+    without a host is one too), else the URL as a string."""
+    if isinstance(where, str) and _URL_RE.match(where):
+        parsed = urlparse(where)
+        if parsed.scheme.lower() == "file" and parsed.netloc in ("", "localhost"):
+            return Path(unquote(parsed.path))
+        return where.rstrip("/")
+    return Path(where)
+
+
+def join(directory, name: str) -> Path | str:
+    """The location of ``name`` inside the dataset directory ``directory``."""
+    directory = location(directory)
+    return directory / name if isinstance(directory, Path) else f"{directory}/{name}"
+
+
+@functools.lru_cache(maxsize=32)
+def _filesystem(url: str) -> tuple[pafs.FileSystem, str]:
+    """(file system, path) of a URL: pyarrow's own file systems first, then fsspec."""
+    try:
+        return pafs.FileSystem.from_uri(url)
+    except pa.ArrowInvalid:  # a scheme pyarrow does not know
+        pass
+    try:
+        import fsspec
+
+        fs, path = fsspec.core.url_to_fs(url)
+    except ImportError:
+        raise InputError(None, "this URL scheme needs fsspec (pip install fsspec)",
+                         url) from None
+    except ValueError as err:
+        raise InputError(None, f"unsupported URL: {err}", url) from None
+    return pafs.PyFileSystem(pafs.FSSpecHandler(fs)), path.rstrip("/")
+
+
+def _resolve(url: str) -> tuple[pafs.FileSystem, str]:
+    """(file system, path) of a file or directory URL; the file system is resolved (and
+    cached) per parent directory, so the files of one dataset share it."""
+    parent, _, name = url.rpartition("/")
+    if not name or parent.endswith(":/") or parent.endswith(":"):
+        return _filesystem(url)
+    fs, base = _filesystem(parent)
+    return fs, f"{base}/{name}"
+
+
+def entry_type(where) -> str | None:
+    """``"dir"``, ``"file"`` or None (nothing there)."""
+    where = location(where)
+    if isinstance(where, Path):
+        return "dir" if where.is_dir() else "file" if where.exists() else None
+    fs, path = _resolve(where)
+    kind = fs.get_file_info(path).type
+    return {pafs.FileType.Directory: "dir", pafs.FileType.File: "file"}.get(kind)
+
+
+def list_names(directory) -> list[str]:
+    """Names of the entries of a dataset directory."""
+    directory = location(directory)
+    if isinstance(directory, Path):
+        return [entry.name for entry in directory.iterdir()]
+    fs, path = _resolve(directory)
+    infos = fs.get_file_info(pafs.FileSelector(path, allow_not_found=True))
+    return [info.base_name for info in infos]
+
+
+def remove(directory, name: str, missing_ok=False) -> None:
+    """Delete the file or tree ``name`` in ``directory``."""
+    target = join(directory, name)
+    if isinstance(target, Path):
+        if target.is_dir() and not target.is_symlink():
+            shutil.rmtree(target)
+        else:
+            target.unlink(missing_ok=missing_ok)
+        return
+    fs, path = _resolve(target)
+    kind = fs.get_file_info(path).type
+    if kind == pafs.FileType.Directory:
+        fs.delete_dir(path)
+    elif kind != pafs.FileType.NotFound or not missing_ok:
+        fs.delete_file(path)
+
+
+def make_dirs(directory) -> None:
+    """Create ``directory`` (and its parents) if it does not exist."""
+    directory = location(directory)
+    if isinstance(directory, Path):
+        directory.mkdir(parents=True, exist_ok=True)
+    else:
+        fs, path = _resolve(directory)
+        fs.create_dir(path, recursive=True)
+
+
+def _temporary_name(name: str) -> str:
+    # Unique per writer: a chunk recomputed by another process (a retried task on another
+    # host, where the pid may be the same) never shares a temporary file.
+    return f".{name}.{os.getpid()}-{uuid.uuid4().hex[:8]}.tmp"
+
+
+def _write_url_atomic(target: str, write) -> None:
+    """``write(filesystem, temporary_path)``, then move the file to ``target``."""
+    fs, path = _resolve(target)
+    parent, _, name = path.rpartition("/")
+    tmp = f"{parent}/{_temporary_name(name)}"
+    try:
+        write(fs, tmp)
+        fs.move(tmp, path)
+    except BaseException:
+        try:
+            fs.delete_file(tmp)
+        except Exception:  # noqa: BLE001 - best effort; the original error matters
+            pass
+        raise
 
 
 def package_versions() -> dict:
@@ -159,10 +291,10 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
     return pa.Table.from_arrays(arrays, names=names).replace_schema_metadata(schema_meta)
 
 
-def write_atomic(table: pa.Table, path: Path) -> None:
-    """Write ``table`` to ``path`` via a hidden temporary file and an atomic rename."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+def write_atomic(table: pa.Table, path) -> None:
+    """Write ``table`` to ``path`` (a local path or a URL) via a hidden temporary file and
+    an atomic rename (a move, for a URL)."""
+    path = location(path)
     # Constant columns (most inputs of a typical study) cost nothing with dictionary + RLE;
     # dictionary-encoding random floats only wastes time before pyarrow falls back. LZ4:
     # doubles of physics barely compress, so the fastest codec wins (measured: zstd-1 is
@@ -172,9 +304,15 @@ def write_atomic(table: pa.Table, path: Path) -> None:
         values = col.to_numpy()
         if len(values) and values.min() == values.max():
             constant.append(name)
+    options = dict(compression="lz4", use_dictionary=constant,
+                   write_statistics=["sample_id", "chunk"])
+    if not isinstance(path, Path):
+        _write_url_atomic(path, lambda fs, tmp: pq.write_table(table, tmp, filesystem=fs,
+                                                               **options))
+        return
+    tmp = path.with_name(_temporary_name(path.name))
     try:
-        pq.write_table(table, tmp, compression="lz4", use_dictionary=constant,
-                       write_statistics=["sample_id", "chunk"])
+        pq.write_table(table, tmp, **options)
         with open(tmp, "rb") as handle:
             os.fsync(handle.fileno())
         os.replace(tmp, path)
@@ -183,9 +321,19 @@ def write_atomic(table: pa.Table, path: Path) -> None:
         raise
 
 
-def write_json_atomic(data: dict, path: Path) -> None:
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+def write_json_atomic(data: dict, path) -> None:
+    """Write ``data`` as JSON to ``path`` (a local path or a URL), atomically."""
+    path = location(path)
+    if not isinstance(path, Path):
+        text = json.dumps(data, indent=2, sort_keys=True) + "\n"
+
+        def write(fs, tmp):
+            with fs.open_output_stream(tmp) as handle:
+                handle.write(text.encode("utf-8"))
+
+        _write_url_atomic(path, write)
+        return
+    tmp = path.with_name(_temporary_name(path.name))
     try:
         with open(tmp, "w", encoding="utf-8") as handle:
             json.dump(data, handle, indent=2, sort_keys=True)
@@ -198,31 +346,45 @@ def write_json_atomic(data: dict, path: Path) -> None:
         raise
 
 
-def read_manifest(directory: Path) -> dict | None:
-    """The dataset manifest, or None if ``directory`` has none."""
-    path = Path(directory) / MANIFEST
-    if not path.exists():
-        return None
+def read_manifest(directory) -> dict | None:
+    """The dataset manifest, or None if ``directory`` (a path or URL) has none."""
+    path = join(directory, MANIFEST)
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
+        if isinstance(path, Path):
+            if not path.exists():
+                return None
+            text = path.read_text(encoding="utf-8")
+        else:
+            fs, fs_path = _resolve(path)
+            if fs.get_file_info(fs_path).type == pafs.FileType.NotFound:
+                return None
+            with fs.open_input_stream(fs_path) as handle:
+                text = handle.read().decode("utf-8")
+        return json.loads(text)
     except (OSError, ValueError) as err:
         raise InputError(None, f"unreadable dataset manifest: {err}", str(path)) from None
 
 
-def chunk_files(directory: Path) -> dict[int, Path]:
-    """Final-named chunk files in ``directory``, by chunk index."""
+def chunk_files(directory) -> dict[int, Path | str]:
+    """Final-named chunk files in ``directory``, by chunk index (paths, or URLs for a
+    URL)."""
     found = {}
-    for entry in Path(directory).iterdir():
-        match = _CHUNK_RE.match(entry.name)
+    for name in list_names(directory):
+        match = _CHUNK_RE.match(name)
         if match:
-            found[int(match.group(1))] = entry
+            found[int(match.group(1))] = join(directory, name)
     return found
 
 
-def chunk_is_complete(path: Path, expected_rows: int, config_hash: str) -> bool:
+def chunk_is_complete(path, expected_rows: int, config_hash: str) -> bool:
     """True if ``path`` is a readable chunk of this dataset with the expected rows."""
     try:
-        meta = pq.read_metadata(path)
+        path = location(path)
+        if isinstance(path, Path):
+            meta = pq.read_metadata(path)
+        else:
+            fs, fs_path = _resolve(path)
+            meta = pq.read_metadata(fs_path, filesystem=fs)
         info = json.loads(meta.metadata[METADATA_KEY])
     except Exception:  # noqa: BLE001 - any unreadable file is redone, not trusted
         return False
@@ -235,7 +397,7 @@ def load(directory, columns=None, labels=False):
     Parameters
     ----------
     directory : str or Path
-        The dataset directory.
+        The dataset directory, or its URL (see the module docstring).
     columns : list of str, optional
         Only these columns.
     labels : bool
@@ -249,8 +411,8 @@ def load(directory, columns=None, labels=False):
     """
     import pandas as pd
 
-    directory = Path(directory)
-    if not directory.is_dir():
+    directory = location(directory)
+    if entry_type(directory) != "dir":
         raise InputError(None, "no such dataset directory", str(directory))
     manifest = read_manifest(directory)
     if manifest is None:
@@ -261,7 +423,7 @@ def load(directory, columns=None, labels=False):
     unknown = sorted(set(columns or ()) - set(UNITS))
     if unknown:
         raise InputError("columns", f"unknown column {unknown[0]!r}")
-    table = pa.concat_tables(pq.read_table(path, columns=columns) for path in files)
+    table = pa.concat_tables(_read_table(path, columns) for path in files)
     df = table.to_pandas()
     if "sample_id" in df.columns:
         df = df.sort_values("sample_id", kind="stable").reset_index(drop=True)
@@ -275,3 +437,10 @@ def load(directory, columns=None, labels=False):
     df.attrs["mcbat"] = manifest
     df.attrs["directory"] = str(directory)
     return df
+
+
+def _read_table(path, columns) -> pa.Table:
+    if isinstance(path, Path):
+        return pq.read_table(path, columns=columns)
+    fs, fs_path = _resolve(path)
+    return pq.read_table(fs_path, columns=columns, filesystem=fs)

@@ -304,3 +304,39 @@ def test_bad_flags_exit_2_and_write_nothing(tmp_path, flag, value, words):
     assert proc.returncode == 2
     assert len(proc.stderr.strip().splitlines()) == 1 and words in proc.stderr
     assert "Traceback" not in proc.stderr and not out.exists()
+
+
+@pytest.mark.parametrize("scheme", ["memory", "local"])
+def test_url_output_with_the_local_engine(study, tmp_path, baseline, scheme):
+    # memory:// is an fsspec-only file system (wrapped with pyarrow.fs.FSSpecHandler);
+    # local:// is one of pyarrow's own (LocalFileSystem), like s3:// or gs://.
+    if scheme == "memory":
+        pytest.importorskip("fsspec")
+    url = (f"memory://mcbat-test-{tmp_path.name}/ds" if scheme == "memory"
+           else f"local://{tmp_path / 'ds'}")
+    summary = run_study(study, url, samples=30_000, seed=11, threads=2, chunk_size=7_000,
+                        progress=False)
+    assert str(summary.directory) == url and summary.chunks_computed == 5
+    _same_rows(mcbat.load(url), baseline)
+    assert sorted(ds.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
+    # Resume works the same: a truncated chunk is redone, the others kept.
+    victim = ds.join(url, ds.chunk_name(2))
+    fs, path = ds._resolve(victim)
+    with fs.open_input_stream(path) as handle:
+        head = handle.read(1000)
+    with fs.open_output_stream(path) as handle:
+        handle.write(head)
+    summary = run_study(study, url, samples=30_000, seed=11, chunk_size=7_000,
+                        progress=False)
+    assert (summary.chunks_computed, summary.chunks_kept) == (1, 4)
+    _same_rows(mcbat.load(url), baseline)
+    assert sorted(ds.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
+
+
+def test_unknown_url_scheme_is_a_clear_error(tmp_path):
+    proc = mcbat_cli("run", EXAMPLE, "--out", "nosuchscheme://bucket/ds", "--samples", 100,
+                     "--quiet")
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mcbat: error: nosuchscheme://bucket/ds: "
+                                                   "--out: ")

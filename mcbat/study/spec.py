@@ -98,6 +98,7 @@ the samples (the canonical :meth:`Study.config` and its hash record the order).
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import json
 import math
@@ -316,6 +317,7 @@ class Study:
             self._parse(data)
         except InputError as err:
             raise err.within(source=self.source) from None
+        self._data = copy.deepcopy(data)
 
     # ------------------------------------------------------------ construction
 
@@ -472,6 +474,23 @@ class Study:
         if chunk_size is not None:
             new.chunk_size = integer(chunk_size, "chunk_size", minimum=1)
         return new
+
+    def definition(self) -> dict:
+        """The study as plain data (the dict ``tomllib`` returns): ``from_dict`` of it
+        rebuilds an equal study, with the same :meth:`config`.
+
+        It is what a remote worker needs to rebuild the study (``mcbat.engines.dask``):
+        a deep copy of the validated input with the current sample count, seed and chunk
+        size (:meth:`with_overrides`) written into its ``[study]`` table.
+        """
+        data = copy.deepcopy(self._data)
+        table = data["study"]
+        table["samples"], table["seed"] = self.samples, self.seed
+        if self.chunk_size is None:
+            table.pop("chunk_size", None)
+        else:
+            table["chunk_size"] = self.chunk_size
+        return data
 
     def config(self) -> dict:
         """Canonical, JSON-serialisable description of the validated study, units resolved

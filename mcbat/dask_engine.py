@@ -1,0 +1,214 @@
+"""``mcbat run --engine dask``: the chunks of a run as tasks on a Dask cluster.
+
+The engine only replaces the loop over the chunks to compute (:func:`mcbat.runner.run_study`
+prepares the dataset directory and picks the chunks, as for the local engine). Each chunk
+is one task, :func:`mcbat.dask_tasks.chunk_task`, sent with the study's plain-data
+definition, the run's :class:`~mcbat.runner.ChunkJob` and the chunk index: the worker
+draws the inputs itself from (seed, sample index), solves them with the numba kernel and
+writes the Parquet file atomically to the dataset directory, which must be storage that
+every worker shares (or a URL). Only a small summary comes back, so the data are
+identical to a local run's, whatever the number of workers or the order of the tasks.
+
+Threads: a worker process runs one task at a time (``threads_per_worker=1``) and gives
+the kernel a budget of numba threads (``numba.set_num_threads`` in every task, since the
+setting is per thread; for a local cluster also ``NUMBA_NUM_THREADS`` in the worker's
+environment), so that workers x budget never exceeds the cores. A worker plugin loads the
+kernel once per worker before its first task (also on a worker that is restarted).
+
+Failures: a task whose worker dies is rescheduled by the Dask scheduler on another worker
+(up to ``distributed.scheduler.allowed-failures`` times, default 3); a task that raises is
+retried :data:`RETRIES` times. Reruns are harmless: a chunk file is written under a
+temporary name and renamed, with the same content every time. At the end the engine
+removes temporary files a killed worker left behind and checks that every chunk file is
+complete. ``dask`` and ``distributed`` are imported only here, and only for this engine.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import sys
+import uuid
+
+from mcbat import dataset as ds
+from mcbat.errors import InputError
+
+INSTALL_HINT = "needs the optional Dask extra; install it with pip install 'mcbat[dask]'"
+#: Automatic retries of a chunk task that raised (a transient storage error, say).
+RETRIES = 2
+
+
+def require_distributed():
+    """Import ``distributed``, or explain in one line how to install it."""
+    try:
+        import distributed
+    except ImportError:
+        raise InputError("--engine dask", INSTALL_HINT) from None
+    return distributed
+
+
+class DaskEngine:
+    """Compute a run's chunks on a Dask cluster.
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of a running scheduler (``tcp://host:8786``) to join. Its workers should
+        run one task at a time (``dask worker ADDRESS --nthreads 1``).
+    workers : int, optional
+        Without ``scheduler``: start a ``LocalCluster`` of this many worker processes on
+        127.0.0.1 (default: one per core).
+    threads : int, optional
+        Numba threads per worker. Default: the cores divided among the local cluster's
+        workers, or 1 per worker of a joined cluster (one worker process per core). A
+        worker uses at most its own ``NUMBA_NUM_THREADS`` (its core count by default).
+
+    Raises
+    ------
+    InputError
+        Bad options, or Dask not installed; before anything is started or written.
+    """
+
+    name = "dask"
+
+    def __init__(self, *, scheduler=None, workers=None, threads=None):
+        require_distributed()  # first: without Dask, the install hint is what helps
+        import numba
+
+        from mcbat.runner import _positive_int
+
+        if scheduler is not None and workers is not None:
+            raise InputError("--workers", "give either --scheduler ADDRESS (join a running "
+                             "cluster) or --workers N (start a local one), not both")
+        if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
+            raise InputError("--scheduler", "must be a scheduler address like "
+                             f"tcp://host:8786, got {scheduler!r}")
+        if threads is not None:
+            threads = _positive_int(threads, "--threads")
+        cores = numba.config.NUMBA_NUM_THREADS
+        if scheduler is None:
+            workers = cores if workers is None else _positive_int(workers, "--workers")
+            budget = threads if threads is not None else max(1, cores // workers)
+            if workers * budget > cores:
+                flag = "--threads" if threads is not None else "--workers"
+                raise InputError(flag, f"{workers} worker process(es) x {budget} numba "
+                                 f"thread(s) would oversubscribe the {cores} cores of this "
+                                 "machine")
+            threads = budget
+        elif threads is None:
+            threads = 1
+        self.scheduler = scheduler.strip() if scheduler is not None else None
+        self.workers = workers
+        self.threads = threads
+        self.client = None
+
+    # ------------------------------------------------------------ the cluster
+
+    @contextlib.contextmanager
+    def connect(self):
+        """Start the local cluster or join the scheduler, and warm the workers."""
+        from distributed import Client, LocalCluster
+
+        from mcbat.dask_tasks import WarmUp
+
+        cluster = client = None
+        try:
+            if self.scheduler is None:
+                import dask
+
+                # The workers' statistical profiler samples the task thread every 10 ms,
+                # for a dashboard we do not start: off, it gave a few per cent more rows/s
+                # on 2 cores (benchmarks/bench_dask.py).
+                with dask.config.set({"distributed.worker.profile.enabled": False}):
+                    cluster = self._local_cluster(LocalCluster)
+                client = Client(cluster)
+            else:
+                try:
+                    client = Client(self.scheduler)
+                except (OSError, ValueError, TypeError) as err:
+                    raise InputError("--scheduler", f"cannot connect to {self.scheduler}: "
+                                     f"{err}") from None
+                if not client.nthreads():
+                    print(f"mcbat: waiting for workers to join {self.scheduler} "
+                          "(start them with: dask worker ADDRESS --nthreads 1)",
+                          file=sys.stderr)
+            try:
+                client.register_plugin(WarmUp(self.threads), name=WarmUp.name)
+            except Exception as err:  # noqa: BLE001 - a worker without a usable mcbat
+                raise InputError("--scheduler", f"a worker could not load mcbat "
+                                 f"({type(err).__name__}: {err}); every worker needs the "
+                                 "client's environment") from None
+            self.client = client
+            yield self
+        finally:
+            self.client = None
+            if client is not None:
+                with contextlib.suppress(Exception):
+                    client.unregister_worker_plugin(WarmUp.name)
+                client.close()
+            if cluster is not None:
+                cluster.close()
+
+    def ready(self):
+        """Nothing to do: the workers were warmed when they joined (:class:`WarmUp`)."""
+
+    def _local_cluster(self, LocalCluster):
+        return LocalCluster(
+            n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+            dashboard_address=None, silence_logs=logging.CRITICAL,
+            # Sizes the worker's numba pool to the budget, if numba is imported after the
+            # worker starts (so with the mcbat command; a __main__ that imports numba is
+            # re-imported first by the spawned worker). The budget itself is enforced in
+            # every task (set_numba_threads).
+            env={"NUMBA_NUM_THREADS": str(self.threads)})
+
+    # ------------------------------------------------------------ the chunks
+
+    def run(self, study, job, todo, display):
+        """Submit one task per chunk in ``todo``; yield their summaries as they finish."""
+        from distributed import as_completed
+        from distributed.scheduler import KilledWorker
+
+        from mcbat.dask_tasks import WorkerSetupError, chunk_task
+        from mcbat.runner import remove_temporary_files, write_error
+
+        if not todo:
+            return
+        token = uuid.uuid4().hex[:8]
+        keys = [f"mcbat-chunk-{k:06d}-{token}" for k in todo]
+        futures = self.client.map(chunk_task, todo, key=keys, definition=study.definition(),
+                                  job=job, threads=self.threads, retries=RETRIES, pure=False)
+        try:
+            for future in as_completed(futures):
+                try:
+                    summary = future.result()
+                except OSError as err:
+                    raise write_error(err, display) from None
+                except WorkerSetupError as err:
+                    raise InputError(err.field, err.message) from None
+                except KilledWorker as err:
+                    raise RuntimeError(
+                        f"a chunk task was lost with {err.allowed_failures + 1} workers in a "
+                        "row (each died while computing it); complete chunk files are kept, "
+                        "rerun to resume") from None
+                future.release()
+                yield summary
+        finally:
+            self.client.cancel(futures)
+        # Every task has returned, so a temporary chunk file left now was being written by
+        # a worker that was killed (its chunk was recomputed elsewhere).
+        remove_temporary_files(job.out)
+        for k in todo:
+            if not ds.chunk_is_complete(job.path(k), job.rows(k), job.config_hash):
+                raise RuntimeError(f"chunk {k} was reported written but {job.path(k)} is not "
+                                   "a complete chunk file")
+
+    def note(self, summaries) -> str:
+        """One line on where the chunks were computed."""
+        workers = {s.worker for s in summaries}
+        threads = sorted({s.threads for s in summaries})
+        where = (f"local cluster of {self.workers} worker process(es)"
+                 if self.scheduler is None else f"scheduler {self.scheduler}")
+        return (f"engine: dask, {where}: {len(summaries)} chunk(s) computed by "
+                f"{len(workers)} worker process(es), "
+                f"{'/'.join(map(str, threads))} numba thread(s) each")

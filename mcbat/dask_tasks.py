@@ -1,0 +1,151 @@
+"""What runs on a Dask worker for ``mcbat run --engine dask``.
+
+Imported by the workers when they unpickle a chunk task or the warm-up plugin (both are
+pickled by reference to this module), so every worker needs mcbat installed, in the same
+environment as the client (checked: :func:`check_worker`).
+
+A task gets the study as plain data (:meth:`mcbat.study.Study.definition`), the run's
+:class:`mcbat.runner.ChunkJob` and a chunk index. It rebuilds the study once per worker
+process (cached by the run's config hash), draws the chunk's inputs from (seed, sample
+index), solves them with the numba kernel and writes the chunk's Parquet file atomically
+itself; it returns only a :class:`mcbat.runner.ChunkSummary`. Arrays never travel.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import threading
+
+from distributed.diagnostics.plugin import WorkerPlugin
+
+from mcbat import dataset as ds
+from mcbat.runner import ChunkJob, ChunkSummary, run_chunk, warm_kernel
+
+# Per worker process: the studies rebuilt so far (config hash -> Study) and the runs
+# (config hash, output location) whose environment and output location were checked.
+_STUDIES: dict = {}
+_CHECKED: set = set()
+_CACHE_LOCK = threading.Lock()
+# One kernel call at a time per process: numba's workqueue threading layer must not be
+# entered from two threads at once; with --nthreads 1 (the recommended setup) the lock is
+# never contended. Sampling and writing of other threads' chunks still overlap with it.
+_KERNEL_LOCK = threading.Lock()
+
+
+class WorkerSetupError(RuntimeError):
+    """A worker cannot compute chunks: another environment, or no access to the output.
+
+    ``field`` names the option the user should look at (``--out`` or ``--scheduler``).
+    """
+
+    def __init__(self, field, message):
+        super().__init__(field, message)
+        self.field = field
+        self.message = message
+
+    def __str__(self):
+        return self.message
+
+
+def _host() -> str:
+    return socket.gethostname()
+
+
+def set_numba_threads(threads: int) -> int:
+    """Give the calling thread a numba budget of ``threads`` (at most the worker's
+    ``NUMBA_NUM_THREADS``); returns the budget. Numba's setting is per thread, so every
+    task sets it in the thread it runs in."""
+    import numba
+
+    budget = max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS))
+    numba.set_num_threads(budget)
+    return budget
+
+
+def check_worker(job: ChunkJob) -> None:
+    """Refuse to compute on a worker whose data could differ from the client's, or that
+    cannot see the dataset directory. Checked once per run and worker process."""
+    if (job.config_hash, job.out) in _CHECKED:
+        return
+    mine = ds.package_versions()
+    theirs = job.metadata.get("versions", {})
+    for name in sorted(set(mine) | set(theirs)):
+        if mine.get(name) != theirs.get(name):
+            raise WorkerSetupError(
+                "--scheduler", f"worker on {_host()} has {name} {mine.get(name)}, the client "
+                f"{theirs.get(name)}: every worker needs the client's environment (same "
+                f"package versions), or the data would not be reproducible")
+    try:
+        manifest = ds.read_manifest(job.out)
+    except Exception:  # noqa: BLE001 - reported below as not visible
+        manifest = None
+    if manifest is None or manifest.get("config_hash") != job.config_hash:
+        raise WorkerSetupError(
+            "--out", f"the worker on {_host()} does not see this dataset at {job.out}: "
+            "--out must be on storage every worker shares (the same path on every host, "
+            "or a URL)")
+    _CHECKED.add((job.config_hash, job.out))
+
+
+def _study(definition: dict, job: ChunkJob):
+    """The run's study, rebuilt from its definition once per worker process."""
+    with _CACHE_LOCK:
+        study = _STUDIES.get(job.config_hash)
+        if study is None:
+            from mcbat.runner import dataset_hash
+            from mcbat.study import Study
+
+            meta = job.metadata
+            study = Study.from_dict(definition, text=meta.get("study_toml"))
+            if dataset_hash(study.config(), job.seed, job.samples) != job.config_hash:
+                raise WorkerSetupError(
+                    "--scheduler", f"the study rebuilt on the worker on {_host()} differs "
+                    "from the client's (another mcbat version?)")
+            _STUDIES[job.config_hash] = study
+        return study
+
+
+def chunk_task(index: int, definition: dict, job: ChunkJob, threads: int) -> ChunkSummary:
+    """One chunk on a worker: rebuild the study, solve with ``threads`` numba threads,
+    write the Parquet file atomically, return the summary.
+
+    Idempotent: a rerun (a retried task, or the task of a worker that was lost after
+    writing) replaces the file with identical content.
+    """
+    check_worker(job)
+    set_numba_threads(threads)
+    return run_chunk(_study(definition, job), job, index, solve_lock=_KERNEL_LOCK)
+
+
+def warm_up(threads: int) -> dict:
+    """Load the kernel (the numba cache) and the libraries a chunk needs (the study's
+    samplers, pandas for the version check, Parquet) in this worker: ~1 s once, instead
+    of in its first chunk."""
+    budget = set_numba_threads(threads)
+    with _KERNEL_LOCK:
+        warm_kernel()
+    import numba
+
+    import mcbat.study  # noqa: F401 - scipy.stats and the samplers
+
+    ds.package_versions()  # imports pandas and scipy
+    return {"threads": budget, "numba_num_threads": numba.config.NUMBA_NUM_THREADS,
+            "threading_layer": numba.threading_layer()}
+
+
+class WarmUp(WorkerPlugin):
+    """Worker plugin: warm the numba kernel once per worker (also on a worker that joins or
+    is restarted later), in the worker's own task thread, before it gets a chunk."""
+
+    name = "mcbat-warm-up"
+
+    def __init__(self, threads: int):
+        self.threads = threads
+
+    async def setup(self, worker):
+        # In the worker's task executor, not the event loop: loading or compiling the
+        # kernel may take seconds, and the worker must keep answering the scheduler.
+        executor = worker.executors.get("default")
+        loop = asyncio.get_running_loop()
+        await loop.run_in_executor(executor, warm_up, self.threads)
