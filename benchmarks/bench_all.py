@@ -87,9 +87,9 @@ def accuracy_and_speedup(inputs, out, n_cases, seed=7):
     """Kernel against the scipy reference on a random subset of the mix."""
     from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
     from mcbat.core.cabo2012.impact import solve_impact
-    from mcbat.core.cabo2012.reference import reference_impact
     from mcbat.core.geometry import contact_frame
     from mcbat.core.rigid_bodies import relative_contact_velocity
+    from mcbat.testing.cabo2012_reference import reference_impact
 
     f = {name: i for i, name in enumerate(INPUT_FIELDS)}
     o = {name: i for i, name in enumerate(OUTPUT_FIELDS)}

@@ -16,8 +16,8 @@ import time
 import numba
 import numpy as np
 
-from mcbat.core._jit import njit
 from mcbat.core.cabo2012 import solve_impact
+from mcbat.core.jit import njit
 
 
 @njit

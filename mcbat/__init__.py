@@ -1,37 +1,92 @@
-"""mcbat: Monte Carlo study of rigid ball-bat impacts with Coulomb friction.
+"""mcbat: Monte Carlo study of ball-bat impacts with Coulomb friction.
 
-The physics follows Cabo, Soler & Gonzalez, "Scattering solution of a ball by a bat"
-(Rev. Mex. Fis. 58, 2012), restated in matrix form in ``mcbat/core/cabo2012/README.md``.
+The physics follows Cabo, Soler & González, "Scattering solution of a ball by a bat"
+(Rev. Mex. Fís. 58, 2012); the equations, the frame and the paper's printing errors are in
+``docs/physics.md``.
 
-Layers
-------
-``mcbat.core``
-    Pure, jitted physics on plain floats and arrays (no I/O).
-``mcbat.api``
-    Python objects for one impact case: build, validate, solve, ``to_dict()``.
-``mcbat.study``, ``mcbat.runner``, ``mcbat.dataset``, ``mcbat.analysis``
-    Monte Carlo scans: TOML studies, the resumable run, Parquet datasets, common cuts.
-``mcbat.cli``
-    The ``mcbat`` command.
+The front door (``import mcbat`` stays light: everything loads on first use)::
+
+    mcbat.solve(case)              one impact (mcbat.api.ImpactCase) -> ImpactResult
+    mcbat.run("study.toml", out)   a study file or Study -> a Parquet dataset directory
+    mcbat.solve_frame(df)          a DataFrame of inputs -> a DataFrame of results
+    mcbat.load(out)                a dataset directory -> a DataFrame (units in df.attrs)
+    mcbat.load_study(path)         a TOML study file -> a validated Study
+
+Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistics):
+
+``mcbat.core``     pure jitted physics, one folder per model; no I/O
+``mcbat.bodies``   the ball, the bat, profiles and presets
+``mcbat.study``    TOML studies -> validated Study -> samples
+``mcbat.runner``   the run plan, the engines (local, Dask), run_study, solve_frame
+``mcbat.dataset``  the column schema, storage, chunk files, load
+``mcbat.stats``    measurement tables, fits, analysis
+``mcbat.papers``   reproductions of papers (used by the command line only)
+``mcbat.testing``  slow scipy reference solvers for tests and benchmarks
+``mcbat.api``      single impacts; ``mcbat.cli`` the ``mcbat`` command
 """
 
 __version__ = "0.1.0"
 
+__all__ = ["__version__", "load", "load_study", "run", "solve", "solve_frame"]
+
+
+def solve(case, settings=None):
+    """Solve one impact: see :func:`mcbat.api.solve`."""
+    from mcbat.api import SolverSettings
+    from mcbat.api import solve as _solve
+
+    return _solve(case, SolverSettings() if settings is None else settings)
+
+
+def run(study, out, **options):
+    """Run a study into a dataset directory; returns a
+    :class:`~mcbat.runner.study_run.RunSummary`.
+
+    Parameters
+    ----------
+    study : str, Path or mcbat.study.Study
+        A TOML study file, or a loaded study.
+    out : str or Path
+        The dataset directory (or a URL).
+    **options
+        ``samples``, ``seed``, ``threads``, ``chunk_size``, ``overwrite``, ``progress``,
+        ``engine``, ``scheduler``, ``workers``: see :func:`mcbat.runner.run_study`.
+    """
+    from mcbat.runner import run_study
+    from mcbat.study import Study, load_study
+
+    if not isinstance(study, Study):
+        study = load_study(study)
+    return run_study(study, out, **options)
+
+
+def solve_frame(frame, **settings):
+    """A DataFrame of inputs -> a DataFrame of results, in memory, with the parallel
+    kernel: see :func:`mcbat.runner.frame.solve_frame`."""
+    from mcbat.runner.frame import solve_frame as _solve_frame
+
+    return _solve_frame(frame, **settings)
+
 
 def load(directory, columns=None, labels=False):
-    """Load an ``mcbat run`` dataset directory as a pandas DataFrame.
-
-    See :func:`mcbat.dataset.load`.
-    """
+    """A dataset directory as a pandas DataFrame: see :func:`mcbat.dataset.load`."""
     from mcbat.dataset import load as _load
 
     return _load(directory, columns=columns, labels=labels)
 
 
+def load_study(path):
+    """A TOML study file -> a validated study: see :func:`mcbat.study.load_study`."""
+    from mcbat.study import load_study as _load_study
+
+    return _load_study(path)
+
+
 def __getattr__(name):
-    # `mcbat.analysis` without importing pandas on `import mcbat`.
-    if name == "analysis":
+    # Subpackages on first use (``mcbat.stats.analysis``...) without importing pandas or
+    # numba on ``import mcbat``.
+    if name in ("analysis",):
         import importlib
 
-        return importlib.import_module("mcbat.analysis")
-    raise AttributeError(name)
+        return importlib.import_module("mcbat.stats.analysis")
+    raise AttributeError(f"module 'mcbat' has no attribute {name!r}")

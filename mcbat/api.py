@@ -12,128 +12,38 @@ Example
 >>> result.end_state
 'stuck'
 
-All quantities are SI, in the lab frame of PHYSICS.md: the bat CM at the origin, ``z``
+All quantities are SI, in the lab frame of ``docs/physics.md``: the bat CM at the origin, ``z``
 along the bat axis towards the barrel end.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
+from mcbat.bodies import Ball, Bat
 from mcbat.core import status as st
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
-from mcbat.core.cabo2012.contact import (
-    DEFAULT_MAX_STEPS,
-    DEFAULT_TOLERANCE,
-    DEFAULT_STEPS,
-)
+from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.cabo2012.trajectory import contact_history
 from mcbat.core.geometry import (
     angle_from_impact_parameter,
     contact_frame,
     impact_parameter_from_angle,
 )
-from mcbat.core.rigid_bodies import delassus_matrix, relative_contact_velocity
+from mcbat.core.rigid_bodies import delassus_matrix, kinetic_energy, relative_contact_velocity
+from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
+from mcbat.errors import check_real as _real
+from mcbat.errors import check_vector as _vector
+
+__all__ = ["Ball", "Bat", "Contact", "ImpactCase", "ImpactResult", "SolverSettings",
+           "contact_problem", "history", "solve"]
 
 Vector = tuple[float, float, float]
 
-
-def _real(value, name, *, positive=False, minimum=None, maximum=None):
-    """A finite float, or :class:`InputError` naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise InputError(name, f"must be a number, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise InputError(name, f"must be finite, got {value!r}")
-    if positive and not value > 0.0:
-        raise InputError(name, f"must be > 0, got {value!r}")
-    if minimum is not None and value < minimum:
-        raise InputError(name, f"must be >= {minimum}, got {value!r}")
-    if maximum is not None and value > maximum:
-        raise InputError(name, f"must be <= {maximum}, got {value!r}")
-    return value
-
-
-def _vector(value, name) -> Vector:
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
-        raise InputError(name, f"must be a list of 3 numbers [x, y, z], got {value!r}")
-    return tuple(_real(v, f"{name}[{i}]") for i, v in enumerate(value))
-
-
-@dataclass(frozen=True)
-class Ball:
-    """A uniform-inertia sphere.
-
-    Parameters
-    ----------
-    mass : float
-        kg.
-    radius : float
-        m.
-    inertia_factor : float
-        ``f`` in ``I = f m R^2`` (0.4 for a uniform solid sphere).
-    """
-
-    mass: float
-    radius: float
-    inertia_factor: float = 0.4
-
-    def __post_init__(self):
-        _real(self.mass, "mass", positive=True)
-        _real(self.radius, "radius", positive=True)
-        _real(self.inertia_factor, "inertia_factor", positive=True)
-
-
-@dataclass(frozen=True)
-class Bat:
-    """A rigid bat: a solid of revolution about ``z``, free during the impact.
-
-    Parameters
-    ----------
-    mass : float
-        kg.
-    transverse_inertia, axial_inertia : float
-        Moments of inertia about the CM, perpendicular to and along the axis, kg m^2.
-    radius : float, optional
-        Barrel radius (m) for a cylinder at the contact.
-    profile : mcbat.core.profile.BatProfile, optional
-        A tabulated profile r(z) (z from the CM, m) instead of ``radius``; the contact
-        normal then tilts by r'(z).
-    """
-
-    mass: float
-    transverse_inertia: float
-    axial_inertia: float
-    radius: float | None = None
-    profile: object | None = field(default=None, compare=False)
-
-    def __post_init__(self):
-        _real(self.mass, "mass", positive=True)
-        _real(self.transverse_inertia, "transverse_inertia", positive=True)
-        _real(self.axial_inertia, "axial_inertia", positive=True)
-        if (self.radius is None) == (self.profile is None):
-            raise InputError("radius", "give exactly one of a barrel radius or a profile")
-        if self.radius is not None:
-            _real(self.radius, "radius", positive=True)
-
-    def surface(self, axial: float) -> tuple[float, float]:
-        """Radius (m) and slope dr/dz at axial position ``axial`` (m from the CM)."""
-        if self.profile is None:
-            return float(self.radius), 0.0
-        lo, hi = self.profile.knob_end, self.profile.barrel_end
-        if not lo <= axial <= hi:
-            raise InputError("axial", f"must lie on the bat, within [{lo:.4g}, {hi:.4g}] m, "
-                             f"got {axial!r}")
-        return float(self.profile.radius(axial)), float(self.profile.slope(axial))
-
-    @classmethod
-    def from_profile(cls, profile) -> "Bat":
-        """A uniform-density bat whose mass properties come from its profile."""
-        return cls(mass=profile.mass, transverse_inertia=profile.transverse_inertia,
-                   axial_inertia=profile.axial_inertia, profile=profile)
 
 
 @dataclass(frozen=True)
@@ -149,14 +59,14 @@ class Contact:
 
     @classmethod
     def from_impact_parameter(cls, axial, impact_parameter, ball: Ball, bat: Bat,
-                              approach_azimuth=0.0) -> "Contact":
+                              approach_azimuth=0.0) -> Contact:
         """Contact of a ball arriving perpendicular to the bat along an offset line.
 
         ``impact_parameter`` (m) is the offset of the ball's line from the bat axis;
         ``approach_azimuth`` (rad) the side it comes from (0: from ``+x``, moving along
         ``-x``). For a cylinder, ``b = (R + r_b) sin(theta - approach_azimuth)``.
         """
-        radius, slope = bat.surface(axial)
+        radius, slope = bat.surface_at(axial)
         angle = angle_from_impact_parameter(
             _real(impact_parameter, "impact_parameter"), ball.radius, radius, slope,
             _real(approach_azimuth, "approach_azimuth"))
@@ -214,7 +124,7 @@ class ImpactCase:
     def contact_surface(self) -> tuple[float, float]:
         """Bat radius and slope at the contact point."""
         try:
-            return self.bat.surface(self.contact.axial)
+            return self.bat.surface_at(self.contact.axial)
         except InputError as err:
             raise err.within("contact") from None
 
@@ -241,7 +151,7 @@ class ImpactCase:
                              f"(normal relative velocity v_n = {vn:.6g} m/s >= 0)")
 
     @classmethod
-    def from_dict(cls, data) -> "ImpactCase":
+    def from_dict(cls, data) -> ImpactCase:
         """Build a case from the JSON contract of ``mcbat impact`` (see the README)."""
         return _case_from_dict(data)
 
@@ -276,12 +186,23 @@ class ImpactResult:
     @property
     def exit_speed(self) -> float:
         """Speed of the outgoing ball, m/s."""
-        return math.sqrt(sum(v * v for v in self.ball_velocity))
+        return derive(self.ball_velocity, self.ball_spin)["exit_speed"]
 
     @property
     def scattering_angle(self) -> float:
         """``atan2(v_y, v_x)`` of the outgoing ball, degrees (0 = straight back along ``+x``)."""
-        return math.degrees(math.atan2(self.ball_velocity[1], self.ball_velocity[0]))
+        return derive(self.ball_velocity, self.ball_spin)["scattering_angle"]
+
+    def __repr__(self) -> str:
+        v = ", ".join(f"{c:.6g}" for c in self.ball_velocity)
+        w = ", ".join(f"{c:.6g}" for c in self.ball_spin)
+        stick = "never" if self.stick_impulse is None else f"{self.stick_impulse:.6g} kg m/s"
+        return (f"ImpactResult(status={self.status!r}, end_state={self.end_state!r},\n"
+                f"  ball_velocity=({v}) m/s, ball_spin=({w}) rad/s,\n"
+                f"  exit_speed={self.exit_speed:.6g} m/s, "
+                f"scattering_angle={self.scattering_angle:.4g} deg,\n"
+                f"  normal_impulse={self.normal_impulse:.6g} kg m/s, stick_impulse={stick}, "
+                f"energy {self.energy_in:.6g} -> {self.energy_out:.6g} J)")
 
     @property
     def restitution_loss(self) -> float:
@@ -401,9 +322,6 @@ def history(case: ImpactCase, impulses, settings: SolverSettings = SolverSetting
         (kinetic energy ``E_in + W_n + W_fr``, J), ``phase`` (0 slip, 1 stick,
         2 re-slip), and the scalars ``stick_impulse`` (NaN if none) and ``energy_in``.
     """
-    from mcbat.core.cabo2012.trajectory import contact_history
-    from mcbat.core.rigid_bodies import kinetic_energy
-
     impulses = np.asarray(impulses, dtype=np.float64)
     if impulses.ndim != 1 or np.any(np.diff(impulses) < 0) or np.any(impulses < 0):
         raise InputError("impulses", "must be a sorted 1-D array of impulses >= 0")

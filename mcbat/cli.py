@@ -7,10 +7,17 @@ Exit codes: 0 success, 2 user error (one line on stderr, no traceback), 1 intern
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
+import re
 import sys
 from pathlib import Path
+
+from mcbat import __version__
+from mcbat.errors import InputError
+
+__all__ = ["build_parser", "main"]
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -32,10 +39,36 @@ def _reject_constant(name):
     raise ValueError(f"non-finite number {name} is not allowed")
 
 
+_PARAMETER_IN_MESSAGE = re.compile(r'\b([a-z_]+)=("[^"]*"|[A-Za-z0-9_.:/-]+)')
+
+
+@contextlib.contextmanager
+def _flags(*parameters):
+    """Report the library's errors about these Python parameters as their flags.
+
+    The library names parameters (``chunk_size``) and writes the ones it mentions in call
+    syntax (``overwrite=True``, ``scheduler=ADDRESS``); here they become ``--chunk-size``,
+    ``--overwrite`` and ``--scheduler ADDRESS``.
+    """
+    flags = {name: "--" + name.replace("_", "-") for name in parameters}
+
+    def render(match):
+        name, value = match.group(1), match.group(2)
+        if name not in flags:
+            return match.group(0)
+        if value == "True":
+            return flags[name]
+        return f"{flags[name]} {value.strip(chr(34))}"
+
+    try:
+        yield
+    except InputError as err:
+        raise InputError(flags.get(err.field, err.field),
+                         _PARAMETER_IN_MESSAGE.sub(render, err.message), err.source) from None
+
+
 def _read_cases(path):
     """Parse ``path`` (or ``-`` for stdin) as one JSON case or a JSON array of cases."""
-    from mcbat.errors import InputError
-
     source = "<stdin>" if path == "-" else path
     try:
         if path == "-":
@@ -67,7 +100,6 @@ def _json_value(value):
 
 def cmd_impact(args) -> int:
     from mcbat.api import ImpactCase, solve
-    from mcbat.errors import InputError
 
     source, raw_cases, single = _read_cases(args.file)
     cases = []
@@ -86,46 +118,58 @@ def cmd_impact(args) -> int:
     return EXIT_OK
 
 
+RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
+                  "workers", "overwrite")
+
+
 def cmd_run(args) -> int:
     from mcbat.runner import run_study
     from mcbat.study import load_study
 
     study = load_study(args.study)  # validates everything before anything is written
     out = args.out or str(Path("results") / study.name)
-    summary = run_study(study, out, samples=args.samples, seed=args.seed,
-                        threads=args.threads, chunk_size=args.chunk_size,
-                        overwrite=args.overwrite, progress=not args.quiet,
-                        engine=args.engine, scheduler=args.scheduler, workers=args.workers)
+    with _flags(*RUN_PARAMETERS):
+        summary = run_study(study, out, samples=args.samples, seed=args.seed,
+                            threads=args.threads, chunk_size=args.chunk_size,
+                            overwrite=args.overwrite, progress=not args.quiet,
+                            engine=args.engine, scheduler=args.scheduler,
+                            workers=args.workers)
     for line in summary.lines():
         print(line)
     return EXIT_OK
 
 
 def cmd_reproduce(args) -> int:
-    from mcbat.reproduce import reproduce
+    from mcbat.papers.cabo2012.reproduce import reproduce
 
-    reproduce(args.out, samples=args.samples, threads=args.threads, progress=not args.quiet,
-              overwrite=args.overwrite)
+    with _flags("out", "samples", "threads", "overwrite"):
+        reproduce(args.out, samples=args.samples, threads=args.threads,
+                  progress=not args.quiet, overwrite=args.overwrite)
     return EXIT_OK
 
 
 def cmd_calibrate(args) -> int:
-    from mcbat.calibration import calibrate_restitution
+    from mcbat.papers.cabo2012 import sec5
+    from mcbat.papers.cabo2012.calibration import calibrate_restitution
 
-    result = calibrate_restitution(args.target)
+    with _flags("target"):
+        result = calibrate_restitution(sec5.TARGET_SPEED if args.target is None
+                                       else args.target)
     json.dump(result.to_dict(), sys.stdout, indent=2)
     sys.stdout.write("\n")
     return EXIT_OK
 
 
 def cmd_synth(args) -> int:
-    from mcbat.measurements import synthesize, write_table_atomic
+    from mcbat.stats.measurements import synthesize, write_table_atomic
     from mcbat.study import load_study
 
     study = load_study(args.study)
-    table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu, e_x=args.e_x,
-                       speed_noise=args.speed_noise, angle_noise=args.angle_noise,
-                       spin_noise=args.spin_noise)
+    with _flags("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_noise",
+                "spin_noise"):
+        table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu, e_x=args.e_x,
+                           speed_noise=args.speed_noise, angle_noise=args.angle_noise,
+                           spin_noise=args.spin_noise)
     if args.out:
         write_table_atomic(table, args.out)
         print(f"{len(table)} rows written to {args.out}")
@@ -135,18 +179,19 @@ def cmd_synth(args) -> int:
 
 
 def cmd_fit(args) -> int:
-    from mcbat.fit import compare_models, fit
-    from mcbat.measurements import read_measurements
+    from mcbat.stats.fit import compare_models, fit
+    from mcbat.stats.measurements import read_measurements
     from mcbat.study import load_study
 
     study = load_study(args.study)
     table = read_measurements(args.data, required=("impact_parameter",))
     free = tuple(p.strip() for p in args.free.split(",") if p.strip())
-    result = fit(study, table, free, bootstrap=args.bootstrap)
-    comparison = None if args.no_compare else compare_models(study, table, free,
-                                                             fitted=result)
+    with _flags("free", "bootstrap"):
+        result = fit(study, table, free, bootstrap=args.bootstrap)
+        comparison = None if args.no_compare else compare_models(study, table, free,
+                                                                 fitted=result)
     if args.residuals:
-        from mcbat.figures import fig_fit_residuals
+        from mcbat.stats.figures import fig_fit_residuals
 
         fig_fit_residuals(args.residuals, table, result)
     if args.json:
@@ -178,6 +223,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--debug", action="store_true",
                         help="show Python tracebacks for errors")
+    parser.add_argument("--version", action="version", version=f"mcbat {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_ArgumentParser)
     impact = sub.add_parser(
         "impact", help="solve impacts given as JSON (one case or an array of cases)",
@@ -241,7 +287,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Solve for the energetic coefficient e* (scipy brentq) such that the "
                     "exit speed at theta = pi/400 with no spin equals TARGET (m/s); prints "
                     "e* and the paper's e^2 = 1 - e*^2 as JSON.")
-    cal.add_argument("--target", type=float, default=1.44629, metavar="TARGET",
+    cal.add_argument("--target", type=float, default=None, metavar="TARGET",
                      help="target exit speed, m/s (default: the paper's 1.44629)")
     cal.set_defaults(func=cmd_calibrate)
 
@@ -249,7 +295,7 @@ def build_parser() -> argparse.ArgumentParser:
         "synth", help="draw a noisy synthetic measurement table from the model",
         description="Sample the study's setup and nuisance scatter, solve with the given e* "
                     "and mu, and add measurement noise: the kind of table an experiment "
-                    "produces (format: mcbat/measurements.py).")
+                    "produces (format: mcbat/stats/measurements.py).")
     syn.add_argument("--study", required=True, metavar="S.toml")
     syn.add_argument("--rows", type=_int_arg("--rows"), default=60, metavar="N")
     syn.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S")
@@ -316,8 +362,6 @@ def main(argv=None) -> int:
               "to resume", file=sys.stderr)
         return 130
     except Exception as err:  # noqa: BLE001 - the CLI boundary maps errors to exit codes
-        from mcbat.errors import InputError
-
         if debug:
             import traceback
 

@@ -1,4 +1,15 @@
-"""User-facing errors: one line that names the source, the field and the offending value."""
+"""User-facing errors: one line that names the source, the field and the offending value.
+
+Library code names Python parameters (``out``, ``samples``) or study keys (``ball.mass``)
+in ``field``, and writes other parameters it mentions in call syntax (``overwrite=True``,
+``scheduler=ADDRESS``); the command line (:mod:`mcbat.cli`) renders both as its flags.
+"""
+
+import math
+
+import numpy as np
+
+__all__ = ["InputError", "check_real", "check_vector"]
 
 
 class InputError(ValueError):
@@ -31,3 +42,38 @@ class InputError(ValueError):
         if prefix:
             field = f"{prefix}.{field}" if field else prefix
         return InputError(field, self.message, source or self.source)
+
+
+def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
+    """``value`` as a finite float, or :class:`InputError` naming ``name``.
+
+    Parameters
+    ----------
+    value : object
+        A real number (bool is refused).
+    name : str
+        The parameter or key to name in the error.
+    positive : bool
+        Require ``value > 0``.
+    minimum, maximum : float, optional
+        Inclusive bounds.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise InputError(name, f"must be a number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(name, f"must be finite, got {value!r}")
+    if positive and not value > 0.0:
+        raise InputError(name, f"must be > 0, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise InputError(name, f"must be >= {minimum}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise InputError(name, f"must be <= {maximum}, got {value!r}")
+    return value
+
+
+def check_vector(value, name) -> tuple[float, float, float]:
+    """``value`` as a tuple of 3 finite floats, or :class:`InputError` naming ``name``."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
+        raise InputError(name, f"must be a list of 3 numbers [x, y, z], got {value!r}")
+    return tuple(check_real(v, f"{name}[{i}]") for i, v in enumerate(value))

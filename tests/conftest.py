@@ -1,6 +1,6 @@
 """Shared test helpers: the paper's Sec. V configuration and a dict view of the kernel."""
 
-import math
+from pathlib import Path
 
 import pytest
 from hypothesis import settings
@@ -10,16 +10,23 @@ settings.register_profile("ci", derandomize=True)
 settings.register_profile("explore", max_examples=2000)
 settings.load_profile("ci")
 
-from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
+from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact  # noqa: E402
+from mcbat.papers.cabo2012 import sec5  # noqa: E402
 
-# Sec. V of Cabo, Soler & Gonzalez (PHYSICS.md): Cross & Nathan's drop test.
+#: The repository's root (studies/, data/, benchmarks/).
+ROOT = Path(__file__).resolve().parent.parent
+
+# Sec. V of Cabo, Soler & Gonzalez (docs/physics.md): Cross & Nathan's drop test, from the
+# package's one source of its numbers.
 SEC5 = dict(
-    ball_mass=0.145, ball_radius=0.036, ball_inertia_factor=0.4,
-    bat_mass=0.989, bat_transverse_inertia=0.0460, bat_axial_inertia=4.39e-4,
-    axial=0.115, radius=0.03335, slope=0.0,
+    ball_mass=sec5.BALL.mass, ball_radius=sec5.BALL.radius,
+    ball_inertia_factor=sec5.BALL.inertia_factor, bat_mass=sec5.BAT.mass,
+    bat_transverse_inertia=sec5.BAT.transverse_inertia,
+    bat_axial_inertia=sec5.BAT.axial_inertia, axial=sec5.AXIAL, radius=sec5.BAT.radius,
+    slope=0.0,
 )
-SEC5_THETA = math.pi / 400
-SEC5_LOSS_FRACTION = 0.6183822  # the paper's calibrated e^2
+SEC5_THETA = sec5.THETA_NEAR_ZERO
+SEC5_LOSS_FRACTION = sec5.LOSS_FRACTION  # the paper's calibrated e^2
 
 
 def kernel(ball_v=(-4.0, 0.0, 0.0), ball_w=(0.0, 0.0, 0.0), bat_v=(0.0, 0.0, 0.0),

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from mcbat.api import Ball, Bat, Contact, ImpactCase, SolverSettings, solve
-from mcbat.bats import r161_profile
+from mcbat.bodies.tables import r161_profile
 from mcbat.core import status as st
 from mcbat.errors import InputError
 from tests.conftest import kernel
@@ -93,3 +93,15 @@ def test_kernel_status_codes_never_raise():
 def test_solver_failure_raises_runtime_error_in_api():
     with pytest.raises(RuntimeError, match="max_steps"):
         solve(_case(ball_spin=(0.0, 200.0, 300.0)), SolverSettings(max_steps=2))
+
+
+def test_reprs_are_short():
+    import mcbat
+
+    result = mcbat.solve(_case())
+    text = repr(result)
+    assert text.startswith("ImpactResult(status='ok'") and len(text) < 400
+    assert text.count("\n") <= 4
+    bat = Bat.from_profile(r161_profile())
+    assert len(repr(bat)) < 120 and "profile" in repr(bat)
+    assert len(repr(Ball(mass=0.145, radius=0.036))) < 80

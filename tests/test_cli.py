@@ -192,3 +192,48 @@ def test_internal_error_exits_1_and_debug_shows_the_traceback(capsys, monkeypatc
     code = main(["--debug", "impact", "-"])
     err = capsys.readouterr().err
     assert code == 1 and "Traceback" in err and "simulated bug" in err
+
+
+def test_version_and_python_dash_m():
+    import mcbat
+
+    for command in ([sys.executable, "-m", "mcbat", "--version"],):
+        proc = subprocess.run(command, capture_output=True, text=True, check=False)
+        assert proc.returncode == 0 and proc.stdout.strip() == f"mcbat {mcbat.__version__}"
+    proc = subprocess.run([sys.executable, "-m", "mcbat", "impact",
+                           str(ROOT / "examples" / "cabo2012_sec5.json")],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 0 and json.loads(proc.stdout)["status"] == "ok"
+
+
+def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys):
+    from mcbat.errors import InputError
+    from mcbat.runner import run_study
+    from mcbat.study import load_study
+
+    study = load_study(ROOT / "studies" / "example.toml")
+    (tmp_path / "foreign.txt").write_text("not mcbat's")
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path, samples=10, progress=False)
+    assert info.value.field == "out"
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path / "new", chunk_size=0, progress=False)
+    assert info.value.field == "chunk_size"
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path / "new", workers=2, progress=False)
+    assert info.value.field == "workers" and "--" not in str(info.value)
+    # The same errors through the command line name the flags.
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
+                 "--chunk-size", "0", "--quiet"]) == 2
+    assert "error: --chunk-size: must be an integer >= 1" in capsys.readouterr().err
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
+                 "--workers", "2", "--quiet"]) == 2
+    assert "error: --workers: only with --engine dask" in capsys.readouterr().err
+    out = tmp_path / "other"
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
+                 "--samples", "50", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
+                 "--samples", "60", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "--out: holds a dataset written with" in err and "pass --overwrite to" in err

@@ -13,7 +13,7 @@ frame. Two readings of the same nodes are used, each where it matters:
 Both pass through every node; they differ only between nodes, by far less than the
 table's own precision for a smooth profile.
 
-This module is pure: no file I/O (see :mod:`mcbat.bats` for reading tables).
+This module is pure: no file I/O (see :mod:`mcbat.bodies.tables` for reading tables).
 """
 
 from __future__ import annotations
@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.interpolate import PchipInterpolator
+
+__all__ = ["BatProfile", "mass_properties"]
 
 # Gauss-Legendre nodes and weights on [0, 1]. Three points integrate polynomials of degree
 # <= 5 exactly; the integrands here (r^4 and z^2 r^2 with r linear in z) have degree 4.

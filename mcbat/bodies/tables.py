@@ -1,6 +1,6 @@
 """Bat profiles from tables: the TSV reader and the bundled presets.
 
-This module does the file I/O that :mod:`mcbat.core.profile` must not. Tables list the
+This module does the file I/O that :mod:`mcbat.bodies.profile` must not. Tables list the
 bat's diameter against the distance from the knob end (format and provenance of the
 bundled tables: ``data/README.md``).
 """
@@ -8,19 +8,25 @@ bundled tables: ``data/README.md``).
 from __future__ import annotations
 
 import math
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from mcbat.core.profile import BatProfile
+from mcbat.bodies.profile import BatProfile
 
-#: The repository's ``data/`` folder (reference tables with provenance).
-DATA_DIR = Path(__file__).resolve().parent.parent / "data"
+__all__ = ["WOOD_DENSITY", "data_file", "load_profile_tsv", "r161_profile", "read_profile_tsv"]
 
 #: Typical density of bat-grade wood (ash), kg/m^3.
 WOOD_DENSITY = 649.0
 
 _COLUMNS = ("distance from knob (cm)", "diameter (mm)")
+
+
+def data_file(name: str):
+    """A bundled table of the project's ``data/`` folder (shipped in the wheel as the
+    resource package ``mcbat.data``; provenance in its ``README.md``)."""
+    return resources.files("mcbat.data").joinpath(name)
 
 
 def read_profile_tsv(path):
@@ -47,7 +53,7 @@ def read_profile_tsv(path):
     OSError
         If the file cannot be read.
     """
-    path = Path(path)
+    path = path if hasattr(path, "open") and not isinstance(path, str) else Path(path)
     distances, diameters = [], []
     previous_line = None
     with path.open(encoding="utf-8") as handle:
@@ -130,7 +136,7 @@ def _profile(path, distance, diameter, density):
 def r161_profile(density=WOOD_DENSITY) -> BatProfile:
     """The Louisville Slugger R161 wood bat (Nathan, Am. J. Phys. 68, 979 (2000)).
 
-    Reads ``DATA_DIR / "r161_profile.tsv"``. The table's first row is 1 cm from the knob
+    Reads the bundled ``data/r161_profile.tsv``. The table's first row is 1 cm from the knob
     end; the preset adds the knob's end face at 0 cm with the first row's diameter (the
     knob is 50.5 mm wide at both 1 and 2 cm), so the bat spans its full 0.84 m.
 
@@ -145,7 +151,7 @@ def r161_profile(density=WOOD_DENSITY) -> BatProfile:
         Length 0.84 m; at 649 kg/m^3 its mass is about 0.865 kg with the CM about
         0.558 m from the knob.
     """
-    path = DATA_DIR / "r161_profile.tsv"
+    path = data_file("r161_profile.tsv")
     distance, diameter = read_profile_tsv(path)
     if distance[0] > 0.0:
         distance = np.concatenate(([0.0], distance))

@@ -1,7 +1,9 @@
 """Physics core: pure functions on plain floats and arrays.
 
 Nothing in this package performs I/O or imports pandas, pyarrow or matplotlib; an
-import-linter contract in ``pyproject.toml`` (and ``tests/test_core_purity.py``) keeps it
+import-linter contract in ``pyproject.toml`` (and ``tests/test_layers.py``) keeps it
 that way. Jitted functions take scalars/arrays, return tuples or write into ``out``
 arrays, and report failures through status codes (``mcbat.core.status``), never by raising.
 """
+
+__all__ = []

@@ -10,8 +10,10 @@ row that cannot be solved gets a non-zero status and NaN outputs.
 import numba
 import numpy as np
 
-from mcbat.core._jit import njit
 from mcbat.core.cabo2012.impact import solve_impact
+from mcbat.core.jit import njit
+
+__all__ = ["INPUT_FIELDS", "OUTPUT_FIELDS", "allocate_outputs", "solve_batch"]
 
 INPUT_FIELDS = (
     "ball_mass", "ball_radius", "ball_inertia_factor",

@@ -11,7 +11,11 @@ bat CM) and azimuth ``angle`` (rad, from ``+x`` towards ``+y``) on a surface of 
 
 import math
 
-from mcbat.core._jit import njit
+from mcbat.core.jit import njit
+
+__all__ = ["angle_from_impact_parameter", "angles_from_impact_parameters",
+           "ball_centre_radial_distance", "contact_frame", "impact_parameter_from_angle",
+           "impact_parameters_from_angles"]
 
 
 @njit
@@ -76,3 +80,20 @@ def impact_parameter_from_angle(angle, ball_radius, radius, slope, approach_azim
     return ball_centre_radial_distance(ball_radius, radius, slope) * math.sin(
         angle - approach_azimuth
     )
+
+
+@njit
+def angles_from_impact_parameters(impact_parameter, ball_radius, radius, slope,
+                                  approach_azimuth, out):
+    """:func:`angle_from_impact_parameter` over arrays (all of length ``n``); writes ``out``."""
+    for i in range(out.shape[0]):
+        out[i] = angle_from_impact_parameter(impact_parameter[i], ball_radius[i], radius[i],
+                                             slope[i], approach_azimuth[i])
+
+
+@njit
+def impact_parameters_from_angles(angle, ball_radius, radius, slope, approach_azimuth, out):
+    """:func:`impact_parameter_from_angle` over arrays (all of length ``n``); writes ``out``."""
+    for i in range(out.shape[0]):
+        out[i] = impact_parameter_from_angle(angle[i], ball_radius[i], radius[i], slope[i],
+                                             approach_azimuth[i])

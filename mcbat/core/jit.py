@@ -10,8 +10,9 @@
     strict IEEE arithmetic. Besides the NaN checks the status codes rely on, it makes the
     results bitwise identical wherever a kernel is compiled: inlined into the parallel
     batch loop or called alone by the single-impact API, on any thread count, and on any
-    x86-64 CPU with the same library versions (FMA contraction alone was 5 % faster but changed last bits between those
-    contexts, which the adaptive step can amplify to 1e-9).
+    x86-64 CPU with the same library versions (FMA contraction alone was 5 % faster but
+    changed last bits between those contexts, which the adaptive step can amplify to
+    1e-9).
 ``error_model="numpy"``
     division by zero gives inf/NaN instead of raising, so kernels never raise inside
     ``prange``; the solvers check their inputs and report a status code instead.
@@ -20,6 +21,8 @@
 """
 
 import numba
+
+__all__ = ["JIT_OPTIONS", "njit"]
 
 JIT_OPTIONS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
 

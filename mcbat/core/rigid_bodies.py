@@ -7,8 +7,11 @@ its CM is ``diag(I_t, I_t, I_3)`` in the lab frame (``z`` along the bat axis).
 
 import math
 
-from mcbat.core._jit import njit
+from mcbat.core.jit import njit
 from mcbat.core.vec3 import add, cross, dot, scale, sub
+
+__all__ = ["apply_impulse", "delassus_matrix", "is_finite3", "kinetic_energy",
+           "relative_contact_velocity"]
 
 
 @njit
@@ -99,4 +102,5 @@ def kinetic_energy(
 
 @njit
 def is_finite3(a):
+    """True if all three components of ``a`` are finite."""
     return math.isfinite(a[0]) and math.isfinite(a[1]) and math.isfinite(a[2])

@@ -4,6 +4,9 @@ Codes are small integers so they fit in ``int8`` columns and cross the numba bou
 without Python objects. ``STATUS_NAMES`` / ``END_STATE_NAMES`` give the public strings.
 """
 
+__all__ = ["DEGENERATE", "END_STATE_NAMES", "INVALID_INPUT", "MAX_STEPS", "NOT_APPROACHING",
+           "OK", "SLIDING", "STATUS_NAMES", "STUCK"]
+
 OK = 0
 """The impact was solved."""
 NOT_APPROACHING = 1

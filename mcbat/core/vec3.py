@@ -2,16 +2,20 @@
 
 import math
 
-from mcbat.core._jit import njit
+from mcbat.core.jit import njit
+
+__all__ = ["add", "combine", "cross", "dot", "norm", "scale", "sub"]
 
 
 @njit(inline="always")
 def dot(a, b):
+    """``a . b``."""
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 @njit(inline="always")
 def cross(a, b):
+    """``a x b``."""
     return (
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -21,21 +25,25 @@ def cross(a, b):
 
 @njit(inline="always")
 def add(a, b):
+    """``a + b``."""
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
 
 @njit(inline="always")
 def sub(a, b):
+    """``a - b``."""
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
 @njit(inline="always")
 def scale(c, a):
+    """``c a`` for a scalar ``c``."""
     return (c * a[0], c * a[1], c * a[2])
 
 
 @njit(inline="always")
 def norm(a):
+    """``|a|``."""
     return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
 
 

@@ -2,7 +2,7 @@
 
 >>> import mcbat
 >>> df = mcbat.load("results/example")
->>> mcbat.analysis.binned(df, "scattering_angle", "exit_speed", bins=24)
+>>> mcbat.stats.analysis.binned(df, "scattering_angle", "exit_speed", bins=24)
 """
 
 from __future__ import annotations
@@ -11,6 +11,8 @@ import numpy as np
 import pandas as pd
 
 from mcbat.errors import InputError
+
+__all__ = ["binned", "end_state_fractions", "ok_rows"]
 
 
 def ok_rows(df: pd.DataFrame) -> pd.DataFrame:

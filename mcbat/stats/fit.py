@@ -25,8 +25,12 @@ import numpy as np
 from scipy import optimize, stats
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
-from mcbat.measurements import OBSERVABLES
+from mcbat.stats.measurements import OBSERVABLES
+
+__all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "Likelihood", "ModelComparison", "SEARCH",
+           "compare_models", "fit"]
 
 FREE = {"e": (1e-3, 1.0), "mu": (1e-3, 2.0), "ball_inertia_factor": (0.05, 1.0),
         "axial": (-1.0, 1.0), "e_x": (0.0, 1.0)}
@@ -81,10 +85,10 @@ class Likelihood:
     def __init__(self, study, table, free, draws=48, seed=0, fixed=None):
         unknown = [p for p in free if p not in FREE]
         if unknown:
-            raise InputError("--free", f"unknown parameter {unknown[0]!r} (choose from "
+            raise InputError("free", f"unknown parameter {unknown[0]!r} (choose from "
                              f"{', '.join(FREE)})")
         if not free:
-            raise InputError("--free", "give at least one parameter to fit")
+            raise InputError("free", "give at least one parameter to fit")
         for name in ("impact_parameter",):
             if name not in table.columns:
                 raise InputError(name, "missing required column",
@@ -138,10 +142,11 @@ class Likelihood:
         solve_batch(x, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
                     end)
         self.calls += 1
-        vx, vy, vz = out[_OUT["ball_vx"]], out[_OUT["ball_vy"]], out[_OUT["ball_vz"]]
-        values = {"exit_speed": np.sqrt(vx * vx + vy * vy + vz * vz),
-                  "scattering_angle": np.degrees(np.arctan2(vy, vx)),
-                  "spin_out": out[_OUT["ball_wz"]]}
+        derived = derive([out[_OUT[f"ball_v{c}"]] for c in "xyz"],
+                         [out[_OUT[f"ball_w{c}"]] for c in "xyz"])
+        values = {"exit_speed": derived["exit_speed"],
+                  "scattering_angle": derived["scattering_angle"],
+                  "spin_out": derived["spin_axial"]}
         sims = np.stack([values[c].reshape(self.rows, self.draws) for c in self.observables],
                         axis=2)
         return sims.mean(axis=1), sims.var(axis=1, ddof=1)
@@ -179,7 +184,7 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
     study : mcbat.study.Study
         Fixed setup and nuisance scatter.
     table : pandas.DataFrame
-        A measurement table (:func:`mcbat.measurements.read_measurements`).
+        A measurement table (:func:`mcbat.stats.measurements.read_measurements`).
     free : sequence of str
         Parameters to fit, from :data:`FREE`.
     draws : int

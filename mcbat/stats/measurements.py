@@ -26,7 +26,11 @@ from pathlib import Path
 
 import numpy as np
 
+from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
+
+__all__ = ["COLUMNS", "OBSERVABLES", "read_measurements", "synthesize", "write_table_atomic"]
 
 COLUMNS = {"impact_parameter": "m", "spin_in": "rad/s", "exit_speed": "m/s",
            "scattering_angle": "deg", "spin_out": "rad/s"}
@@ -120,15 +124,13 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.
     """
     import pandas as pd
 
-    from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
-
-    limits = {"--e": (e, 0.0, 1.0), "--mu": (mu, 0.0, math.inf), "--e-x": (e_x, 0.0, 1.0),
-              "--speed-noise": (speed_noise, 0.0, math.inf),
-              "--angle-noise": (angle_noise, 0.0, math.inf),
-              "--spin-noise": (spin_noise, 0.0, math.inf)}
-    for flag, (value, low, high) in limits.items():
+    limits = {"e": (e, 0.0, 1.0), "mu": (mu, 0.0, math.inf), "e_x": (e_x, 0.0, 1.0),
+              "speed_noise": (speed_noise, 0.0, math.inf),
+              "angle_noise": (angle_noise, 0.0, math.inf),
+              "spin_noise": (spin_noise, 0.0, math.inf)}
+    for name, (value, low, high) in limits.items():
         if value is not None and not low <= value <= high:
-            raise InputError(flag, f"must be in [{low:g}, {high:g}], got {value!r}")
+            raise InputError(name, f"must be in [{low:g}, {high:g}], got {value!r}")
     cols = study.sample(0, rows, seed)
     for name, value in (("e", e), ("mu", mu), ("e_x", e_x)):
         if value is not None:
@@ -140,9 +142,9 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.
                 _)
     o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
     ok = status == 0
-    speed = np.sqrt(o["ball_vx"] ** 2 + o["ball_vy"] ** 2 + o["ball_vz"] ** 2)
-    angle = np.degrees(np.arctan2(o["ball_vy"], o["ball_vx"]))
-    spin = o["ball_wz"]
+    derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
+    speed, angle = derived["exit_speed"], derived["scattering_angle"]
+    spin = derived["spin_axial"]
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
     speed_err = speed_noise * speed
     angle_err = np.full(rows, float(angle_noise))

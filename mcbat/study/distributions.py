@@ -31,7 +31,8 @@ from __future__ import annotations
 
 import abc
 import math
-from dataclasses import dataclass, field as dc_field
+from dataclasses import dataclass
+from dataclasses import field as dc_field
 from typing import NamedTuple
 
 import numpy as np
@@ -39,6 +40,10 @@ from scipy.special import ndtr, ndtri
 
 from mcbat.errors import InputError
 from mcbat.study import units as u
+
+__all__ = ["Choice", "DIST_KINDS", "Dist", "Fixed", "Grid", "LHS", "MIXTURE_COMPONENT_KINDS",
+           "Mixture", "Normal", "Point", "RandomDist", "Sobol", "TruncNormal", "Uniform",
+           "check_keys", "check_range", "integer", "number", "parse"]
 
 #: The distribution names of ``dist = ...``.
 DIST_KINDS = ("uniform", "normal", "truncnormal", "choice", "mixture", "grid", "sobol", "lhs")

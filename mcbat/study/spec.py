@@ -111,10 +111,10 @@ from types import MappingProxyType
 import numpy as np
 from scipy.stats import qmc
 
-from mcbat.core._jit import njit
+from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.core.batch import INPUT_FIELDS
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
-from mcbat.core.geometry import angle_from_impact_parameter, impact_parameter_from_angle
+from mcbat.core.geometry import angles_from_impact_parameters, impact_parameters_from_angles
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import (
@@ -125,7 +125,9 @@ from mcbat.study.distributions import (
     number,
     parse,
 )
-from mcbat.study.presets import BALL_PRESETS, BAT_PRESETS, BallSpec, BatSpec, bat_preset
+
+__all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS", "NOISE_SPAWN_KEY",
+           "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "load_study"]
 
 #: Samples per block of the random stream (and per LHS design).
 RANDOM_BLOCK = 65536
@@ -165,23 +167,6 @@ _BAT_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "transverse_inertia": u.INERTIA
 _BAT_REQUIRED = ("mass", "radius", "transverse_inertia", "axial_inertia")
 
 
-# ---------------------------------------------------------------- vectorised geometry
-
-
-@njit
-def _angles(impact_parameter, ball_radius, radius, slope, azimuth, out):
-    for i in range(out.shape[0]):
-        out[i] = angle_from_impact_parameter(impact_parameter[i], ball_radius, radius[i],
-                                             slope[i], azimuth[i])
-
-
-@njit
-def _impact_parameters(angle, ball_radius, radius, slope, azimuth, out):
-    for i in range(out.shape[0]):
-        out[i] = impact_parameter_from_angle(angle[i], ball_radius, radius[i], slope[i],
-                                             azimuth[i])
-
-
 # ---------------------------------------------------------------- parsing helpers
 
 
@@ -213,7 +198,7 @@ def _parse_ball(table):
         return BALL_PRESETS[name]
     check_keys(table, "ball", ("mass", "radius"), ("inertia_factor",))
     values = {k: _fixed(v, f"ball.{k}", _BALL_KEYS[k]) for k, v in table.items()}
-    return BallSpec(**values)
+    return Ball(**values)
 
 
 def _parse_bat(table):
@@ -240,7 +225,7 @@ def _parse_bat(table):
             limit = "" if length is None else f" and <= the length {length:.6g} m"
             raise InputError("bat.cm_from_barrel_end",
                              f"must be >= 0{limit}, got {cm:.6g} m")
-    return BatSpec(**values)
+    return Bat(**values)
 
 
 def _check_solver(table):
@@ -297,8 +282,8 @@ class Study:
         Default rows per output file.
     solver : dict
         ``{"steps", "tolerance", "max_steps"}`` for :func:`mcbat.core.batch.solve_batch`.
-    ball : BallSpec
-    bat : BatSpec
+    ball : mcbat.bodies.Ball
+    bat : mcbat.bodies.Bat
     inputs : mapping
         Declared numeric inputs, dotted key → :class:`~mcbat.study.distributions.Dist`,
         in declaration order.
@@ -322,7 +307,7 @@ class Study:
     # ------------------------------------------------------------ construction
 
     @classmethod
-    def from_dict(cls, data, source=None, text=None) -> "Study":
+    def from_dict(cls, data, source=None, text=None) -> Study:
         """Validate a parsed study (the dict ``tomllib`` returns).
 
         Parameters
@@ -462,7 +447,7 @@ class Study:
 
     # ------------------------------------------------------------ overrides and config
 
-    def with_overrides(self, *, samples=None, seed=None, chunk_size=None) -> "Study":
+    def with_overrides(self, *, samples=None, seed=None, chunk_size=None) -> Study:
         """A copy with the run's sample count, seed or chunk size replacing the defaults
         (``None`` keeps the study's), validated like the file's values."""
         new = object.__new__(Study)
@@ -682,11 +667,13 @@ class Study:
         if azimuth is None:
             azimuth = np.zeros(n)
         if self._angle_key == "angle":
-            _impact_parameters(cols["angle"], ball.radius, cols["bat_radius"],
-                               cols["bat_slope"], azimuth, cols["impact_parameter"])
+            impact_parameters_from_angles(cols["angle"], np.full(n, ball.radius),
+                                          cols["bat_radius"], cols["bat_slope"], azimuth,
+                                          cols["impact_parameter"])
         else:
-            _angles(cols["impact_parameter"], ball.radius, cols["bat_radius"],
-                    cols["bat_slope"], azimuth, cols["angle"])
+            angles_from_impact_parameters(cols["impact_parameter"], np.full(n, ball.radius),
+                                          cols["bat_radius"], cols["bat_slope"], azimuth,
+                                          cols["angle"])
         return cols
 
 

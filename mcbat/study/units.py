@@ -30,6 +30,9 @@ import numpy as np
 
 from mcbat.errors import InputError
 
+__all__ = ["ANGLE", "DIMENSIONLESS", "INERTIA", "LENGTH", "MASS", "SI_UNITS", "SPEED", "SPIN",
+           "UNITS", "_EXACT", "factor", "format_value", "to_si"]
+
 LENGTH = "length"
 SPEED = "speed"
 SPIN = "spin"

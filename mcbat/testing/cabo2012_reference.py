@@ -26,6 +26,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+__all__ = ["MAX_SEGMENTS", "RESLIP_SAMPLES", "SLIP_STOP_FRACTION", "reference_impact"]
+
 # Slip speed (relative to |v(0)|) at which slip is declared over. |v_t| falls linearly
 # into the stick point, so a threshold event finds it without touching the singular rate
 # (a second event on minima of |v_t| catches steps that jump over the threshold).
@@ -240,7 +242,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         return v, v - (v @ t3) * t3
 
     def make_rhs(rate_fn):
-        """rhs of the 14-state for a tangential impulse rate ``rate_fn(v_t)`` (lab, 3,)."""
+        """Rhs of the 14-state for a tangential impulse rate ``rate_fn(v_t)`` (lab, 3,)."""
         def rhs(_, y):
             v, v_t = tangential(y)
             q = rate_fn(v_t)

@@ -23,7 +23,7 @@ zero-slip detection
     (``mu omega d^2 <= LANDING_FRACTION eps``) the last stretch is exact linear
     extrapolation. This locates the stick impulse ``I_s`` at 4th order in the step count
     (a naive RK4 through the stick point converges at first order: see
-    ``tests/test_convergence.py``).
+    ``tests/core/test_convergence.py``).
 stick, re-slip and ``mu = 0``
     ``dP_t/dI`` is constant (``f = -K_tt^-1 K_tn``, ``-mu u*``, or 0): closed forms.
 
@@ -35,7 +35,12 @@ Every loop is bounded; failures return a status code and nothing raises.
 import math
 
 from mcbat.core import status as st
-from mcbat.core._jit import njit
+from mcbat.core.jit import njit
+
+__all__ = ["reslip_direction", "rk4_step", "slip_velocity", "APPROACH_FACTOR", "APPROACH_MARGIN", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS",
+           "DEFAULT_TOLERANCE", "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION",
+           "MAX_SLIP_FRACTION", "RESLIP_SAMPLES", "ROBUST_STICK", "STICK_TOLERANCE",
+           "inverse_slip_stiffness", "solve_contact", "stick_impulse_rate"]
 
 # Slip speed (relative to the initial relative speed) treated as exactly zero.
 STICK_TOLERANCE = 1e-13
@@ -67,13 +72,13 @@ DEFAULT_STEPS = 8
 DEFAULT_TOLERANCE = 5e-9
 """Impulse error allowed per slip step, relative to ``I_scale``. Gives outgoing velocities
 within ~3e-9 of |v0| on random 3D impacts (``benchmarks/bench_kernel.py``,
-``tests/test_reference_crosscheck.py``)."""
+``tests/core/test_reference_crosscheck.py``)."""
 DEFAULT_MAX_STEPS = 20_000
 """Bound on RK4 steps per impact; reaching it returns ``status.MAX_STEPS``."""
 
 
 @njit(inline="always")
-def _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
+def slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
     v1 = v01 + k11 * p1 + k12 * p2 + k13 * imp
     v2 = v02 + k12 * p1 + k22 * p2 + k23 * imp
     vn = v0n + k13 * p1 + k23 * p2 + k33 * imp
@@ -83,7 +88,7 @@ def _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
 @njit(inline="always")
 def _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp):
     """Slip rates ``d(P1, P2, W_n, W_fr)/dI``."""
-    v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+    v1, v2, vn = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
     s = math.sqrt(v1 * v1 + v2 * v2)
     c = mu / s
     return -c * v1, -c * v2, vn, -mu * s
@@ -102,7 +107,7 @@ def _remaining_impulse(vn, dvn, wn, compressed, target, retained):
 
 
 @njit(inline="always")
-def _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h,
+def rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h,
               a1, a2, a3, a4):
     """One classical RK4 step of the slip ODE from ``imp`` to ``imp + h``.
 
@@ -172,9 +177,9 @@ def _locate_event(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
     a1, a2, a3, a4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, p1, p2, imp)
     out = (imp + h, p1, p2, wn, wfr)
     for _ in range(EVENT_MAX_ITER):
-        out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+        out = rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
                         imp, p1, p2, wn, wfr, theta * h, a1, a2, a3, a4)
-        v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n,
+        v1, v2, vn = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n,
                                out[1], out[2], out[0])
         if kind == 0:
             q1, q2, q3, q4 = _slip_rhs(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
@@ -196,14 +201,14 @@ def _locate_event(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
         done = abs(new - theta) * h <= tol_imp or (hi - lo) * h <= tol_imp
         theta = new
         if done:
-            out = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+            out = rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
                             imp, p1, p2, wn, wfr, theta * h, a1, a2, a3, a4)
             break
     return out
 
 
 @njit
-def _reslip_direction(k11, k12, k13, k22, k23, mu):
+def reslip_direction(k11, k12, k13, k22, k23, mu):
     """Direction ``u*`` of re-slip after a failed stick, and its rate ``lambda`` > 0.
 
     Solves ``K_tn - mu K_tt u = lambda u`` on the unit circle (Stronge; Bhatt & Koechling):
@@ -357,7 +362,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         n_iter += 1
         if n_rk4 >= max_steps or n_iter > max_steps + 8:
             return (st.MAX_STEPS, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)
-        v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+        v1, v2, vn = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
         s = math.sqrt(v1 * v1 + v2 * v2)
         inv_s = 1.0 / s
         u1 = v1 * inv_s
@@ -407,7 +412,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
             n_wn = wn + h * (vn + 0.5 * dvn * h)
             n_wfr = wfr - 0.5 * mu * s * h
         else:
-            n_imp, n_p1, n_p2, n_wn, n_wfr = _rk4_step(
+            n_imp, n_p1, n_p2, n_wn, n_wfr = rk4_step(
                 k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn, wfr, h,
                 -mu * u1, -mu * u2, vn, -mu * s)
             n_rk4 += 1
@@ -468,7 +473,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
             # The landing bounds the impulse error; K_tt turns it into a residual slip that
             # the stick phase would carry to the end (and let friction work on it). Remove
             # it: the tangential impulse that makes v_t = 0 exactly at I_s.
-            r1, r2, _ = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+            r1, r2, _ = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
             det = k11 * k22 - k12 * k12
             if det > 0.0:
                 q1 = (k22 * r1 - k12 * r2) / det
@@ -487,7 +492,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
             d1 = f1
             d2 = f2
         else:
-            u1, u2, lam = _reslip_direction(k11, k12, k13, k22, k23, mu)
+            u1, u2, lam = reslip_direction(k11, k12, k13, k22, k23, mu)
             if lam <= 0.0:
                 return (st.DEGENERATE, st.SLIDING, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s,
                         n_rk4)
@@ -500,7 +505,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         d2 = 0.0
 
     # ---- linear phase: dP/dI = (d1, d2, 1) exactly, so W_n is quadratic in I ----
-    v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+    v1, v2, vn = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
     slope = k13 * d1 + k23 * d2 + k33  # d v_n / dI
     if not (slope > 0.0):
         return (st.DEGENERATE, end_state, p1, p2, imp, i_s, i_c, w_c, wn, wfr, wn_s, n_rk4)

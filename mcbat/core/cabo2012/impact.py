@@ -8,15 +8,15 @@ It takes plain floats and returns a flat tuple whose fields are named by
 import math
 
 from mcbat.core import status as st
-from mcbat.core._jit import njit
 from mcbat.core.cabo2012.contact import (
     DEFAULT_MAX_STEPS,
-    DEFAULT_TOLERANCE,
     DEFAULT_STEPS,
+    DEFAULT_TOLERANCE,
     solve_contact,
 )
 from mcbat.core.cross_nathan2006.tangential import tangential_rebound
 from mcbat.core.geometry import contact_frame
+from mcbat.core.jit import njit
 from mcbat.core.rigid_bodies import (
     apply_impulse,
     delassus_matrix,
@@ -25,6 +25,8 @@ from mcbat.core.rigid_bodies import (
     relative_contact_velocity,
 )
 from mcbat.core.vec3 import combine, dot
+
+__all__ = ["IMPACT_FIELDS", "solve_impact"]
 
 IMPACT_FIELDS = (
     "status",

@@ -11,17 +11,19 @@ import math
 
 import numpy as np
 
-from mcbat.core._jit import njit
 from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
     MAX_SLIP_FRACTION,
     STICK_TOLERANCE,
-    _reslip_direction,
-    _rk4_step,
-    _velocity,
+    reslip_direction,
+    rk4_step,
+    slip_velocity,
     inverse_slip_stiffness,
     stick_impulse_rate,
 )
+from mcbat.core.jit import njit
+
+__all__ = ["MAX_HISTORY_STEPS", "RESLIP", "SLIP", "STICK", "contact_history"]
 
 SLIP = 0
 STICK = 1
@@ -67,7 +69,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         passes += 1
         if passes > MAX_HISTORY_STEPS:
             break  # bounded: the remaining points stay NaN
-        v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+        v1, v2, vn = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
         s = math.sqrt(v1 * v1 + v2 * v2)
         if s <= s_stop:
             break
@@ -102,9 +104,9 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         a = (-mu * u1, -mu * u2, vn, -mu * s)
         while j < n and impulses[j] <= imp + h:
             d = impulses[j] - imp
-            q = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn,
+            q = rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, imp, p1, p2, wn,
                           wfr, d, a[0], a[1], a[2], a[3])
-            w1, w2, wv = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, q[1], q[2],
+            w1, w2, wv = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, q[1], q[2],
                                    q[0])
             out[j, 0] = w1
             out[j, 1] = w2
@@ -113,7 +115,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
             out[j, 4] = q[4]
             out[j, 5] = SLIP
             j += 1
-        imp, p1, p2, wn, wfr = _rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
+        imp, p1, p2, wn, wfr = rk4_step(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu,
                                          imp, p1, p2, wn, wfr, h, a[0], a[1], a[2], a[3])
     if j >= n or passes > MAX_HISTORY_STEPS:
         return out, i_s
@@ -124,11 +126,11 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         if f1 * f1 + f2 * f2 <= mu * mu:
             d1, d2, phase = f1, f2, STICK
         else:
-            u1, u2, lam = _reslip_direction(k11, k12, k13, k22, k23, mu)
+            u1, u2, lam = reslip_direction(k11, k12, k13, k22, k23, mu)
             d1, d2, phase = -mu * u1, -mu * u2, RESLIP
     else:
         d1, d2 = 0.0, 0.0
-    v1, v2, vn = _velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
+    v1, v2, vn = slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp)
     c1 = k11 * d1 + k12 * d2 + k13
     c2 = k12 * d1 + k22 * d2 + k23
     slope = k13 * d1 + k23 * d2 + k33

@@ -14,7 +14,9 @@ solution, within the same friction cone and energy budget (see ``README.md``).
 
 import math
 
-from mcbat.core._jit import njit
+from mcbat.core.jit import njit
+
+__all__ = ["tangential_rebound"]
 
 
 @njit

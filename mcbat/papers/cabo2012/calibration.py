@@ -12,9 +12,11 @@ from dataclasses import asdict, dataclass
 
 from scipy.optimize import brentq, minimize_scalar
 
-from mcbat import sec5
 from mcbat.api import SolverSettings, solve
 from mcbat.errors import InputError
+from mcbat.papers.cabo2012 import sec5
+
+__all__ = ["Calibration", "calibrate_restitution", "exit_speed"]
 
 
 @dataclass(frozen=True)

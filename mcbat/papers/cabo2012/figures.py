@@ -18,8 +18,8 @@ function                                    paper                               
 :func:`all_figures` draws them all. Figures 6-8 layer three things per incoming spin: the
 Monte Carlo rows as a faint cloud (a random subsample; from the measured-noise columns
 ``*_measured`` if the dataset has them), the noise-free model curve
-(:func:`mcbat.summary.model_curves`) and the Monte Carlo median with its 16-84 % band in
-bins (:func:`mcbat.analysis.binned`, from the noise-free columns).
+(:func:`mcbat.papers.cabo2012.summary.model_curves`) and the Monte Carlo median with its 16-84 % band in
+bins (:func:`mcbat.stats.analysis.binned`, from the noise-free columns).
 
 Plotting uses :class:`matplotlib.figure.Figure` with the Agg canvas only: no pyplot, no
 global state, nothing left open.
@@ -37,10 +37,9 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from mcbat import sec5
-from mcbat.analysis import binned
 from mcbat.api import history, solve
-from mcbat.summary import (
+from mcbat.papers.cabo2012 import sec5
+from mcbat.papers.cabo2012.summary import (
     INCH,
     MEASURED,
     model_curves,
@@ -48,6 +47,7 @@ from mcbat.summary import (
     nominal_spin,
     solved,
 )
+from mcbat.stats.analysis import binned
 
 __all__ = ["fig_slip_velocity", "fig_energy_after_stick", "fig_speed_vs_angle",
            "fig_spin_vs_impact_parameter", "model_curves", "all_figures", "DPI"]
@@ -110,7 +110,7 @@ def fig_slip_velocity(outdir, n: int = 601) -> list[tuple[Path, dict]]:
     """Figs. 2-4: ``v1(I)``, ``v2(I)`` and ``|v_t|(I)`` during the first slip.
 
     The paper's nearly central impact: ``theta = pi/400``, ``w0 = 0``, ``mu = 0.5``
-    (:func:`mcbat.sec5.case` with ``e* = 1``; the slip does not depend on ``e*``), on a
+    (:func:`mcbat.papers.cabo2012.sec5.case` with ``e* = 1``; the slip does not depend on ``e*``), on a
     fine grid from ``I = 0`` to 1.25 ``I_s``, with the stick impulse ``I_s`` marked.
 
     Returns
@@ -392,7 +392,7 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
         ``scattering_angle_measured``, the cloud is drawn from those (the median and band
         always from the noise-free ``exit_speed`` / ``scattering_angle``).
     model : DataFrame
-        :func:`mcbat.summary.model_curves`.
+        :func:`mcbat.papers.cabo2012.summary.model_curves`.
     title : str, optional
         Default: "Fig. N of the paper ..." with N from ``name`` (``fig6...``, ``fig7...``).
 
@@ -401,7 +401,7 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
     (Path, dict)
         ``data``: ``model`` (the model-curve rows drawn), ``cloud`` (``w0, x, y,
         sample_id`` of the drawn subsample; x deg, y m/s), ``binned`` (one row per drawn
-        bin: ``w0``, the :func:`mcbat.analysis.binned` columns ``x_low, x_high, x_center,
+        bin: ``w0``, the :func:`mcbat.stats.analysis.binned` columns ``x_low, x_high, x_center,
         count, mean, q16, q50, q84``), ``cloud_columns``, ``measured``, ``xlim``, ``ylim``
         and ``alpha0`` (per spin: the model's exit speed at ``alpha = 0``).
     """
@@ -520,31 +520,3 @@ def all_figures(outdir, df: pd.DataFrame | None, e_star: float,
                                                          "fig7_speed_vs_angle_spin")
     out["fig8_spin_vs_impact_parameter"] = fig_spin_vs_impact_parameter(outdir, df, model)
     return out
-
-
-def fig_fit_residuals(path, table, result) -> Path:
-    """Normalised residuals of a fit (``mcbat fit --residuals``) against impact parameter."""
-    fig = _figure((7.2, 4.6))
-    ax = fig.add_subplot()
-    r = np.asarray(result.residuals)
-    b = table["impact_parameter"].to_numpy(float) / 0.0254
-    from mcbat.measurements import OBSERVABLES
-
-    names = [c for c in OBSERVABLES if c in table.columns]
-    markers = ("o", "s", "^")
-    for j, name in enumerate(names):
-        ax.scatter(b, r[:, j], s=18, marker=markers[j % 3], label=name.replace("_", " "))
-    ax.axhline(0.0, color="0.3", lw=1)
-    for level in (-2, 2):
-        ax.axhline(level, color="0.6", lw=0.8, ls="--")
-    params = ", ".join(f"{k} = {v:.4g} ± {result.stderr[k]:.2g}"
-                       for k, v in result.params.items())
-    ax.set_title(f"fit residuals: {params}\nchi2/dof = {result.chi2:.1f}/{result.dof}, "
-                 f"p = {result.p_value:.3f}", fontsize=10)
-    ax.set_xlabel("impact parameter (inches)")
-    ax.set_ylabel("(measured − model) / sigma")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    path = Path(path)
-    fig.savefig(path, dpi=150, bbox_inches="tight")
-    return path

@@ -17,12 +17,19 @@ from __future__ import annotations
 
 import json
 import time
+from importlib import resources
 from pathlib import Path
 
-from mcbat import sec5
+from mcbat.dataset import load
+from mcbat.papers.cabo2012 import figures, sec5, summary
+from mcbat.papers.cabo2012.calibration import calibrate_restitution
+from mcbat.runner import run_study
+from mcbat.study import load_study
 
-STUDIES_DIR = Path(__file__).resolve().parent.parent / "studies"
-STUDY = STUDIES_DIR / "cross_nathan_2006.toml"
+__all__ = ["STUDY", "reproduce"]
+
+#: The bundled study of the Monte Carlo dataset (``studies/cross_nathan_2006.toml``).
+STUDY = "cross_nathan_2006.toml"
 
 
 def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=print,
@@ -31,15 +38,10 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
 
     ``overwrite`` replaces a Monte Carlo dataset there that another sample count or an
     older mcbat wrote (it is otherwise kept and resumed, or refused)."""
-    import mcbat
-    from mcbat import figures, summary
-    from mcbat.calibration import calibrate_restitution
-    from mcbat.runner import run_study
-    from mcbat.study import load_study
-
     t0 = time.perf_counter()
     out = Path(out)
-    study = load_study(STUDY)
+    with resources.as_file(resources.files("mcbat.studies").joinpath(STUDY)) as path:
+        study = load_study(path)
     dataset_dir = out / study.name
     run = run_study(study, dataset_dir, samples=samples, threads=threads, progress=progress,
                     overwrite=overwrite)
@@ -56,10 +58,9 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
          f"the paper: {sec5.LOSS_FRACTION}) for an exit speed of "
          f"{calibration.target_speed} m/s")
 
-    df = mcbat.load(dataset_dir)
+    df = load(dataset_dir)
     e_star = sec5.e_star_paper()  # the study's restitution, so curves and cloud agree
-    model = figures.model_curves(e_star) if hasattr(figures, "model_curves") \
-        else summary.model_curves(e_star)
+    model = summary.model_curves(e_star)
     fig_dir = out / "figures"
     fig_dir.mkdir(parents=True, exist_ok=True)
     paths = []

@@ -1,28 +1,48 @@
-"""The paper's Sec. V configuration (Cross & Nathan's drop test), in one place.
+"""The paper's Sec. V configuration (Cross & Nathan's drop test): the one source of its
+numbers in the package.
 
-PHYSICS.md: ball 0.145 kg, R = 0.036 m, I = 0.4 m R^2; bat 0.989 kg, barrel radius
-0.03335 m, I_t = 0.046, I_3 = 4.39e-4 kg m^2, CM 0.265 m from the barrel end; contact plane
+``docs/physics.md`` (Sec. V): ball 0.145 kg, R = 0.036 m, I = 0.4 m R^2; bat 0.989 kg,
+barrel radius 0.03335 m, I_t = 0.046, I_3 = 4.39e-4 kg m^2, CM 0.265 m from the barrel end
+(the bodies are the presets ``baseball`` and ``cross_nathan_2006``); contact plane
 a = 0.115 m from the CM (15 cm from the barrel end); mu = 0.5; the ball falls along -x at
-4 m/s with spin w0 about the bat axis, w0 in {+79, 0, -72} rad/s; the bat is at rest.
+4 m/s with spin w0 about the bat axis, w0 in {+79, 0, -72} rad/s; the bat is at rest. The
+numbers the paper prints are in ``data/paper_sec5_numbers.json``
+(:func:`printed_numbers`).
 """
 
 from __future__ import annotations
 
+import json
 import math
+from importlib import resources
 
-from mcbat.api import Ball, Bat, Contact, ImpactCase
+from mcbat.api import Contact, ImpactCase
+from mcbat.bodies import ball_preset, bat_preset
 
-BALL = Ball(mass=0.145, radius=0.036, inertia_factor=0.4)
-BAT = Bat(mass=0.989, radius=0.03335, transverse_inertia=0.0460, axial_inertia=4.39e-4)
-CM_FROM_BARREL_END = 0.265  # m
+__all__ = ["AXIAL", "BALL", "BAT", "CM_FROM_BARREL_END", "CROSS_NATHAN_E_X", "LOSS_FRACTION",
+           "MU", "REACH", "SPEED", "SPINS", "TARGET_SPEED", "THETA_NEAR_ZERO", "case",
+           "case_at_impact_parameter", "e_star_paper", "printed_numbers"]
+
+
+def printed_numbers() -> dict:
+    """The numbers the paper prints in Sec. V, with provenance (the bundled
+    ``data/paper_sec5_numbers.json``)."""
+    return json.loads(resources.files("mcbat.data").joinpath("paper_sec5_numbers.json")
+                      .read_text(encoding="utf-8"))
+
+
+_PRINTED = printed_numbers()["values"]
+BALL = ball_preset("baseball")
+BAT = bat_preset("cross_nathan_2006")
+CM_FROM_BARREL_END = BAT.cm_from_barrel_end  # m
 AXIAL = 0.115  # m, contact plane 15 cm from the barrel end
 MU = 0.5
 SPEED = 4.0  # m/s, falling along -x
 SPINS = (79.0, 0.0, -72.0)  # rad/s about the bat axis
 THETA_NEAR_ZERO = math.pi / 400  # the paper's "nearly vanishing impact parameter"
-LOSS_FRACTION = 0.6183822  # the paper's calibrated e^2
-CROSS_NATHAN_E_X = 0.16  # Cross & Nathan's tangential restitution fit (PHYSICS.md)
-TARGET_SPEED = 1.44629  # m/s, the paper's exit speed at theta = pi/400, w0 = 0
+LOSS_FRACTION = _PRINTED["loss_fraction_e2"]  # the paper's calibrated e^2, 0.6183822
+CROSS_NATHAN_E_X = 0.16  # Cross & Nathan's tangential restitution fit (docs/physics.md)
+TARGET_SPEED = _PRINTED["exit_speed"]  # m/s, 1.44629 at theta = pi/400, w0 = 0
 REACH = BALL.radius + BAT.radius  # m, largest impact parameter that still hits
 
 
@@ -46,5 +66,5 @@ def case(theta: float = THETA_NEAR_ZERO, w0: float = 0.0, *, mu: float = MU,
 
 def case_at_impact_parameter(b: float, w0: float = 0.0, **kwargs) -> ImpactCase:
     """The Sec. V impact for a ball line offset ``b`` (m) from the bat axis:
-    ``b = (R + r_b) sin(theta)`` (PHYSICS.md; the paper's ``cos`` is a misprint)."""
+    ``b = (R + r_b) sin(theta)`` (docs/physics.md; the paper's ``cos`` is a misprint)."""
     return case(math.asin(b / REACH), w0, **kwargs)

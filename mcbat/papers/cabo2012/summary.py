@@ -3,7 +3,7 @@
 The paper (Cabo, Soler & Gonzalez, Sec. V) compares a rigid Coulomb impact with Cross &
 Nathan's drop test: exit speed against scattering angle for the incoming spins
 ``w0 = +79, 0, -72`` rad/s (its Figs. 6, 7) and outgoing spin against impact parameter (its
-Fig. 8). This module holds what both the figures (:mod:`mcbat.figures`) and the terminal
+Fig. 8). This module holds what both the figures (:mod:`mcbat.papers.cabo2012.figures`) and the terminal
 summary need:
 
 :func:`model_curves`
@@ -17,7 +17,7 @@ summary need:
 :func:`format_table`
     that summary as a small aligned text table.
 
->>> from mcbat.calibration import calibrate_restitution
+>>> from mcbat.papers.cabo2012.calibration import calibrate_restitution
 >>> cal = calibrate_restitution()
 >>> model = model_curves(cal.e_star)
 >>> s = summarize(df, model, cal.to_dict())     # df = mcbat.load(...)
@@ -34,8 +34,12 @@ import math
 import numpy as np
 import pandas as pd
 
-from mcbat import sec5
 from mcbat.api import solve
+from mcbat.papers.cabo2012 import sec5
+from mcbat.stats.analysis import ok_rows
+
+__all__ = ["ALPHA0_WINDOW", "INCH", "MEASURED", "format_table", "model_curves",
+           "model_speed_at_zero_angle", "nominal_spin", "solved", "spin_label", "summarize"]
 
 INCH = 0.0254  # m
 ALPHA0_WINDOW = 2.0  # deg: Monte Carlo rows with |alpha| below this count as "alpha = 0"
@@ -118,8 +122,6 @@ def nominal_spin(df: pd.DataFrame, spins=sec5.SPINS) -> np.ndarray:
 
 def solved(df: pd.DataFrame) -> pd.DataFrame:
     """Rows the solver solved (``status`` 0 / ``"ok"``)."""
-    from mcbat.analysis import ok_rows
-
     return ok_rows(df)
 
 

@@ -1,9 +1,9 @@
 """``mcbat run --engine dask``: the chunks of a run as tasks on a Dask cluster.
 
-The engine only replaces the loop over the chunks to compute (:func:`mcbat.runner.run_study`
+The engine only replaces the loop over the chunks to compute (:func:`mcbat.runner.plan.run_study`
 prepares the dataset directory and picks the chunks, as for the local engine). Each chunk
-is one task, :func:`mcbat.dask_tasks.chunk_task`, sent with the study's plain-data
-definition, the run's :class:`~mcbat.runner.ChunkJob` and the chunk index: the worker
+is one task, :func:`mcbat.runner.engines.dask_tasks.chunk_task`, sent with the study's plain-data
+definition, the run's :class:`~mcbat.runner.plan.ChunkJob` and the chunk index: the worker
 draws the inputs itself from (seed, sample index), solves them with the numba kernel and
 writes the Parquet file atomically to the dataset directory, which must be storage that
 every worker shares (or a URL). Only a small summary comes back, so the data are
@@ -20,7 +20,9 @@ Failures: a task whose worker dies is rescheduled by the Dask scheduler on anoth
 retried :data:`RETRIES` times. Reruns are harmless: a chunk file is written under a
 temporary name and renamed, with the same content every time. At the end the engine
 removes temporary files a killed worker left behind and checks that every chunk file is
-complete. ``dask`` and ``distributed`` are imported only here, and only for this engine.
+complete. ``dask`` and ``distributed`` are an optional extra: they (and
+:mod:`~mcbat.runner.engines.dask_tasks`, which needs them) are imported only when this
+engine is used, inside its methods.
 """
 
 from __future__ import annotations
@@ -30,8 +32,13 @@ import logging
 import sys
 import uuid
 
-from mcbat import dataset as ds
+import numba
+
+from mcbat.dataset import chunks
 from mcbat.errors import InputError
+from mcbat.runner.plan import positive_int, remove_temporary_files, write_error
+
+__all__ = ["INSTALL_HINT", "RETRIES", "DaskEngine", "require_distributed"]
 
 INSTALL_HINT = "needs the optional Dask extra; install it with pip install 'mcbat[dask]'"
 #: Automatic retries of a chunk task that raised (a transient storage error, say).
@@ -43,7 +50,7 @@ def require_distributed():
     try:
         import distributed
     except ImportError:
-        raise InputError("--engine dask", INSTALL_HINT) from None
+        raise InputError("engine", INSTALL_HINT) from None
     return distributed
 
 
@@ -73,24 +80,20 @@ class DaskEngine:
 
     def __init__(self, *, scheduler=None, workers=None, threads=None):
         require_distributed()  # first: without Dask, the install hint is what helps
-        import numba
-
-        from mcbat.runner import _positive_int
-
         if scheduler is not None and workers is not None:
-            raise InputError("--workers", "give either --scheduler ADDRESS (join a running "
-                             "cluster) or --workers N (start a local one), not both")
+            raise InputError("workers", "give either scheduler=ADDRESS (join a running "
+                             "cluster) or workers=N (start a local one), not both")
         if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
-            raise InputError("--scheduler", "must be a scheduler address like "
+            raise InputError("scheduler", "must be a scheduler address like "
                              f"tcp://host:8786, got {scheduler!r}")
         if threads is not None:
-            threads = _positive_int(threads, "--threads")
+            threads = positive_int(threads, "threads")
         cores = numba.config.NUMBA_NUM_THREADS
         if scheduler is None:
-            workers = cores if workers is None else _positive_int(workers, "--workers")
+            workers = cores if workers is None else positive_int(workers, "workers")
             budget = threads if threads is not None else max(1, cores // workers)
             if workers * budget > cores:
-                flag = "--threads" if threads is not None else "--workers"
+                flag = "threads" if threads is not None else "workers"
                 raise InputError(flag, f"{workers} worker process(es) x {budget} numba "
                                  f"thread(s) would oversubscribe the {cores} cores of this "
                                  "machine")
@@ -109,7 +112,7 @@ class DaskEngine:
         """Start the local cluster or join the scheduler, and warm the workers."""
         from distributed import Client, LocalCluster
 
-        from mcbat.dask_tasks import WarmUp
+        from mcbat.runner.engines.dask_tasks import WarmUp
 
         cluster = client = None
         try:
@@ -126,7 +129,7 @@ class DaskEngine:
                 try:
                     client = Client(self.scheduler)
                 except (OSError, ValueError, TypeError) as err:
-                    raise InputError("--scheduler", f"cannot connect to {self.scheduler}: "
+                    raise InputError("scheduler", f"cannot connect to {self.scheduler}: "
                                      f"{err}") from None
                 if not client.nthreads():
                     print(f"mcbat: waiting for workers to join {self.scheduler} "
@@ -135,7 +138,7 @@ class DaskEngine:
             try:
                 client.register_plugin(WarmUp(self.threads), name=WarmUp.name)
             except Exception as err:  # noqa: BLE001 - a worker without a usable mcbat
-                raise InputError("--scheduler", f"a worker could not load mcbat "
+                raise InputError("scheduler", f"a worker could not load mcbat "
                                  f"({type(err).__name__}: {err}); every worker needs the "
                                  "client's environment") from None
             self.client = client
@@ -169,8 +172,7 @@ class DaskEngine:
         from distributed import as_completed
         from distributed.scheduler import KilledWorker
 
-        from mcbat.dask_tasks import WorkerSetupError, chunk_task
-        from mcbat.runner import remove_temporary_files, write_error
+        from mcbat.runner.engines.dask_tasks import WorkerSetupError, chunk_task
 
         if not todo:
             return
@@ -199,7 +201,7 @@ class DaskEngine:
         # a worker that was killed (its chunk was recomputed elsewhere).
         remove_temporary_files(job.out)
         for k in todo:
-            if not ds.chunk_is_complete(job.path(k), job.rows(k), job.config_hash):
+            if not chunks.chunk_is_complete(job.path(k), job.rows(k), job.config_hash):
                 raise RuntimeError(f"chunk {k} was reported written but {job.path(k)} is not "
                                    "a complete chunk file")
 

@@ -5,10 +5,10 @@ pickled by reference to this module), so every worker needs mcbat installed, in 
 environment as the client (checked: :func:`check_worker`).
 
 A task gets the study as plain data (:meth:`mcbat.study.Study.definition`), the run's
-:class:`mcbat.runner.ChunkJob` and a chunk index. It rebuilds the study once per worker
+:class:`mcbat.runner.plan.ChunkJob` and a chunk index. It rebuilds the study once per worker
 process (cached by the run's config hash), draws the chunk's inputs from (seed, sample
 index), solves them with the numba kernel and writes the chunk's Parquet file atomically
-itself; it returns only a :class:`mcbat.runner.ChunkSummary`. Arrays never travel.
+itself; it returns only a :class:`mcbat.runner.plan.ChunkSummary`. Arrays never travel.
 """
 
 from __future__ import annotations
@@ -17,10 +17,15 @@ import asyncio
 import socket
 import threading
 
+import numba
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from mcbat import dataset as ds
-from mcbat.runner import ChunkJob, ChunkSummary, run_chunk, warm_kernel
+from mcbat.dataset import chunks
+from mcbat.runner.plan import ChunkJob, ChunkSummary, dataset_hash, run_chunk, warm_kernel
+from mcbat.study import Study
+
+__all__ = ["WarmUp", "WorkerSetupError", "check_worker", "chunk_task", "set_numba_threads",
+           "warm_up"]
 
 # Per worker process: the studies rebuilt so far (config hash -> Study) and the runs
 # (config hash, output location) whose environment and output location were checked.
@@ -36,7 +41,7 @@ _KERNEL_LOCK = threading.Lock()
 class WorkerSetupError(RuntimeError):
     """A worker cannot compute chunks: another environment, or no access to the output.
 
-    ``field`` names the option the user should look at (``--out`` or ``--scheduler``).
+    ``field`` names the parameter the user should look at (``out`` or ``scheduler``).
     """
 
     def __init__(self, field, message):
@@ -56,8 +61,6 @@ def set_numba_threads(threads: int) -> int:
     """Give the calling thread a numba budget of ``threads`` (at most the worker's
     ``NUMBA_NUM_THREADS``); returns the budget. Numba's setting is per thread, so every
     task sets it in the thread it runs in."""
-    import numba
-
     budget = max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS))
     numba.set_num_threads(budget)
     return budget
@@ -68,22 +71,22 @@ def check_worker(job: ChunkJob) -> None:
     cannot see the dataset directory. Checked once per run and worker process."""
     if (job.config_hash, job.out) in _CHECKED:
         return
-    mine = ds.package_versions()
+    mine = chunks.package_versions()
     theirs = job.metadata.get("versions", {})
     for name in sorted(set(mine) | set(theirs)):
         if mine.get(name) != theirs.get(name):
             raise WorkerSetupError(
-                "--scheduler", f"worker on {_host()} has {name} {mine.get(name)}, the client "
+                "scheduler", f"worker on {_host()} has {name} {mine.get(name)}, the client "
                 f"{theirs.get(name)}: every worker needs the client's environment (same "
                 f"package versions), or the data would not be reproducible")
     try:
-        manifest = ds.read_manifest(job.out)
+        manifest = chunks.read_manifest(job.out)
     except Exception:  # noqa: BLE001 - reported below as not visible
         manifest = None
     if manifest is None or manifest.get("config_hash") != job.config_hash:
         raise WorkerSetupError(
-            "--out", f"the worker on {_host()} does not see this dataset at {job.out}: "
-            "--out must be on storage every worker shares (the same path on every host, "
+            "out", f"the worker on {_host()} does not see this dataset at {job.out}: "
+            "the output must be on storage every worker shares (the same path on every host, "
             "or a URL)")
     _CHECKED.add((job.config_hash, job.out))
 
@@ -93,14 +96,11 @@ def _study(definition: dict, job: ChunkJob):
     with _CACHE_LOCK:
         study = _STUDIES.get(job.config_hash)
         if study is None:
-            from mcbat.runner import dataset_hash
-            from mcbat.study import Study
-
             meta = job.metadata
             study = Study.from_dict(definition, text=meta.get("study_toml"))
             if dataset_hash(study.config(), job.seed, job.samples) != job.config_hash:
                 raise WorkerSetupError(
-                    "--scheduler", f"the study rebuilt on the worker on {_host()} differs "
+                    "scheduler", f"the study rebuilt on the worker on {_host()} differs "
                     "from the client's (another mcbat version?)")
             _STUDIES[job.config_hash] = study
         return study
@@ -125,11 +125,7 @@ def warm_up(threads: int) -> dict:
     budget = set_numba_threads(threads)
     with _KERNEL_LOCK:
         warm_kernel()
-    import numba
-
-    import mcbat.study  # noqa: F401 - scipy.stats and the samplers
-
-    ds.package_versions()  # imports pandas and scipy
+    chunks.package_versions()  # imports pandas and scipy
     return {"threads": budget, "numba_num_threads": numba.config.NUMBA_NUM_THREADS,
             "threading_layer": numba.threading_layer()}
 

@@ -1,6 +1,6 @@
 """Cross-check of the numba kernel against the slow reference integrator.
 
-``mcbat.core.cabo2012.reference.reference_impact`` solves the same impact in another
+``mcbat.testing.cabo2012_reference.reference_impact`` solves the same impact in another
 formulation (body velocities integrated adaptively by scipy's DOP853, ``K`` from unit
 impulses, events by root finding). Here both solve the same fixed-seed set of random 3D
 impacts, and the final velocities must agree to 1e-8 of the initial relative contact speed.
@@ -17,8 +17,8 @@ import pytest
 
 from mcbat.core import status
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
-from mcbat.core.cabo2012.reference import reference_impact
 from mcbat.core.geometry import contact_frame
+from mcbat.testing.cabo2012_reference import reference_impact
 
 SEED = 20120558  # Rev. Mex. Fis. 58 (2012)
 N_CASES = 240

@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from mcbat.bats import DATA_DIR, load_profile_tsv, r161_profile, read_profile_tsv
-from mcbat.core.profile import BatProfile, mass_properties
+from mcbat.bodies.profile import BatProfile, mass_properties
+from mcbat.bodies.tables import data_file, load_profile_tsv, r161_profile, read_profile_tsv
 
 RHO = 649.0
 
@@ -252,11 +252,11 @@ def test_r161_density_scales_mass_not_geometry():
 
 
 def test_loader_reads_the_table_as_given():
-    distance, diameter = read_profile_tsv(DATA_DIR / "r161_profile.tsv")
+    distance, diameter = read_profile_tsv(data_file("r161_profile.tsv"))
     assert distance.size == 84
     assert distance[0] == pytest.approx(0.01) and distance[-1] == pytest.approx(0.84)
     assert diameter[0] == pytest.approx(0.0505) and diameter[-1] == pytest.approx(0.0643)
-    bat = load_profile_tsv(DATA_DIR / "r161_profile.tsv")
+    bat = load_profile_tsv(data_file("r161_profile.tsv"))
     # Without the preset's knob face (0-1 cm) the bat spans the tabulated 0.83 m.
     assert bat.length == pytest.approx(0.83, abs=1e-12)
     assert bat.mass < r161_profile().mass

@@ -32,7 +32,7 @@ from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import relative_contact_velocity
 from tests.conftest import SEC5, SEC5_THETA, kernel
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SOLVER = (DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS)
 CALL_BOUND = 2.0  # s per scalar call; the slowest extreme impact takes a few ms
 ENERGY_RTOL = 1e-9

@@ -23,16 +23,17 @@ import pandas as pd
 import pytest
 
 import mcbat
-from mcbat import dataset as ds
-from mcbat.runner import _prepare_directory, plan_run, run_study
+from mcbat.dataset import chunks as ds
+from mcbat.runner import plan_run, run_study
+from mcbat.runner.plan import prepare_directory
 from mcbat.study import load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "studies" / "example.toml"
 THROUGHPUT = ROOT / "studies" / "throughput.toml"
 CROSS_NATHAN = ROOT / "studies" / "cross_nathan_2006.toml"
 TIMEOUT = 300  # s, for any one command: a hang fails the test instead of the CI job
-INSTALL_HINT = ("mcbat: error: --engine dask: needs the optional Dask extra; install it "
+INSTALL_HINT = ("mcbat: error: --engine: needs the optional Dask extra; install it "
                 "with pip install 'mcbat[dask]'")
 
 
@@ -310,13 +311,13 @@ def test_killed_worker_is_retried_and_the_dataset_is_identical(dask_installed, t
 
 
 def test_a_rerun_chunk_task_is_idempotent(dask_installed, tmp_path, tmp_path_factory):
-    from mcbat.dask_tasks import chunk_task
+    from mcbat.runner.engines.dask_tasks import chunk_task
 
     study = load_study(EXAMPLE)
     reference = local_reference(tmp_path_factory, EXAMPLE, 30_000, 11, 4_000)
     out = tmp_path / "ds"
     job, manifest = plan_run(study, out, 30_000, 11, 4_000)
-    _prepare_directory(out, manifest, 4_000, False)
+    prepare_directory(out, manifest, 4_000, False)
     for _ in range(2):  # a retried task, or a lost worker's task done again elsewhere
         summary = chunk_task(6, study.definition(), job, 1)
         assert (summary.index, summary.rows, summary.threads) == (6, 4_000, 1)
@@ -327,12 +328,12 @@ def test_a_rerun_chunk_task_is_idempotent(dask_installed, tmp_path, tmp_path_fac
 
 
 def test_a_worker_with_another_environment_refuses(dask_installed, tmp_path):
-    from mcbat.dask_tasks import WorkerSetupError, chunk_task
+    from mcbat.runner.engines.dask_tasks import WorkerSetupError, chunk_task
 
     study = load_study(EXAMPLE)
     out = tmp_path / "ds"
     job, manifest = plan_run(study, out, 1_000, 1, 500)
-    _prepare_directory(out, manifest, 500, False)
+    prepare_directory(out, manifest, 500, False)
     versions = {**job.metadata["versions"], "numba": "0.0.1"}
     other = type(job)(**{**job.__dict__, "metadata": {**job.metadata, "versions": versions}})
     with pytest.raises(WorkerSetupError, match="numba"):

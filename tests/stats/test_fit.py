@@ -8,11 +8,11 @@ from pathlib import Path
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.fit import compare_models, fit
-from mcbat.measurements import synthesize
+from mcbat.stats.fit import compare_models, fit
+from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 STUDY = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
 
 

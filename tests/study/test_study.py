@@ -12,7 +12,7 @@ import pytest
 from scipy import stats
 
 from mcbat.api import Ball, Bat, Contact
-from mcbat.bats import r161_profile
+from mcbat.bodies.tables import r161_profile
 from mcbat.core import status
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
@@ -20,7 +20,7 @@ from mcbat.errors import InputError
 from mcbat.study import COLUMNS, RANDOM_BLOCK, Study, load_study
 from mcbat.study.units import UNITS, to_si
 
-STUDIES = Path(__file__).resolve().parent.parent / "studies"
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
 
 # Every distribution kind, on inputs of every section (cylinder bat: any axial is fine).
 ALL_KINDS = {

@@ -67,8 +67,7 @@ def test_naive_rk4_is_first_order_at_stick():
     Slip is integrated with fixed steps and the RHS simply switches to the stick rate once
     ``|v_t|`` would grow again; the located I_s then converges only at first order.
     """
-    from mcbat.core.cabo2012.contact import stick_impulse_rate
-    from tests.test_paper_sec5 import _matrix_and_velocity
+    from tests.papers.cabo2012.test_paper_sec5 import _matrix_and_velocity
 
     (k11, k12, k13, k22, k23, k33), (v01, v02, v0n) = _matrix_and_velocity()
     mu = 0.5

@@ -15,11 +15,10 @@ from hypothesis import strategies as hs
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
-from mcbat.core.cabo2012.reference import reference_impact
 from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import relative_contact_velocity
-
-from conftest import SEC5, kernel
+from mcbat.testing.cabo2012_reference import reference_impact
+from tests.conftest import SEC5, kernel
 
 BODIES = dict(ball_mass=0.145, ball_radius=0.036, ball_inertia_factor=0.4, bat_mass=0.989,
               bat_transverse_inertia=0.046, bat_axial_inertia=4.39e-4)

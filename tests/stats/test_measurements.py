@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.measurements import read_measurements, synthesize, write_table_atomic
+from mcbat.stats.measurements import read_measurements, synthesize, write_table_atomic
 from mcbat.study import load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "cross_nathan_2006.toml"
 GOOD = "impact_parameter,spin_in,exit_speed,exit_speed_err\n0.01,0,1.5,0.07\n-0.02,79,1.6,0.08\n"
 

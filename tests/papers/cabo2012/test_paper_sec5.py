@@ -5,9 +5,7 @@ The paper integrated the stick approach with a plain RK4 whose stick impulse is 
 tolerance of 5e-4 (``PAPER_IS_LOOSENESS``), the others to the last digit printed.
 """
 
-import json
 import math
-from pathlib import Path
 
 import pytest
 
@@ -15,11 +13,11 @@ from mcbat.core.cabo2012.contact import stick_impulse_rate
 from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import delassus_matrix, relative_contact_velocity
 from mcbat.core.vec3 import dot
+from mcbat.papers.cabo2012 import sec5
 from tests.conftest import SEC5, SEC5_LOSS_FRACTION, SEC5_THETA, kernel
 
 # The printed numbers, from the data file that records them with their provenance.
-PRINTED = json.loads((Path(__file__).resolve().parents[1] / "data" / "paper_sec5_numbers.json")
-                     .read_text())["values"]
+PRINTED = sec5.printed_numbers()["values"]
 PAPER_IS_LOOSENESS = 5e-4
 MU = 0.5
 # Absolute slack in impulse (kg m/s) that the paper's loose I_s carries into quantities

@@ -10,9 +10,9 @@ import pytest
 from matplotlib.image import imread
 
 import mcbat
-from mcbat import figures, sec5, summary
 from mcbat.api import contact_problem, history, solve
-from mcbat.reproduce import reproduce
+from mcbat.papers.cabo2012 import figures, sec5, summary
+from mcbat.papers.cabo2012.reproduce import reproduce
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 E_STAR = sec5.e_star_paper()

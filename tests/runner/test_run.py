@@ -16,12 +16,13 @@ import pyarrow.parquet as pq
 import pytest
 
 import mcbat
-from mcbat import dataset as ds
 from mcbat.api import Ball, Bat, Contact, ImpactCase, SolverSettings, solve
+from mcbat.dataset import chunks as ds
+from mcbat.dataset import schema, storage
 from mcbat.runner import run_study
 from mcbat.study import load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "studies" / "example.toml"
 
 
@@ -44,13 +45,13 @@ def baseline(study, tmp_path_factory):
 
 
 def _same_rows(a: pd.DataFrame, b: pd.DataFrame, ignore=()):
-    cols = [c for c in ds.COLUMNS if c not in ignore]
+    cols = [c for c in schema.COLUMNS if c not in ignore]
     pd.testing.assert_frame_equal(a[cols].reset_index(drop=True),
                                   b[cols].reset_index(drop=True), check_exact=True)
 
 
 def test_dataset_columns_and_metadata(baseline, study):
-    assert list(baseline.columns) == list(ds.COLUMNS)
+    assert list(baseline.columns) == list(schema.COLUMNS)
     assert len(baseline) == 30_000
     assert baseline["sample_id"].tolist() == list(range(30_000))
     assert (baseline["status"] == 0).mean() > 0.99
@@ -238,7 +239,7 @@ def test_load_rejects_a_non_dataset(tmp_path):
 
 
 def test_binned_quantiles_match_a_direct_computation(baseline):
-    band = mcbat.analysis.binned(baseline, "scattering_angle", "exit_speed", bins=8)
+    band = mcbat.stats.analysis.binned(baseline, "scattering_angle", "exit_speed", bins=8)
     ok = baseline[baseline["status"] == 0]
     assert band["count"].sum() == len(ok)
     edges = np.linspace(ok["scattering_angle"].min(), ok["scattering_angle"].max(), 9)
@@ -252,11 +253,11 @@ def test_binned_quantiles_match_a_direct_computation(baseline):
 
 
 def test_end_state_fractions(baseline):
-    overall = mcbat.analysis.end_state_fractions(baseline)
+    overall = mcbat.stats.analysis.end_state_fractions(baseline)
     assert overall["fraction"].sum() == pytest.approx(1.0)
     ok = baseline[baseline["status"] == 0]
     assert overall.loc["stuck", "fraction"] == pytest.approx((ok["end_state"] == 1).mean())
-    by_spin = mcbat.analysis.end_state_fractions(baseline, by="ball_wz_in")
+    by_spin = mcbat.stats.analysis.end_state_fractions(baseline, by="ball_wz_in")
     assert sorted(by_spin.index) == [-72.0, 0.0, 79.0]
     assert np.allclose(by_spin.sum(axis=1), 1.0)
 
@@ -277,7 +278,7 @@ def test_measurement_noise_goes_to_separate_columns(tmp_path):
         runs.append(mcbat.load(out))
     a, b = runs
     measured = ["exit_speed_measured", "scattering_angle_measured", "spin_axial_measured"]
-    assert list(a.columns) == list(ds.COLUMNS) + measured
+    assert list(a.columns) == list(schema.COLUMNS) + measured
     pd.testing.assert_frame_equal(a.drop(columns="chunk"), b.drop(columns="chunk"),
                                   check_exact=True)
     ok = a[a["status"] == 0]
@@ -318,10 +319,10 @@ def test_url_output_with_the_local_engine(study, tmp_path, baseline, scheme):
                         progress=False)
     assert str(summary.directory) == url and summary.chunks_computed == 5
     _same_rows(mcbat.load(url), baseline)
-    assert sorted(ds.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
+    assert sorted(storage.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
     # Resume works the same: a truncated chunk is redone, the others kept.
-    victim = ds.join(url, ds.chunk_name(2))
-    fs, path = ds._resolve(victim)
+    victim = storage.join(url, ds.chunk_name(2))
+    fs, path = storage.resolve(victim)
     with fs.open_input_stream(path) as handle:
         head = handle.read(1000)
     with fs.open_output_stream(path) as handle:
@@ -330,7 +331,7 @@ def test_url_output_with_the_local_engine(study, tmp_path, baseline, scheme):
                         progress=False)
     assert (summary.chunks_computed, summary.chunks_kept) == (1, 4)
     _same_rows(mcbat.load(url), baseline)
-    assert sorted(ds.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
+    assert sorted(storage.list_names(url)) == [ds.MANIFEST] + [ds.chunk_name(k) for k in range(5)]
 
 
 def test_unknown_url_scheme_is_a_clear_error(tmp_path):

@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 
 import mcbat
-from mcbat import dataset as ds
+from mcbat.dataset import chunks as ds
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "studies" / "example.toml"
 
 

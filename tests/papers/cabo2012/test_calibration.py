@@ -6,9 +6,9 @@ import sys
 
 import pytest
 
-from mcbat import sec5
-from mcbat.calibration import calibrate_restitution, exit_speed
 from mcbat.errors import InputError
+from mcbat.papers.cabo2012 import sec5
+from mcbat.papers.cabo2012.calibration import calibrate_restitution, exit_speed
 
 
 def test_recovers_the_papers_loss_fraction():

@@ -1,0 +1,12 @@
+"""The bodies: the ball, the bat (a cylinder at the contact, or a tapered profile), the
+profiles and their tables, and the presets. One body model serves the single-impact API
+(:mod:`mcbat.api`) and the studies (:mod:`mcbat.study`)."""
+
+from mcbat.bodies.ball import Ball
+from mcbat.bodies.bat import Bat
+from mcbat.bodies.presets import BALL_PRESETS, BAT_PRESETS, ball_preset, bat_preset
+from mcbat.bodies.profile import BatProfile
+from mcbat.bodies.tables import load_profile_tsv, r161_profile
+
+__all__ = ["BALL_PRESETS", "BAT_PRESETS", "Ball", "Bat", "BatProfile", "ball_preset",
+           "bat_preset", "load_profile_tsv", "r161_profile"]

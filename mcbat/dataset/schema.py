@@ -1,0 +1,97 @@
+"""The column contract of mcbat datasets: names, units, order, and the derived quantities.
+
+Every solver input is a column, so each row is a self-contained case; every output of the
+kernel is a column; a few quantities are derived from the outgoing ball (:func:`derive`,
+the one place they are computed: datasets, :func:`mcbat.solve_frame`, the single-impact
+API, the fits and the synthetic measurements all call it).
+
+Columns (SI units, see :data:`UNITS`; the lab frame of ``docs/physics.md``):
+
+* inputs: ``mu``, ``e`` (energetic e*), ``e_x``, ``axial``, ``angle``,
+  ``impact_parameter``, ``ball_mass``, ``ball_radius``, ``ball_inertia_factor``,
+  ``bat_mass``, ``bat_radius``, ``bat_slope``, ``bat_transverse_inertia``,
+  ``bat_axial_inertia``, ``ball_vx_in`` ... ``ball_wz_in``, ``bat_vx_in`` ... ``bat_wz_in``;
+* outputs: ``ball_vx`` ... ``ball_wz``, ``bat_vx`` ... ``bat_wz``, ``normal_impulse``,
+  ``stick_impulse`` (NaN if none), ``compression_impulse``, ``tangential_impulse_1/2``,
+  ``compression_work``, ``normal_work``, ``friction_work``, ``stick_criterion``,
+  ``energy_in``, ``energy_out``, ``rk4_steps``, ``end_state`` (int8: 0 sliding, 1 stuck),
+  ``status`` (int8: 0 ok, see :mod:`mcbat.core.status`);
+* derived: ``exit_speed``, ``scattering_angle`` (degrees, ``atan2(v_y, v_x)``),
+  ``spin_axial`` (ball spin about the bat axis), ``spin`` (magnitude);
+* bookkeeping: ``sample_id`` (int64), ``chunk`` (int32);
+* optional simulated measurements (a study's ``[noise]``): ``<derived>_measured``.
+
+A row whose status is not 0 has NaN outputs: it is flagged, never passed off as a result.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+
+__all__ = ["COLUMNS", "DERIVED_COLUMNS", "INPUT_COLUMNS", "MEASURED_SUFFIX", "OUTPUT_COLUMNS",
+           "SCHEMA_VERSION", "UNITS", "derive"]
+
+#: Version of the column contract; stored in every manifest and chunk file.
+SCHEMA_VERSION = 2
+
+_LINEAR = {"v": "m/s", "w": "rad/s"}
+UNITS = {
+    "mu": "1", "e": "1", "e_x": "1", "axial": "m", "angle": "rad", "impact_parameter": "m",
+    "ball_mass": "kg", "ball_radius": "m", "ball_inertia_factor": "1",
+    "bat_mass": "kg", "bat_radius": "m", "bat_slope": "1",
+    "bat_transverse_inertia": "kg m^2", "bat_axial_inertia": "kg m^2",
+    **{f"{body}_{q}{c}_in": _LINEAR[q] for body in ("ball", "bat") for q in "vw" for c in "xyz"},
+    **{f"{body}_{q}{c}": _LINEAR[q] for body in ("ball", "bat") for q in "vw" for c in "xyz"},
+    "normal_impulse": "kg m/s", "stick_impulse": "kg m/s", "compression_impulse": "kg m/s",
+    "tangential_impulse_1": "kg m/s", "tangential_impulse_2": "kg m/s",
+    "compression_work": "J", "normal_work": "J", "friction_work": "J",
+    "stick_criterion": "J", "energy_in": "J", "energy_out": "J", "rk4_steps": "1",
+    "end_state": "code", "status": "code",
+    "exit_speed": "m/s", "scattering_angle": "deg", "spin_axial": "rad/s", "spin": "rad/s",
+    "sample_id": "1", "chunk": "1",
+    "exit_speed_measured": "m/s", "scattering_angle_measured": "deg",
+    "spin_axial_measured": "rad/s", "spin_measured": "rad/s",
+}
+"""Unit of every column."""
+
+INPUT_COLUMNS = ("mu", "e", "e_x", "axial", "angle", "impact_parameter", "ball_mass",
+                 "ball_radius", "ball_inertia_factor", "bat_mass", "bat_radius", "bat_slope",
+                 "bat_transverse_inertia", "bat_axial_inertia",
+                 *(f for f in INPUT_FIELDS if f.endswith("_in")))
+"""The inputs of a row: the kernel's :data:`~mcbat.core.batch.INPUT_FIELDS` and the
+impact parameter (a second description of the contact angle)."""
+OUTPUT_COLUMNS = (*OUTPUT_FIELDS, "end_state", "status")
+DERIVED_COLUMNS = ("exit_speed", "scattering_angle", "spin_axial", "spin")
+COLUMNS = (*INPUT_COLUMNS, *OUTPUT_COLUMNS, *DERIVED_COLUMNS, "sample_id", "chunk")
+"""All columns, in file order."""
+MEASURED_SUFFIX = "_measured"
+
+
+def derive(ball_velocity, ball_spin) -> dict:
+    """The derived columns from the outgoing ball's velocity and spin (lab frame).
+
+    Parameters
+    ----------
+    ball_velocity, ball_spin : sequence of 3 floats or 3 arrays
+        ``(v_x, v_y, v_z)`` in m/s and ``(w_x, w_y, w_z)`` in rad/s.
+
+    Returns
+    -------
+    dict
+        ``exit_speed`` (m/s), ``scattering_angle`` (deg, ``atan2(v_y, v_x)``: 0 is
+        straight back along ``+x``), ``spin_axial`` (rad/s, about the bat axis ``z``) and
+        ``spin`` (rad/s, the magnitude); floats for float inputs, else arrays.
+    """
+    vx, vy, vz = (np.asarray(c, np.float64) for c in ball_velocity)
+    wx, wy, wz = (np.asarray(c, np.float64) for c in ball_spin)
+    out = {
+        "exit_speed": np.sqrt(vx * vx + vy * vy + vz * vz),
+        "scattering_angle": np.degrees(np.arctan2(vy, vx)),
+        "spin_axial": wz,
+        "spin": np.sqrt(wx * wx + wy * wy + wz * wz),
+    }
+    if np.ndim(vx) == 0:
+        return {name: float(value) for name, value in out.items()}
+    return out

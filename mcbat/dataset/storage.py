@@ -1,0 +1,215 @@
+"""Where datasets live: local paths and URLs, and atomic writes to either.
+
+A dataset location is a local path (also written ``file:///abs/path``), or a URL of a file
+system that pyarrow can write: one ``pyarrow.fs.FileSystem.from_uri`` understands
+(``s3://``, ``gs://``, ``hdfs://``, ...) or, failing that, any fsspec URL (wrapped with
+``pyarrow.fs.FSSpecHandler``). Local paths use plain ``os`` calls (fsync, an atomic
+``os.replace``); URLs write a temporary file and then ``move`` it, which is a rename on
+POSIX-like file systems and a copy (atomic per object) on object stores.
+
+Errors name no command-line flag: a location the user gave is reported as ``location``
+(the CLI says ``--out``).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import re
+import shutil
+import uuid
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+import pyarrow as pa
+import pyarrow.fs as pafs
+
+from mcbat.errors import InputError
+
+__all__ = ["entry_type", "is_temporary_name", "join", "list_names", "location", "make_dirs",
+           "read_json", "remove", "resolve", "write_atomic", "write_json_atomic"]
+
+_URL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
+_TEMPORARY_RE = re.compile(r"^\..+\.tmp$")
+
+
+def location(where) -> Path | str:
+    """A dataset location: a :class:`~pathlib.Path` for a local path (a ``file://`` URL
+    without a host is one too), else the URL as a string."""
+    if isinstance(where, str) and _URL_RE.match(where):
+        parsed = urlparse(where)
+        if parsed.scheme.lower() == "file" and parsed.netloc in ("", "localhost"):
+            return Path(unquote(parsed.path))
+        return where.rstrip("/")
+    return Path(where)
+
+
+def join(directory, name: str) -> Path | str:
+    """The location of ``name`` inside the directory ``directory``."""
+    directory = location(directory)
+    return directory / name if isinstance(directory, Path) else f"{directory}/{name}"
+
+
+@functools.lru_cache(maxsize=32)
+def _filesystem(url: str) -> tuple[pafs.FileSystem, str]:
+    """(file system, path) of a URL: pyarrow's own file systems first, then fsspec."""
+    try:
+        return pafs.FileSystem.from_uri(url)
+    except pa.ArrowInvalid:  # a scheme pyarrow does not know
+        pass
+    try:
+        import fsspec
+
+        fs, path = fsspec.core.url_to_fs(url)
+    except ImportError:
+        raise InputError(None, "this URL scheme needs fsspec (pip install fsspec)",
+                         url) from None
+    except ValueError as err:
+        raise InputError(None, f"unsupported URL: {err}", url) from None
+    return pafs.PyFileSystem(pafs.FSSpecHandler(fs)), path.rstrip("/")
+
+
+def resolve(url: str) -> tuple[pafs.FileSystem, str]:
+    """(file system, path) of a file or directory URL; the file system is resolved (and
+    cached) per parent directory, so the files of one dataset share it."""
+    parent, _, name = url.rpartition("/")
+    if not name or parent.endswith(":/") or parent.endswith(":"):
+        return _filesystem(url)
+    fs, base = _filesystem(parent)
+    return fs, f"{base}/{name}"
+
+
+def entry_type(where) -> str | None:
+    """``"dir"``, ``"file"`` or None (nothing there)."""
+    where = location(where)
+    if isinstance(where, Path):
+        return "dir" if where.is_dir() else "file" if where.exists() else None
+    fs, path = resolve(where)
+    kind = fs.get_file_info(path).type
+    return {pafs.FileType.Directory: "dir", pafs.FileType.File: "file"}.get(kind)
+
+
+def list_names(directory) -> list[str]:
+    """Names of the entries of a directory."""
+    directory = location(directory)
+    if isinstance(directory, Path):
+        return [entry.name for entry in directory.iterdir()]
+    fs, path = resolve(directory)
+    infos = fs.get_file_info(pafs.FileSelector(path, allow_not_found=True))
+    return [info.base_name for info in infos]
+
+
+def remove(directory, name: str, missing_ok=False) -> None:
+    """Delete the file or tree ``name`` in ``directory``."""
+    target = join(directory, name)
+    if isinstance(target, Path):
+        if target.is_dir() and not target.is_symlink():
+            shutil.rmtree(target)
+        else:
+            target.unlink(missing_ok=missing_ok)
+        return
+    fs, path = resolve(target)
+    kind = fs.get_file_info(path).type
+    if kind == pafs.FileType.Directory:
+        fs.delete_dir(path)
+    elif kind != pafs.FileType.NotFound or not missing_ok:
+        fs.delete_file(path)
+
+
+def make_dirs(directory) -> None:
+    """Create ``directory`` (and its parents) if it does not exist."""
+    directory = location(directory)
+    if isinstance(directory, Path):
+        directory.mkdir(parents=True, exist_ok=True)
+    else:
+        fs, path = resolve(directory)
+        fs.create_dir(path, recursive=True)
+
+
+def temporary_name(name: str) -> str:
+    """The hidden temporary name under which ``name`` is written before its rename.
+
+    Unique per writer: a file recomputed by another process (a retried task on another
+    host, where the pid may be the same) never shares a temporary file.
+    """
+    return f".{name}.{os.getpid()}-{uuid.uuid4().hex[:8]}.tmp"
+
+
+def is_temporary_name(name: str) -> bool:
+    """True for a name :func:`temporary_name` makes."""
+    return bool(_TEMPORARY_RE.match(name))
+
+
+def write_atomic(path, write) -> None:
+    """Write a file atomically: ``write(filesystem, temporary_path)`` (filesystem None for
+    a local path), then an fsync and an atomic rename (a move, for a URL).
+
+    Nothing is left behind if ``write`` fails: the temporary file is removed.
+    """
+    path = location(path)
+    if not isinstance(path, Path):
+        fs, fs_path = resolve(path)
+        parent, _, name = fs_path.rpartition("/")
+        tmp = f"{parent}/{temporary_name(name)}"
+        try:
+            write(fs, tmp)
+            fs.move(tmp, fs_path)
+        except BaseException:
+            try:
+                fs.delete_file(tmp)
+            except Exception:  # noqa: BLE001 - best effort; the original error matters
+                pass
+            raise
+        return
+    tmp = path.with_name(temporary_name(path.name))
+    try:
+        write(None, tmp)
+        with open(tmp, "rb") as handle:
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def write_json_atomic(data: dict, path) -> None:
+    """Write ``data`` as JSON to ``path`` (a local path or a URL), atomically."""
+    text = (json.dumps(data, indent=2, sort_keys=True) + "\n").encode("utf-8")
+
+    def write(fs, tmp):
+        if fs is None:
+            with open(tmp, "wb") as handle:
+                handle.write(text)
+        else:
+            with fs.open_output_stream(tmp) as handle:
+                handle.write(text)
+
+    write_atomic(path, write)
+
+
+def read_json(path, what: str = "JSON file"):
+    """The JSON document at ``path`` (a local path or a URL), or None if there is none.
+
+    ``what`` names the file in the error message.
+
+    Raises
+    ------
+    InputError
+        If the file exists but cannot be read or parsed.
+    """
+    path = location(path)
+    try:
+        if isinstance(path, Path):
+            if not path.exists():
+                return None
+            text = path.read_text(encoding="utf-8")
+        else:
+            fs, fs_path = resolve(path)
+            if fs.get_file_info(fs_path).type == pafs.FileType.NotFound:
+                return None
+            with fs.open_input_stream(fs_path) as handle:
+                text = handle.read().decode("utf-8")
+        return json.loads(text)
+    except (OSError, ValueError) as err:
+        raise InputError(None, f"unreadable {what}: {err}", str(path)) from None

@@ -1,0 +1,3 @@
+"""Reproductions of papers, one subpackage each. Only the command line imports them."""
+
+__all__ = []

@@ -1,0 +1,69 @@
+"""The local engine: the chunks in this process."""
+
+from __future__ import annotations
+
+import contextlib
+from concurrent.futures import ThreadPoolExecutor
+
+import numba
+
+from mcbat.errors import InputError
+from mcbat.runner.plan import ChunkJob, positive_int, run_chunk, warm_kernel, write_error
+
+__all__ = ["LocalEngine"]
+
+
+class LocalEngine:
+    """Chunks in this process: numba threads solve, a writer thread writes the previous
+    chunk meanwhile (at most one chunk in flight: bounded memory).
+
+    Parameters
+    ----------
+    threads : int, optional
+        Numba threads for the kernel (default: all of ``NUMBA_NUM_THREADS``).
+    """
+
+    name = "local"
+
+    def __init__(self, threads=None):
+        if threads is not None:
+            threads = positive_int(threads, "threads")
+            if threads > numba.config.NUMBA_NUM_THREADS:
+                raise InputError("threads", f"at most {numba.config.NUMBA_NUM_THREADS} on "
+                                 f"this machine, got {threads}")
+            numba.set_num_threads(threads)
+        self.threads = threads
+
+    def connect(self):
+        return contextlib.nullcontext()
+
+    def ready(self):
+        """Load the compiled kernel before the clock starts, as the Dask engine's workers
+        do: the run's rows/s then measure the same thing for both engines."""
+        warm_kernel()
+
+    def run(self, study, job: ChunkJob, todo, display):
+        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcbat-writer") as writer:
+            pending = None
+
+            def write(function, *args):
+                nonlocal pending
+                if pending is not None:
+                    _finish(pending, display)
+                pending = writer.submit(function, *args)
+
+            for k in todo:
+                yield run_chunk(study, job, k, write=write)
+            if pending is not None:
+                _finish(pending, display)
+
+    def note(self, summaries):
+        return None
+
+
+def _finish(pending, out):
+    """Wait for a chunk write; a full or unwritable disk is a clear error, not a crash."""
+    try:
+        pending.result()
+    except OSError as err:
+        raise write_error(err, out) from None

@@ -1,0 +1,85 @@
+"""Solve a DataFrame of impacts in memory: :func:`solve_frame`."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.geometry import impact_parameters_from_angles
+from mcbat.dataset.chunks import build_table
+from mcbat.dataset.load import units_of
+from mcbat.errors import InputError
+from mcbat.runner.plan import positive_int
+
+__all__ = ["solve_frame"]
+
+
+def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
+                max_steps=DEFAULT_MAX_STEPS, threads=None):
+    """Solve every row of a DataFrame of inputs with the parallel kernel; no files.
+
+    The rows are those ``mcbat run`` writes for the same inputs, bit for bit (the same
+    kernel, the same table builder), without ``chunk``.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        One impact per row, with a column for every kernel input of
+        :data:`mcbat.core.batch.INPUT_FIELDS` (SI units, the names of the dataset schema;
+        a dataset loaded with :func:`mcbat.load` has them). ``impact_parameter`` is
+        computed from ``angle`` (approach azimuth 0) when absent; ``sample_id`` is kept
+        when present, else numbered from 0. Other columns are ignored.
+    steps, tolerance, max_steps
+        The kernel's accuracy settings (see :class:`mcbat.api.SolverSettings`).
+    threads : int, optional
+        Numba threads for the kernel (default: the current setting).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The dataset columns (:data:`mcbat.dataset.schema.COLUMNS` but ``chunk``), with
+        ``frame``'s index; ``df.attrs["units"]`` gives every column's unit. Rows that
+        cannot be solved are flagged in ``status`` with NaN outputs.
+
+    Raises
+    ------
+    InputError
+        A missing input column, named.
+    """
+    missing = [name for name in INPUT_FIELDS if name not in frame.columns]
+    if missing:
+        raise InputError(missing[0], "missing column of the input frame (the kernel needs "
+                         f"{', '.join(INPUT_FIELDS)})")
+    steps = positive_int(steps, "steps")
+    max_steps = positive_int(max_steps, "max_steps")
+    tolerance = float(tolerance)
+    if not tolerance > 0.0:
+        raise InputError("tolerance", f"must be > 0, got {tolerance!r}")
+    n = len(frame)
+    inputs = np.stack([np.asarray(frame[name], np.float64) for name in INPUT_FIELDS]) \
+        if n else np.empty((len(INPUT_FIELDS), 0))
+    if "impact_parameter" in frame.columns:
+        impact_parameter = np.asarray(frame["impact_parameter"], np.float64)
+    else:
+        row = {name: inputs[i] for i, name in enumerate(INPUT_FIELDS)}
+        impact_parameter = np.empty(n)
+        impact_parameters_from_angles(row["angle"], row["ball_radius"], row["bat_radius"],
+                                      row["bat_slope"], np.zeros(n), impact_parameter)
+    out, status, end_state = allocate_outputs(n)
+    previous = numba.get_num_threads()
+    if threads is not None:
+        numba.set_num_threads(positive_int(threads, "threads"))
+    try:
+        solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state)
+    finally:
+        numba.set_num_threads(previous)
+    table = build_table(0, 0, inputs, out, status, end_state,
+                        {"impact_parameter": impact_parameter}, None)
+    df = table.drop_columns(["chunk"]).to_pandas()
+    if "sample_id" in frame.columns:
+        df["sample_id"] = np.asarray(frame["sample_id"], np.int64)
+    df.index = frame.index
+    df.attrs["units"] = units_of(df.columns)
+    return df

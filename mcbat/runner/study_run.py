@@ -1,0 +1,209 @@
+"""Run a study into a dataset directory: :func:`run_study`.
+
+The flow is one-way: the validated study draws the inputs of each chunk, the parallel
+kernel solves them, and the struct-of-arrays becomes one Parquet file per chunk
+(:mod:`mcbat.runner.plan`). This module validates the options, prepares the directory,
+picks the chunks still to compute (resume), hands them to an engine
+(:mod:`mcbat.runner.engines`) and reports what happened.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mcbat.core import status as st
+from mcbat.dataset import chunks, storage
+from mcbat.errors import InputError
+from mcbat.runner.engines.dask import DaskEngine
+from mcbat.runner.engines.local import LocalEngine
+from mcbat.runner.plan import DEFAULT_CHUNK_SIZE, plan_run, positive_int, prepare_directory
+
+__all__ = ["ENGINES", "RunSummary", "make_engine", "run_study"]
+
+ENGINES = ("local", "dask")
+
+
+@dataclass
+class RunSummary:
+    """What a run did.
+
+    Attributes
+    ----------
+    directory : Path or str
+        The dataset directory (or its URL).
+    rows : int
+        Rows of the dataset.
+    chunks_total, chunks_computed, chunks_kept : int
+        Chunk files in all, computed by this run, and kept from an earlier one.
+    seconds : float
+        Time spent computing, from the first chunk with the kernel loaded.
+    status_counts : dict
+        Computed rows per status name.
+    engine_note : str or None
+        Where the chunks were computed (Dask engine).
+    """
+
+    directory: Path | str
+    rows: int
+    chunks_total: int
+    chunks_computed: int
+    chunks_kept: int
+    seconds: float
+    status_counts: dict = field(default_factory=dict)
+    engine_note: str | None = None
+
+    @property
+    def rows_per_second(self) -> float:
+        """Computed rows per second of the run."""
+        computed_rows = self.rows * self.chunks_computed / max(self.chunks_total, 1)
+        return computed_rows / self.seconds if self.seconds > 0 else float("nan")
+
+    def lines(self) -> list[str]:
+        """The run's closing report, one string per line."""
+        failed = sum(v for k, v in self.status_counts.items() if k != "ok")
+        out = [f"dataset: {self.directory}",
+               f"rows: {self.rows:,} in {self.chunks_total} chunk file(s) "
+               f"({self.chunks_computed} computed, {self.chunks_kept} kept from before)"]
+        if self.chunks_computed:
+            out.append(f"time: {self.seconds:.2f} s ({self.rows_per_second:,.0f} rows/s)")
+        if self.engine_note:
+            out.append(self.engine_note)
+        if self.status_counts:
+            parts = ", ".join(f"{k}: {v:,}" for k, v in self.status_counts.items())
+            out.append(f"status of computed rows: {parts}"
+                       + (f"  <- {failed:,} failed rows are flagged in 'status'" if failed
+                          else ""))
+        return out
+
+    def __repr__(self) -> str:
+        return f"RunSummary({'; '.join(self.lines())})"
+
+
+def make_engine(engine="local", threads=None, scheduler=None, workers=None):
+    """Validate the engine options (before anything is written) and build the engine.
+
+    Raises
+    ------
+    InputError
+        Naming ``engine``, ``threads``, ``scheduler`` or ``workers``.
+    """
+    if engine not in ENGINES:
+        raise InputError("engine", f"must be one of {', '.join(ENGINES)}, got {engine!r}")
+    if engine == "dask":
+        return DaskEngine(scheduler=scheduler, workers=workers, threads=threads)
+    for name, value in (("scheduler", scheduler), ("workers", workers)):
+        if value is not None:
+            raise InputError(name, 'only with engine="dask"')
+    return LocalEngine(threads)
+
+
+def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
+              overwrite=False, progress=True, engine="local", scheduler=None,
+              workers=None) -> RunSummary:
+    """Run ``study`` into the dataset directory ``out`` (resuming if possible).
+
+    Parameters
+    ----------
+    study : mcbat.study.Study
+        A validated study.
+    out : str or Path
+        Dataset directory: a local path, or a URL (see :mod:`mcbat.dataset.storage`).
+    samples, seed, chunk_size : int, optional
+        Override the study's defaults.
+    threads : int, optional
+        Numba threads for the batch kernel: of this process (``local``; default: all), or
+        of each Dask worker (``dask``; see :class:`mcbat.runner.engines.dask.DaskEngine`).
+    overwrite : bool
+        Replace an existing dataset of a different config.
+    progress : bool
+        Show a progress bar (impacts per second): on stderr, or a widget in Jupyter.
+    engine : {"local", "dask"}
+        Where the chunks are computed. The data are identical either way.
+    scheduler : str, optional
+        ``dask``: address of a running Dask scheduler to join.
+    workers : int, optional
+        ``dask``: start a local cluster of this many worker processes (default: one per
+        core, when no ``scheduler`` is given).
+
+    Returns
+    -------
+    RunSummary
+
+    Raises
+    ------
+    InputError
+        A bad option or output location, named by its parameter; before anything is
+        written.
+    """
+    samples = positive_int(study.samples if samples is None else samples, "samples")
+    seed = study.seed if seed is None else seed
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError("seed", f"must be an integer >= 0, got {seed!r}")
+    if chunk_size is None:
+        chunk_size = getattr(study, "chunk_size", None) or DEFAULT_CHUNK_SIZE
+    chunk_size = positive_int(chunk_size, "chunk_size")
+    runner = make_engine(engine, threads, scheduler, workers)
+
+    display = storage.location(out)
+    job, manifest = plan_run(study, display, samples, int(seed), chunk_size)
+    with _out_errors(display):
+        # Everything that can refuse the run, before a cluster is started or joined.
+        prepare_directory(display, manifest, chunk_size, overwrite, check_only=True)
+    with runner.connect():
+        with _out_errors(display):
+            prepare_directory(display, manifest, chunk_size, overwrite)
+            existing = chunks.chunk_files(display)
+        todo = [k for k in range(job.chunks)
+                if existing.get(k) is None
+                or not chunks.chunk_is_complete(existing[k], job.rows(k), job.config_hash)]
+        bar = _progress_bar(study.name, sum(job.rows(k) for k in todo)) \
+            if progress and todo else None
+        counts = np.zeros(len(st.STATUS_NAMES), np.int64)
+        summaries = []
+        if todo:
+            runner.ready()
+        t0 = time.perf_counter()
+        try:
+            for summary in runner.run(study, job, todo, display):
+                counts += summary.status_counts
+                summaries.append(summary)
+                if bar is not None:
+                    bar.update(summary.rows)
+        finally:
+            seconds = time.perf_counter() - t0
+            if bar is not None:
+                bar.close()
+    status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
+                     if todo else {})
+    return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
+                      seconds, status_counts, runner.note(summaries) if todo else None)
+
+
+def _progress_bar(name: str, total: int):
+    """A progress bar in impacts: a widget in Jupyter, text on stderr elsewhere."""
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, unit=" impacts", unit_scale=True, file=sys.stderr,
+                desc=name, dynamic_ncols=True, smoothing=0.1)
+
+
+@contextlib.contextmanager
+def _out_errors(display):
+    """An unwritable output location (or an unusable URL) is a clear error about
+    ``out``."""
+    try:
+        yield
+    except OSError as err:
+        reason = os.strerror(err.errno) if err.errno else str(err)
+        raise InputError("out", f"cannot write: {reason}", str(display)) from None
+    except InputError as err:
+        if err.field is not None:
+            raise
+        raise InputError("out", err.message, str(display)) from None

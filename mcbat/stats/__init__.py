@@ -1,0 +1,4 @@
+"""Statistics: measurement tables, maximum-likelihood fits and model comparison, and the
+common cuts of datasets (:mod:`~mcbat.stats.analysis`)."""
+
+__all__ = ["analysis", "fit", "measurements"]
