@@ -82,11 +82,17 @@ def load_study(path):
     return _load_study(path)
 
 
-def __getattr__(name):
-    # Subpackages on first use (``mcbat.stats.analysis``...) without importing pandas or
-    # numba on ``import mcbat``.
-    if name in ("analysis",):
-        import importlib
+_SUBPACKAGES = ("api", "bodies", "core", "dataset", "errors", "runner", "stats", "study",
+                "testing")
 
+
+def __getattr__(name):
+    # Subpackages on first use (``mcbat.stats.analysis``...), so that ``import mcbat``
+    # imports neither numba nor pandas.
+    import importlib
+
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"mcbat.{name}")
+    if name == "analysis":  # the name of mcbat <= 0.1's module; now mcbat.stats.analysis
         return importlib.import_module("mcbat.stats.analysis")
     raise AttributeError(f"module 'mcbat' has no attribute {name!r}")

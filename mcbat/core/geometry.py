@@ -1,6 +1,6 @@
 """Contact frame of a sphere touching a bat that is a solid of revolution.
 
-Lab frame (PHYSICS.md): origin at the bat's centre of mass, ``z`` along the bat axis
+Lab frame (``docs/physics.md``, "The lab frame"): origin at the bat's centre of mass, ``z`` along the bat axis
 towards the barrel end. The contact point sits at axial position ``axial`` (m, from the
 bat CM) and azimuth ``angle`` (rad, from ``+x`` towards ``+y``) on a surface of radius
 ``radius`` = r(axial) with slope ``slope`` = r'(axial) (0 for a cylinder).
@@ -63,7 +63,7 @@ def angle_from_impact_parameter(impact_parameter, ball_radius, radius, slope, ap
     azimuth ``approach_azimuth`` (0: it comes from ``+x`` and moves along ``-x``, as in the
     paper's Sec. V). ``impact_parameter`` (m) is the signed offset of its line from the axis,
     positive towards increasing azimuth. For a cylinder this is ``b = (R + r_b) sin(theta)``
-    (PHYSICS.md; the paper's ``cos`` is a misprint).
+    (``docs/physics.md``, printing error 2; the paper's ``cos`` is a misprint).
 
     Returns NaN when ``|b|`` exceeds the reach ``R/sqrt(1+r'^2) + r`` (the ball misses).
     """

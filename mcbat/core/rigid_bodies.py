@@ -1,6 +1,6 @@
 """Rigid-body impulse mechanics of a ball (sphere) and a bat (axisymmetric body).
 
-Conventions (PHYSICS.md): an impulse ``P`` acts on the ball at the contact point and
+Conventions (``docs/physics.md``): an impulse ``P`` acts on the ball at the contact point and
 ``-P`` on the bat. The ball's inertia is ``f m R^2`` (isotropic); the bat's inertia about
 its CM is ``diag(I_t, I_t, I_3)`` in the lab frame (``z`` along the bat axis).
 """

@@ -53,7 +53,7 @@ File format
 Quantities: axial, from_barrel_end, impact_parameter and the bat/ball radii are lengths;
 angle and approach_azimuth angles; velocities speeds; spins spins; mu, e, loss_fraction,
 e_x and inertia_factor dimensionless. Without a ``unit`` a value is SI (m, m/s, rad/s, rad,
-kg, kg m^2). The lab frame is PHYSICS.md's: the bat CM at the origin, ``z`` along the bat
+kg, kg m^2). The lab frame is that of ``docs/physics.md``: the bat CM at the origin, ``z`` along the bat
 towards the barrel end; ``axial`` is measured from the CM, ``from_barrel_end`` from the
 barrel end (``axial = cm_from_barrel_end - from_barrel_end``). The impact parameter is
 the offset of a ball line perpendicular to the bat, arriving from azimuth

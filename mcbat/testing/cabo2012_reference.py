@@ -15,7 +15,7 @@ deliberately different formulation, so that the two can check each other:
 It imports nothing from the kernel (``contact``, ``rigid_bodies``, ``geometry``) and uses only
 numpy and scipy. Production code never calls it; it is far too slow for sampling.
 
-The model is the matrix form of PHYSICS.md: Coulomb friction, stick when the holding rate
+The model is the matrix form of ``docs/physics.md``: Coulomb friction, stick when the holding rate
 ``|f| <= mu``, re-slip along ``u*`` otherwise, and Stronge's energetic restitution
 ``W_n(I_f) = (1 - e*^2) W_c``.
 """

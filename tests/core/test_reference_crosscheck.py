@@ -24,7 +24,7 @@ SEED = 20120558  # Rev. Mex. Fis. 58 (2012)
 N_CASES = 240
 TOLERANCE = 1e-8  # |difference| / |v(0)|, v(0) the initial relative contact velocity
 
-# Sec. V bodies of PHYSICS.md.
+# Sec. V bodies of docs/physics.md.
 BODIES = dict(
     ball_mass=0.145, ball_radius=0.036, ball_inertia_factor=0.4,
     bat_mass=0.989, bat_transverse_inertia=0.0460, bat_axial_inertia=4.39e-4,
@@ -191,7 +191,7 @@ def test_reference_is_self_consistent(crosscheck):
 
 
 def test_reference_frictionless_closed_form():
-    """mu = 0: I_c = -v_n(0)/K_33 and I_f = (1 + e*) I_c (PHYSICS.md, Appendix A)."""
+    """mu = 0: I_c = -v_n(0)/K_33 and I_f = (1 + e*) I_c (docs/physics.md, "Frictionless contact")."""
     angle, axial, e = 0.3, 0.12, 0.6
     r = reference_impact(**BODIES, axial=axial, angle=angle, radius=BARREL_RADIUS, slope=0.0,
                          ball_v=(-20.0, 3.0, 1.0), ball_w=(10.0, -40.0, 90.0),

@@ -32,27 +32,35 @@ class Calibration:
     w0: float
 
     def to_dict(self) -> dict:
+        """The fields as a plain (JSON-serialisable) dict."""
         return asdict(self)
 
 
 def exit_speed(e_star: float, theta: float = sec5.THETA_NEAR_ZERO, w0: float = 0.0,
-               settings: SolverSettings = SolverSettings()) -> float:
-    """Exit speed (m/s) of the Sec. V impact for an energetic coefficient ``e_star``."""
+               settings: SolverSettings | None = None) -> float:
+    """Exit speed (m/s) of the Sec. V impact for an energetic coefficient ``e_star``.
+
+    ``settings`` defaults to ``SolverSettings()``.
+    """
+    settings = SolverSettings() if settings is None else settings
     return solve(sec5.case(theta, w0, e=e_star), settings).exit_speed
 
 
 def calibrate_restitution(target_speed: float = sec5.TARGET_SPEED,
                           theta: float = sec5.THETA_NEAR_ZERO, w0: float = 0.0,
                           xtol: float = 1e-13,
-                          settings: SolverSettings = SolverSettings()) -> Calibration:
+                          settings: SolverSettings | None = None) -> Calibration:
     """Find e* such that the Sec. V exit speed equals ``target_speed`` (m/s).
 
     The ball's exit speed is not monotonic in e*: at e* = 0 it leaves with the bat's
     contact point, and as e* grows its velocity passes through a minimum (near e* = 0.1 for
     Sec. V) before rising to the friction-only value at e* = 1. The rebound branch beyond
     the minimum is increasing, so the root is unique there and bracketed for Brent's
-    method; a target outside that branch's range is an error.
+    method; a target outside that branch's range is an error. ``settings`` defaults to
+    ``SolverSettings()``.
     """
+    settings = SolverSettings() if settings is None else settings
+
     def speed(e):
         return exit_speed(e, theta, w0, settings)
 

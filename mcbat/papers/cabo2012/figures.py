@@ -4,22 +4,24 @@ Every function writes PNG file(s) into ``outdir`` (created if needed) and return
 ``(path, data)``: ``data`` is a dict of the numpy arrays / pandas frames actually plotted,
 so that tests and reports can check them against the single-impact solver.
 
-==========================================  =====================================  =========
-function                                    paper                                  file(s)
-==========================================  =====================================  =========
-:func:`fig_slip_velocity`                   Figs. 2-4: ``v1``, ``v2``, ``|v_t|``   ``fig2_v1.png``, ``fig3_v2.png``,
-                                            during the first slip                  ``fig4_slip_speed.png``
-:func:`fig_energy_after_stick`              Fig. 5: kinetic energy after stick     ``fig5_energy_after_stick.png``
-:func:`fig_speed_vs_angle`                  Fig. 6 (``w0 = 0``), Fig. 7            ``fig6_speed_vs_angle_w0.png``,
-                                            (``w0 = +79, -72``)                    ``fig7_speed_vs_angle_spin.png``
-:func:`fig_spin_vs_impact_parameter`        Fig. 8: outgoing spin vs ``b`` (in)    ``fig8_spin_vs_impact_parameter.png``
-==========================================  =====================================  =========
+:func:`fig_slip_velocity`
+    Figs. 2-4: ``v1``, ``v2``, ``|v_t|`` during the first slip; ``fig2_v1.png``,
+    ``fig3_v2.png``, ``fig4_slip_speed.png``.
+:func:`fig_energy_after_stick`
+    Fig. 5: kinetic energy after stick; ``fig5_energy_after_stick.png``.
+:func:`fig_speed_vs_angle`
+    Fig. 6 (``w0 = 0``), Fig. 7 (``w0 = +79, -72``): exit speed vs scattering angle;
+    ``fig6_speed_vs_angle_w0.png``, ``fig7_speed_vs_angle_spin.png``.
+:func:`fig_spin_vs_impact_parameter`
+    Fig. 8: outgoing spin vs ``b`` (in); ``fig8_spin_vs_impact_parameter.png``.
 
 :func:`all_figures` draws them all. Figures 6-8 layer three things per incoming spin: the
 Monte Carlo rows as a faint cloud (a random subsample; from the measured-noise columns
 ``*_measured`` if the dataset has them), the noise-free model curve
-(:func:`mcbat.papers.cabo2012.summary.model_curves`) and the Monte Carlo median with its 16-84 % band in
-bins (:func:`mcbat.stats.analysis.binned`, from the noise-free columns).
+(:func:`mcbat.papers.cabo2012.summary.model_curves`, thin solid line with markers) and the
+Monte Carlo median (thick translucent line) with its 16-84 % band in bins
+(:func:`mcbat.stats.analysis.binned`, from the noise-free columns). The legends of Figs. 6-8
+sit below the axes, so they hide no data.
 
 Plotting uses :class:`matplotlib.figure.Figure` with the Agg canvas only: no pyplot, no
 global state, nothing left open.
@@ -68,6 +70,13 @@ SPIN_STYLE = {
 }
 
 
+# Line styles shared by Figs. 6-8 (curves in the spin's colour; legend proxies in grey).
+MODEL_LINE = dict(lw=1.4, ls="-")  # noise-free model curve (+ spin markers)
+MEDIAN_LINE = dict(lw=5.0, ls="-", alpha=0.45, solid_capstyle="round")  # MC median
+COMPLIANT_LINE = dict(lw=1.3, ls=(0, (7, 2, 1.5, 2)), alpha=0.9)  # e_x model (dash-dot)
+LEGEND_FONT = 7.5
+
+
 def _style(w0: float) -> dict:
     if float(w0) in SPIN_STYLE:
         return SPIN_STYLE[float(w0)]
@@ -110,8 +119,8 @@ def fig_slip_velocity(outdir, n: int = 601) -> list[tuple[Path, dict]]:
     """Figs. 2-4: ``v1(I)``, ``v2(I)`` and ``|v_t|(I)`` during the first slip.
 
     The paper's nearly central impact: ``theta = pi/400``, ``w0 = 0``, ``mu = 0.5``
-    (:func:`mcbat.papers.cabo2012.sec5.case` with ``e* = 1``; the slip does not depend on ``e*``), on a
-    fine grid from ``I = 0`` to 1.25 ``I_s``, with the stick impulse ``I_s`` marked.
+    (:func:`mcbat.papers.cabo2012.sec5.case` with ``e* = 1``; the slip does not depend on
+    ``e*``), on a fine grid from ``I = 0`` to 1.25 ``I_s``, with the stick impulse ``I_s`` marked.
 
     Returns
     -------
@@ -164,14 +173,15 @@ def fig_slip_velocity(outdir, n: int = 601) -> list[tuple[Path, dict]]:
 
 # ---------------------------------------------------------------- Fig. 5
 
-def _ball(ax, x, y, label=None, size=17):
-    """A baseball-like marker (white ball, red seams) at ``(x, y)``; returns a legend proxy."""
-    ax.plot([x], [y], ls="none", marker="o", ms=size, mfc="white", mec="0.15", mew=1.3,
-            zorder=5)
-    ax.plot([x], [y], ls="none", marker=r"$)\!\!\!\!\;($", ms=size * 0.62, mec="none",
-            mfc="firebrick", color="firebrick", zorder=6)
-    return Line2D([], [], ls="none", marker="o", ms=10, mfc="white", mec="0.15",
-                  label=label)
+# Separation markers of Fig. 5: (marker, size, face, edge, edge width).
+SEP_FRICTION = dict(marker="o", ms=11, mfc="white", mec="k", mew=1.6)
+SEP_E_STAR = dict(marker="D", ms=8.5, mfc="tab:orange", mec="k", mew=1.1)
+
+
+def _separation(ax, x, y, style: dict, label: str) -> Line2D:
+    """Mark a separation point at ``(x, y)``; returns the matching legend proxy."""
+    ax.plot([x], [y], ls="none", zorder=5, **style)
+    return Line2D([], [], ls="none", label=label, **style)
 
 
 def fig_energy_after_stick(outdir, e_star: float, n: int = 600) -> tuple[Path, dict]:
@@ -182,7 +192,8 @@ def fig_energy_after_stick(outdir, e_star: float, n: int = 600) -> tuple[Path, d
     horizontal line ``E_in + W_fr(I_s)`` (the mechanical energy conserved while stuck; the
     gap down to ``E_f`` is the stored elastic energy), the friction-only separation
     (``I'_f^(out,1)``, back on the line) and the separation for ``e_star``
-    (``solve(sec5.case(e=e_star))``), both as balls, and the end of compression.
+    (``solve(sec5.case(e=e_star))``), as an open circle and a filled diamond, and the end
+    of compression.
 
     Returns
     -------
@@ -211,7 +222,7 @@ def fig_energy_after_stick(outdir, e_star: float, n: int = 600) -> tuple[Path, d
     comp = {"I": r1.compression_impulse, "I_prime": r1.compression_impulse - i_s,
             "energy": e_min}
 
-    fig = _figure((7.2, 5.2))
+    fig = _figure((7.2, 6.1))
     ax = fig.add_subplot()
     ax.plot(i_prime, h["energy"], color="tab:blue", lw=2.0,
             label=r"kinetic energy $E_f(I')$ while stuck (friction-only dynamics)")
@@ -225,15 +236,18 @@ def fig_energy_after_stick(outdir, e_star: float, n: int = 600) -> tuple[Path, d
             rf"(end of compression, $I'$ = {comp['I_prime']:.4f})",
             fontsize=8, color="0.25", va="center")
     ax.plot([comp["I_prime"]], [e_min], "s", color="0.35", ms=5)
-    h1 = _ball(ax, sep1["I_prime"], sep1["energy"],
-               label=rf"separation, friction only ($e^*=1$): $I'_f$ = "
-                     rf"{sep1['I_prime']:.5f}, $E$ = {sep1['energy']:.4f} J")
-    h2 = _ball(ax, sep2["I_prime"], sep2["energy"],
-               label=rf"separation, $e^*$ = {e_star:.4f}: $I'_f$ = "
-                     rf"{sep2['I_prime']:.5f}, $E$ = {sep2['energy']:.4f} J")
+    h0 = Line2D([], [], ls="none", marker="s", color="0.35", ms=5,
+                label=rf"end of compression ($v_n$ = 0): $I'$ = {comp['I_prime']:.5f}, "
+                      rf"$E$ = {e_min:.4f} J")
+    h1 = _separation(ax, sep1["I_prime"], sep1["energy"], SEP_FRICTION,
+                     label=rf"separation, friction only ($e^*=1$): $I'_f$ = "
+                           rf"{sep1['I_prime']:.5f}, $E$ = {sep1['energy']:.4f} J")
+    h2 = _separation(ax, sep2["I_prime"], sep2["energy"], SEP_E_STAR,
+                     label=rf"separation, $e^*$ = {e_star:.4f}: $I'_f$ = "
+                           rf"{sep2['I_prime']:.5f}, $E$ = {sep2['energy']:.4f} J")
     handles, _ = ax.get_legend_handles_labels()
-    ax.legend(handles=handles + [h1, h2], loc="lower right", fontsize=7.5,
-              framealpha=0.95)
+    fig.legend(handles=handles + [h0, h1, h2], loc="outside lower center", ncol=1,
+               fontsize=LEGEND_FONT, framealpha=0.95)
     ax.set_xlabel(r"normal impulse after stick $I' = I - I_s$ (kg m/s)"
                   rf"    [$I_s$ = {i_s:.6f} kg m/s]")
     ax.set_ylabel("kinetic energy of ball + bat (J)")
@@ -296,7 +310,11 @@ def _limits(values, pad=0.05):
 
 def _layered_plot(ax, rows_by_spin, model, xcol, ycol, *, model_x, model_y, xscale=1.0,
                   bins=24, seed=0):
-    """Cloud + model curve + median/band per spin; returns (data dict, legend handles)."""
+    """Cloud + model curve + median/band per spin.
+
+    Returns ``(data dict, model legend handles, Monte Carlo legend handles)``; the model
+    list starts with one entry per spin.
+    """
     def has(column):
         return column is not None and any(column in r.columns for r in rows_by_spin.values())
 
@@ -319,29 +337,33 @@ def _layered_plot(ax, rows_by_spin, model, xcol, ycol, *, model_x, model_y, xsca
         if len(band):
             ax.fill_between(band["x_center"], band["q16"], band["q84"], color=st["color"],
                             alpha=0.25, lw=0, zorder=2)
-            ax.plot(band["x_center"], band["q50"], color=st["color"], lw=2.2, ls="--",
-                    zorder=3)
+            ax.plot(band["x_center"], band["q50"], color=st["color"], zorder=3,
+                    **MEDIAN_LINE)
         curve = model[model["w0"] == w0].sort_values("impact_parameter")
         curves.append(curve)
         if len(curve):
-            ax.plot(curve[model_x], curve[model_y], color=st["color"], lw=1.4, zorder=4)
+            ax.plot(curve[model_x], curve[model_y], color=st["color"], zorder=4,
+                    **MODEL_LINE)
             every = max(len(curve) // 30, 1)
             ax.plot(curve[model_x].iloc[::every], curve[model_y].iloc[::every], ls="none",
                     marker=st["marker"], mfc=st["mfc"], mec=st["color"], ms=5, mew=1.2,
                     zorder=4)
         handles.append(Line2D([], [], color=st["color"], marker=st["marker"],
-                              mfc=st["mfc"], mec=st["color"], lw=1.4,
+                              mfc=st["mfc"], mec=st["color"], **MODEL_LINE,
                               label=f"$w_0$ = {st['name']}  ({st['fill']})"))
     n_rows = sum(len(r) for r in rows_by_spin.values())
     e_star = model.attrs.get("e_star")
-    handles += [
-        Line2D([], [], color="k", lw=1.4, marker="o", mfc="white", ms=5,
+    noise = " with measurement noise" if measured_x or measured_y else ""
+    model_handles = [
+        Line2D([], [], color="k", marker="o", mfc="white", ms=5, **MODEL_LINE,
                label="model, noise-free single impacts"
                      + (f" ($e^*$ = {e_star:.4f}, $\\mu$ = 0.5)" if e_star else "")),
+    ]
+    mc_handles = [
         Line2D([], [], color="0.3", ls="none", marker="o", ms=3, alpha=0.5,
-               label=(f"Monte Carlo rows{' with measurement noise' if measured_x or measured_y else ''}"
-                      f" ({n_rows:,}; ≤ {MAX_CLOUD:,} drawn per spin)")),
-        Line2D([], [], color="0.3", lw=2.2, ls="--", label="Monte Carlo median (model values)"),
+               label=f"Monte Carlo rows{noise}\n({n_rows:,}; ≤ {MAX_CLOUD:,} drawn per spin)"),
+        Line2D([], [], color="0.3", **MEDIAN_LINE,
+               label="Monte Carlo median (model values)"),
         Patch(color="0.3", alpha=0.25, label="Monte Carlo 16–84 % band"),
     ]
     data = {"model": pd.concat(curves, ignore_index=True) if curves else pd.DataFrame(),
@@ -349,7 +371,17 @@ def _layered_plot(ax, rows_by_spin, model, xcol, ycol, *, model_x, model_y, xsca
             "binned": pd.concat([b for b in bands if len(b)], ignore_index=True)
             if any(len(b) for b in bands) else pd.DataFrame(),
             "cloud_columns": (cx, cy), "measured": bool(measured_x or measured_y)}
-    return data, handles
+    return data, handles + model_handles, mc_handles
+
+
+def _legend_below(fig, model_handles, mc_handles):
+    """The legend under the axes, model entries left and Monte Carlo entries right."""
+    rows = max(len(model_handles), len(mc_handles))
+    blank = Line2D([], [], ls="none", label=" ")
+    handles = (model_handles + [blank] * (rows - len(model_handles))
+               + mc_handles + [blank] * (rows - len(mc_handles)))
+    fig.legend(handles=handles, loc="outside lower center", ncol=2,
+               fontsize=LEGEND_FONT, framealpha=0.95, columnspacing=1.5, handlelength=3.0)
 
 
 def _window(ax, data, model_x, model_y, pad=0.06):
@@ -406,12 +438,12 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
         and ``alpha0`` (per spin: the model's exit speed at ``alpha = 0``).
     """
     w0_values = tuple(float(w) for w in w0_values)
-    fig = _figure((7.4, 5.4))
+    fig = _figure((7.6, 6.3))
     ax = fig.add_subplot()
     rows = _spin_rows(df, w0_values)
-    data, handles = _layered_plot(ax, rows, model, "scattering_angle", "exit_speed",
-                                  model_x="scattering_angle", model_y="exit_speed",
-                                  bins=bins)
+    data, handles, mc_handles = _layered_plot(ax, rows, model, "scattering_angle",
+                                              "exit_speed", model_x="scattering_angle",
+                                              model_y="exit_speed", bins=bins)
     _window(ax, data, "scattering_angle", "exit_speed")
     alpha0 = {}
     for w0 in w0_values:
@@ -437,7 +469,7 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
                  "14–16 cm from the barrel end")
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(handles=handles, loc="upper center", fontsize=7.5, framealpha=0.92)
+    _legend_below(fig, handles, mc_handles)
     path = _save(fig, outdir, name)
     return path, data
 
@@ -461,12 +493,13 @@ def fig_spin_vs_impact_parameter(outdir, df: pd.DataFrame | None, model: pd.Data
         ``binned`` edges and centres in inches too) and y the spin ``w_z`` in rad/s.
     """
     spins = tuple(float(w) for w in spins)
-    fig = _figure((7.4, 5.6))
+    fig = _figure((7.6, 6.7))
     ax = fig.add_subplot()
     rows = _spin_rows(df, spins)
-    data, handles = _layered_plot(ax, rows, model, "impact_parameter", "spin_axial",
-                                  model_x="impact_parameter_in", model_y="spin_axial",
-                                  xscale=1.0 / INCH, bins=bins)
+    data, handles, mc_handles = _layered_plot(ax, rows, model, "impact_parameter",
+                                              "spin_axial", model_x="impact_parameter_in",
+                                              model_y="spin_axial", xscale=1.0 / INCH,
+                                              bins=bins)
     _window(ax, data, "impact_parameter_in", "spin_axial")
     # The same model with Cross & Nathan's tangential restitution, for comparison.
     e_x = sec5.CROSS_NATHAN_E_X
@@ -475,19 +508,19 @@ def fig_spin_vs_impact_parameter(outdir, df: pd.DataFrame | None, model: pd.Data
     slopes = {}
     for w0, curve in compliant.groupby("w0", sort=False):
         style = _style(w0)
-        ax.plot(curve["impact_parameter_in"], curve["spin_axial"], ls="--", lw=1.1,
-                color=style["color"], alpha=0.8)
+        ax.plot(curve["impact_parameter_in"], curve["spin_axial"], color=style["color"],
+                zorder=4, **COMPLIANT_LINE)
     for label, frame in (("rigid", model), ("compliant", compliant)):
         near = frame[(frame["w0"] == spins[0]) & (frame["impact_parameter_in"].abs() < 0.6)]
         slopes[label] = float(np.polyfit(near["impact_parameter_in"], near["spin_axial"], 1)[0])
-    handles.append(Line2D([], [], ls="--", color="0.3",
+    handles.append(Line2D([], [], color="0.3", **COMPLIANT_LINE,
                           label=f"model with tangential compliance, $e_x$ = {e_x:g}"))
     data["compliant_slope_per_inch"] = slopes["compliant"]
     data["rigid_slope_per_inch"] = slopes["rigid"]
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.axvline(0.0, color="0.6", lw=0.8)
     ax.text(0.99, 0.02, "Solid lines: the paper's rigid Coulomb model ($e_x$ = 0).\n"
-            f"Dashed: Cross & Nathan's tangential restitution $e_x$ = {e_x:g}:\n"
+            f"Dash-dot: Cross & Nathan's tangential restitution $e_x$ = {e_x:g}:\n"
             f"slope {slopes['compliant']:.1f} vs {slopes['rigid']:.1f} rad/s per inch "
             f"({100 * (slopes['compliant'] / slopes['rigid'] - 1):+.0f} %); the rigid\n"
             "model under-predicts measured spins by ~10–15 %.",
@@ -499,7 +532,7 @@ def fig_spin_vs_impact_parameter(outdir, df: pd.DataFrame | None, model: pd.Data
                  "ball dropped at 4 m/s on a resting bat, 14–16 cm from the barrel end",
                  fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(handles=handles, loc="upper left", fontsize=7.5, framealpha=0.92)
+    _legend_below(fig, handles, mc_handles)
     path = _save(fig, outdir, name)
     return path, data
 

@@ -3,8 +3,8 @@
 The paper (Cabo, Soler & Gonzalez, Sec. V) compares a rigid Coulomb impact with Cross &
 Nathan's drop test: exit speed against scattering angle for the incoming spins
 ``w0 = +79, 0, -72`` rad/s (its Figs. 6, 7) and outgoing spin against impact parameter (its
-Fig. 8). This module holds what both the figures (:mod:`mcbat.papers.cabo2012.figures`) and the terminal
-summary need:
+Fig. 8). This module holds what both the figures (:mod:`mcbat.papers.cabo2012.figures`)
+and the terminal summary need:
 
 :func:`model_curves`
     noise-free single impacts along the impact parameter, one curve per incoming spin;
@@ -24,7 +24,7 @@ summary need:
 >>> print(format_table(s))
 
 Units: SI in the data frames, except ``impact_parameter_in`` (inches) and the scattering
-angle (degrees, ``atan2(v_y, v_x)`` of the outgoing ball, PHYSICS.md printing error 3).
+angle (degrees, ``atan2(v_y, v_x)`` of the outgoing ball, ``docs/physics.md``, printing error 3).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The paper's Sec. V numbers (PHYSICS.md table).
+"""The paper's Sec. V numbers (docs/physics.md, "Sec. V numbers, printed and reproduced").
 
 The paper integrated the stick approach with a plain RK4 whose stick impulse is good to only
 ~4e-4 relative; quantities that depend on ``I_s`` are therefore compared with a relative
@@ -65,7 +65,7 @@ def test_stick_impulse_slightly_below_printed(friction_only):
     printed = PRINTED["stick_impulse"]
     assert friction_only["status"] == 0 and friction_only["end_state"] == 1
     assert i_s == pytest.approx(printed, rel=PAPER_IS_LOOSENESS)
-    assert i_s < printed  # PHYSICS.md: an accurate solver lands slightly below
+    assert i_s < printed  # docs/physics.md: an accurate solver lands slightly below
 
 
 def test_energies_at_stick(friction_only):
