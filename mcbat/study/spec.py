@@ -163,7 +163,8 @@ _CONTACT_QUANTITIES = {"axial": u.LENGTH, "from_barrel_end": u.LENGTH, "angle": 
                        "impact_parameter": u.LENGTH, "approach_azimuth": u.ANGLE}
 _BALL_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "inertia_factor": u.DIMENSIONLESS}
 _BAT_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "transverse_inertia": u.INERTIA,
-             "axial_inertia": u.INERTIA, "length": u.LENGTH, "cm_from_barrel_end": u.LENGTH}
+             "axial_inertia": u.INERTIA, "length": u.LENGTH, "cm_from_barrel_end": u.LENGTH,
+             "cm_from_knob": u.LENGTH}
 _BAT_REQUIRED = ("mass", "radius", "transverse_inertia", "axial_inertia")
 
 
@@ -213,11 +214,16 @@ def _parse_bat(table):
             raise InputError("bat.preset", f"unknown bat preset {name!r} "
                                            f"(expected one of: {', '.join(BAT_PRESETS)})")
         return bat_preset(name)
-    check_keys(table, "bat", _BAT_REQUIRED, ("length", "cm_from_barrel_end"))
+    check_keys(table, "bat", _BAT_REQUIRED, ("length", "cm_from_barrel_end", "cm_from_knob"))
     values = {}
     for key, spec in table.items():
         values[key] = _fixed(spec, f"bat.{key}", _BAT_KEYS[key],
-                             positive=key != "cm_from_barrel_end")
+                             positive=key not in ("cm_from_barrel_end", "cm_from_knob"))
+    if "cm_from_knob" in values:  # the CM from the knob (game bats): from the barrel end
+        if "cm_from_barrel_end" in values or "length" not in values:
+            raise InputError("bat.cm_from_knob", "needs bat.length, and not "
+                             "bat.cm_from_barrel_end too")
+        values["cm_from_barrel_end"] = values["length"] - values.pop("cm_from_knob")
     cm = values.get("cm_from_barrel_end")
     if cm is not None:
         length = values.get("length")
@@ -295,6 +301,9 @@ class Study:
         The raw TOML text.
     """
 
+    #: ``"impact"`` (the bat frame) or ``"game"`` (:class:`mcbat.study.game.GameStudy`).
+    kind = "impact"
+
     def __init__(self, data, source=None, text=None):
         self.source = None if source is None else str(source)
         self.source_text = text
@@ -319,11 +328,21 @@ class Study:
         text : str, optional
             The raw TOML text, kept as :attr:`source_text`.
 
+        Returns
+        -------
+        Study
+            A :class:`mcbat.study.game.GameStudy` when ``data`` has a ``[pitch]`` or
+            ``[swing]`` section.
+
         Raises
         ------
         InputError
             Naming ``source``, the dotted key and the offending value.
         """
+        if cls is Study and isinstance(data, dict) and ("pitch" in data or "swing" in data):
+            from mcbat.study.game import GameStudy
+
+            return GameStudy(data, source=source, text=text)
         return cls(data, source=source, text=text)
 
     def _parse(self, data):
@@ -450,7 +469,7 @@ class Study:
     def with_overrides(self, *, samples=None, seed=None, chunk_size=None) -> Study:
         """A copy with the run's sample count, seed or chunk size replacing the defaults
         (``None`` keeps the study's), validated like the file's values."""
-        new = object.__new__(Study)
+        new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         if samples is not None:
             new.samples = integer(samples, "samples", minimum=1)
