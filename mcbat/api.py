@@ -771,10 +771,16 @@ _BAT_QUANTITIES = {"mass": "mass", "radius": "length", "transverse_inertia": "in
                    "axial_inertia": "inertia", "length": "length", "cm_from_knob": "length"}
 
 
-def solve_any(case, settings: SolverSettings = SolverSettings()):
-    """:func:`solve` for an :class:`ImpactCase`, :func:`solve_game` for a :class:`GameCase`."""
+def solve_any(case, settings: SolverSettings = SolverSettings(), *, json_keys=False):
+    """:func:`solve` for an :class:`ImpactCase`, :func:`solve_game` for a :class:`GameCase`
+    (with ``json_keys``, a game's errors name the JSON keys, ``pitch.speed``)."""
     if isinstance(case, GameCase):
-        return solve_game(case, settings)
+        try:
+            return solve_game(case, settings)
+        except InputError as err:
+            if json_keys and err.field in _GAME_KEYS:
+                raise InputError(".".join(_GAME_KEYS[err.field]), err.message) from None
+            raise
     return solve(case, settings)
 
 

@@ -111,7 +111,7 @@ def cmd_impact(args) -> int:
     results = []
     for index, case in enumerate(cases):
         try:
-            result = solve_any(case).to_dict()
+            result = solve_any(case, json_keys=True).to_dict()
         except InputError as err:
             raise InputError(err.field, err.message, f"{source}: case {index}") from None
         results.append({k: _json_value(v) for k, v in result.items()})

@@ -25,8 +25,8 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-from mcbat.dataset import storage
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
+from mcbat.dataset import storage
 from mcbat.dataset.schema import (
     COLUMNS,
     DERIVED_COLUMNS,
@@ -36,8 +36,8 @@ from mcbat.dataset.schema import (
     derive_game,
 )
 
-__all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "chunk_files", "chunk_index",
-           "chunk_is_complete", "chunk_name", "is_temporary_chunk_name", "package_versions",
+__all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "chunk_files",
+           "chunk_index", "chunk_is_complete", "chunk_name", "is_temporary_chunk_name", "package_versions",
            "read_manifest", "read_table", "write_chunk", "write_manifest"]
 
 MANIFEST = "_mcbat.json"
