@@ -37,8 +37,8 @@ from mcbat.dataset.schema import (
 )
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "chunk_files",
-           "chunk_index", "chunk_is_complete", "chunk_name", "is_temporary_chunk_name", "package_versions",
-           "read_manifest", "read_table", "write_chunk", "write_manifest"]
+           "chunk_index", "chunk_is_complete", "chunk_name", "is_temporary_chunk_name",
+           "package_versions", "read_manifest", "read_table", "write_chunk", "write_manifest"]
 
 MANIFEST = "_mcbat.json"
 METADATA_KEY = b"mcbat"
