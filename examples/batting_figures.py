@@ -128,6 +128,7 @@ def cloud(dataset, path):
 
 
 def main():
+    """Draw both figures into docs/figures."""
     OUT.mkdir(parents=True, exist_ok=True)
     frame_drawing(OUT / "batting_frame.png")
     if len(sys.argv) > 1:
