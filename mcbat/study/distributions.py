@@ -178,7 +178,7 @@ class Fixed(Dist):
     family = "fixed"
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """The value itself, at the key it was written at."""
         return [Point(self.written or self.field, self.value, self.raw)]
 
     def config(self):
@@ -211,7 +211,7 @@ class Uniform(RandomDist):
     kind = "uniform"
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """``low`` and ``high``, at the keys they were written at."""
         return [Point(_sub(self.field, "low"), self.low, self.raw["low"]),
                 Point(_sub(self.field, "high"), self.high, self.raw["high"])]
 
@@ -235,7 +235,7 @@ class Normal(RandomDist):
     bounded = False
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """The mean, at ``<field>.mean`` (the support is unbounded: :attr:`bounded` is False)."""
         return [Point(_sub(self.field, "mean"), self.mean, self.raw["mean"])]
 
     def config(self):
@@ -271,7 +271,7 @@ class TruncNormal(RandomDist):
         object.__setattr__(self, "_pb", float(ndtr(b)))
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """``low`` and ``high``, at the keys they were written at."""
         return [Point(_sub(self.field, "low"), self.low, self.raw["low"]),
                 Point(_sub(self.field, "high"), self.high, self.raw["high"])]
 
@@ -324,7 +324,7 @@ class Choice(RandomDist):
         object.__setattr__(self, "_values", np.asarray(self.values, dtype=np.float64))
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """Every value, at ``<field>.values[i]``."""
         return [Point(f"{_sub(self.field, 'values')}[{i}]", v, self.raw["values"][i])
                 for i, v in enumerate(self.values)]
 
@@ -353,7 +353,7 @@ class Mixture(RandomDist):
         object.__setattr__(self, "bounded", all(c.bounded for c in self.components))
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """The points of every component, in order."""
         return [p for c in self.components for p in c.points()]
 
     def describe(self, point):
@@ -396,7 +396,7 @@ class Grid(Dist):
     family = "grid"
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """``start``, and ``stop`` when ``num > 1``, at the keys they were written at."""
         pts = [Point(_sub(self.field, "start"), self.start, self.raw["start"])]
         if self.num > 1:
             pts.append(Point(_sub(self.field, "stop"), self.stop, self.raw["stop"]))
@@ -420,7 +420,7 @@ class _UnitCube(Dist):
     raw: dict = dc_field(default_factory=dict)
 
     def points(self):
-        """The values that bound the support, at the keys they were written at."""
+        """``low`` and ``high``, at the keys they were written at."""
         return [Point(_sub(self.field, "low"), self.low, self.raw["low"]),
                 Point(_sub(self.field, "high"), self.high, self.raw["high"])]
 
