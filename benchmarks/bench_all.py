@@ -99,7 +99,9 @@ def accuracy_and_speedup(inputs, out, n_cases, seed=7):
     errors, t_ref, t_kernel = [], 0.0, 0.0
     for i in rows:
         x = inputs[:, i]
-        vec = lambda p: tuple(float(x[f[f"{p}{c}_in"]]) for c in "xyz")  # noqa: E731
+        def vec(p, x=x):
+            return tuple(float(x[f[f"{p}{c}_in"]]) for c in "xyz")
+
         t0 = time.perf_counter()
         ref = reference_impact(
             x[f["ball_mass"]], x[f["ball_radius"]], x[f["ball_inertia_factor"]],

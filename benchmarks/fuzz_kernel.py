@@ -59,8 +59,8 @@ STICK_OUTPUTS = [OUT["stick_impulse"], OUT["stick_criterion"]]
 FINITE_OUTPUTS = [i for i in range(len(OUTPUT_FIELDS)) if i not in STICK_OUTPUTS]
 
 CATEGORIES = ("tiny_ball", "huge_bat", "taper", "grazing", "tiny_vn", "high_spin",
-              "moving_bat", "mu_zero", "mu_high", "e_zero", "e_one", "e_x", "no_slip", "not_approaching",
-              "invalid")
+              "moving_bat", "mu_zero", "mu_high", "e_zero", "e_one", "e_x", "no_slip",
+              "not_approaching", "invalid")
 
 ENERGY_RTOL = 1e-9
 MOMENTUM_RTOL = 1e-9

@@ -220,6 +220,7 @@ def cmd_fit(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``mcbat`` argument parser, one subcommand per job."""
     parser = _ArgumentParser(
         prog="mcbat",
         description="Monte Carlo study of rigid ball-bat impacts with Coulomb friction.",
@@ -349,6 +350,8 @@ def _int_arg(flag):
 
 
 def main(argv=None) -> int:
+    """Run the ``mcbat`` command with ``argv`` (default: ``sys.argv[1:]``); returns the exit
+    code (0 ok, 2 user error, 1 internal error, 130 interrupted)."""
     parser = build_parser()
     debug = "--debug" in (sys.argv[1:] if argv is None else argv)
     try:

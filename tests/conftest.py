@@ -30,7 +30,8 @@ SEC5_LOSS_FRACTION = sec5.LOSS_FRACTION  # the paper's calibrated e^2
 
 
 def kernel(ball_v=(-4.0, 0.0, 0.0), ball_w=(0.0, 0.0, 0.0), bat_v=(0.0, 0.0, 0.0),
-           bat_w=(0.0, 0.0, 0.0), angle=SEC5_THETA, mu=0.5, e=1.0, e_x=0.0, settings=(), **overrides):
+           bat_w=(0.0, 0.0, 0.0), angle=SEC5_THETA, mu=0.5, e=1.0, e_x=0.0, settings=(),
+           **overrides):
     """Run ``solve_impact`` on the Sec. V bodies (with overrides); return a dict."""
     p = {**SEC5, **overrides}
     out = solve_impact(

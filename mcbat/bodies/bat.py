@@ -132,6 +132,7 @@ class Bat:
         return float(np.min(r + ball_radius / np.sqrt(1.0 + s * s))) - 1e-7
 
     def config(self) -> dict:
+        """The bat as plain data (part of a study's config hash; a profile by its digest)."""
         out = {"preset": self.preset, "mass": self.mass,
                "transverse_inertia": self.transverse_inertia,
                "axial_inertia": self.axial_inertia, "length": self.length,

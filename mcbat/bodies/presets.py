@@ -1,7 +1,8 @@
 """Ball and bat presets of study files (``preset = "..."``), and the bodies they describe.
 
 Balls
-    ``"baseball"``: 0.145 kg, radius 0.036 m, ``I = 0.4 m R^2`` (the paper's Sec. V; ``docs/physics.md``).
+    ``"baseball"``: 0.145 kg, radius 0.036 m, ``I = 0.4 m R^2`` (the paper's Sec. V;
+    ``docs/physics.md``).
 Bats
     ``"cross_nathan_2006"``: the Sec. V bat of ``docs/physics.md`` (Cross & Nathan's experiment):
     0.989 kg, ``I_t = 0.046``, ``I_3 = 4.39e-4`` kg m^2, length 0.84 m, CM 0.265 m from the

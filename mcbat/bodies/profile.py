@@ -1,7 +1,8 @@
 """Bat profiles: solids of revolution r(z) and their uniform-density mass properties.
 
-Lab frame (``docs/physics.md``, "The lab frame"): origin at the bat's centre of mass (CM), ``z`` along the bat axis
-towards the barrel end. A :class:`BatProfile` holds the radius ``r`` at nodes ``z`` in that
+Lab frame (``docs/physics.md``, "The lab frame"): origin at the bat's centre of mass (CM),
+``z`` along the bat axis towards the barrel end. A :class:`BatProfile` holds the radius
+``r`` at nodes ``z`` in that
 frame. Two readings of the same nodes are used, each where it matters:
 
 * mass properties (:func:`mass_properties`) take the radius as piecewise *linear* between

@@ -83,9 +83,8 @@ def read_profile_tsv(path):
                 values.append(value)
             distance, diameter = values
             if diameter < 0.0:
-                raise ValueError(
-                    f"{path}: line {lineno}: column 2 ({_COLUMNS[1]}): must be >= 0, got {fields[1]!r}"
-                )
+                raise ValueError(f"{path}: line {lineno}: column 2 ({_COLUMNS[1]}): "
+                                 f"must be >= 0, got {fields[1]!r}")
             if distances and not distance > distances[-1]:
                 raise ValueError(
                     f"{path}: line {lineno}: column 1 ({_COLUMNS[0]}): must increase, got "

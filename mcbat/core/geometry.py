@@ -1,9 +1,9 @@
 """Contact frame of a sphere touching a bat that is a solid of revolution.
 
-Lab frame (``docs/physics.md``, "The lab frame"): origin at the bat's centre of mass, ``z`` along the bat axis
-towards the barrel end. The contact point sits at axial position ``axial`` (m, from the
-bat CM) and azimuth ``angle`` (rad, from ``+x`` towards ``+y``) on a surface of radius
-``radius`` = r(axial) with slope ``slope`` = r'(axial) (0 for a cylinder).
+Lab frame (``docs/physics.md``, "The lab frame"): origin at the bat's centre of mass, ``z``
+along the bat axis towards the barrel end. The contact point sits at axial position
+``axial`` (m, from the bat CM) and azimuth ``angle`` (rad, from ``+x`` towards ``+y``) on a
+surface of radius ``radius`` = r(axial) with slope ``slope`` = r'(axial) (0 for a cylinder).
 
 ``t3`` is the outward bat normal, ``t1`` the azimuthal tangent ``e_phi``, and
 ``t2 = t3 x t1`` the meridional tangent with ``t2 . k > 0``.

@@ -64,12 +64,15 @@ class FitResult:
 
     @property
     def aic(self) -> float:
+        """Akaike's information criterion, ``2 (-ln L) + 2 k``."""
         return 2.0 * self.neg_log_likelihood + 2.0 * len(self.params)
 
     def bic(self, n_points: int) -> float:
+        """Bayesian information criterion, ``2 (-ln L) + k ln n`` for ``n_points`` values."""
         return 2.0 * self.neg_log_likelihood + len(self.params) * math.log(n_points)
 
     def to_dict(self) -> dict:
+        """The fit as JSON-ready data (the ``mcbat fit --json`` output)."""
         params = {k: {"value": v, "stderr": self.stderr.get(k, math.nan)}
                   for k, v in self.params.items()}
         for k, v in self.bootstrap_stderr.items():
@@ -152,6 +155,8 @@ class Likelihood:
         return sims.mean(axis=1), sims.var(axis=1, ddof=1)
 
     def __call__(self, theta):
+        """``-ln L`` at the free parameters ``theta`` (1e30 outside their ranges or where
+        the likelihood is not finite)."""
         for name, value in zip(self.free, theta):
             lo, hi = FREE[name]
             if not lo <= value <= hi:
@@ -162,6 +167,8 @@ class Likelihood:
         return float(nll) if np.isfinite(nll) else 1e30
 
     def residuals(self, theta):
+        """Normalised residuals ``(measured - model mean) / sigma`` at ``theta``, one row per
+        measurement and one column per observable."""
         mean, var = self.predict(theta)
         return (self.y - mean) / np.sqrt(self.s2 + var)
 
@@ -263,11 +270,13 @@ class ModelComparison:
 
     @property
     def likelihood_ratio(self) -> float:
+        """``2 (ln L_compliant - ln L_rigid)``, at least 0."""
         return max(2.0 * (self.rigid.neg_log_likelihood - self.compliant.neg_log_likelihood),
                    0.0)
 
     @property
     def lr_p_value(self) -> float:
+        """p-value of the likelihood ratio under the ``chi2_0/2 + chi2_1/2`` mixture."""
         return 0.5 * float(stats.chi2.sf(self.likelihood_ratio, 1))
 
     @property
@@ -282,9 +291,12 @@ class ModelComparison:
 
     @property
     def preferred(self) -> str:
+        """``"compliant"`` or ``"rigid"``: the model with the lower BIC."""
         return "compliant" if self.delta_bic < 0.0 else "rigid"
 
     def to_dict(self) -> dict:
+        """The comparison as JSON-ready data (``model_comparison`` in ``--json``)."""
+
         def model(r):
             return {"params": {k: {"value": v, "stderr": r.stderr.get(k, math.nan)}
                                for k, v in r.params.items()},
@@ -299,6 +311,7 @@ class ModelComparison:
                 "rigid": model(self.rigid), "compliant": model(self.compliant)}
 
     def lines(self) -> list[str]:
+        """The comparison as printed by ``mcbat fit``, one string per line."""
         e_x = self.compliant.params["e_x"]
         err = self.compliant.stderr["e_x"]
         verdict = ("the data prefer tangential compliance (e_x > 0)"

@@ -58,57 +58,69 @@ def read_measurements(path, required=()):
 
     path = Path(path)
     source = str(path)
-    if not path.is_file():
-        raise InputError(None, "no such file", source)
-    suffix = path.suffix.lower()
-    try:
-        if suffix == ".csv":
-            df = pd.read_csv(path, comment="#", skipinitialspace=True, dtype=str)
-        elif suffix in (".parquet", ".pq"):
-            df = pd.read_parquet(path)
-        else:
-            raise InputError(None, f"unknown table format {suffix!r} (use .csv or .parquet)",
-                             source)
-    except InputError:
-        raise
-    except Exception as err:  # noqa: BLE001 - any parser failure is the file's fault
-        raise InputError(None, f"cannot read the table: {err}", source) from None
+    df = _read_table(path, source)
     df.columns = [str(c).strip() for c in df.columns]
-    allowed = set(COLUMNS) | {f"{c}_err" for c in COLUMNS}
-    for name in df.columns:
-        if name not in allowed:
-            raise InputError(name, f"unknown column (expected any of: "
-                             f"{', '.join(COLUMNS)}, each optionally with a _err column)",
-                             source)
-    if len(set(df.columns)) != len(df.columns):
-        raise InputError(None, "duplicate column names", source)
-    for name in required:
-        if name not in df.columns:
-            raise InputError(name, "missing required column", source)
+    _check_columns(df.columns, required, source)
     if len(df) == 0:
         raise InputError(None, "the table has no data rows", source)
     out = pd.DataFrame(index=range(len(df)))
     for name in df.columns:
-        values = df[name].to_numpy()
-        numbers = np.empty(len(values))
-        for i, value in enumerate(values):
-            try:
-                numbers[i] = float(value)
-            except (TypeError, ValueError):
-                raise InputError(name, f"row {i + 1}: not a number: {value!r}",
-                                 source) from None
-            if not math.isfinite(numbers[i]):
-                raise InputError(name, f"row {i + 1}: must be finite, got {value!r}", source)
-            if name.endswith("_err") and not numbers[i] > 0.0:
-                raise InputError(name, f"row {i + 1}: an uncertainty must be > 0, got "
-                                 f"{value!r}", source)
-        out[name] = numbers
+        out[name] = _numbers(name, df[name].to_numpy(), source)
     for name in out.columns:
         if name.endswith("_err") and name[:-4] not in out.columns:
             raise InputError(name, f"uncertainty without its value column {name[:-4]!r}",
                              source)
     out.attrs["source"] = source
     return out
+
+
+def _read_table(path, source):
+    """The raw table (strings for CSV), or :class:`InputError` naming the file."""
+    import pandas as pd
+
+    if not path.is_file():
+        raise InputError(None, "no such file", source)
+    suffix = path.suffix.lower()
+    if suffix not in (".csv", ".parquet", ".pq"):
+        raise InputError(None, f"unknown table format {suffix!r} (use .csv or .parquet)",
+                         source)
+    try:
+        if suffix == ".csv":
+            return pd.read_csv(path, comment="#", skipinitialspace=True, dtype=str)
+        return pd.read_parquet(path)
+    except Exception as err:  # noqa: BLE001 - any parser failure is the file's fault
+        raise InputError(None, f"cannot read the table: {err}", source) from None
+
+
+def _check_columns(columns, required, source):
+    """Known, unique column names, with every ``required`` one present."""
+    allowed = set(COLUMNS) | {f"{c}_err" for c in COLUMNS}
+    for name in columns:
+        if name not in allowed:
+            raise InputError(name, f"unknown column (expected any of: "
+                             f"{', '.join(COLUMNS)}, each optionally with a _err column)",
+                             source)
+    if len(set(columns)) != len(columns):
+        raise InputError(None, "duplicate column names", source)
+    for name in required:
+        if name not in columns:
+            raise InputError(name, "missing required column", source)
+
+
+def _numbers(name, values, source):
+    """Column ``name`` as finite floats (uncertainties > 0), naming the first bad row."""
+    numbers = np.empty(len(values))
+    for i, value in enumerate(values):
+        try:
+            numbers[i] = float(value)
+        except (TypeError, ValueError):
+            raise InputError(name, f"row {i + 1}: not a number: {value!r}", source) from None
+        if not math.isfinite(numbers[i]):
+            raise InputError(name, f"row {i + 1}: must be finite, got {value!r}", source)
+        if name.endswith("_err") and not numbers[i] > 0.0:
+            raise InputError(name, f"row {i + 1}: an uncertainty must be > 0, got {value!r}",
+                             source)
+    return numbers
 
 
 def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.05,

@@ -163,6 +163,7 @@ class Dist(abc.ABC):
         """Canonical JSON-ready description, SI values."""
 
     def describe(self, point: Point) -> str:
+        """``point`` as written, with its SI value (for error messages)."""
         return u.format_value(point.si, point.raw, self.unit, self.quantity)
 
 
@@ -177,9 +178,11 @@ class Fixed(Dist):
     family = "fixed"
 
     def points(self):
+        """The value itself, at the key it was written at."""
         return [Point(self.written or self.field, self.value, self.raw)]
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "fixed", "value": self.value}
 
     def draw(self, rng, n):
@@ -200,24 +203,31 @@ class RandomDist(Dist):
 
 @dataclass(frozen=True, eq=False)
 class Uniform(RandomDist):
+    """Uniform on ``[low, high]`` (SI)."""
+
     low: float = 0.0
     high: float = 1.0
     raw: dict = dc_field(default_factory=dict)
     kind = "uniform"
 
     def points(self):
+        """``low`` and ``high``, at the keys they were written at."""
         return [Point(_sub(self.field, "low"), self.low, self.raw["low"]),
                 Point(_sub(self.field, "high"), self.high, self.raw["high"])]
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "uniform", "low": self.low, "high": self.high}
 
     def draw(self, rng, n):
+        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
         return self.low + (self.high - self.low) * rng.random(n)
 
 
 @dataclass(frozen=True, eq=False)
 class Normal(RandomDist):
+    """Normal with ``mean`` and standard deviation ``std`` (SI); unbounded."""
+
     mean: float = 0.0
     std: float = 1.0
     raw: dict = dc_field(default_factory=dict)
@@ -225,12 +235,15 @@ class Normal(RandomDist):
     bounded = False
 
     def points(self):
+        """The mean, at ``<field>.mean`` (the support is unbounded: :attr:`bounded` is False)."""
         return [Point(_sub(self.field, "mean"), self.mean, self.raw["mean"])]
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "normal", "mean": self.mean, "std": self.std}
 
     def draw(self, rng, n):
+        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
         return self.mean + self.std * rng.standard_normal(n)
 
 
@@ -258,14 +271,17 @@ class TruncNormal(RandomDist):
         object.__setattr__(self, "_pb", float(ndtr(b)))
 
     def points(self):
+        """``low`` and ``high``, at the keys they were written at."""
         return [Point(_sub(self.field, "low"), self.low, self.raw["low"]),
                 Point(_sub(self.field, "high"), self.high, self.raw["high"])]
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "truncnormal", "mean": self.mean, "std": self.std,
                 "low": self.low, "high": self.high}
 
     def draw(self, rng, n):
+        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
         x = ndtri(self._pa + (self._pb - self._pa) * rng.random(n))
         if self._flip:
             x = -x
@@ -294,6 +310,8 @@ def _select(cum, last, uniforms):
 
 @dataclass(frozen=True, eq=False)
 class Choice(RandomDist):
+    """One of ``values`` (SI), with probabilities proportional to ``weights``."""
+
     values: tuple = ()
     weights: tuple = ()
     raw: dict = dc_field(default_factory=dict)
@@ -306,13 +324,16 @@ class Choice(RandomDist):
         object.__setattr__(self, "_values", np.asarray(self.values, dtype=np.float64))
 
     def points(self):
+        """Every value, at ``<field>.values[i]``."""
         return [Point(f"{_sub(self.field, 'values')}[{i}]", v, self.raw["values"][i])
                 for i, v in enumerate(self.values)]
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "choice", "values": list(self.values), "weights": list(self.weights)}
 
     def draw(self, rng, n):
+        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
         return self._values[_select(self._cum, self._last, rng.random(n))]
 
 
@@ -332,19 +353,23 @@ class Mixture(RandomDist):
         object.__setattr__(self, "bounded", all(c.bounded for c in self.components))
 
     def points(self):
+        """The points of every component, in order."""
         return [p for c in self.components for p in c.points()]
 
     def describe(self, point):
+        """``point`` as written, with its SI value (for error messages)."""
         for c in self.components:
             if any(p.field == point.field for p in c.points()):
                 return c.describe(point)
         return super().describe(point)
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "mixture", "components": [c.config() for c in self.components],
                 "weights": list(self.weights)}
 
     def draw(self, rng, n):
+        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
         which = _select(self._cum, self._last, rng.random(n))
         out = None
         for j, component in enumerate(self.components):
@@ -371,6 +396,7 @@ class Grid(Dist):
     family = "grid"
 
     def points(self):
+        """``start``, and ``stop`` when ``num > 1``, at the keys they were written at."""
         pts = [Point(_sub(self.field, "start"), self.start, self.raw["start"])]
         if self.num > 1:
             pts.append(Point(_sub(self.field, "stop"), self.stop, self.raw["stop"]))
@@ -381,6 +407,7 @@ class Grid(Dist):
         return np.linspace(self.start, self.stop, self.num)
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": "grid", "start": self.start, "stop": self.stop, "num": self.num}
 
 
@@ -393,10 +420,12 @@ class _UnitCube(Dist):
     raw: dict = dc_field(default_factory=dict)
 
     def points(self):
+        """``low`` and ``high``, at the keys they were written at."""
         return [Point(_sub(self.field, "low"), self.low, self.raw["low"]),
                 Point(_sub(self.field, "high"), self.high, self.raw["high"])]
 
     def config(self):
+        """Canonical JSON-ready description, SI values."""
         return {"dist": self.kind, "low": self.low, "high": self.high}
 
     def from_unit(self, unit_values):
@@ -405,11 +434,17 @@ class _UnitCube(Dist):
 
 
 class Sobol(_UnitCube):
+    """Quasi-random Sobol points on ``[low, high]`` (``scipy.stats.qmc``), one dimension
+    of the study's joint Sobol sequence."""
+
     kind = "sobol"
     family = "sobol"
 
 
 class LHS(_UnitCube):
+    """Latin hypercube samples on ``[low, high]`` (``scipy.stats.qmc``), one dimension of
+    the study's joint design."""
+
     kind = "lhs"
     family = "lhs"
 
@@ -492,25 +527,8 @@ def parse(spec, field, quantity, *, kinds=None, default_unit=None) -> Dist:
 
     unit = spec.get("unit", default_unit)
     if "dist" not in spec:
-        if "value" not in spec:
-            raise InputError(_sub(field, "dist"),
-                             "missing required key (a distribution: one of "
-                             f"{', '.join(DIST_KINDS)}; or 'value' for a fixed number)")
-        check_keys(spec, field, ("value",), ("unit",))
-        refuse("fixed")
-        u.factor(unit, quantity, _sub(field, "unit"))  # validates the unit
-        value = number(spec["value"], _sub(field, "value"))
-        return Fixed(field, quantity, unit, value=u.to_si(value, unit, quantity),
-                     raw=spec["value"],
-                     written=_sub(field, "value"))
-
-    kind = spec["dist"]
-    if not isinstance(kind, str):
-        raise InputError(_sub(field, "dist"),
-                         f"must be a string, got {_type_name(kind)} {kind!r}")
-    if kind not in DIST_KINDS:
-        raise InputError(_sub(field, "dist"), f"unknown distribution {kind!r} "
-                                              f"(expected one of: {', '.join(DIST_KINDS)})")
+        return _parse_value_table(spec, field, quantity, unit, refuse)
+    kind = _distribution_kind(spec, field)
     required, optional = _KEYS[kind]
     check_keys(spec, field, ("dist",) + required, optional + ("unit",))
     refuse(kind)
@@ -521,43 +539,89 @@ def parse(spec, field, quantity, *, kinds=None, default_unit=None) -> Dist:
 
     raw = {k: spec[k] for k in required + optional if k in spec}
     common = dict(field=field, quantity=quantity, unit=unit)
+    return _BUILDERS[kind](spec, field, f, raw, common)
 
-    if kind == "uniform":
-        low, high = _low_high(spec, field, f)
-        return Uniform(**common, low=low, high=high, raw=raw)
-    if kind in ("sobol", "lhs"):
+
+def _parse_value_table(spec, field, quantity, unit, refuse) -> Fixed:
+    """A fixed number written as a table, ``{value = ..., unit = "..."}``."""
+    if "value" not in spec:
+        raise InputError(_sub(field, "dist"),
+                         "missing required key (a distribution: one of "
+                         f"{', '.join(DIST_KINDS)}; or 'value' for a fixed number)")
+    check_keys(spec, field, ("value",), ("unit",))
+    refuse("fixed")
+    u.factor(unit, quantity, _sub(field, "unit"))  # validates the unit
+    value = number(spec["value"], _sub(field, "value"))
+    return Fixed(field, quantity, unit, value=u.to_si(value, unit, quantity),
+                 raw=spec["value"], written=_sub(field, "value"))
+
+
+def _distribution_kind(spec, field) -> str:
+    """The validated ``dist`` key of a distribution table."""
+    kind = spec["dist"]
+    if not isinstance(kind, str):
+        raise InputError(_sub(field, "dist"),
+                         f"must be a string, got {_type_name(kind)} {kind!r}")
+    if kind not in DIST_KINDS:
+        raise InputError(_sub(field, "dist"), f"unknown distribution {kind!r} "
+                                              f"(expected one of: {', '.join(DIST_KINDS)})")
+    return kind
+
+
+# Builders of the distributions from their validated tables: ``(spec, field, f, raw,
+# common)``, where ``f`` converts a number of the table's unit to SI and ``common`` holds
+# the field, quantity and unit.
+
+def _build_uniform(spec, field, f, raw, common):
+    low, high = _low_high(spec, field, f)
+    return Uniform(**common, low=low, high=high, raw=raw)
+
+
+def _build_unit_cube(kind):
+    def build(spec, field, f, raw, common):
         low, high = _low_high(spec, field, f)
         return (Sobol if kind == "sobol" else LHS)(**common, low=low, high=high, raw=raw)
-    if kind == "normal":
-        mean = f(number(spec["mean"], _sub(field, "mean")))
-        return Normal(**common, mean=mean, std=_std(spec, field, f), raw=raw)
-    if kind == "truncnormal":
-        mean = f(number(spec["mean"], _sub(field, "mean")))
-        std = _std(spec, field, f)
-        low, high = _low_high(spec, field, f)
-        dist = TruncNormal(**common, mean=mean, std=std, low=low, high=high, raw=raw)
-        a, b = (low - mean) / std, (high - mean) / std
-        tail = a if a > 0.0 else (-b if b < 0.0 else 0.0)  # sigmas to the nearest end
-        if tail > _MAX_TAIL_SIGMAS or not dist._pb > dist._pa:
-            raise InputError(field, f"the interval [{spec['low']!r}, {spec['high']!r}] lies "
-                                    f"more than {_MAX_TAIL_SIGMAS:g} standard deviations from "
-                                    f"the mean {spec['mean']!r}: use a uniform distribution")
-        return dist
-    if kind == "choice":
-        values_raw = spec["values"]
-        name = _sub(field, "values")
-        if not isinstance(values_raw, list) or not values_raw:
-            raise InputError(name, f"must be a non-empty array of numbers, got "
-                                   f"{_type_name(values_raw)} {values_raw!r}")
-        values = tuple(f(number(v, f"{name}[{i}]")) for i, v in enumerate(values_raw))
-        weights = _weights(spec, field, len(values), "value")
-        return Choice(**common, values=values, weights=weights, raw=raw)
-    if kind == "grid":
-        start = f(number(spec["start"], _sub(field, "start")))
-        stop = f(number(spec["stop"], _sub(field, "stop")))
-        num = integer(spec["num"], _sub(field, "num"), minimum=1)
-        return Grid(**common, start=start, stop=stop, num=num, raw=raw)
-    # mixture
+    return build
+
+
+def _build_normal(spec, field, f, raw, common):
+    mean = f(number(spec["mean"], _sub(field, "mean")))
+    return Normal(**common, mean=mean, std=_std(spec, field, f), raw=raw)
+
+
+def _build_truncnormal(spec, field, f, raw, common):
+    mean = f(number(spec["mean"], _sub(field, "mean")))
+    std = _std(spec, field, f)
+    low, high = _low_high(spec, field, f)
+    dist = TruncNormal(**common, mean=mean, std=std, low=low, high=high, raw=raw)
+    a, b = (low - mean) / std, (high - mean) / std
+    tail = a if a > 0.0 else (-b if b < 0.0 else 0.0)  # sigmas to the nearest end
+    if tail > _MAX_TAIL_SIGMAS or not dist._pb > dist._pa:
+        raise InputError(field, f"the interval [{spec['low']!r}, {spec['high']!r}] lies "
+                                f"more than {_MAX_TAIL_SIGMAS:g} standard deviations from "
+                                f"the mean {spec['mean']!r}: use a uniform distribution")
+    return dist
+
+
+def _build_choice(spec, field, f, raw, common):
+    values_raw = spec["values"]
+    name = _sub(field, "values")
+    if not isinstance(values_raw, list) or not values_raw:
+        raise InputError(name, f"must be a non-empty array of numbers, got "
+                               f"{_type_name(values_raw)} {values_raw!r}")
+    values = tuple(f(number(v, f"{name}[{i}]")) for i, v in enumerate(values_raw))
+    weights = _weights(spec, field, len(values), "value")
+    return Choice(**common, values=values, weights=weights, raw=raw)
+
+
+def _build_grid(spec, field, f, raw, common):
+    start = f(number(spec["start"], _sub(field, "start")))
+    stop = f(number(spec["stop"], _sub(field, "stop")))
+    num = integer(spec["num"], _sub(field, "num"), minimum=1)
+    return Grid(**common, start=start, stop=stop, num=num, raw=raw)
+
+
+def _build_mixture(spec, field, f, raw, common):
     comps_raw = spec["components"]
     name = _sub(field, "components")
     if not isinstance(comps_raw, list) or not comps_raw:
@@ -571,10 +635,16 @@ def parse(spec, field, quantity, *, kinds=None, default_unit=None) -> Dist:
                 raise InputError(_sub(sub, "dist"), f"a mixture component cannot be "
                                  f"{c['dist']!r} (expected one of: "
                                  f"{', '.join(MIXTURE_COMPONENT_KINDS)})")
-        components.append(parse(c, sub, quantity, kinds=MIXTURE_COMPONENT_KINDS,
-                                default_unit=unit))
+        components.append(parse(c, sub, common["quantity"], kinds=MIXTURE_COMPONENT_KINDS,
+                                default_unit=common["unit"]))
     weights = _weights(spec, field, len(components), "component")
     return Mixture(**common, components=tuple(components), weights=weights)
+
+
+_BUILDERS = {"uniform": _build_uniform, "sobol": _build_unit_cube("sobol"),
+             "lhs": _build_unit_cube("lhs"), "normal": _build_normal,
+             "truncnormal": _build_truncnormal, "choice": _build_choice,
+             "grid": _build_grid, "mixture": _build_mixture}
 
 
 # ---------------------------------------------------------------- range checks

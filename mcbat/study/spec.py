@@ -53,9 +53,9 @@ File format
 Quantities: axial, from_barrel_end, impact_parameter and the bat/ball radii are lengths;
 angle and approach_azimuth angles; velocities speeds; spins spins; mu, e, loss_fraction,
 e_x and inertia_factor dimensionless. Without a ``unit`` a value is SI (m, m/s, rad/s, rad,
-kg, kg m^2). The lab frame is that of ``docs/physics.md``: the bat CM at the origin, ``z`` along the bat
-towards the barrel end; ``axial`` is measured from the CM, ``from_barrel_end`` from the
-barrel end (``axial = cm_from_barrel_end - from_barrel_end``). The impact parameter is
+kg, kg m^2). The lab frame is that of ``docs/physics.md``: the bat CM at the origin, ``z``
+along the bat towards the barrel end; ``axial`` is measured from the CM, ``from_barrel_end``
+from the barrel end (``axial = cm_from_barrel_end - from_barrel_end``). The impact parameter is
 the offset of a ball line perpendicular to the bat, arriving from azimuth
 ``approach_azimuth``: ``b = (r + R/sqrt(1 + r'^2)) sin(angle - approach_azimuth)``.
 
@@ -118,7 +118,6 @@ from mcbat.core.geometry import angles_from_impact_parameters, impact_parameters
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import (
-    Dist,
     check_keys,
     check_range,
     integer,
@@ -232,6 +231,48 @@ def _parse_bat(table):
             raise InputError("bat.cm_from_barrel_end",
                              f"must be >= 0{limit}, got {cm:.6g} m")
     return Bat(**values)
+
+
+def _parse_noise(table):
+    """The ``[noise]`` section: standard deviations in SI (the scattering angle's in
+    degrees, like its column)."""
+    noise = check_keys(table, "noise", (), tuple(NOISE_OUTPUTS))
+    out = MappingProxyType({
+        name: _fixed(spec, f"noise.{name}", NOISE_OUTPUTS[name], positive=False)
+        * (180.0 / math.pi if name == "scattering_angle" else 1.0)
+        for name, spec in noise.items()})
+    for name, std in out.items():
+        if not std >= 0.0:
+            raise InputError(f"noise.{name}", f"must be a standard deviation >= 0, "
+                             f"got {std!r}")
+    return out
+
+
+def _parse_inputs(data) -> dict:
+    """The numeric inputs, in declaration order (sections, then keys, as in the file)."""
+    inputs = {}
+    for section, table in data.items():
+        if section == "contact":
+            check_keys(table, "contact", (), tuple(_CONTACT_QUANTITIES))
+            for key, spec in table.items():
+                inputs[f"contact.{key}"] = parse(spec, f"contact.{key}",
+                                                 _CONTACT_QUANTITIES[key])
+        elif section in _VECTORS:
+            check_keys(table, section, (), ("x", "y", "z"))
+            for key, spec in table.items():
+                inputs[f"{section}.{key}"] = parse(spec, f"{section}.{key}",
+                                                   _VECTORS[section][1])
+        elif section == "friction":
+            check_keys(table, "friction", ("mu",))
+            inputs["friction.mu"] = parse(table["mu"], "friction.mu", u.DIMENSIONLESS)
+        elif section == "restitution":
+            check_keys(table, "restitution", (), ("e", "loss_fraction", "e_x"))
+            if "e_x" not in table or "e" in table or "loss_fraction" in table:
+                _exactly_one(table, "restitution", "e", "loss_fraction")
+            for key, spec in table.items():
+                inputs[f"restitution.{key}"] = parse(spec, f"restitution.{key}",
+                                                     u.DIMENSIONLESS)
+    return inputs
 
 
 def _check_solver(table):
@@ -356,7 +397,22 @@ class Study:
                 raise InputError(section, f"must be a table ([{section}]), "
                                           f"got {data[section]!r}")
 
-        study = check_keys(data["study"], "study", ("name", "samples"),
+        self._parse_study_section(data["study"])
+        self.ball = _parse_ball(data["ball"])
+        self.bat = _parse_bat(data["bat"])
+        self._solver = _check_solver(data.get("solver", {}))
+        self.noise = _parse_noise(data.get("noise", {}))
+        inputs = _parse_inputs(data)
+        contact = data["contact"]
+        self._axial_key = _exactly_one(contact, "contact", "axial", "from_barrel_end")
+        self._angle_key = _exactly_one(contact, "contact", "angle", "impact_parameter")
+        self.inputs = MappingProxyType(inputs)
+        self._check_ranges()
+        self._plan()
+
+    def _parse_study_section(self, table):
+        """The ``[study]`` section: name, description, samples, seed, chunk size."""
+        study = check_keys(table, "study", ("name", "samples"),
                            ("description", "seed", "chunk_size"))
         self.name = _string(study["name"], "study.name")
         if not self.name.strip():
@@ -366,50 +422,6 @@ class Study:
         self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
         self.chunk_size = (None if "chunk_size" not in study
                            else integer(study["chunk_size"], "study.chunk_size", minimum=1))
-
-        self.ball = _parse_ball(data["ball"])
-        self.bat = _parse_bat(data["bat"])
-        self._solver = _check_solver(data.get("solver", {}))
-        noise = check_keys(data.get("noise", {}), "noise", (), tuple(NOISE_OUTPUTS))
-        # Standard deviations in SI (the scattering angle's in degrees, like its column).
-        self.noise = MappingProxyType({
-            name: _fixed(spec, f"noise.{name}", NOISE_OUTPUTS[name], positive=False)
-            * (180.0 / math.pi if name == "scattering_angle" else 1.0)
-            for name, spec in noise.items()})
-        for name, std in self.noise.items():
-            if not std >= 0.0:
-                raise InputError(f"noise.{name}", f"must be a standard deviation >= 0, "
-                                 f"got {std!r}")
-
-        # Numeric inputs, in declaration order (sections, then keys, as in the file).
-        inputs: dict[str, Dist] = {}
-        for section, table in data.items():
-            if section == "contact":
-                check_keys(table, "contact", (), tuple(_CONTACT_QUANTITIES))
-                for key, spec in table.items():
-                    inputs[f"contact.{key}"] = parse(spec, f"contact.{key}",
-                                                     _CONTACT_QUANTITIES[key])
-            elif section in _VECTORS:
-                check_keys(table, section, (), ("x", "y", "z"))
-                for key, spec in table.items():
-                    inputs[f"{section}.{key}"] = parse(spec, f"{section}.{key}",
-                                                       _VECTORS[section][1])
-            elif section == "friction":
-                check_keys(table, "friction", ("mu",))
-                inputs["friction.mu"] = parse(table["mu"], "friction.mu", u.DIMENSIONLESS)
-            elif section == "restitution":
-                check_keys(table, "restitution", (), ("e", "loss_fraction", "e_x"))
-                if "e_x" not in table or "e" in table or "loss_fraction" in table:
-                    _exactly_one(table, "restitution", "e", "loss_fraction")
-                for key, spec in table.items():
-                    inputs[f"restitution.{key}"] = parse(spec, f"restitution.{key}",
-                                                         u.DIMENSIONLESS)
-        contact = data["contact"]
-        self._axial_key = _exactly_one(contact, "contact", "axial", "from_barrel_end")
-        self._angle_key = _exactly_one(contact, "contact", "angle", "impact_parameter")
-        self.inputs = MappingProxyType(inputs)
-        self._check_ranges()
-        self._plan()
 
     def _check_ranges(self):
         inputs = self.inputs
@@ -630,16 +642,8 @@ class Study:
             rows of one C-contiguous ``(len(COLUMNS), n)`` array, so
             ``np.stack([cols[f] for f in INPUT_FIELDS])`` is a plain copy.
         """
-        stop = self.samples if stop is None else stop
-        seed = self.seed if seed is None else seed
-        for label, value in (("start", start), ("stop", stop), ("seed", seed)):
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-                raise TypeError(f"{label} must be an integer, got {value!r}")
-        if not 0 <= start <= stop:
-            raise ValueError(f"need 0 <= start <= stop, got start={start}, stop={stop}")
-        if seed < 0:
-            raise ValueError(f"seed must be >= 0, got {seed}")
-        start, stop, seed = int(start), int(stop), int(seed)
+        start, stop, seed = _sample_range(start, self.samples if stop is None else stop,
+                                          self.seed if seed is None else seed)
         n = stop - start
         table = np.empty((len(COLUMNS), n))
         cols = {name: table[i] for i, name in enumerate(COLUMNS)}
@@ -651,18 +655,7 @@ class Study:
         dest = {name: cols[_TARGETS[name]] if name in _TARGETS else np.empty(n)
                 for name in self.inputs}
         self._draw(start, stop, seed, dest)
-        for section, (prefix, _) in _VECTORS.items():
-            for axis in "xyz":
-                if f"{section}.{axis}" not in dest:
-                    cols[f"{prefix}{axis}_in"][:] = 0.0
-        if "restitution.loss_fraction" in dest:
-            e = cols["e"]
-            np.subtract(1.0, e, out=e)
-            np.sqrt(e, out=e)
-        elif "restitution.e" not in dest:
-            cols["e"][:] = 1.0
-        if "restitution.e_x" not in dest:
-            cols["e_x"][:] = 0.0
+        _fill_defaults(cols, dest)
 
         ball, bat = self.ball, self.bat
         cols["ball_mass"][:] = ball.mass
@@ -705,6 +698,35 @@ _TARGETS = {
     **{f"{section}.{axis}": f"{prefix}{axis}_in"
        for section, (prefix, _) in _VECTORS.items() for axis in "xyz"},
 }
+
+
+def _sample_range(start, stop, seed) -> tuple[int, int, int]:
+    """Validated ``(start, stop, seed)`` of :meth:`Study.sample`, as ints."""
+    for label, value in (("start", start), ("stop", stop), ("seed", seed)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise TypeError(f"{label} must be an integer, got {value!r}")
+    if not 0 <= start <= stop:
+        raise ValueError(f"need 0 <= start <= stop, got start={start}, stop={stop}")
+    if seed < 0:
+        raise ValueError(f"seed must be >= 0, got {seed}")
+    return int(start), int(stop), int(seed)
+
+
+def _fill_defaults(cols, dest) -> None:
+    """Columns of inputs the study leaves out (zero vectors, ``e* = 1``, ``e_x = 0``), and
+    ``e*`` from a drawn loss fraction (in place)."""
+    for section, (prefix, _) in _VECTORS.items():
+        for axis in "xyz":
+            if f"{section}.{axis}" not in dest:
+                cols[f"{prefix}{axis}_in"][:] = 0.0
+    if "restitution.loss_fraction" in dest:
+        e = cols["e"]
+        np.subtract(1.0, e, out=e)
+        np.sqrt(e, out=e)
+    elif "restitution.e" not in dest:
+        cols["e"][:] = 1.0
+    if "restitution.e_x" not in dest:
+        cols["e_x"][:] = 0.0
 
 
 def _qmc(engine, d, rng, **kwargs):

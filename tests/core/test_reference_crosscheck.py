@@ -172,7 +172,7 @@ def test_reference_is_self_consistent(crosscheck):
             c["axial"], c["angle"], c["radius"], c["slope"]))
         r_p = r_c + BODIES["ball_radius"] * t3
 
-        def momenta(bv, bw, tv, tw):
+        def momenta(bv, bw, tv, tw, r_p=r_p):
             linear = m_p * np.asarray(bv) + m_b * np.asarray(tv)
             angular = m_p * np.cross(r_p, bv) + i_p * np.asarray(bw) + i_b * np.asarray(tw)
             return linear, angular
@@ -191,7 +191,8 @@ def test_reference_is_self_consistent(crosscheck):
 
 
 def test_reference_frictionless_closed_form():
-    """mu = 0: I_c = -v_n(0)/K_33 and I_f = (1 + e*) I_c (docs/physics.md, "Frictionless contact")."""
+    """mu = 0: I_c = -v_n(0)/K_33 and I_f = (1 + e*) I_c (docs/physics.md, "Frictionless
+    contact")."""
     angle, axial, e = 0.3, 0.12, 0.6
     r = reference_impact(**BODIES, axial=axial, angle=angle, radius=BARREL_RADIUS, slope=0.0,
                          ball_v=(-20.0, 3.0, 1.0), ball_w=(10.0, -40.0, 90.0),

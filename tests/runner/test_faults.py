@@ -71,7 +71,7 @@ def test_full_disk_is_a_clear_error_and_the_run_resumes_identically(tmpfs, tmp_p
     kept = ds.chunk_files(target / "ds")
     assert 0 < len(kept) < 10
     assert not list((target / "ds").glob(".*tmp"))  # no half-written file left behind
-    for index, path in kept.items():  # what is there is complete
+    for path in kept.values():  # what is there is complete
         assert ds.chunk_is_complete(path, 4_000, ds.read_manifest(
             target / "ds")["config_hash"])
     # Free space (grow the file system) and rerun: the dataset completes, identical to a

@@ -37,7 +37,8 @@ import math
 from mcbat.core import status as st
 from mcbat.core.jit import njit
 
-__all__ = ["reslip_direction", "rk4_step", "slip_velocity", "APPROACH_FACTOR", "APPROACH_MARGIN", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS",
+__all__ = ["reslip_direction", "rk4_step", "slip_velocity",
+           "APPROACH_FACTOR", "APPROACH_MARGIN", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS",
            "DEFAULT_TOLERANCE", "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION",
            "MAX_SLIP_FRACTION", "RESLIP_SAMPLES", "ROBUST_STICK", "STICK_TOLERANCE",
            "inverse_slip_stiffness", "solve_contact", "stick_impulse_rate"]
@@ -79,6 +80,8 @@ DEFAULT_MAX_STEPS = 20_000
 
 @njit(inline="always")
 def slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
+    """Relative contact velocity (m/s, contact frame) after the tangential impulse
+    ``(p1, p2)`` and the normal impulse ``imp`` (kg m/s): ``v0 + K P``."""
     v1 = v01 + k11 * p1 + k12 * p2 + k13 * imp
     v2 = v02 + k12 * p1 + k22 * p2 + k23 * imp
     vn = v0n + k13 * p1 + k23 * p2 + k33 * imp

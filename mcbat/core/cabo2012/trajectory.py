@@ -15,10 +15,10 @@ from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
     MAX_SLIP_FRACTION,
     STICK_TOLERANCE,
+    inverse_slip_stiffness,
     reslip_direction,
     rk4_step,
     slip_velocity,
-    inverse_slip_stiffness,
     stick_impulse_rate,
 )
 from mcbat.core.jit import njit

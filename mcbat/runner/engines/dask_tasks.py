@@ -140,6 +140,7 @@ class WarmUp(WorkerPlugin):
         self.threads = threads
 
     async def setup(self, worker):
+        """Warm the kernel on ``worker`` (called by Dask when the worker joins)."""
         # In the worker's task executor, not the event loop: loading or compiling the
         # kernel may take seconds, and the worker must keep answering the scheduler.
         executor = worker.executors.get("default")

@@ -35,6 +35,7 @@ class LocalEngine:
         self.threads = threads
 
     def connect(self):
+        """Nothing to start: a null context."""
         return contextlib.nullcontext()
 
     def ready(self):
@@ -43,6 +44,8 @@ class LocalEngine:
         warm_kernel()
 
     def run(self, study, job: ChunkJob, todo, display):
+        """Compute the chunks ``todo`` in order; yield each one's summary once it is
+        solved, its file being written meanwhile (every write is awaited before the end)."""
         with ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcbat-writer") as writer:
             pending = None
 
@@ -58,6 +61,7 @@ class LocalEngine:
                 _finish(pending, display)
 
     def note(self, summaries):
+        """No note: the local engine is the default."""
         return None
 
 

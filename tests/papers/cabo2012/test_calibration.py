@@ -13,7 +13,8 @@ from mcbat.papers.cabo2012.calibration import calibrate_restitution, exit_speed
 
 def test_recovers_the_papers_loss_fraction():
     result = calibrate_restitution(1.44629)
-    # docs/physics.md ("Accuracy of the printed numbers"): the paper's loose stick impulse (4e-4) and its trial-and-error fit leave
+    # docs/physics.md ("Accuracy of the printed numbers"): the paper's loose stick impulse
+    # (4e-4) and its trial-and-error fit leave
     # the printed numbers good to 3-4 digits; e^2 = 0.6183822 is recovered to that.
     assert result.loss_fraction == pytest.approx(0.6183822, abs=5e-4)
     assert result.e_star == pytest.approx(sec5.e_star_paper(), abs=5e-4)

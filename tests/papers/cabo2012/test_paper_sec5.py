@@ -74,7 +74,8 @@ def test_energies_at_stick(friction_only):
     assert r["energy_in"] == pytest.approx(1.16, abs=_digits("1.16"))
     # W_fr(I_s): the friction work up to the stick point equals the total friction work,
     # since the contact sticks and static friction does no work.
-    assert r["friction_work"] == pytest.approx(PRINTED["friction_work_at_stick"], rel=PAPER_IS_LOOSENESS)
+    assert r["friction_work"] == pytest.approx(PRINTED["friction_work_at_stick"],
+                                               rel=PAPER_IS_LOOSENESS)
     c = r["stick_criterion"]
     assert c == pytest.approx(PRINTED["stick_criterion_C"], rel=PAPER_IS_LOOSENESS)
     e_rp = r["energy_in"] - c + r["friction_work"]  # E(I_s) = E_in + W_n(I_s) + W_fr(I_s)
@@ -95,7 +96,8 @@ def test_stick_phase_energy_parabola(friction_only):
     p2 = r["tangential_impulse_2"] - f2 * (i_f - i_s)
     a = vn0 + k13 * p1 + k23 * p2 + k33 * i_s  # v_n(I_s)
     b = 0.5 * (k33 + k13 * f1 + k23 * f2)
-    assert b == pytest.approx(PRINTED["energy_after_stick_quadratic"]["quadratic"], rel=1e-12)  # independent of I_s
+    # independent of I_s
+    assert b == pytest.approx(PRINTED["energy_after_stick_quadratic"]["quadratic"], rel=1e-12)
     assert a == pytest.approx(PRINTED["energy_after_stick_quadratic"]["linear"],
                            rel=PAPER_IS_LOOSENESS * 0.01)
     # Friction-only separation, minimum of E_f and its value.
