@@ -17,7 +17,12 @@ import numba
 import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.swing import GAME_INPUT_FIELDS, allocate_game_outputs, solve_game_batch
+from mcbat.core.swing import (
+    GAME_INPUT_FIELDS,
+    allocate_game_outputs,
+    bat_frame_columns,
+    solve_game_batch,
+)
 from mcbat.study import load_study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -29,16 +34,17 @@ def main(n=400_000, repeats=7):
     game = np.stack([cols[f] for f in GAME_INPUT_FIELDS])
     s = study.solver
     args = (s["steps"], s["tolerance"], s["max_steps"])
-    bat_in, out, game_out, status, end_state = allocate_game_outputs(n)
-    solve_game_batch(game, *args, bat_in, out, game_out, status, end_state)  # warm
-    bat = np.ascontiguousarray(bat_in[:len(INPUT_FIELDS)])
+    frame, out, game_out, status, end_state = allocate_game_outputs(n)
+    solve_game_batch(game, *args, frame, out, game_out, status, end_state)  # warm
+    columns = bat_frame_columns(game, frame)
+    bat = np.stack([columns[name] for name in INPUT_FIELDS])
     out2, status2, end2 = allocate_outputs(n)
     solve_batch(bat, *args, out2, status2, end2)
     assert np.array_equal(out, out2, equal_nan=True), "the two kernels disagree"
     t_game, t_bat = [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        solve_game_batch(game, *args, bat_in, out, game_out, status, end_state)
+        solve_game_batch(game, *args, frame, out, game_out, status, end_state)
         t_game.append(time.perf_counter() - t0)
         t0 = time.perf_counter()
         solve_batch(bat, *args, out2, status2, end2)

@@ -27,7 +27,7 @@ import numpy as np
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
 from mcbat.core import status as st
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+from mcbat.core.batch import OUTPUT_FIELDS
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.cabo2012.trajectory import contact_history
@@ -42,6 +42,8 @@ from mcbat.core.swing import (
     GAME_OUTPUT_FIELDS,
     SWEET_SPOT_FROM_BARREL_END,
     allocate_game_outputs,
+    bat_frame_columns,
+    incoming_state,
     solve_game_batch,
 )
 from mcbat.dataset.schema import derive, derive_game
@@ -628,8 +630,8 @@ def solve_game(case: GameCase, settings: SolverSettings = SolverSettings()) -> G
         If the kernel reports another failure status.
     """
     g = case.kernel_inputs()
-    bat_in, out, game_out, status, end_state = allocate_game_outputs(1)
-    solve_game_batch(g, settings.steps, settings.tolerance, settings.max_steps, bat_in, out,
+    frame, out, game_out, status, end_state = allocate_game_outputs(1)
+    solve_game_batch(g, settings.steps, settings.tolerance, settings.max_steps, frame, out,
                      game_out, status, end_state)
     code = int(status[0])
     if code == st.NOT_APPROACHING:
@@ -637,12 +639,15 @@ def solve_game(case: GameCase, settings: SolverSettings = SolverSettings()) -> G
                          "(a pitch moving away from the swing)")
     if code != st.OK:
         raise RuntimeError(f"game solver failed with status {st.STATUS_NAMES[code]!r}")
-    b = dict(zip(INPUT_FIELDS, bat_in[:, 0]))
+    b = {name: column[0] for name, column in bat_frame_columns(g, frame).items()}
     o = dict(zip(OUTPUT_FIELDS, out[:, 0]))
     go = dict(zip(GAME_OUTPUT_FIELDS, game_out[:, 0]))
 
     def vec(d, fmt):
         return tuple(float(d[fmt.format(c)]) for c in "xyz")
+
+    pitch_v, pitch_w, bat_v, bat_w = (tuple(float(x) for x in v)
+                                      for v in incoming_state(g, 0))
 
     impact_case = ImpactCase(
         ball=case.ball, bat=case.bat, contact=Contact(axial=float(b["axial"]),
@@ -669,8 +674,7 @@ def solve_game(case: GameCase, settings: SolverSettings = SolverSettings()) -> G
         case=case, impact=impact, collision_efficiency=float(go["collision_efficiency"]),
         ball_velocity=vec(go, "field_ball_v{}"), ball_spin=vec(go, "field_ball_w{}"),
         bat_velocity=vec(go, "field_bat_v{}"), bat_spin=vec(go, "field_bat_w{}"),
-        pitch_velocity=vec(go, "field_ball_v{}_in"), pitch_spin=vec(go, "field_ball_w{}_in"),
-        bat_velocity_in=vec(go, "field_bat_v{}_in"), bat_spin_in=vec(go, "field_bat_w{}_in"),
+        pitch_velocity=pitch_v, pitch_spin=pitch_w, bat_velocity_in=bat_v, bat_spin_in=bat_w,
         undercut_impact_parameter=float(go["impact_parameter"]))
 
 

@@ -25,7 +25,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
+from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, bat_frame_columns
 from mcbat.dataset import storage
 from mcbat.dataset.schema import (
     COLUMNS,
@@ -129,13 +129,13 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
         {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()})
 
 
-def build_game_table(sample_id_start, chunk, game_inputs, bat_inputs, out, game_out, status,
+def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, status,
                      end_state, metadata) -> pa.Table:
     """Assemble one chunk's table of a game study (:data:`~mcbat.dataset.schema.GAME_COLUMNS`)
     from the arrays of :func:`mcbat.core.swing.solve_game_batch`."""
     n = game_inputs.shape[1]
     cols = {name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
-    cols.update({name: bat_inputs[i] for i, name in enumerate(INPUT_FIELDS)})
+    cols.update(bat_frame_columns(game_inputs, frame))
     cols.update({name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)})
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
     cols.update(derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),

@@ -264,13 +264,13 @@ def _run_game_chunk(study, job, index, columns, write, solve_lock) -> ChunkSumma
     solver = study.solver
     game_inputs = np.stack([np.asarray(columns[name], np.float64)
                             for name in GAME_INPUT_FIELDS])
-    bat_inputs, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
+    frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
     with solve_lock if solve_lock is not None else contextlib.nullcontext():
         threads = numba.get_num_threads()
         solve_game_batch(game_inputs, solver["steps"], solver["tolerance"],
-                         solver["max_steps"], bat_inputs, out_arr, game_out, status, end_state)
+                         solver["max_steps"], frame, out_arr, game_out, status, end_state)
     counts = np.bincount(status, minlength=len(st.STATUS_NAMES))
-    table_args = (start, index, game_inputs, bat_inputs, out_arr, game_out, status, end_state,
+    table_args = (start, index, game_inputs, frame, out_arr, game_out, status, end_state,
                   job.metadata)
     (write or _write_now)(write_game_chunk, table_args, job.path(index))
     return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,

@@ -38,7 +38,7 @@ from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, check_range, integer, parse
-from mcbat.study.spec import Study, _check_solver, _parse_ball, _parse_bat, _string
+from mcbat.study.spec import Study, check_solver, check_string, parse_ball, parse_bat
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
@@ -129,22 +129,22 @@ class GameStudy(Study):
                                           f"got {data[section]!r}")
         study = check_keys(data["study"], "study", ("name", "samples"),
                            ("description", "seed", "chunk_size"))
-        self.name = _string(study["name"], "study.name")
+        self.name = check_string(study["name"], "study.name")
         if not self.name.strip():
             raise InputError("study.name", "must not be empty")
-        self.description = _string(study.get("description", ""), "study.description")
+        self.description = check_string(study.get("description", ""), "study.description")
         self.samples = integer(study["samples"], "study.samples", minimum=1)
         self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
         self.chunk_size = (None if "chunk_size" not in study
                            else integer(study["chunk_size"], "study.chunk_size", minimum=1))
         self.handedness = data.get("handedness", "R")
         parse_handedness(self.handedness)
-        self.ball = _parse_ball(data["ball"])
-        self.bat = _parse_bat(data["bat"])
+        self.ball = parse_ball(data["ball"])
+        self.bat = parse_bat(data["bat"])
         if self.bat.length is None or self.bat.cm_from_barrel_end is None:
             raise InputError("bat.length", "a game needs the bat's length and its CM "
                              "(cm_from_knob or cm_from_barrel_end), or a bat preset")
-        self._solver = _check_solver(data.get("solver", {}))
+        self._solver = check_solver(data.get("solver", {}))
         self.noise = MappingProxyType({})
         self._axial_key, self._angle_key = "from_barrel_end", "undercut"
 
@@ -158,7 +158,7 @@ class GameStudy(Study):
             check_keys(table, section, required, optional)
             for key, spec in table.items():
                 if key == "location":
-                    location = _string(spec, "restitution.location")
+                    location = check_string(spec, "restitution.location")
                     if location not in LOCATION_TABLES:
                         raise InputError("restitution.location", f"unknown table "
                                          f"{location!r} (expected one of: "

@@ -126,7 +126,8 @@ from mcbat.study.distributions import (
 )
 
 __all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS", "NOISE_SPAWN_KEY",
-           "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "load_study"]
+           "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
+           "check_string", "load_study", "parse_ball", "parse_bat"]
 
 #: Samples per block of the random stream (and per LHS design).
 RANDOM_BLOCK = 65536
@@ -170,7 +171,8 @@ _BAT_REQUIRED = ("mass", "radius", "transverse_inertia", "axial_inertia")
 # ---------------------------------------------------------------- parsing helpers
 
 
-def _string(value, field):
+def check_string(value, field):
+    """The string ``value`` of key ``field`` (InputError naming it otherwise)."""
     if not isinstance(value, str):
         raise InputError(field, f"must be a string, got {value!r}")
     return value
@@ -184,14 +186,15 @@ def _fixed(spec, field, quantity, *, positive=True):
     return dist.value
 
 
-def _parse_ball(table):
+def parse_ball(table):
+    """The ``[ball]`` section: a :class:`~mcbat.bodies.ball.Ball` (preset or explicit keys)."""
     check_keys(table, "ball", (), ("preset",) + tuple(_BALL_KEYS))
     if "preset" in table:
         for key in table:
             if key != "preset":
                 raise InputError(f"ball.{key}", "cannot be combined with 'preset' (give "
                                                 "either a preset or the ball's properties)")
-        name = _string(table["preset"], "ball.preset")
+        name = check_string(table["preset"], "ball.preset")
         if name not in BALL_PRESETS:
             raise InputError("ball.preset", f"unknown ball preset {name!r} "
                                             f"(expected one of: {', '.join(BALL_PRESETS)})")
@@ -201,14 +204,15 @@ def _parse_ball(table):
     return Ball(**values)
 
 
-def _parse_bat(table):
+def parse_bat(table):
+    """The ``[bat]`` section: a :class:`~mcbat.bodies.bat.Bat` (preset or explicit keys)."""
     check_keys(table, "bat", (), ("preset",) + tuple(_BAT_KEYS))
     if "preset" in table:
         for key in table:
             if key != "preset":
                 raise InputError(f"bat.{key}", "cannot be combined with 'preset' (give "
                                                "either a preset or the bat's properties)")
-        name = _string(table["preset"], "bat.preset")
+        name = check_string(table["preset"], "bat.preset")
         if name not in BAT_PRESETS:
             raise InputError("bat.preset", f"unknown bat preset {name!r} "
                                            f"(expected one of: {', '.join(BAT_PRESETS)})")
@@ -275,7 +279,8 @@ def _parse_inputs(data) -> dict:
     return inputs
 
 
-def _check_solver(table):
+def check_solver(table):
+    """The ``[solver]`` section, validated, with the kernel's defaults filled in."""
     check_keys(table, "solver", (), ("steps", "tolerance", "max_steps"))
     steps = integer(table.get("steps", DEFAULT_STEPS), "solver.steps", minimum=1)
     max_steps = integer(table.get("max_steps", DEFAULT_MAX_STEPS), "solver.max_steps",
@@ -398,9 +403,9 @@ class Study:
                                           f"got {data[section]!r}")
 
         self._parse_study_section(data["study"])
-        self.ball = _parse_ball(data["ball"])
-        self.bat = _parse_bat(data["bat"])
-        self._solver = _check_solver(data.get("solver", {}))
+        self.ball = parse_ball(data["ball"])
+        self.bat = parse_bat(data["bat"])
+        self._solver = check_solver(data.get("solver", {}))
         self.noise = _parse_noise(data.get("noise", {}))
         inputs = _parse_inputs(data)
         contact = data["contact"]
@@ -414,10 +419,10 @@ class Study:
         """The ``[study]`` section: name, description, samples, seed, chunk size."""
         study = check_keys(table, "study", ("name", "samples"),
                            ("description", "seed", "chunk_size"))
-        self.name = _string(study["name"], "study.name")
+        self.name = check_string(study["name"], "study.name")
         if not self.name.strip():
             raise InputError("study.name", "must not be empty")
-        self.description = _string(study.get("description", ""), "study.description")
+        self.description = check_string(study.get("description", ""), "study.description")
         self.samples = integer(study["samples"], "study.samples", minimum=1)
         self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
         self.chunk_size = (None if "chunk_size" not in study

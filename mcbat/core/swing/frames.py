@@ -46,16 +46,15 @@ def pitch_state(pitch):
     transverse plane) or for non-finite input.
     """
     cv = math.cos(pitch.vertical_approach_angle)
-    d = (cv * math.sin(pitch.horizontal_approach_angle),
-         -cv * math.cos(pitch.horizontal_approach_angle),
-         math.sin(pitch.vertical_approach_angle))
-    # Transverse basis seen from behind the plate: e1 = unit(z x d) (= +x for d = -y),
-    # e2 = d x e1 (= +z for d = -y).
-    h = math.hypot(d[0], d[1])
-    if not h > 1e-12:
+    ch = math.cos(pitch.horizontal_approach_angle)
+    sh = math.sin(pitch.horizontal_approach_angle)
+    d = (cv * sh, -cv * ch, math.sin(pitch.vertical_approach_angle))
+    # Transverse basis seen from behind the plate: e1 = unit(z x d) = (cos h, sin h, 0)
+    # (= +x for d = -y), e2 = d x e1 (= +z for d = -y).
+    if not cv > 1e-12:
         z3 = (math.nan, math.nan, math.nan)
         return False, z3, z3
-    e1 = (-d[1] / h, d[0] / h, 0.0)
+    e1 = (ch, sh, 0.0)
     e2 = cross(d, e1)
     # Statcast's spin axis: the Magnus direction m on the clock face, pi (180 deg) = up
     # (pure backspin), 0 = down (topspin), pi/2 (90 deg) = towards +x (first base).
@@ -93,17 +92,18 @@ def swing_state(swing, bat):
     """
     a, p, b = swing.attack_angle, swing.attack_direction, swing.vertical_bat_angle
     ca, sa = math.cos(a), math.sin(a)
-    u = (ca * math.sin(p), ca * math.cos(p), sa)
-    big_b = -math.sin(b) * sa / ca
-    a2 = math.cos(b) ** 2 - big_b * big_b
+    cp, sp = math.cos(p), math.sin(p)
+    cb, sb = math.cos(b), math.sin(b)
+    u = (ca * sp, ca * cp, sa)
+    big_b = -sb * sa / ca
+    a2 = cb * cb - big_b * big_b
     lever = bat.length - SWEET_SPOT_FROM_BARREL_END - swing.pivot
     nan3 = (math.nan, math.nan, math.nan)
     if not (a2 > 1e-12 and ca > 1e-12 and lever > 0.0 and math.isfinite(swing.bat_speed)
             and (swing.handedness == 1.0 or swing.handedness == -1.0)):
         return False, nan3, nan3, nan3
     big_a = math.sqrt(a2)
-    n = (big_a * math.cos(p) + big_b * math.sin(p), -big_a * math.sin(p) + big_b * math.cos(p),
-         math.sin(b))
+    n = (big_a * cp + big_b * sp, -big_a * sp + big_b * cp, sb)
     if swing.handedness < 0.0:
         n = (-n[0], n[1], n[2])
         u = (-u[0], u[1], u[2])

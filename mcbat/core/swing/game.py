@@ -17,7 +17,7 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.cabo2012.impact import solve_impact
-from mcbat.core.geometry import angle_from_impact_parameter, contact_frame
+from mcbat.core.geometry import ball_centre_radial_distance
 from mcbat.core.jit import njit
 from mcbat.core.restitution.forms import energetic_restitution
 from mcbat.core.rigid_bodies import relative_contact_velocity
@@ -34,8 +34,8 @@ from mcbat.core.swing.frames import (
 )
 from mcbat.core.vec3 import dot, norm, scale
 
-__all__ = ["GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS", "allocate_game_outputs",
-           "solve_game_batch"]
+__all__ = ["FRAME_FIELDS", "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS", "allocate_game_outputs",
+           "bat_frame_columns", "incoming_state", "solve_game_batch", "solve_game_row"]
 
 GAME_INPUT_FIELDS = (
     "ball_mass", "ball_radius", "ball_inertia_factor",
@@ -54,10 +54,6 @@ GAME_INPUT_FIELDS = (
 
 GAME_OUTPUT_FIELDS = (
     "impact_parameter", "collision_efficiency",
-    "field_ball_vx_in", "field_ball_vy_in", "field_ball_vz_in",
-    "field_ball_wx_in", "field_ball_wy_in", "field_ball_wz_in",
-    "field_bat_vx_in", "field_bat_vy_in", "field_bat_vz_in",
-    "field_bat_wx_in", "field_bat_wy_in", "field_bat_wz_in",
     "field_ball_vx", "field_ball_vy", "field_ball_vz",
     "field_ball_wx", "field_ball_wy", "field_ball_wz",
     "field_bat_vx", "field_bat_vy", "field_bat_vz",
@@ -65,17 +61,25 @@ GAME_OUTPUT_FIELDS = (
 )
 """Game outputs: the bat-frame impact parameter (``up * undercut``), the collision
 efficiency ``q``, and the field-frame velocities (m/s) and spins (rad/s) of ball and bat
-before (``_in``) and after the impact."""
+after the impact. (Before the impact they are functions of the inputs alone:
+:func:`~mcbat.core.swing.frames.pitch_state` and
+:func:`~mcbat.core.swing.frames.swing_state`.)"""
 
-_NB = len(INPUT_FIELDS)
+FRAME_FIELDS = ("axial", "angle", *(f for f in INPUT_FIELDS if f.endswith("_in")), "e")
+"""The bat-frame inputs the transform computes (the other :data:`INPUT_FIELDS` are game
+inputs of the same name, see :func:`bat_frame_columns`)."""
+
+_NF = len(FRAME_FIELDS)
 _NO = len(OUTPUT_FIELDS)
 _NG = len(GAME_OUTPUT_FIELDS)
+_COPIED = tuple(f for f in INPUT_FIELDS if f not in FRAME_FIELDS)
+assert all(f in GAME_INPUT_FIELDS for f in _COPIED)
 
 
 @njit
-def _fail(col, code, bat_in, out, game_out, status, end_state):
-    for r in range(6, _NB):
-        bat_in[r, col] = math.nan
+def _fail(col, code, frame, out, game_out, status, end_state):
+    for r in range(_NF):
+        frame[r, col] = math.nan
     for r in range(_NO):
         out[r, col] = math.nan
     out[_NO - 1, col] = 0.0  # rk4_steps
@@ -85,7 +89,7 @@ def _fail(col, code, bat_in, out, game_out, status, end_state):
     end_state[col] = st.SLIDING
 
 
-@njit
+@njit(inline="always")
 def _put3(arr, row, col, v):
     arr[row, col] = v[0]
     arr[row + 1, col] = v[1]
@@ -93,53 +97,78 @@ def _put3(arr, row, col, v):
 
 
 @njit
-def solve_game_row(g, col, steps, tolerance, max_steps, bat_in, out, game_out, status,
+def _contact(b, ball_radius, radius, slope, axial):
+    """Azimuth, outward normal and contact point of a ball whose line passes ``b`` from
+    the axis (:func:`mcbat.core.geometry.angle_from_impact_parameter` and
+    :func:`~mcbat.core.geometry.contact_frame`; ``sin(angle)`` is the ratio itself, which
+    saves two transcendental calls per row). NaN angle when the ball misses."""
+    ratio = b / ball_centre_radial_distance(ball_radius, radius, slope)
+    if not abs(ratio) <= 1.0:
+        nan3 = (math.nan, math.nan, math.nan)
+        return math.nan, nan3, nan3
+    c = math.sqrt(1.0 - ratio * ratio)
+    inv = 1.0 / math.sqrt(1.0 + slope * slope)
+    return math.asin(ratio), (c * inv, ratio * inv, -slope * inv), (radius * c, radius * ratio,
+                                                                    axial)
+
+
+@njit(inline="always")
+def _situation(g, col):
+    """The pitch, swing, bat and contact of row ``col`` of the game inputs."""
+    return (Pitch(g[11, col], g[12, col], g[13, col], g[14, col], g[15, col], g[16, col],
+                  g[17, col]),
+            Swing(g[10, col], g[18, col], g[19, col], g[20, col], g[21, col], g[22, col]),
+            BatBody(g[6, col], g[7, col]), GameContact(g[23, col], g[24, col]))
+
+
+@njit
+def incoming_state(game_inputs, col):
+    """The pitch's velocity and spin and the bat's CM velocity and angular velocity
+    before the impact, in the field frame (m/s, rad/s), of row ``col`` of the game inputs
+    (NaN where the inputs are invalid)."""
+    pitch, swing, bat, _ = _situation(game_inputs, col)
+    _, pv, pw = pitch_state(pitch)
+    _, _, v_cm, omega = swing_state(swing, bat)
+    return pv, pw, v_cm, omega
+
+
+@njit
+def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, status,
                    end_state):
     """Solve row ``col`` of the game inputs ``g`` and write its outputs (see
     :func:`solve_game_batch`)."""
     ball_mass, ball_radius, ball_f = g[0, col], g[1, col], g[2, col]
-    bat_mass, bat_it, bat_i3 = g[3, col], g[4, col], g[5, col]
-    bat = BatBody(g[6, col], g[7, col])
     radius, slope = g[8, col], g[9, col]
-    swing = Swing(g[10, col], g[18, col], g[19, col], g[20, col], g[21, col], g[22, col])
-    pitch = Pitch(g[11, col], g[12, col], g[13, col], g[14, col], g[15, col], g[16, col],
-                  g[17, col])
-    contact = GameContact(g[23, col], g[24, col])
-    mu, e_ref, e_slope, e_speed_ref, loc, e_x = (g[25, col], g[26, col], g[27, col],
-                                                  g[28, col], g[29, col], g[30, col])
-    for r, value in enumerate((ball_mass, ball_radius, ball_f, bat_mass, bat_it, bat_i3)):
-        bat_in[r, col] = value
-
+    pitch, swing, bat, contact = _situation(g, col)
     ok_p, pv, pw = pitch_state(pitch)
     ok_s, axis, v_cm, omega = swing_state(swing, bat)
     axial = (bat.length - bat.cm_from_knob) - contact.from_barrel_end
     if not (ok_p and ok_s and 0.0 <= contact.from_barrel_end <= bat.length):
-        _fail(col, st.INVALID_INPUT, bat_in, out, game_out, status, end_state)
+        _fail(col, st.INVALID_INPUT, frame, out, game_out, status, end_state)
         return
     ok_f, i, j, k, up, rel = bat_frame(axis, v_cm, omega, pv, axial)
     b = up * contact.undercut
-    angle = angle_from_impact_parameter(b, ball_radius, radius, slope, 0.0)
+    angle, t3, r_c = _contact(b, ball_radius, radius, slope, axial)
     if not ok_f or math.isnan(angle):
-        _fail(col, st.INVALID_INPUT, bat_in, out, game_out, status, end_state)
+        _fail(col, st.INVALID_INPUT, frame, out, game_out, status, end_state)
         return
     ball_v, ball_w = to_frame(i, j, k, pv), to_frame(i, j, k, pw)
     bat_v, bat_w = to_frame(i, j, k, v_cm), to_frame(i, j, k, omega)
-    t1, t2, t3, r_c = contact_frame(axial, angle, radius, slope)
     vn = dot(relative_contact_velocity(ball_radius, t3, r_c, ball_v, ball_w, bat_v, bat_w),
              t3)
-    e = energetic_restitution(max(0.0, -vn), e_ref, e_slope, e_speed_ref, loc)
+    e = energetic_restitution(max(0.0, -vn), g[26, col], g[27, col], g[28, col], g[29, col])
 
-    bat_in[6, col], bat_in[7, col], bat_in[8, col], bat_in[9, col] = axial, angle, radius, slope
-    _put3(bat_in, 10, col, ball_v)
-    _put3(bat_in, 13, col, ball_w)
-    _put3(bat_in, 16, col, bat_v)
-    _put3(bat_in, 19, col, bat_w)
-    bat_in[22, col], bat_in[23, col], bat_in[24, col] = mu, e, e_x
+    frame[0, col], frame[1, col] = axial, angle
+    _put3(frame, 2, col, ball_v)
+    _put3(frame, 5, col, ball_w)
+    _put3(frame, 8, col, bat_v)
+    _put3(frame, 11, col, bat_w)
+    frame[14, col] = e
 
     r = solve_impact(
-        ball_mass, ball_radius, ball_f, bat_mass, bat_it, bat_i3, axial, angle, radius, slope,
-        ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
-        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], mu, e, e_x,
+        ball_mass, ball_radius, ball_f, g[3, col], g[4, col], g[5, col], axial, angle, radius,
+        slope, ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
+        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], g[25, col], e, g[30, col],
         steps, tolerance, max_steps)
     status[col] = r[0]
     end_state[col] = r[1]
@@ -169,15 +198,11 @@ def solve_game_row(g, col, steps, tolerance, max_steps, bat_in, out, game_out, s
     out[23, col] = r[25]
 
     game_out[0, col] = b
-    _put3(game_out, 2, col, pv)
-    _put3(game_out, 5, col, pw)
-    _put3(game_out, 8, col, v_cm)
-    _put3(game_out, 11, col, omega)
     ball_v1 = from_frame(i, j, k, (r[2], r[3], r[4]))
-    _put3(game_out, 14, col, ball_v1)
-    _put3(game_out, 17, col, from_frame(i, j, k, (r[5], r[6], r[7])))
-    _put3(game_out, 20, col, from_frame(i, j, k, (r[8], r[9], r[10])))
-    _put3(game_out, 23, col, from_frame(i, j, k, (r[11], r[12], r[13])))
+    _put3(game_out, 2, col, ball_v1)
+    _put3(game_out, 5, col, from_frame(i, j, k, (r[5], r[6], r[7])))
+    _put3(game_out, 8, col, from_frame(i, j, k, (r[8], r[9], r[10])))
+    _put3(game_out, 11, col, from_frame(i, j, k, (r[11], r[12], r[13])))
     # Collision efficiency along the line of the collision, n = the bat's velocity
     # relative to the ball (the point of the axis at the contact): exit speed
     # = q v_pitch + (1 + q) v_bat with both speeds taken along n.
@@ -188,7 +213,7 @@ def solve_game_row(g, col, steps, tolerance, max_steps, bat_in, out, game_out, s
 
 
 @njit(parallel=True)
-def solve_game_batch(game_inputs, steps, tolerance, max_steps, bat_inputs, out, game_out,
+def solve_game_batch(game_inputs, steps, tolerance, max_steps, frame, out, game_out,
                      status, end_state):
     """Solve ``game_inputs.shape[1]`` game situations in parallel.
 
@@ -198,8 +223,9 @@ def solve_game_batch(game_inputs, steps, tolerance, max_steps, bat_inputs, out, 
         One row per field of :data:`GAME_INPUT_FIELDS`.
     steps, tolerance, max_steps
         Accuracy settings of the impact kernel.
-    bat_inputs : float64[len(INPUT_FIELDS), n]
-        Written: the bat-frame case of every row (:data:`mcbat.core.batch.INPUT_FIELDS`).
+    frame : float64[len(FRAME_FIELDS), n]
+        Written: the bat-frame inputs the transform computes (:data:`FRAME_FIELDS`);
+        :func:`bat_frame_columns` completes the bat-frame case of every row.
     out : float64[len(OUTPUT_FIELDS), n]
         Written: the bat-frame outputs (:data:`mcbat.core.batch.OUTPUT_FIELDS`).
     game_out : float64[len(GAME_OUTPUT_FIELDS), n]
@@ -209,12 +235,26 @@ def solve_game_batch(game_inputs, steps, tolerance, max_steps, bat_inputs, out, 
     """
     n = game_inputs.shape[1]
     for col in numba.prange(n):
-        solve_game_row(game_inputs, col, steps, tolerance, max_steps, bat_inputs, out,
+        solve_game_row(game_inputs, col, steps, tolerance, max_steps, frame, out,
                        game_out, status, end_state)
 
 
 def allocate_game_outputs(n):
     """Empty output arrays for :func:`solve_game_batch`:
-    ``(bat_inputs, out, game_out, status, end_state)``."""
-    return (np.empty((_NB, n)), np.empty((_NO, n)), np.empty((_NG, n)),
+    ``(frame, out, game_out, status, end_state)``."""
+    return (np.empty((_NF, n)), np.empty((_NO, n)), np.empty((_NG, n)),
             np.empty(n, np.int8), np.empty(n, np.int8))
+
+
+def bat_frame_columns(game_inputs, frame):
+    """The bat-frame case of every row, as :data:`INPUT_FIELDS` -> row views (no copies).
+
+    Parameters
+    ----------
+    game_inputs : float64[len(GAME_INPUT_FIELDS), n]
+    frame : float64[len(FRAME_FIELDS), n]
+        As written by :func:`solve_game_batch`.
+    """
+    columns = {name: frame[i] for i, name in enumerate(FRAME_FIELDS)}
+    columns.update({name: game_inputs[GAME_INPUT_FIELDS.index(name)] for name in _COPIED})
+    return {name: columns[name] for name in INPUT_FIELDS}
