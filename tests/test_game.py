@@ -13,6 +13,7 @@ from mcbat.bodies import Ball, Bat, bat_preset
 from mcbat.bodies.game import Restitution
 from mcbat.errors import InputError
 from mcbat.testing.cabo2012_reference import reference_impact
+from tests.conftest import ROOT
 
 MPH, RPM, DEG, IN = 0.44704, 2 * math.pi / 60, math.pi / 180, 0.0254
 BALL = Ball(mass=0.145, radius=0.036)
@@ -189,8 +190,7 @@ def test_bad_game_inputs_name_the_parameter(change, field):
 
 
 def test_game_study_end_to_end(tmp_path):
-    study = mcbat.load_study(mcbat.study_path("game_fastball")
-                             if hasattr(mcbat, "study_path") else "studies/game_fastball.toml")
+    study = mcbat.load_study(ROOT / "studies" / "game_fastball.toml")
     summary = mcbat.run(study, tmp_path / "g", samples=600, progress=False)
     assert summary.status_counts == {"ok": 600}
     df = mcbat.load(tmp_path / "g")
