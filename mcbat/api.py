@@ -18,13 +18,16 @@ along the bat axis towards the barrel end.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from mcbat.bodies import Ball, Bat
+from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
+from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
 from mcbat.core import status as st
+from mcbat.core.batch import OUTPUT_FIELDS
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.cabo2012.trajectory import contact_history
@@ -34,13 +37,26 @@ from mcbat.core.geometry import (
     impact_parameter_from_angle,
 )
 from mcbat.core.rigid_bodies import delassus_matrix, kinetic_energy, relative_contact_velocity
-from mcbat.dataset.schema import derive
+from mcbat.core.swing import (
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    SWEET_SPOT_FROM_BARREL_END,
+    allocate_game_outputs,
+    bat_frame_columns,
+    incoming_state,
+    solve_game_batch,
+)
+from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.errors import check_vector as _vector
+from mcbat.study.distributions import parse
+from mcbat.study.game import KEYS as GAME_KEYS
+from mcbat.study.game import check_swing_angles, is_game, parse_handedness
 
-__all__ = ["Ball", "Bat", "Contact", "ImpactCase", "ImpactResult", "SolverSettings",
-           "contact_problem", "history", "solve"]
+__all__ = ["Ball", "Bat", "Contact", "GameCase", "GameResult", "ImpactCase", "ImpactResult",
+           "Restitution", "SolverSettings", "case_from_dict", "contact_problem", "history",
+           "solve", "solve_any", "solve_game"]
 
 Vector = tuple[float, float, float]
 
@@ -376,10 +392,13 @@ def _case_from_dict(data) -> ImpactCase:
     ball_d = _mapping(data["ball"], "ball", {"mass", "radius", "inertia_factor"},
                       ("mass", "radius"))
     ball = _build("ball", Ball, **ball_d)
-    bat_d = _mapping(data["bat"], "bat",
-                     {"mass", "radius", "transverse_inertia", "axial_inertia"},
-                     ("mass", "radius", "transverse_inertia", "axial_inertia"))
-    bat = _build("bat", Bat, **bat_d)
+    if isinstance(data["bat"], dict) and "preset" in data["bat"]:
+        bat = _build("bat", _bat_from_dict, data["bat"])
+    else:
+        bat_d = _mapping(data["bat"], "bat",
+                         {"mass", "radius", "transverse_inertia", "axial_inertia"},
+                         ("mass", "radius", "transverse_inertia", "axial_inertia"))
+        bat = _build("bat", Bat, **bat_d)
     contact_d = _mapping(data["contact"], "contact",
                          {"axial", "angle", "impact_parameter", "approach_azimuth"}, ("axial",))
     if ("angle" in contact_d) == ("impact_parameter" in contact_d):
@@ -415,3 +434,361 @@ def _case_from_dict(data) -> ImpactCase:
                         **vectors)
     case.validate_approach()
     return case
+
+
+# ---- the game situation: pitch, swing and contact in the field frame ----
+
+_GAME_KEYS = {  # Python parameter -> (JSON section, key)
+    "pitch_speed": ("pitch", "speed"),
+    "vertical_approach_angle": ("pitch", "vertical_approach_angle"),
+    "horizontal_approach_angle": ("pitch", "horizontal_approach_angle"),
+    "spin_rate": ("pitch", "spin_rate"), "spin_axis": ("pitch", "spin_axis"),
+    "spin_efficiency": ("pitch", "spin_efficiency"), "gyro_sign": ("pitch", "gyro_sign"),
+    "bat_speed": ("swing", "bat_speed"), "attack_angle": ("swing", "attack_angle"),
+    "attack_direction": ("swing", "attack_direction"),
+    "vertical_bat_angle": ("swing", "vertical_bat_angle"), "pivot": ("swing", "pivot"),
+    "from_barrel_end": ("contact", "from_barrel_end"), "undercut": ("contact", "undercut"),
+}
+_RIGHT_ANGLE = math.pi / 2
+
+
+@dataclass(frozen=True)
+class GameCase:
+    """One game situation (SI units: m, m/s, rad, rad/s; ``docs/batting.md``).
+
+    The pitch (field frame: ``x`` to first base, ``y`` to the pitcher, ``z`` up): speed,
+    approach angles (vertical < 0 descending; horizontal > 0 moving towards ``+x``),
+    spin rate, Statcast spin axis (pi = pure backspin, 0 = topspin, pi/2 = Magnus
+    movement towards ``+x``), spin efficiency (transverse fraction) and the sense of the
+    gyro part. The swing: sweet-spot speed, attack angle, attack direction (positive
+    towards the batter's opposite field), vertical bat angle, and the pivot's distance
+    from the knob. The contact: distance from the barrel end and undercut (positive:
+    the ball's centre above the bat axis). ``handedness`` "R" or "L" (mirror image in
+    ``x``). ``restitution`` gives ``e*`` and ``e_x``
+    (:class:`mcbat.bodies.game.Restitution`; default the game preset).
+    """
+
+    ball: Ball
+    bat: Bat
+    pitch_speed: float
+    bat_speed: float
+    mu: float
+    handedness: str = "R"
+    vertical_approach_angle: float = 0.0
+    horizontal_approach_angle: float = 0.0
+    spin_rate: float = 0.0
+    spin_axis: float = math.pi
+    spin_efficiency: float = 1.0
+    gyro_sign: float = 1.0
+    attack_angle: float = 0.0
+    attack_direction: float = 0.0
+    vertical_bat_angle: float = 0.0
+    pivot: float = DEFAULT_PIVOT
+    from_barrel_end: float = SWEET_SPOT_FROM_BARREL_END
+    undercut: float = 0.0
+    restitution: Restitution = GAME_RESTITUTION
+
+    def __post_init__(self):  # noqa: C901 - one check per key, in the contract's order
+        bat = self.bat
+        if bat.length is None or bat.cm_from_barrel_end is None:
+            raise InputError("bat", "a game needs the bat's length and CM (cm_from_knob), "
+                             "or a bat preset")
+        parse_handedness(self.handedness)
+        _real(self.pitch_speed, "pitch_speed", positive=True)
+        for name in ("vertical_approach_angle", "horizontal_approach_angle"):
+            value = _real(getattr(self, name), name)
+            if not abs(value) < _RIGHT_ANGLE:
+                raise InputError(name, f"must lie within (-90, 90) deg for a pitch moving "
+                                 f"towards the plate, got {math.degrees(value):.6g} deg")
+        _real(self.spin_rate, "spin_rate", minimum=0.0)
+        _real(self.spin_axis, "spin_axis")
+        _real(self.spin_efficiency, "spin_efficiency", minimum=0.0, maximum=1.0)
+        if self.gyro_sign not in (1, -1):
+            raise InputError("gyro_sign", f"must be +1 or -1, got {self.gyro_sign!r}")
+        _real(self.bat_speed, "bat_speed", minimum=0.0)
+        for name in ("attack_angle", "attack_direction", "vertical_bat_angle"):
+            value = _real(getattr(self, name), name)
+            if not abs(value) < _RIGHT_ANGLE:
+                raise InputError(name, f"must lie within (-90, 90) deg, "
+                                 f"got {math.degrees(value):.6g} deg")
+        check_swing_angles(self.attack_angle, self.vertical_bat_angle, "vertical_bat_angle")
+        sweet = bat.length - SWEET_SPOT_FROM_BARREL_END
+        _real(self.pivot, "pivot", minimum=0.0)
+        if not self.pivot < sweet:
+            raise InputError("pivot", f"must lie between the knob and the sweet spot "
+                             f"(< {sweet:.4g} m from the knob), got {self.pivot!r}")
+        _real(self.from_barrel_end, "from_barrel_end", minimum=0.0, maximum=bat.length)
+        _real(self.mu, "mu", minimum=0.0)
+        radius, slope = self.contact_surface()
+        reach = radius + self.ball.radius / math.sqrt(1.0 + slope * slope)
+        if not abs(_real(self.undercut, "undercut")) <= reach:
+            raise InputError("undercut", f"|undercut| must be <= {reach:.6g} m, the reach of "
+                             f"barrel and ball there (the ball misses), got {self.undercut!r}")
+
+    @property
+    def axial(self) -> float:
+        """The contact's axial position from the bat CM (m)."""
+        return self.bat.cm_from_barrel_end - self.from_barrel_end
+
+    def contact_surface(self) -> tuple[float, float]:
+        """Bat radius and slope at the contact."""
+        return self.bat.surface_at(float(self.bat.clip_axial(self.axial)))
+
+    def kernel_inputs(self) -> np.ndarray:
+        """The case as one column of :data:`mcbat.core.swing.GAME_INPUT_FIELDS`."""
+        radius, slope = self.contact_surface()
+        rest = self.restitution
+        row = {name: getattr(self, name) for name in _GAME_KEYS}
+        row.update(
+            ball_mass=self.ball.mass, ball_radius=self.ball.radius,
+            ball_inertia_factor=self.ball.inertia_factor, bat_mass=self.bat.mass,
+            bat_transverse_inertia=self.bat.transverse_inertia,
+            bat_axial_inertia=self.bat.axial_inertia, bat_length=self.bat.length,
+            bat_cm_from_knob=self.bat.length - self.bat.cm_from_barrel_end,
+            bat_radius=radius, bat_slope=slope,
+            handedness=parse_handedness(self.handedness), mu=self.mu, e_ref=rest.e_ref,
+            e_slope=rest.e_slope, e_speed_ref=rest.e_speed_ref,
+            e_location_factor=rest.location_factor(self.from_barrel_end), e_x=rest.e_x)
+        row = {("pitch_" + k if k in _PITCH_COLUMNS else k): v for k, v in row.items()}
+        return np.array([[float(row[name])] for name in GAME_INPUT_FIELDS])
+
+    def mirrored(self) -> GameCase:
+        """The mirror image in ``x``: the other handedness, and the pitch mirrored
+        (horizontal approach angle and spin axis negated, gyro sense reversed)."""
+        return dataclasses.replace(
+            self, handedness="L" if self.handedness == "R" else "R",
+            horizontal_approach_angle=-self.horizontal_approach_angle,
+            spin_axis=2.0 * math.pi - self.spin_axis, gyro_sign=-self.gyro_sign)
+
+    @classmethod
+    def from_dict(cls, data) -> GameCase:
+        """Build a game case from the JSON contract of ``mcbat impact`` (``docs/batting.md``)."""
+        return _game_from_dict(data)
+
+
+_PITCH_COLUMNS = ("speed", "vertical_approach_angle", "horizontal_approach_angle",
+                  "spin_rate", "spin_axis", "spin_efficiency", "gyro_sign")
+
+
+@dataclass(frozen=True)
+class GameResult:
+    """A solved game case: the batted ball in the field's conventions, the field-frame
+    velocities and spins, and the bat-frame impact (``impact``, an :class:`ImpactResult`
+    whose ``case`` re-solves in the bat frame alone)."""
+
+    case: GameCase
+    impact: ImpactResult
+    collision_efficiency: float
+    ball_velocity: Vector
+    ball_spin: Vector
+    bat_velocity: Vector
+    bat_spin: Vector
+    pitch_velocity: Vector
+    pitch_spin: Vector
+    bat_velocity_in: Vector
+    bat_spin_in: Vector
+    undercut_impact_parameter: float
+
+    @property
+    def batted_ball(self) -> dict:
+        """``launch_speed`` (mph), ``launch_angle``, ``spray_angle`` (deg), ``spin_rate``,
+        ``backspin``, ``sidespin``, ``gyrospin`` (rpm)."""
+        return derive_game(self.ball_velocity, self.ball_spin)
+
+    def __getattr__(self, name):
+        if name in ("launch_speed", "launch_angle", "spray_angle", "spin_rate", "backspin",
+                    "sidespin", "gyrospin"):
+            return self.batted_ball[name]
+        raise AttributeError(name)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (the output of ``mcbat impact`` for a game case)."""
+        return {
+            "status": self.impact.status, "end_state": self.impact.end_state,
+            **self.batted_ball,
+            "collision_efficiency": self.collision_efficiency,
+            "field": {"ball_velocity": list(self.ball_velocity),
+                      "ball_spin": list(self.ball_spin),
+                      "bat_velocity": list(self.bat_velocity), "bat_spin": list(self.bat_spin),
+                      "pitch_velocity": list(self.pitch_velocity),
+                      "pitch_spin": list(self.pitch_spin),
+                      "bat_velocity_in": list(self.bat_velocity_in),
+                      "bat_spin_in": list(self.bat_spin_in)},
+            "bat_frame_case": _impact_case_dict(self.impact.case),
+            "bat_frame": self.impact.to_dict(),
+        }
+
+
+def solve_game(case: GameCase, settings: SolverSettings = SolverSettings()) -> GameResult:
+    """Solve one game situation with the game kernel (the one ``mcbat run`` uses).
+
+    Raises
+    ------
+    InputError
+        Naming ``pitch_speed`` if the ball does not approach the bat at the contact.
+    RuntimeError
+        If the kernel reports another failure status.
+    """
+    g = case.kernel_inputs()
+    frame, out, game_out, status, end_state = allocate_game_outputs(1)
+    solve_game_batch(g, settings.steps, settings.tolerance, settings.max_steps, frame, out,
+                     game_out, status, end_state)
+    code = int(status[0])
+    if code == st.NOT_APPROACHING:
+        raise InputError("pitch_speed", "the ball does not approach the bat at the contact "
+                         "(a pitch moving away from the swing)")
+    if code != st.OK:
+        raise RuntimeError(f"game solver failed with status {st.STATUS_NAMES[code]!r}")
+    b = {name: column[0] for name, column in bat_frame_columns(g, frame).items()}
+    o = dict(zip(OUTPUT_FIELDS, out[:, 0]))
+    go = dict(zip(GAME_OUTPUT_FIELDS, game_out[:, 0]))
+
+    def vec(d, fmt):
+        return tuple(float(d[fmt.format(c)]) for c in "xyz")
+
+    pitch_v, pitch_w, bat_v, bat_w = (tuple(float(x) for x in v)
+                                      for v in incoming_state(g, 0))
+
+    impact_case = ImpactCase(
+        ball=case.ball, bat=case.bat, contact=Contact(axial=float(b["axial"]),
+                                                      angle=float(b["angle"])),
+        ball_velocity=vec(b, "ball_v{}_in"), ball_spin=vec(b, "ball_w{}_in"),
+        bat_velocity=vec(b, "bat_v{}_in"), bat_spin=vec(b, "bat_w{}_in"),
+        mu=float(b["mu"]), e=float(b["e"]), e_x=float(b["e_x"]))
+    stick = float(o["stick_impulse"])
+    crit = float(o["stick_criterion"])
+    impact = ImpactResult(
+        case=impact_case, status="ok", end_state=st.END_STATE_NAMES[int(end_state[0])],
+        ball_velocity=vec(o, "ball_v{}"), ball_spin=vec(o, "ball_w{}"),
+        bat_velocity=vec(o, "bat_v{}"), bat_spin=vec(o, "bat_w{}"),
+        normal_impulse=float(o["normal_impulse"]),
+        stick_impulse=None if math.isnan(stick) else stick,
+        compression_impulse=float(o["compression_impulse"]),
+        tangential_impulse=(float(o["tangential_impulse_1"]), float(o["tangential_impulse_2"])),
+        compression_work=float(o["compression_work"]), normal_work=float(o["normal_work"]),
+        friction_work=float(o["friction_work"]),
+        stick_criterion=None if math.isnan(crit) else crit,
+        energy_in=float(o["energy_in"]), energy_out=float(o["energy_out"]),
+        rk4_steps=int(o["rk4_steps"]))
+    return GameResult(
+        case=case, impact=impact, collision_efficiency=float(go["collision_efficiency"]),
+        ball_velocity=vec(go, "field_ball_v{}"), ball_spin=vec(go, "field_ball_w{}"),
+        bat_velocity=vec(go, "field_bat_v{}"), bat_spin=vec(go, "field_bat_w{}"),
+        pitch_velocity=pitch_v, pitch_spin=pitch_w, bat_velocity_in=bat_v, bat_spin_in=bat_w,
+        undercut_impact_parameter=float(go["impact_parameter"]))
+
+
+def _impact_case_dict(case: ImpactCase) -> dict:
+    """An :class:`ImpactCase` as a bat-frame JSON case of ``mcbat impact``."""
+    bat = case.bat
+    bat_d = ({"preset": bat.preset} if bat.profile is not None else
+             {"mass": bat.mass, "radius": bat.radius,
+              "transverse_inertia": bat.transverse_inertia,
+              "axial_inertia": bat.axial_inertia})
+    return {"ball": {"mass": case.ball.mass, "radius": case.ball.radius,
+                     "inertia_factor": case.ball.inertia_factor},
+            "bat": bat_d, "contact": {"axial": case.contact.axial, "angle": case.contact.angle},
+            "ball_velocity": list(case.ball_velocity), "ball_spin": list(case.ball_spin),
+            "bat_velocity": list(case.bat_velocity), "bat_spin": list(case.bat_spin),
+            "mu": case.mu, "restitution": {"e": case.e, "e_x": case.e_x}}
+
+
+def _game_value(spec, field, quantity):
+    return parse(spec, field, quantity, kinds=("fixed",)).value
+
+
+def _game_from_dict(data) -> GameCase:
+    allowed = {"handedness", "ball", "bat", "pitch", "swing", "contact", "mu", "restitution"}
+    _mapping(data, "", allowed, ("bat", "pitch", "swing", "mu"))
+    ball = (BALL_PRESETS["baseball"] if "ball" not in data
+            else _build("ball", _ball_from_dict, data["ball"]))
+    bat = _build("bat", _bat_from_dict, data["bat"], game=True)
+    values = {}
+    for section in ("pitch", "swing", "contact"):
+        keys = GAME_KEYS[section]
+        table = _mapping(data.get(section, {}), section, set(keys),
+                         [k for k, spec in keys.items() if spec[1] is None])
+        for key, spec in table.items():
+            values[keys[key][2].removeprefix("pitch_") if section == "pitch" else
+                   keys[key][2]] = _game_value(spec, f"{section}.{key}", keys[key][0])
+    values["pitch_speed"] = values.pop("speed")
+    mu = _game_value(data["mu"], "mu", "dimensionless")
+    restitution = GAME_RESTITUTION
+    if "restitution" in data:
+        keys = GAME_KEYS["restitution"]
+        rest = _mapping(data["restitution"], "restitution", set(keys) | {"location"}, ())
+        if ("e" in rest) == ("e_ref" in rest):
+            raise InputError("restitution", "give exactly one of 'e' (a constant e*) or "
+                             "'e_ref' (with e_slope and e_speed_ref)")
+        kw = {("e_ref" if k == "e" else k): (_game_value(v, f"restitution.{k}", keys[k][0])
+                                             if k != "location" else v)
+              for k, v in rest.items()}
+        restitution = _build("restitution", Restitution, **kw)
+    handedness = data.get("handedness", "R")
+    try:
+        return GameCase(ball=ball, bat=bat, mu=mu, handedness=handedness,
+                        restitution=restitution, **values)
+    except InputError as err:
+        if err.field in _GAME_KEYS:
+            section, key = _GAME_KEYS[err.field]
+            raise InputError(f"{section}.{key}", err.message) from None
+        raise
+
+
+def _ball_from_dict(data) -> Ball:
+    if isinstance(data, dict) and "preset" in data:
+        _mapping(data, "", {"preset"}, ())
+        if data["preset"] not in BALL_PRESETS:
+            raise InputError("preset", f"unknown ball preset {data['preset']!r}")
+        return BALL_PRESETS[data["preset"]]
+    _mapping(data, "", {"mass", "radius", "inertia_factor"}, ("mass", "radius"))
+    return Ball(**data)
+
+
+def _bat_from_dict(data, game=False) -> Bat:
+    """A bat from ``{"preset": name}`` or a cylinder's values (a game bat also needs
+    ``length`` and ``cm_from_knob``)."""
+    if isinstance(data, dict) and "preset" in data:
+        _mapping(data, "", {"preset"}, ())
+        if data["preset"] not in BAT_PRESETS:
+            raise InputError("preset", f"unknown bat preset {data['preset']!r} (expected one "
+                             f"of: {', '.join(BAT_PRESETS)})")
+        return bat_preset(data["preset"])
+    keys = {"mass", "radius", "transverse_inertia", "axial_inertia"}
+    required = ["mass", "radius", "transverse_inertia", "axial_inertia"]
+    if game:
+        keys |= {"length", "cm_from_knob"}
+        required += ["length", "cm_from_knob"]
+    _mapping(data, "", keys, required)
+    values = {k: _game_value(v, k, _BAT_QUANTITIES[k]) for k, v in data.items()}
+    if game:
+        length = values["length"]
+        cm = values.pop("cm_from_knob")
+        if not 0.0 <= cm <= length:
+            raise InputError("cm_from_knob", f"must lie on the bat, within [0, {length:.6g}] "
+                             f"m, got {cm!r}")
+        values["cm_from_barrel_end"] = length - cm
+    return Bat(**values)
+
+
+_BAT_QUANTITIES = {"mass": "mass", "radius": "length", "transverse_inertia": "inertia",
+                   "axial_inertia": "inertia", "length": "length", "cm_from_knob": "length"}
+
+
+def solve_any(case, settings: SolverSettings = SolverSettings(), *, json_keys=False):
+    """:func:`solve` for an :class:`ImpactCase`, :func:`solve_game` for a :class:`GameCase`
+    (with ``json_keys``, a game's errors name the JSON keys, ``pitch.speed``)."""
+    if isinstance(case, GameCase):
+        try:
+            return solve_game(case, settings)
+        except InputError as err:
+            if json_keys and err.field in _GAME_KEYS:
+                raise InputError(".".join(_GAME_KEYS[err.field]), err.message) from None
+            raise
+    return solve(case, settings)
+
+
+def case_from_dict(data):
+    """A :class:`GameCase` for a JSON case with ``pitch``/``swing`` keys, else an
+    :class:`ImpactCase`."""
+    return GameCase.from_dict(data) if is_game(data) else ImpactCase.from_dict(data)

@@ -99,18 +99,21 @@ def _json_value(value):
 
 
 def cmd_impact(args) -> int:
-    from mcbat.api import ImpactCase, solve
+    from mcbat.api import case_from_dict, solve_any
 
     source, raw_cases, single = _read_cases(args.file)
     cases = []
     for index, raw in enumerate(raw_cases):
         try:
-            cases.append(ImpactCase.from_dict(raw))
+            cases.append(case_from_dict(raw))  # a game case has pitch/swing keys
         except InputError as err:
             raise InputError(err.field, err.message, f"{source}: case {index}") from None
     results = []
-    for case in cases:
-        result = solve(case).to_dict()
+    for index, case in enumerate(cases):
+        try:
+            result = solve_any(case, json_keys=True).to_dict()
+        except InputError as err:
+            raise InputError(err.field, err.message, f"{source}: case {index}") from None
         results.append({k: _json_value(v) for k, v in result.items()})
     payload = results[0] if single else results
     json.dump(payload, sys.stdout, indent=2)

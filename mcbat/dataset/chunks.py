@@ -25,12 +25,20 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, bat_frame_columns
 from mcbat.dataset import storage
-from mcbat.dataset.schema import COLUMNS, DERIVED_COLUMNS, MEASURED_SUFFIX, derive
+from mcbat.dataset.schema import (
+    COLUMNS,
+    DERIVED_COLUMNS,
+    GAME_COLUMNS,
+    MEASURED_SUFFIX,
+    derive,
+    derive_game,
+)
 
-__all__ = ["MANIFEST", "METADATA_KEY", "build_table", "chunk_files", "chunk_index",
-           "chunk_is_complete", "chunk_name", "is_temporary_chunk_name", "package_versions",
-           "read_manifest", "read_table", "write_chunk", "write_manifest"]
+__all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "chunk_files",
+           "chunk_index", "chunk_is_complete", "chunk_name", "is_temporary_chunk_name",
+           "package_versions", "read_manifest", "read_table", "write_chunk", "write_manifest"]
 
 MANIFEST = "_mcbat.json"
 METADATA_KEY = b"mcbat"
@@ -115,6 +123,40 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
         arrays.append(pa.array(value + error))
         names.append(f"{name}{MEASURED_SUFFIX}")
     table = pa.Table.from_arrays(arrays, names=names)
+    if metadata is None:
+        return table
+    return table.replace_schema_metadata(
+        {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()})
+
+
+def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, status,
+                     end_state, metadata) -> pa.Table:
+    """Assemble one chunk's table of a game study (:data:`~mcbat.dataset.schema.GAME_COLUMNS`)
+    from the arrays of :func:`mcbat.core.swing.solve_game_batch`."""
+    n = game_inputs.shape[1]
+    cols = {name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
+    cols.update(bat_frame_columns(game_inputs, frame))
+    cols.update({name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)})
+    cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
+    cols.update(derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),
+                       (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"])))
+    cols.update(derive_game(
+        (cols["field_ball_vx"], cols["field_ball_vy"], cols["field_ball_vz"]),
+        (cols["field_ball_wx"], cols["field_ball_wy"], cols["field_ball_wz"])))
+    arrays = []
+    for name in GAME_COLUMNS:
+        if name in ("status", "end_state"):
+            arrays.append(pa.array(status if name == "status" else end_state, pa.int8()))
+        elif name == "rk4_steps":
+            arrays.append(pa.array(np.nan_to_num(cols[name]).astype(np.int32)))
+        elif name == "sample_id":
+            arrays.append(pa.array(np.arange(sample_id_start, sample_id_start + n,
+                                             dtype=np.int64)))
+        elif name == "chunk":
+            arrays.append(pa.array(np.full(n, chunk, np.int32)))
+        else:
+            arrays.append(pa.array(cols[name]))
+    table = pa.Table.from_arrays(arrays, names=list(GAME_COLUMNS))
     if metadata is None:
         return table
     return table.replace_schema_metadata(

@@ -21,6 +21,14 @@ Columns (SI units, see :data:`UNITS`; the lab frame of ``docs/physics.md``):
 * bookkeeping: ``sample_id`` (int64), ``chunk`` (int32);
 * optional simulated measurements (a study's ``[noise]``): ``<derived>_measured``.
 
+Game datasets (a study with ``[pitch]``/``[swing]``, ``docs/batting.md``) have every
+column above (the bat-frame case each row solved, so any row re-solves in the bat frame
+alone) and, in :data:`GAME_COLUMNS` only, the game inputs (:data:`GAME_INPUT_COLUMNS`),
+the field-frame velocities and spins of ball and bat before and after, the collision
+efficiency (:data:`GAME_OUTPUT_COLUMNS`), and the batted ball in the field's conventions
+(:func:`derive_game`: ``launch_speed`` mph, ``launch_angle``, ``spray_angle`` deg,
+``spin_rate``, ``backspin``, ``sidespin``, ``gyrospin`` rpm).
+
 A row whose status is not 0 has NaN outputs: it is flagged, never passed off as a result.
 """
 
@@ -29,12 +37,15 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
 
-__all__ = ["COLUMNS", "DERIVED_COLUMNS", "INPUT_COLUMNS", "MEASURED_SUFFIX", "OUTPUT_COLUMNS",
-           "SCHEMA_VERSION", "UNITS", "derive"]
+__all__ = ["COLUMNS", "DERIVED_COLUMNS", "GAME_COLUMNS", "GAME_DERIVED_COLUMNS",
+           "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS", "INPUT_COLUMNS", "MEASURED_SUFFIX",
+           "OUTPUT_COLUMNS", "SCHEMA_VERSION", "UNITS", "derive", "derive_game"]
 
 #: Version of the column contract; stored in every manifest and chunk file.
-SCHEMA_VERSION = 2
+#: 3: game datasets (:data:`GAME_COLUMNS`); the bat-frame columns are those of version 2.
+SCHEMA_VERSION = 3
 
 _LINEAR = {"v": "m/s", "w": "rad/s"}
 UNITS = {
@@ -53,6 +64,19 @@ UNITS = {
     "sample_id": "1", "chunk": "1",
     "exit_speed_measured": "m/s", "scattering_angle_measured": "deg",
     "spin_axial_measured": "rad/s", "spin_measured": "rad/s",
+    # game datasets
+    "bat_length": "m", "bat_cm_from_knob": "m", "handedness": "1 (+1 R, -1 L)",
+    "pitch_speed": "m/s", "pitch_vertical_approach_angle": "rad",
+    "pitch_horizontal_approach_angle": "rad", "pitch_spin_rate": "rad/s",
+    "pitch_spin_axis": "rad", "pitch_spin_efficiency": "1", "pitch_gyro_sign": "1",
+    "bat_speed": "m/s", "attack_angle": "rad", "attack_direction": "rad",
+    "vertical_bat_angle": "rad", "pivot": "m", "from_barrel_end": "m", "undercut": "m",
+    "e_ref": "1", "e_slope": "s/m", "e_speed_ref": "m/s", "e_location_factor": "1",
+    "collision_efficiency": "1",
+    **{f"field_{body}_{q}{c}{sfx}": _LINEAR[q] for body in ("ball", "bat") for q in "vw"
+       for c in "xyz" for sfx in ("_in", "")},
+    "launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg", "spin_rate": "rpm",
+    "backspin": "rpm", "sidespin": "rpm", "gyrospin": "rpm",
 }
 """Unit of every column."""
 
@@ -67,6 +91,19 @@ DERIVED_COLUMNS = ("exit_speed", "scattering_angle", "spin_axial", "spin")
 COLUMNS = (*INPUT_COLUMNS, *OUTPUT_COLUMNS, *DERIVED_COLUMNS, "sample_id", "chunk")
 """All columns, in file order."""
 MEASURED_SUFFIX = "_measured"
+
+GAME_INPUT_COLUMNS = tuple(f for f in GAME_INPUT_FIELDS if f not in INPUT_COLUMNS)
+"""The game inputs that are not bat-frame columns."""
+GAME_OUTPUT_COLUMNS = tuple(f for f in GAME_OUTPUT_FIELDS if f not in INPUT_COLUMNS)
+"""Collision efficiency and the field-frame velocities and spins."""
+GAME_DERIVED_COLUMNS = ("launch_speed", "launch_angle", "spray_angle", "spin_rate",
+                        "backspin", "sidespin", "gyrospin")
+GAME_COLUMNS = (*INPUT_COLUMNS, *GAME_INPUT_COLUMNS, *OUTPUT_COLUMNS, *GAME_OUTPUT_COLUMNS,
+                *DERIVED_COLUMNS, *GAME_DERIVED_COLUMNS, "sample_id", "chunk")
+"""All columns of a game dataset, in file order."""
+
+_MPH = 0.44704
+_RPM = 60.0 / (2.0 * np.pi)
 
 
 def derive(ball_velocity, ball_spin) -> dict:
@@ -92,6 +129,46 @@ def derive(ball_velocity, ball_spin) -> dict:
         "spin_axial": wz,
         "spin": np.sqrt(wx * wx + wy * wy + wz * wz),
     }
+    if np.ndim(vx) == 0:
+        return {name: float(value) for name, value in out.items()}
+    return out
+
+
+def derive_game(ball_velocity, ball_spin) -> dict:
+    """The batted ball in the field's conventions, from its field-frame velocity and spin.
+
+    Parameters
+    ----------
+    ball_velocity, ball_spin : sequence of 3 floats or 3 arrays
+        Field frame (``x`` to first base, ``y`` to the pitcher, ``z`` up), m/s and rad/s.
+
+    Returns
+    -------
+    dict
+        ``launch_speed`` (mph), ``launch_angle`` (deg, elevation), ``spray_angle`` (deg,
+        ``atan2(v_x, v_y)``, positive towards right field), ``spin_rate`` (rpm),
+        ``backspin`` (``w . b``, ``b = unit(v x z)``), ``sidespin`` (``w . s``,
+        ``s = b x unit(v)``; positive curves towards left field), ``gyrospin``
+        (``w . unit(v)``), all rpm (BATTING.md).
+    """
+    vx, vy, vz = (np.asarray(c, np.float64) for c in ball_velocity)
+    wx, wy, wz = (np.asarray(c, np.float64) for c in ball_spin)
+    speed = np.sqrt(vx * vx + vy * vy + vz * vz)
+    horizontal = np.hypot(vx, vy)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # b = unit(v x z) = (v_y, -v_x, 0)/|v_h|; s = b x unit(v); unit(v) = v/|v|
+        bx, by = vy / horizontal, -vx / horizontal
+        ux, uy, uz = vx / speed, vy / speed, vz / speed
+        sx, sy, sz = by * uz, -bx * uz, bx * uy - by * ux
+        out = {
+            "launch_speed": speed / _MPH,
+            "launch_angle": np.degrees(np.arctan2(vz, horizontal)),
+            "spray_angle": np.degrees(np.arctan2(vx, vy)),
+            "spin_rate": np.sqrt(wx * wx + wy * wy + wz * wz) * _RPM,
+            "backspin": (wx * bx + wy * by) * _RPM,
+            "sidespin": (wx * sx + wy * sy + wz * sz) * _RPM,
+            "gyrospin": (wx * ux + wy * uy + wz * uz) * _RPM,
+        }
     if np.ndim(vx) == 0:
         return {name: float(value) for name, value in out.items()}
     return out

@@ -32,6 +32,7 @@ from mcbat.bodies.presets import ball_preset, bat_preset
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.swing import GAME_INPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks, storage
 from mcbat.dataset.schema import SCHEMA_VERSION, UNITS
 from mcbat.errors import InputError
@@ -240,6 +241,8 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     start, stop = job.bounds(index)
     solver = study.solver
     columns = study.sample(start, stop, job.seed)
+    if getattr(study, "kind", "impact") == "game":
+        return _run_game_chunk(study, job, index, columns, write, solve_lock)
     inputs = np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
     out_arr, status, end_state = allocate_outputs(stop - start)
     with solve_lock if solve_lock is not None else contextlib.nullcontext():
@@ -253,6 +256,30 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     (write or _write_now)(write_chunk, table_args, job.path(index))
     return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
                         f"{socket.gethostname()}:{os.getpid()}")
+
+
+def _run_game_chunk(study, job, index, columns, write, solve_lock) -> ChunkSummary:
+    """:func:`run_chunk` for a game study: the game kernel, the game columns."""
+    start, stop = job.bounds(index)
+    solver = study.solver
+    game_inputs = np.stack([np.asarray(columns[name], np.float64)
+                            for name in GAME_INPUT_FIELDS])
+    frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
+    with solve_lock if solve_lock is not None else contextlib.nullcontext():
+        threads = numba.get_num_threads()
+        solve_game_batch(game_inputs, solver["steps"], solver["tolerance"],
+                         solver["max_steps"], frame, out_arr, game_out, status, end_state)
+    counts = np.bincount(status, minlength=len(st.STATUS_NAMES))
+    table_args = (start, index, game_inputs, frame, out_arr, game_out, status, end_state,
+                  job.metadata)
+    (write or _write_now)(write_game_chunk, table_args, job.path(index))
+    return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
+                        f"{socket.gethostname()}:{os.getpid()}")
+
+
+def write_game_chunk(table_args, path) -> None:
+    """Build a game chunk's table and write it atomically."""
+    chunks.write_chunk(chunks.build_game_table(*table_args), path)
 
 
 def _write_now(function, *args):

@@ -10,6 +10,7 @@ picks the chunks still to compute (resume), hands them to an engine
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import sys
 import time
@@ -58,6 +59,7 @@ class RunSummary:
     seconds: float
     status_counts: dict = field(default_factory=dict)
     engine_note: str | None = None
+    batted_ball: dict | None = None
 
     @property
     def rows_per_second(self) -> float:
@@ -75,6 +77,8 @@ class RunSummary:
             out.append(f"time: {self.seconds:.2f} s ({self.rows_per_second:,.0f} rows/s)")
         if self.engine_note:
             out.append(self.engine_note)
+        if self.batted_ball:
+            out.extend(batted_ball_lines(self.batted_ball))
         if self.status_counts:
             parts = ", ".join(f"{k}: {v:,}" for k, v in self.status_counts.items())
             out.append(f"status of computed rows: {parts}"
@@ -182,8 +186,52 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                 bar.close()
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
+    batted = (batted_ball_summary(display)
+              if getattr(study, "kind", "impact") == "game" else None)
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
-                      seconds, status_counts, runner.note(summaries) if todo else None)
+                      seconds, status_counts, runner.note(summaries) if todo else None,
+                      batted)
+
+
+#: Rows counted as hit "at the sweet spot" by :func:`batted_ball_summary`: within 0.5 in of
+#: 6 in from the barrel end, and within 0.25 in of a head-on hit.
+SWEET_SPOT_WINDOW = (0.1524, 0.0127, 0.00635)
+
+
+def batted_ball_summary(out) -> dict:
+    """Median and 5-95 % range of launch speed, launch angle and backspin of a game
+    dataset's ok rows, and the median collision efficiency of its sweet-spot hits."""
+    names = ["launch_speed", "launch_angle", "backspin", "collision_efficiency",
+             "from_barrel_end", "undercut", "status"]
+    tables = [chunks.read_table(path, columns=names)
+              for _, path in sorted(chunks.chunk_files(out).items())]
+    cols = {n: np.concatenate([t.column(n).to_numpy() for t in tables]) for n in names}
+    ok = cols["status"] == 0
+    result = {}
+    for name in ("launch_speed", "launch_angle", "backspin"):
+        values = cols[name][ok]
+        result[name] = tuple(float(v) for v in np.percentile(values, [50, 5, 95])) \
+            if values.size else (math.nan,) * 3
+    centre, half_width, square = SWEET_SPOT_WINDOW
+    sweet = ok & (np.abs(cols["from_barrel_end"] - centre) <= half_width) \
+        & (np.abs(cols["undercut"]) <= square)
+    q = cols["collision_efficiency"][sweet]
+    result["collision_efficiency_sweet_spot"] = (float(np.median(q)) if q.size else math.nan,
+                                                 int(q.size))
+    return result
+
+
+def batted_ball_lines(b: dict) -> list[str]:
+    """The batted-ball summary of a game run, one string per line."""
+    units = {"launch_speed": "mph", "launch_angle": "deg", "backspin": "rpm"}
+    out = ["batted ball (median, 5-95 %):"]
+    for name, unit in units.items():
+        med, lo, hi = b[name]
+        out.append(f"  {name}: {med:.1f} {unit} ({lo:.1f} to {hi:.1f})")
+    q, n = b["collision_efficiency_sweet_spot"]
+    out.append(f"  collision_efficiency at the sweet spot (6 +- 0.5 in, |undercut| <= 0.25 in): "
+               f"{q:.3f} (median of {n:,} rows)")
+    return out
 
 
 def _progress_bar(name: str, total: int):

@@ -126,7 +126,8 @@ from mcbat.study.distributions import (
 )
 
 __all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS", "NOISE_SPAWN_KEY",
-           "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "load_study"]
+           "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
+           "check_string", "load_study", "parse_ball", "parse_bat"]
 
 #: Samples per block of the random stream (and per LHS design).
 RANDOM_BLOCK = 65536
@@ -162,14 +163,16 @@ _CONTACT_QUANTITIES = {"axial": u.LENGTH, "from_barrel_end": u.LENGTH, "angle": 
                        "impact_parameter": u.LENGTH, "approach_azimuth": u.ANGLE}
 _BALL_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "inertia_factor": u.DIMENSIONLESS}
 _BAT_KEYS = {"mass": u.MASS, "radius": u.LENGTH, "transverse_inertia": u.INERTIA,
-             "axial_inertia": u.INERTIA, "length": u.LENGTH, "cm_from_barrel_end": u.LENGTH}
+             "axial_inertia": u.INERTIA, "length": u.LENGTH, "cm_from_barrel_end": u.LENGTH,
+             "cm_from_knob": u.LENGTH}
 _BAT_REQUIRED = ("mass", "radius", "transverse_inertia", "axial_inertia")
 
 
 # ---------------------------------------------------------------- parsing helpers
 
 
-def _string(value, field):
+def check_string(value, field):
+    """The string ``value`` of key ``field`` (InputError naming it otherwise)."""
     if not isinstance(value, str):
         raise InputError(field, f"must be a string, got {value!r}")
     return value
@@ -183,14 +186,15 @@ def _fixed(spec, field, quantity, *, positive=True):
     return dist.value
 
 
-def _parse_ball(table):
+def parse_ball(table):
+    """The ``[ball]`` section: a :class:`~mcbat.bodies.ball.Ball` (preset or explicit keys)."""
     check_keys(table, "ball", (), ("preset",) + tuple(_BALL_KEYS))
     if "preset" in table:
         for key in table:
             if key != "preset":
                 raise InputError(f"ball.{key}", "cannot be combined with 'preset' (give "
                                                 "either a preset or the ball's properties)")
-        name = _string(table["preset"], "ball.preset")
+        name = check_string(table["preset"], "ball.preset")
         if name not in BALL_PRESETS:
             raise InputError("ball.preset", f"unknown ball preset {name!r} "
                                             f"(expected one of: {', '.join(BALL_PRESETS)})")
@@ -200,23 +204,29 @@ def _parse_ball(table):
     return Ball(**values)
 
 
-def _parse_bat(table):
+def parse_bat(table):
+    """The ``[bat]`` section: a :class:`~mcbat.bodies.bat.Bat` (preset or explicit keys)."""
     check_keys(table, "bat", (), ("preset",) + tuple(_BAT_KEYS))
     if "preset" in table:
         for key in table:
             if key != "preset":
                 raise InputError(f"bat.{key}", "cannot be combined with 'preset' (give "
                                                "either a preset or the bat's properties)")
-        name = _string(table["preset"], "bat.preset")
+        name = check_string(table["preset"], "bat.preset")
         if name not in BAT_PRESETS:
             raise InputError("bat.preset", f"unknown bat preset {name!r} "
                                            f"(expected one of: {', '.join(BAT_PRESETS)})")
         return bat_preset(name)
-    check_keys(table, "bat", _BAT_REQUIRED, ("length", "cm_from_barrel_end"))
+    check_keys(table, "bat", _BAT_REQUIRED, ("length", "cm_from_barrel_end", "cm_from_knob"))
     values = {}
     for key, spec in table.items():
         values[key] = _fixed(spec, f"bat.{key}", _BAT_KEYS[key],
-                             positive=key != "cm_from_barrel_end")
+                             positive=key not in ("cm_from_barrel_end", "cm_from_knob"))
+    if "cm_from_knob" in values:  # the CM from the knob (game bats): from the barrel end
+        if "cm_from_barrel_end" in values or "length" not in values:
+            raise InputError("bat.cm_from_knob", "needs bat.length, and not "
+                             "bat.cm_from_barrel_end too")
+        values["cm_from_barrel_end"] = values["length"] - values.pop("cm_from_knob")
     cm = values.get("cm_from_barrel_end")
     if cm is not None:
         length = values.get("length")
@@ -269,7 +279,8 @@ def _parse_inputs(data) -> dict:
     return inputs
 
 
-def _check_solver(table):
+def check_solver(table):
+    """The ``[solver]`` section, validated, with the kernel's defaults filled in."""
     check_keys(table, "solver", (), ("steps", "tolerance", "max_steps"))
     steps = integer(table.get("steps", DEFAULT_STEPS), "solver.steps", minimum=1)
     max_steps = integer(table.get("max_steps", DEFAULT_MAX_STEPS), "solver.max_steps",
@@ -336,6 +347,9 @@ class Study:
         The raw TOML text.
     """
 
+    #: ``"impact"`` (the bat frame) or ``"game"`` (:class:`mcbat.study.game.GameStudy`).
+    kind = "impact"
+
     def __init__(self, data, source=None, text=None):
         self.source = None if source is None else str(source)
         self.source_text = text
@@ -360,11 +374,21 @@ class Study:
         text : str, optional
             The raw TOML text, kept as :attr:`source_text`.
 
+        Returns
+        -------
+        Study
+            A :class:`mcbat.study.game.GameStudy` when ``data`` has a ``[pitch]`` or
+            ``[swing]`` section.
+
         Raises
         ------
         InputError
             Naming ``source``, the dotted key and the offending value.
         """
+        if cls is Study and isinstance(data, dict) and ("pitch" in data or "swing" in data):
+            from mcbat.study.game import GameStudy
+
+            return GameStudy(data, source=source, text=text)
         return cls(data, source=source, text=text)
 
     def _parse(self, data):
@@ -379,9 +403,9 @@ class Study:
                                           f"got {data[section]!r}")
 
         self._parse_study_section(data["study"])
-        self.ball = _parse_ball(data["ball"])
-        self.bat = _parse_bat(data["bat"])
-        self._solver = _check_solver(data.get("solver", {}))
+        self.ball = parse_ball(data["ball"])
+        self.bat = parse_bat(data["bat"])
+        self._solver = check_solver(data.get("solver", {}))
         self.noise = _parse_noise(data.get("noise", {}))
         inputs = _parse_inputs(data)
         contact = data["contact"]
@@ -395,10 +419,10 @@ class Study:
         """The ``[study]`` section: name, description, samples, seed, chunk size."""
         study = check_keys(table, "study", ("name", "samples"),
                            ("description", "seed", "chunk_size"))
-        self.name = _string(study["name"], "study.name")
+        self.name = check_string(study["name"], "study.name")
         if not self.name.strip():
             raise InputError("study.name", "must not be empty")
-        self.description = _string(study.get("description", ""), "study.description")
+        self.description = check_string(study.get("description", ""), "study.description")
         self.samples = integer(study["samples"], "study.samples", minimum=1)
         self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
         self.chunk_size = (None if "chunk_size" not in study
@@ -462,7 +486,7 @@ class Study:
     def with_overrides(self, *, samples=None, seed=None, chunk_size=None) -> Study:
         """A copy with the run's sample count, seed or chunk size replacing the defaults
         (``None`` keeps the study's), validated like the file's values."""
-        new = object.__new__(Study)
+        new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         if samples is not None:
             new.samples = integer(samples, "samples", minimum=1)

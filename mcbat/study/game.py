@@ -1,0 +1,283 @@
+"""Game studies: a pitch, a swing and a contact in the field frame (``docs/batting.md``).
+
+A study file is a game study when it has a ``[pitch]`` or ``[swing]`` section::
+
+    handedness = "R"              # optional, "R" (default) or "L": the mirror image in x
+    [study]  ...                  # as in every study
+    [ball]   preset = "baseball"
+    [bat]    preset = "r161"      # or mass, radius, length, cm_from_knob (or
+                                  # cm_from_barrel_end), transverse_inertia, axial_inertia
+    [pitch]                       # speed (required), vertical_approach_angle (0),
+    speed = { value = 94, unit = "mph" }   # horizontal_approach_angle (0), spin_rate (0),
+    spin_axis = { value = 180, unit = "deg" }  # spin_axis (180 deg), spin_efficiency (1),
+                                  # gyro_sign (+1)
+    [swing]                       # bat_speed (required), attack_angle (0),
+    bat_speed = { value = 72, unit = "mph" }  # attack_direction (0), vertical_bat_angle
+                                  # (0), pivot (6 in from the knob)
+    [contact]                     # from_barrel_end (6 in), undercut (0)
+    [friction]  mu = 0.5          # required
+    [restitution]                 # optional; default: the game preset
+                                  # (mcbat.bodies.game.GAME_RESTITUTION). Either e (constant)
+                                  # or e_ref, e_slope (per m/s), e_speed_ref (speed); with
+                                  # either, location (a table of data/) and e_x.
+
+Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
+Samples are the float64 columns of :data:`COLUMNS`, the inputs of
+:func:`mcbat.core.swing.solve_game_batch`.
+"""
+
+from __future__ import annotations
+
+import math
+from types import MappingProxyType
+
+import numpy as np
+
+from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, LOCATION_TABLES, Restitution
+from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
+from mcbat.errors import InputError
+from mcbat.study import units as u
+from mcbat.study.distributions import check_keys, check_range, integer, parse
+from mcbat.study.spec import Study, check_solver, check_string, parse_ball, parse_bat
+
+__all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
+
+#: Columns returned by :meth:`GameStudy.sample`: the game kernel's inputs.
+COLUMNS = GAME_INPUT_FIELDS
+
+#: The numeric keys of a game: section -> key -> (quantity, default in SI, column).
+KEYS = {
+    "pitch": {
+        "speed": (u.SPEED, None, "pitch_speed"),
+        "vertical_approach_angle": (u.ANGLE, 0.0, "pitch_vertical_approach_angle"),
+        "horizontal_approach_angle": (u.ANGLE, 0.0, "pitch_horizontal_approach_angle"),
+        "spin_rate": (u.SPIN, 0.0, "pitch_spin_rate"),
+        "spin_axis": (u.ANGLE, math.pi, "pitch_spin_axis"),
+        "spin_efficiency": (u.DIMENSIONLESS, 1.0, "pitch_spin_efficiency"),
+        "gyro_sign": (u.DIMENSIONLESS, 1.0, "pitch_gyro_sign"),
+    },
+    "swing": {
+        "bat_speed": (u.SPEED, None, "bat_speed"),
+        "attack_angle": (u.ANGLE, 0.0, "attack_angle"),
+        "attack_direction": (u.ANGLE, 0.0, "attack_direction"),
+        "vertical_bat_angle": (u.ANGLE, 0.0, "vertical_bat_angle"),
+        "pivot": (u.LENGTH, DEFAULT_PIVOT, "pivot"),
+    },
+    "contact": {
+        "from_barrel_end": (u.LENGTH, SWEET_SPOT_FROM_BARREL_END, "from_barrel_end"),
+        "undercut": (u.LENGTH, 0.0, "undercut"),
+    },
+    "friction": {"mu": (u.DIMENSIONLESS, None, "mu")},
+    "restitution": {
+        "e": (u.DIMENSIONLESS, None, "e_ref"),
+        "e_ref": (u.DIMENSIONLESS, None, "e_ref"),
+        "e_slope": (u.DIMENSIONLESS, 0.0, "e_slope"),
+        "e_speed_ref": (u.SPEED, 0.0, "e_speed_ref"),
+        "e_x": (u.DIMENSIONLESS, 0.0, "e_x"),
+    },
+}
+GAME_SECTIONS = ("pitch", "swing")
+_REQUIRED = ("study", "ball", "bat", "pitch", "swing", "friction")
+_OPTIONAL = ("handedness", "contact", "restitution", "solver")
+HANDEDNESS = {"R": 1.0, "L": -1.0}
+_RAD = 180.0 / math.pi
+
+
+def is_game(data) -> bool:
+    """True for a study or case with a ``pitch`` or ``swing`` section."""
+    return isinstance(data, dict) and any(k in data for k in GAME_SECTIONS)
+
+
+def parse_handedness(value, field="handedness") -> float:
+    """``"R"`` -> +1, ``"L"`` -> -1."""
+    if value not in HANDEDNESS:
+        raise InputError(field, f'must be "R" or "L", got {value!r}')
+    return HANDEDNESS[value]
+
+
+def check_swing_angles(attack_angle, vertical_bat_angle, field="swing.vertical_bat_angle"):
+    """The bat axis must be perpendicular to the sweet spot's velocity:
+    ``|tan(attack_angle) tan(vertical_bat_angle)| < 1`` (largest magnitudes, rad)."""
+    product = abs(math.tan(attack_angle) * math.tan(vertical_bat_angle))
+    if not product < 1.0 - 1e-9:
+        raise InputError(field, f"inconsistent with swing.attack_angle: no bat axis has "
+                         f"elevation {vertical_bat_angle * _RAD:.4g} deg and is "
+                         f"perpendicular to a sweet-spot velocity {attack_angle * _RAD:.4g} "
+                         f"deg above the horizontal (need |tan(attack) tan(vertical)| < 1, "
+                         f"got {product:.4g})")
+
+
+def _largest(dist):
+    low, high = dist.support()
+    return max(abs(low), abs(high))
+
+
+class GameStudy(Study):
+    """A validated game study (see the module docstring). Sampling, overrides and the
+    config hash work as for :class:`~mcbat.study.spec.Study`."""
+
+    kind = "game"
+
+    def _parse(self, data):
+        check_keys(data, "", (), _REQUIRED + _OPTIONAL)
+        for section in _REQUIRED:
+            if section not in data:
+                raise InputError(section, f"missing required section [{section}]")
+        for section in data:
+            if section != "handedness" and not isinstance(data[section], dict):
+                raise InputError(section, f"must be a table ([{section}]), "
+                                          f"got {data[section]!r}")
+        study = check_keys(data["study"], "study", ("name", "samples"),
+                           ("description", "seed", "chunk_size"))
+        self.name = check_string(study["name"], "study.name")
+        if not self.name.strip():
+            raise InputError("study.name", "must not be empty")
+        self.description = check_string(study.get("description", ""), "study.description")
+        self.samples = integer(study["samples"], "study.samples", minimum=1)
+        self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
+        self.chunk_size = (None if "chunk_size" not in study
+                           else integer(study["chunk_size"], "study.chunk_size", minimum=1))
+        self.handedness = data.get("handedness", "R")
+        parse_handedness(self.handedness)
+        self.ball = parse_ball(data["ball"])
+        self.bat = parse_bat(data["bat"])
+        if self.bat.length is None or self.bat.cm_from_barrel_end is None:
+            raise InputError("bat.length", "a game needs the bat's length and its CM "
+                             "(cm_from_knob or cm_from_barrel_end), or a bat preset")
+        self._solver = check_solver(data.get("solver", {}))
+        self.noise = MappingProxyType({})
+        self._axial_key, self._angle_key = "from_barrel_end", "undercut"
+
+        inputs = {}
+        location = None
+        for section, keys in KEYS.items():
+            table = data.get(section, {})
+            optional = tuple(keys) + (("location",) if section == "restitution" else ())
+            required = tuple(k for k, (_, default, _) in keys.items()
+                             if default is None and section != "restitution")
+            check_keys(table, section, required, optional)
+            for key, spec in table.items():
+                if key == "location":
+                    location = check_string(spec, "restitution.location")
+                    if location not in LOCATION_TABLES:
+                        raise InputError("restitution.location", f"unknown table "
+                                         f"{location!r} (expected one of: "
+                                         f"{', '.join(LOCATION_TABLES)})")
+                    continue
+                inputs[f"{section}.{key}"] = parse(spec, f"{section}.{key}", keys[key][0])
+        rest = data.get("restitution")
+        if rest is None:
+            self.restitution = GAME_RESTITUTION
+        else:
+            has_e, has_ref = "e" in rest, "e_ref" in rest
+            if has_e == has_ref:
+                raise InputError("restitution", "give exactly one of 'e' (a constant e*) "
+                                 "or 'e_ref' (with e_slope and e_speed_ref)")
+            if has_e and ("e_slope" in rest or "e_speed_ref" in rest):
+                key = "e_slope" if "e_slope" in rest else "e_speed_ref"
+                raise InputError(f"restitution.{key}", "only with 'e_ref', not with 'e'")
+            self.restitution = Restitution(location=location)
+        self.inputs = MappingProxyType(inputs)
+        self._check_ranges()
+        self._plan()
+
+    def _check_ranges(self):
+        inp, bat = self.inputs, self.bat
+        right = 90.0 / _RAD
+
+        def need(key, **kw):
+            if key in inp:
+                check_range(inp[key], **kw)
+
+        need("pitch.speed", minimum=0.0, strict_minimum=True, what="the pitch speed")
+        for key in ("pitch.vertical_approach_angle", "pitch.horizontal_approach_angle"):
+            need(key, minimum=-right, maximum=right, strict_minimum=True, strict_maximum=True,
+                 what="an approach angle (a pitch moving towards the plate)")
+        need("pitch.spin_rate", minimum=0.0, what="the spin rate")
+        need("pitch.spin_efficiency", minimum=0.0, maximum=1.0, what="the spin efficiency")
+        if "pitch.gyro_sign" in inp:
+            dist = inp["pitch.gyro_sign"]
+            if dist.family != "fixed" or dist.value not in (1.0, -1.0):
+                raise InputError("pitch.gyro_sign", "must be a fixed +1 or -1")
+        need("swing.bat_speed", minimum=0.0, what="the bat speed")
+        for key in ("swing.attack_angle", "swing.attack_direction",
+                    "swing.vertical_bat_angle"):
+            need(key, minimum=-right, maximum=right, strict_minimum=True, strict_maximum=True,
+                 what="a swing angle")
+        if "swing.attack_angle" in inp and "swing.vertical_bat_angle" in inp:
+            check_swing_angles(_largest(inp["swing.attack_angle"]),
+                               _largest(inp["swing.vertical_bat_angle"]))
+        sweet_from_knob = bat.length - SWEET_SPOT_FROM_BARREL_END
+        need("swing.pivot", minimum=0.0, maximum=sweet_from_knob, strict_maximum=True,
+             what="the pivot (from the knob, short of the sweet spot)")
+        need("contact.from_barrel_end", minimum=0.0, maximum=bat.length + 1e-12,
+             what="the contact's distance from the barrel end (on the bat)")
+        d_low, d_high = (inp["contact.from_barrel_end"].support()
+                         if "contact.from_barrel_end" in inp
+                         else (SWEET_SPOT_FROM_BARREL_END,) * 2)
+        reach = bat.min_reach(self.ball.radius, bat.axial_from_barrel_end(d_high),
+                              bat.axial_from_barrel_end(d_low))
+        need("contact.undercut", minimum=-reach, maximum=reach,
+             what="the undercut (within the reach r + R of barrel and ball; beyond it the "
+                  "ball misses)")
+        need("friction.mu", minimum=0.0, what="mu")
+        for key in ("restitution.e", "restitution.e_ref", "restitution.e_x"):
+            need(key, minimum=0.0, maximum=1.0, what=key.split(".")[1])
+        need("restitution.e_speed_ref", minimum=0.0, what="e_speed_ref")
+
+    def config(self) -> dict:
+        """As :meth:`Study.config`, with ``kind = "game"``, the handedness and the
+        restitution's form."""
+        out = super().config()
+        out.update(kind="game", handedness=self.handedness,
+                   restitution=self.restitution.config()
+                   if any(k.startswith("restitution.") for k in self.inputs)
+                   else {"preset": "game", **GAME_RESTITUTION.config()})
+        out["contact"] = {"position": "from_barrel_end", "offset": "undercut"}
+        return out
+
+    def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
+        """Game-kernel inputs of samples ``start .. stop - 1`` (:data:`COLUMNS`, SI)."""
+        stop = self.samples if stop is None else stop
+        seed = self.seed if seed is None else seed
+        for label, value in (("start", start), ("stop", stop), ("seed", seed)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                raise TypeError(f"{label} must be an integer, got {value!r}")
+        if not 0 <= start <= stop:
+            raise ValueError(f"need 0 <= start <= stop, got start={start}, stop={stop}")
+        start, stop, seed = int(start), int(stop), int(seed)
+        n = stop - start
+        table = np.empty((len(COLUMNS), n))
+        cols = {name: table[i] for i, name in enumerate(COLUMNS)}
+        if n == 0:
+            return cols
+        targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
+        dest = {name: cols[targets[name]] for name in self.inputs}
+        self._draw(start, stop, seed, dest)
+        defaults = {spec[2]: spec[1] for keys in KEYS.values() for spec in keys.values()
+                    if spec[1] is not None}
+        rest = (GAME_RESTITUTION if not any(k.startswith("restitution.") for k in self.inputs)
+                else None)
+        if rest is not None:
+            defaults.update(e_ref=rest.e_ref, e_slope=rest.e_slope,
+                            e_speed_ref=rest.e_speed_ref, e_x=rest.e_x)
+        drawn = {targets[name] for name in self.inputs}
+        for column, value in defaults.items():
+            if column not in drawn:
+                cols[column][:] = value
+        ball, bat = self.ball, self.bat
+        cols["ball_mass"][:] = ball.mass
+        cols["ball_radius"][:] = ball.radius
+        cols["ball_inertia_factor"][:] = ball.inertia_factor
+        cols["bat_mass"][:] = bat.mass
+        cols["bat_transverse_inertia"][:] = bat.transverse_inertia
+        cols["bat_axial_inertia"][:] = bat.axial_inertia
+        cols["bat_length"][:] = bat.length
+        cols["bat_cm_from_knob"][:] = bat.length - bat.cm_from_barrel_end
+        cols["handedness"][:] = HANDEDNESS[self.handedness]
+        axial = bat.clip_axial(bat.axial_from_barrel_end(cols["from_barrel_end"]))
+        cols["bat_radius"][:], cols["bat_slope"][:] = bat.surface(axial)
+        location = (self.restitution.location if rest is None else rest.location)
+        cols["e_location_factor"][:] = Restitution(location=location).location_factor(
+            cols["from_barrel_end"])
+        return cols
