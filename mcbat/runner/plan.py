@@ -32,7 +32,7 @@ from mcbat.bodies.presets import ball_preset, bat_preset
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
-from mcbat.core.swing import GAME_INPUT_FIELDS, allocate_game_outputs, solve_game_batch
+from mcbat.core.swing import allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks, storage
 from mcbat.dataset.schema import SCHEMA_VERSION, UNITS
 from mcbat.errors import InputError
@@ -238,11 +238,11 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     -------
     ChunkSummary
     """
+    if getattr(study, "kind", "impact") == "game":
+        return _run_game_chunk(study, job, index, write, solve_lock)
     start, stop = job.bounds(index)
     solver = study.solver
     columns = study.sample(start, stop, job.seed)
-    if getattr(study, "kind", "impact") == "game":
-        return _run_game_chunk(study, job, index, columns, write, solve_lock)
     inputs = np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
     out_arr, status, end_state = allocate_outputs(stop - start)
     with solve_lock if solve_lock is not None else contextlib.nullcontext():
@@ -258,12 +258,11 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
                         f"{socket.gethostname()}:{os.getpid()}")
 
 
-def _run_game_chunk(study, job, index, columns, write, solve_lock) -> ChunkSummary:
+def _run_game_chunk(study, job, index, write, solve_lock) -> ChunkSummary:
     """:func:`run_chunk` for a game study: the game kernel, the game columns."""
     start, stop = job.bounds(index)
     solver = study.solver
-    game_inputs = np.stack([np.asarray(columns[name], np.float64)
-                            for name in GAME_INPUT_FIELDS])
+    game_inputs = study.sample_inputs(start, stop, job.seed)  # rows: GAME_INPUT_FIELDS
     frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
     with solve_lock if solve_lock is not None else contextlib.nullcontext():
         threads = numba.get_num_threads()

@@ -237,7 +237,14 @@ class GameStudy(Study):
         return out
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
-        """Game-kernel inputs of samples ``start .. stop - 1`` (:data:`COLUMNS`, SI)."""
+        """Game-kernel inputs of samples ``start .. stop - 1`` (:data:`COLUMNS`, SI), as
+        views of the rows of :meth:`sample_inputs`."""
+        table = self.sample_inputs(start, stop, seed)
+        return {name: table[i] for i, name in enumerate(COLUMNS)}
+
+    def sample_inputs(self, start=0, stop=None, seed=None) -> np.ndarray:
+        """The game kernel's input array of samples ``start .. stop - 1``:
+        ``float64[len(COLUMNS), n]``, one row per column of :data:`COLUMNS` (SI)."""
         stop = self.samples if stop is None else stop
         seed = self.seed if seed is None else seed
         for label, value in (("start", start), ("stop", stop), ("seed", seed)):
@@ -250,7 +257,7 @@ class GameStudy(Study):
         table = np.empty((len(COLUMNS), n))
         cols = {name: table[i] for i, name in enumerate(COLUMNS)}
         if n == 0:
-            return cols
+            return table
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
         dest = {name: cols[targets[name]] for name in self.inputs}
         self._draw(start, stop, seed, dest)
@@ -280,4 +287,4 @@ class GameStudy(Study):
         location = (self.restitution.location if rest is None else rest.location)
         cols["e_location_factor"][:] = Restitution(location=location).location_factor(
             cols["from_barrel_end"])
-        return cols
+        return table
