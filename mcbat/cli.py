@@ -143,6 +143,16 @@ def cmd_run(args) -> int:
 
 
 def cmd_reproduce(args) -> int:
+    if args.paper == "sawicki2003":
+        from mcbat.papers.sawicki2003.reproduce import reproduce as reproduce_sawicki
+
+        for flag in ("samples", "overwrite"):
+            if getattr(args, flag):
+                raise InputError(f"--{flag}", "applies to the cabo2012 reproduction only "
+                                              "(sawicki2003 writes no dataset)")
+        with _flags("out", "threads"):
+            reproduce_sawicki(args.out, threads=args.threads)
+        return EXIT_OK
     from mcbat.papers.cabo2012.reproduce import reproduce
 
     with _flags("out", "samples", "threads", "overwrite"):
@@ -270,10 +280,16 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(func=cmd_run)
 
     rep = sub.add_parser(
-        "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter",
-        description="Run studies/cross_nathan_2006.toml, calibrate e* on the paper's target "
-                    "exit speed, draw Figs. 2-8 and write a summary, all into one "
-                    "results directory.")
+        "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter "
+                          "(or another paper's results)",
+        description="cabo2012 (the default): run studies/cross_nathan_2006.toml, calibrate "
+                    "e* on the paper's target exit speed, draw Figs. 2-8 and write a "
+                    "summary, all into one results directory. sawicki2003: the optimal "
+                    "swing against a fastball and a curveball (undercut x attack-angle "
+                    "scan with Monte Carlo scatter, flight to the landing point, rigid and "
+                    "compliant impact models) into DIR/sawicki2003.")
+    rep.add_argument("paper", nargs="?", default="cabo2012", choices=("cabo2012", "sawicki2003"),
+                     help="which reproduction (default: cabo2012)")
     rep.add_argument("--out", default="results", metavar="DIR",
                      help="results directory (default: results)")
     rep.add_argument("--samples", type=_int_arg("--samples"), metavar="N",
