@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import json
 import math
 import re
@@ -117,6 +118,33 @@ def cmd_impact(args) -> int:
         results.append({k: _json_value(v) for k, v in result.items()})
     payload = results[0] if single else results
     json.dump(payload, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+    return EXIT_OK
+
+
+def cmd_flight(args) -> int:
+    from mcbat.api import flight_case_from_dict, solve_flight
+
+    source, raw_cases, single = _read_cases(args.file)
+    cases = []
+    for index, raw in enumerate(raw_cases):
+        try:
+            case = flight_case_from_dict(raw)
+            if args.scheme is not None:
+                case = dataclasses.replace(case, settings=dataclasses.replace(
+                    case.settings, scheme=args.scheme))
+            cases.append(case)
+        except InputError as err:
+            raise InputError(err.field, err.message, f"{source}: case {index}") from None
+    results = []
+    for index, case in enumerate(cases):
+        try:
+            with _flags("trajectory"):
+                result = solve_flight(case, trajectory=args.trajectory).to_dict()
+        except InputError as err:
+            raise InputError(err.field, err.message, f"{source}: case {index}") from None
+        results.append({k: _json_value(v) for k, v in result.items()})
+    json.dump(results[0] if single else results, sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
     return EXIT_OK
 
@@ -246,6 +274,22 @@ def build_parser() -> argparse.ArgumentParser:
                     "frame (bat CM at the origin, z along the bat axis).")
     impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
     impact.set_defaults(func=cmd_impact)
+
+    flight = sub.add_parser(
+        "flight", help="fly batted balls to the landing point (JSON: one ball or an array)",
+        description="Read one JSON ball, or a JSON array of balls, from FILE (or '-' for "
+                    "stdin): launch_speed, launch_angle, spray_angle, backspin, sidespin, "
+                    "gyrospin, position, ball, atmosphere, model, spin_decay_time (values in "
+                    "SI or as {\"value\": ..., \"unit\": ...}; docs/flight.md). Prints "
+                    "hit_distance, hang_time, apex, landing_x, landing_y (ft, s) and their "
+                    "SI counterparts (*_m) as JSON, in the same order.")
+    flight.add_argument("file", nargs="?", default="-", metavar="FILE|-")
+    flight.add_argument("--trajectory", type=float, metavar="DT", default=None,
+                        help="add the flight sampled every DT seconds (t, x, y, z in s, m)")
+    flight.add_argument("--scheme", choices=("adaptive", "sheet"), default=None,
+                        help="the integrator: adaptive (default) or the spreadsheet's fixed "
+                             "0.01 s steps, for comparison")
+    flight.set_defaults(func=cmd_flight)
 
     run = sub.add_parser(
         "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",

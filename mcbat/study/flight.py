@@ -5,7 +5,7 @@ Keys (all optional)::
 
     model = "nathan"            # or "sawicki2003", "constant" (then drag = C_D, lift = C_L)
     spin_decay_time = 30        # s; the model's default when absent; "none" (or JSON null)
-    start = [0, 2, 3]           # the launch point (field frame), default (0, 2, 3) ft
+    position = [0, 2, 3]        # launch point (field frame, m or {value, unit}); (0, 2, 3) ft
     wind = [0, 0, 0]            # m/s (field frame), or {value = [...], unit = "mph"}
     scheme = "adaptive"         # or "sheet": the spreadsheet's Euler steps of 0.01 s
     tolerance = 1e-6            # the adaptive integrator's local error tolerance
@@ -37,7 +37,7 @@ from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, parse
 
-__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FlightSettings", "launch_vectors",
+__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FlightSettings", "launch_vectors",
            "parse_flight"]
 
 #: The spin decay time of each model when none is given (s; None: no decay).
@@ -133,6 +133,11 @@ def _choice(spec, field, options):
     return spec
 
 
+#: The keys of a flight section (and of the settings part of a ``mcbat flight`` case).
+FLIGHT_KEYS = ("atmosphere", "model", "spin_decay_time", "drag", "lift", "position", "wind",
+               "scheme", "tolerance")
+
+
 def parse_flight(table, field="flight") -> FlightSettings:
     """Validate a flight section (a dict, as TOML or JSON gives it).
 
@@ -141,42 +146,45 @@ def parse_flight(table, field="flight") -> FlightSettings:
     InputError
         Naming the dotted key (``flight.atmosphere.relative_humidity``, ...).
     """
-    check_keys(table, field, (), ("atmosphere", "model", "spin_decay_time", "drag", "lift",
-                                  "start", "wind", "scheme", "tolerance"))
+    check_keys(table, field, (), FLIGHT_KEYS)
+
+    def key(*parts):
+        return ".".join(p for p in (field, *parts) if p)
+
     out = {}
     atmosphere = table.get("atmosphere", {})
-    check_keys(atmosphere, f"{field}.atmosphere", (), tuple(_ATMOSPHERE))
-    for key, (quantity, _, (low, high)) in _ATMOSPHERE.items():
-        if key in atmosphere:
-            out[key] = _fixed(atmosphere[key], f"{field}.atmosphere.{key}", quantity, low,
-                              high)
-    model = _choice(table.get("model", "nathan"), f"{field}.model", tuple(MODELS))
+    check_keys(atmosphere, key("atmosphere"), (), tuple(_ATMOSPHERE))
+    for name, (quantity, _, (low, high)) in _ATMOSPHERE.items():
+        if name in atmosphere:
+            out[name] = _fixed(atmosphere[name], key("atmosphere", name), quantity, low,
+                               high)
+    model = _choice(table.get("model", "nathan"), key("model"), tuple(MODELS))
     out["model"] = model
-    for key in ("drag", "lift"):
+    for name in ("drag", "lift"):
         if model == "constant":
-            if key not in table:
-                raise InputError(f"{field}.{key}", "required with model = \"constant\"")
-            out[key] = _fixed(table[key], f"{field}.{key}", u.DIMENSIONLESS, 0.0, 2.0)
-        elif key in table:
-            raise InputError(f"{field}.{key}", "only with model = \"constant\"")
+            if name not in table:
+                raise InputError(key(name), "required with model = \"constant\"")
+            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, 0.0, 2.0)
+        elif name in table:
+            raise InputError(key(name), "only with model = \"constant\"")
     decay = table.get("spin_decay_time", DEFAULT_DECAY_TIME[model])
     if decay is None or decay == "none":
         out["spin_decay_time"] = None
     else:
-        out["spin_decay_time"] = _fixed(decay, f"{field}.spin_decay_time", u.DIMENSIONLESS,
+        out["spin_decay_time"] = _fixed(decay, key("spin_decay_time"), u.DIMENSIONLESS,
                                         1e-3, 1e6)
-    if "start" in table:
-        start = _vector(table["start"], f"{field}.start", u.LENGTH)
+    if "position" in table:
+        start = _vector(table["position"], key("position"), u.LENGTH)
         if not start[2] >= 0.0:
-            raise InputError(f"{field}.start", f"the launch point is below the ground "
-                                               f"(z = {start[2]:g} m < 0)")
+            raise InputError(key("position"), f"the launch point is below the ground "
+                                              f"(z = {start[2]:g} m < 0)")
         out["start"] = start
     if "wind" in table:
-        out["wind"] = _vector(table["wind"], f"{field}.wind", u.SPEED)
-    out["scheme"] = _choice(table.get("scheme", "adaptive"), f"{field}.scheme",
+        out["wind"] = _vector(table["wind"], key("wind"), u.SPEED)
+    out["scheme"] = _choice(table.get("scheme", "adaptive"), key("scheme"),
                             ("adaptive", "sheet"))
     if "tolerance" in table:
-        out["tolerance"] = _fixed(table["tolerance"], f"{field}.tolerance", u.DIMENSIONLESS,
+        out["tolerance"] = _fixed(table["tolerance"], key("tolerance"), u.DIMENSIONLESS,
                                   1e-12, 1e-3)
     return FlightSettings(**out)
 
