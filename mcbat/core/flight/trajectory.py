@@ -22,7 +22,7 @@ __all__ = ["DEFAULT_TOLERANCE", "FLIGHT_FIELDS", "GRAVITY", "MAX_STEPS", "SHEET_
 #: Standard gravity (m/s^2), the calculator's 32.174 ft/s^2.
 GRAVITY = 9.80665
 #: Default local error tolerance (relative to 10 m and 10 m/s per step; README.md).
-DEFAULT_TOLERANCE = 1e-6
+DEFAULT_TOLERANCE = 1e-5
 #: Most steps of one flight before it is reported as failed.
 MAX_STEPS = 20000
 #: The spreadsheet's time step (s).
