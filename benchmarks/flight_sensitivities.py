@@ -45,9 +45,9 @@ def main():
           f"{per_1000ft:.2f} ft per 1000 ft of elevation (from sea level)")
     print("launch angle of greatest carry (average spin model; no spin):")
     for speed in (90, 100, 110):
-        best = minimize_scalar(lambda a: -carry(speed, a, -763 + 120 * a, -849),
+        best = minimize_scalar(lambda a, s=speed: -carry(s, a, -763 + 120 * a, -849),
                                bounds=(10, 45), method="bounded", options={"xatol": 0.05})
-        none = minimize_scalar(lambda a: -carry(speed, a, 0.0), bounds=(20, 55),
+        none = minimize_scalar(lambda a, s=speed: -carry(s, a, 0.0), bounds=(20, 55),
                                method="bounded", options={"xatol": 0.05})
         print(f"  {speed} mph: {best.x:.1f} deg ({-best.fun:.1f} ft); without spin "
               f"{none.x:.1f} deg ({-none.fun:.1f} ft)")

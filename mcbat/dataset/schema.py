@@ -40,7 +40,8 @@ from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
 
 __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
-           "GAME_DERIVED_COLUMNS", "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS", "INPUT_COLUMNS", "MEASURED_SUFFIX",
+           "GAME_DERIVED_COLUMNS", "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS",
+           "INPUT_COLUMNS", "MEASURED_SUFFIX",
            "OUTPUT_COLUMNS", "SCHEMA_VERSION", "UNITS", "derive", "derive_game"]
 
 #: Version of the column contract; stored in every manifest and chunk file.

@@ -43,3 +43,15 @@ def test_reproduce_writes_summary_table_and_figures(tmp_path):
         assert path.stat().st_size > 20_000
     assert any("curveball carries" in line for line in lines[-12:] + [paths["table"]
                                                                        .read_text()])
+
+
+def test_cli_refuses_dataset_options_for_sawicki2003(tmp_path):
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-m", "mcbat", "reproduce", "sawicki2003",
+                           "--samples", "10", "--out", str(tmp_path)], capture_output=True,
+                          text=True)
+    assert proc.returncode == 2 and "--samples" in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "sawicki2003").exists()
