@@ -31,6 +31,8 @@ from mcbat.core.batch import OUTPUT_FIELDS
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.cabo2012.trajectory import contact_history
+from mcbat.core.flight import fly as flight_kernel
+from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.core.geometry import (
     angle_from_impact_parameter,
     contact_frame,
@@ -51,12 +53,15 @@ from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.errors import check_vector as _vector
 from mcbat.study.distributions import parse
+from mcbat.study.flight import FLIGHT_KEYS, FlightSettings, launch_vectors, parse_flight
 from mcbat.study.game import KEYS as GAME_KEYS
 from mcbat.study.game import check_swing_angles, is_game, parse_handedness
+from mcbat.study.spec import parse_ball
 
-__all__ = ["Ball", "Bat", "Contact", "GameCase", "GameResult", "ImpactCase", "ImpactResult",
-           "Restitution", "SolverSettings", "case_from_dict", "contact_problem", "history",
-           "solve", "solve_any", "solve_game"]
+__all__ = ["Ball", "Bat", "Contact", "FlightCase", "FlightResult", "GameCase", "GameResult",
+           "ImpactCase", "ImpactResult", "Restitution", "SolverSettings", "case_from_dict",
+           "contact_problem", "flight_case_from_dict", "history", "solve", "solve_any",
+           "solve_flight", "solve_game"]
 
 Vector = tuple[float, float, float]
 
@@ -792,3 +797,133 @@ def case_from_dict(data):
     """A :class:`GameCase` for a JSON case with ``pitch``/``swing`` keys, else an
     :class:`ImpactCase`."""
     return GameCase.from_dict(data) if is_game(data) else ImpactCase.from_dict(data)
+
+
+# ---------------------------------------------------------------- batted-ball flight
+
+_FT = 0.3048
+_LAUNCH_KEYS = {"launch_speed": ("speed", None), "launch_angle": ("angle", None),
+                "spray_angle": ("angle", 0.0), "backspin": ("spin", 0.0),
+                "sidespin": ("spin", 0.0), "gyrospin": ("spin", 0.0)}
+
+
+@dataclasses.dataclass(frozen=True)
+class FlightCase:
+    """One batted ball to fly: launch numbers (SI: m/s, rad, rad/s), the ball, and the
+    flight settings (:class:`mcbat.study.flight.FlightSettings`: atmosphere, model, launch
+    point, wind, scheme)."""
+
+    launch_speed: float
+    launch_angle: float
+    spray_angle: float = 0.0
+    backspin: float = 0.0
+    sidespin: float = 0.0
+    gyrospin: float = 0.0
+    ball: Ball = BALL_PRESETS["baseball"]
+    settings: FlightSettings = FlightSettings()
+
+    def vectors(self):
+        """Field-frame velocity (m/s) and spin (rad/s) at launch."""
+        v, w = launch_vectors(self.launch_speed, self.launch_angle, self.spray_angle,
+                              self.backspin, self.sidespin, self.gyrospin)
+        return tuple(float(x) for x in v), tuple(float(x) for x in w)
+
+
+@dataclasses.dataclass(frozen=True)
+class FlightResult:
+    """Where and when the ball lands (``hit_distance``, ``landing_x``, ``landing_y``,
+    ``apex`` in ft as Statcast gives them; ``*_m`` in m; ``hang_time`` in s), and the
+    sampled trajectory if asked for (t in s, x, y, z in m)."""
+
+    hit_distance_m: float
+    landing_x_m: float
+    landing_y_m: float
+    hang_time: float
+    apex_m: float
+    steps: int
+    trajectory: dict | None = None
+
+    @property
+    def hit_distance(self) -> float:
+        """Horizontal distance of the landing point from home plate (ft)."""
+        return self.hit_distance_m / _FT
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (the output of ``mcbat flight``)."""
+        out = {"hit_distance": self.hit_distance, "hang_time": self.hang_time,
+               "apex": self.apex_m / _FT, "landing_x": self.landing_x_m / _FT,
+               "landing_y": self.landing_y_m / _FT, "hit_distance_m": self.hit_distance_m,
+               "apex_m": self.apex_m, "landing_x_m": self.landing_x_m,
+               "landing_y_m": self.landing_y_m, "flight_steps": self.steps,
+               "units": {"hit_distance": "ft", "hang_time": "s", "apex": "ft",
+                         "landing_x": "ft", "landing_y": "ft", "hit_distance_m": "m",
+                         "apex_m": "m", "landing_x_m": "m", "landing_y_m": "m"}}
+        if self.trajectory is not None:
+            out["trajectory"] = self.trajectory
+        return out
+
+
+def flight_case_from_dict(data) -> FlightCase:
+    """A :class:`FlightCase` from a ``mcbat flight`` JSON object (values in SI or as
+    ``{"value": ..., "unit": ...}``).
+
+    Raises
+    ------
+    InputError
+        Naming the key.
+    """
+    _mapping(data, "", set(_LAUNCH_KEYS) | {"ball"} | set(FLIGHT_KEYS), ("launch_speed",
+                                                                        "launch_angle"))
+    launch = {}
+    for key, (quantity, default) in _LAUNCH_KEYS.items():
+        value = _game_value(data[key], key, quantity) if key in data else default
+        if not math.isfinite(value):
+            raise InputError(key, f"must be a finite number, got {data[key]!r}")
+        launch[key] = value
+    if not launch["launch_speed"] > 0.0:
+        raise InputError("launch_speed", f"must be > 0, got {data['launch_speed']!r}")
+    if not abs(launch["launch_angle"]) <= math.pi / 2:
+        raise InputError("launch_angle", "must be within [-90, 90] deg")
+    ball = (BALL_PRESETS["baseball"] if "ball" not in data
+            else parse_ball(data["ball"]))
+    settings = parse_flight({k: v for k, v in data.items() if k in FLIGHT_KEYS}, field="")
+    return FlightCase(ball=ball, settings=settings, **launch)
+
+
+def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightResult:
+    """Fly one ball with the flight kernel (the one studies use).
+
+    ``trajectory`` (a time step, s, > 0): also sample the flight every that many seconds (and at the
+    landing).
+
+    Raises
+    ------
+    InputError
+        Naming ``trajectory``, or ``position`` for a launch that cannot fly.
+    """
+    v, w = case.vectors()
+    params = case.settings.params(case.ball.mass, case.ball.radius)
+    x = tuple(float(c) for c in case.settings.start)
+    if trajectory is None:
+        f, count, samples = flight_kernel(params, x, v, w), 0, None
+    else:
+        dt = _real(trajectory, "trajectory")
+        if not dt > 0.0:
+            raise InputError("trajectory", f"must be > 0 s, got {trajectory!r}")
+        if case.settings.scheme == "sheet":
+            raise InputError("trajectory", "not available with scheme = \"sheet\"")
+        samples = np.empty((4, int(min(120.0 / dt, 1e6)) + 2))
+        f, count = integrate_flight(params, x, v, w, samples, dt)
+    if f.status != 0:
+        raise InputError("position", "the ball cannot fly from there (below the ground, "
+                         "or no landing within the step limit)")
+    trajectory = None
+    if samples is not None:
+        t, px, py, pz = (samples[i, :count].tolist() for i in range(4))
+        if not t or t[-1] < f.hang_time:
+            t, px, py, pz = (t + [f.hang_time], px + [f.landing_x], py + [f.landing_y],
+                             pz + [0.0])
+        trajectory = {"t": t, "x": px, "y": py, "z": pz}
+    return FlightResult(hit_distance_m=float(f.distance), landing_x_m=float(f.landing_x),
+                        landing_y_m=float(f.landing_y), hang_time=float(f.hang_time),
+                        apex_m=float(f.apex), steps=int(f.steps), trajectory=trajectory)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import json
 import math
 import re
@@ -121,6 +122,33 @@ def cmd_impact(args) -> int:
     return EXIT_OK
 
 
+def cmd_flight(args) -> int:
+    from mcbat.api import flight_case_from_dict, solve_flight
+
+    source, raw_cases, single = _read_cases(args.file)
+    cases = []
+    for index, raw in enumerate(raw_cases):
+        try:
+            case = flight_case_from_dict(raw)
+            if args.scheme is not None:
+                case = dataclasses.replace(case, settings=dataclasses.replace(
+                    case.settings, scheme=args.scheme))
+            cases.append(case)
+        except InputError as err:
+            raise InputError(err.field, err.message, f"{source}: case {index}") from None
+    results = []
+    for index, case in enumerate(cases):
+        try:
+            with _flags("trajectory"):
+                result = solve_flight(case, trajectory=args.trajectory).to_dict()
+        except InputError as err:
+            raise InputError(err.field, err.message, f"{source}: case {index}") from None
+        results.append({k: _json_value(v) for k, v in result.items()})
+    json.dump(results[0] if single else results, sys.stdout, indent=2, allow_nan=False)
+    sys.stdout.write("\n")
+    return EXIT_OK
+
+
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
                   "workers", "overwrite")
 
@@ -143,6 +171,16 @@ def cmd_run(args) -> int:
 
 
 def cmd_reproduce(args) -> int:
+    if args.paper == "sawicki2003":
+        from mcbat.papers.sawicki2003.reproduce import reproduce as reproduce_sawicki
+
+        for flag in ("samples", "overwrite"):
+            if getattr(args, flag):
+                raise InputError(f"--{flag}", "applies to the cabo2012 reproduction only "
+                                              "(sawicki2003 writes no dataset)")
+        with _flags("out", "threads"):
+            reproduce_sawicki(args.out, threads=args.threads)
+        return EXIT_OK
     from mcbat.papers.cabo2012.reproduce import reproduce
 
     with _flags("out", "samples", "threads", "overwrite"):
@@ -237,6 +275,22 @@ def build_parser() -> argparse.ArgumentParser:
     impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
     impact.set_defaults(func=cmd_impact)
 
+    flight = sub.add_parser(
+        "flight", help="fly batted balls to the landing point (JSON: one ball or an array)",
+        description="Read one JSON ball, or a JSON array of balls, from FILE (or '-' for "
+                    "stdin): launch_speed, launch_angle, spray_angle, backspin, sidespin, "
+                    "gyrospin, position, ball, atmosphere, model, spin_decay_time (values in "
+                    "SI or as {\"value\": ..., \"unit\": ...}; docs/flight.md). Prints "
+                    "hit_distance, hang_time, apex, landing_x, landing_y (ft, s) and their "
+                    "SI counterparts (*_m) as JSON, in the same order.")
+    flight.add_argument("file", nargs="?", default="-", metavar="FILE|-")
+    flight.add_argument("--trajectory", type=float, metavar="DT", default=None,
+                        help="add the flight sampled every DT seconds (t, x, y, z in s, m)")
+    flight.add_argument("--scheme", choices=("adaptive", "sheet"), default=None,
+                        help="the integrator: adaptive (default) or the spreadsheet's fixed "
+                             "0.01 s steps, for comparison")
+    flight.set_defaults(func=cmd_flight)
+
     run = sub.add_parser(
         "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
         description="Sample the study's inputs, solve every impact with the parallel kernel "
@@ -270,10 +324,16 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(func=cmd_run)
 
     rep = sub.add_parser(
-        "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter",
-        description="Run studies/cross_nathan_2006.toml, calibrate e* on the paper's target "
-                    "exit speed, draw Figs. 2-8 and write a summary, all into one "
-                    "results directory.")
+        "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter "
+                          "(or another paper's results)",
+        description="cabo2012 (the default): run studies/cross_nathan_2006.toml, calibrate "
+                    "e* on the paper's target exit speed, draw Figs. 2-8 and write a "
+                    "summary, all into one results directory. sawicki2003: the optimal "
+                    "swing against a fastball and a curveball (undercut x attack-angle "
+                    "scan with Monte Carlo scatter, flight to the landing point, rigid and "
+                    "compliant impact models) into DIR/sawicki2003.")
+    rep.add_argument("paper", nargs="?", default="cabo2012", choices=("cabo2012", "sawicki2003"),
+                     help="which reproduction (default: cabo2012)")
     rep.add_argument("--out", default="results", metavar="DIR",
                      help="results directory (default: results)")
     rep.add_argument("--samples", type=_int_arg("--samples"), metavar="N",

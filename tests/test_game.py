@@ -194,8 +194,10 @@ def test_game_study_end_to_end(tmp_path):
     summary = mcbat.run(study, tmp_path / "g", samples=600, progress=False)
     assert summary.status_counts == {"ok": 600}
     df = mcbat.load(tmp_path / "g")
-    from mcbat.dataset.schema import GAME_COLUMNS
-    assert list(df.columns) == list(GAME_COLUMNS)
+    from mcbat.dataset.schema import FLIGHT_COLUMNS, GAME_COLUMNS
+    assert list(df.columns) == list(GAME_COLUMNS + FLIGHT_COLUMNS)  # the preset flies
+    assert (df["flight_status"] == 0).all() and df["hit_distance"].between(0, 600).all()
+    np.testing.assert_allclose(df["hit_distance_m"], df["hit_distance"] * 0.3048, rtol=1e-15)
     again = mcbat.solve_frame(df)        # every row re-solves in the bat frame alone
     for name in ("ball_vx", "ball_vy", "ball_wz", "normal_impulse"):
         np.testing.assert_array_equal(again[name].to_numpy(), df[name].to_numpy())

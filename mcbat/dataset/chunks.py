@@ -25,11 +25,13 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+from mcbat.core.flight import FLIGHT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, bat_frame_columns
 from mcbat.dataset import storage
 from mcbat.dataset.schema import (
     COLUMNS,
     DERIVED_COLUMNS,
+    FLIGHT_COLUMNS,
     GAME_COLUMNS,
     MEASURED_SUFFIX,
     derive,
@@ -129,8 +131,11 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
         {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()})
 
 
+_FT = 0.3048  # m per ft (Statcast reports distances in ft)
+
+
 def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, status,
-                     end_state, metadata) -> pa.Table:
+                     end_state, metadata, flight=None) -> pa.Table:
     """Assemble one chunk's table of a game study (:data:`~mcbat.dataset.schema.GAME_COLUMNS`)
     from the arrays of :func:`mcbat.core.swing.solve_game_batch`."""
     n = game_inputs.shape[1]
@@ -143,10 +148,21 @@ def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, 
     cols.update(derive_game(
         (cols["field_ball_vx"], cols["field_ball_vy"], cols["field_ball_vz"]),
         (cols["field_ball_wx"], cols["field_ball_wy"], cols["field_ball_wz"])))
+    names = GAME_COLUMNS
+    if flight is not None:  # (out, status) of mcbat.core.flight.fly_batch, SI
+        flight_out, flight_status = flight
+        row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
+        for name in ("hit_distance", "landing_x", "landing_y", "apex"):
+            cols[f"{name}_m"] = flight_out[row[name]]
+            cols[name] = flight_out[row[name]] / _FT
+        cols["hang_time"] = flight_out[row["hang_time"]]
+        cols["flight_status"] = flight_status
+        names = GAME_COLUMNS + FLIGHT_COLUMNS
     arrays = []
-    for name in GAME_COLUMNS:
-        if name in ("status", "end_state"):
-            arrays.append(pa.array(status if name == "status" else end_state, pa.int8()))
+    for name in names:
+        if name in ("status", "end_state", "flight_status"):
+            arrays.append(pa.array({"status": status, "end_state": end_state}.get(
+                name, cols.get("flight_status")), pa.int8()))
         elif name == "rk4_steps":
             arrays.append(pa.array(np.nan_to_num(cols[name]).astype(np.int32)))
         elif name == "sample_id":
@@ -156,7 +172,7 @@ def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, 
             arrays.append(pa.array(np.full(n, chunk, np.int32)))
         else:
             arrays.append(pa.array(cols[name]))
-    table = pa.Table.from_arrays(arrays, names=list(GAME_COLUMNS))
+    table = pa.Table.from_arrays(arrays, names=list(names))
     if metadata is None:
         return table
     return table.replace_schema_metadata(

@@ -39,8 +39,9 @@ import numpy as np
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
 
-__all__ = ["COLUMNS", "DERIVED_COLUMNS", "GAME_COLUMNS", "GAME_DERIVED_COLUMNS",
-           "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS", "INPUT_COLUMNS", "MEASURED_SUFFIX",
+__all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
+           "GAME_DERIVED_COLUMNS", "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS",
+           "INPUT_COLUMNS", "MEASURED_SUFFIX",
            "OUTPUT_COLUMNS", "SCHEMA_VERSION", "UNITS", "derive", "derive_game"]
 
 #: Version of the column contract; stored in every manifest and chunk file.
@@ -77,6 +78,10 @@ UNITS = {
        for c in "xyz" for sfx in ("_in", "")},
     "launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg", "spin_rate": "rpm",
     "backspin": "rpm", "sidespin": "rpm", "gyrospin": "rpm",
+    # game datasets with a [flight] section
+    "hit_distance": "ft", "hang_time": "s", "apex": "ft", "landing_x": "ft", "landing_y": "ft",
+    "hit_distance_m": "m", "apex_m": "m", "landing_x_m": "m", "landing_y_m": "m",
+    "flight_status": "code (0 ok, 1 no flight: invalid launch, 2 step limit)",
 }
 """Unit of every column."""
 
@@ -101,6 +106,10 @@ GAME_DERIVED_COLUMNS = ("launch_speed", "launch_angle", "spray_angle", "spin_rat
 GAME_COLUMNS = (*INPUT_COLUMNS, *GAME_INPUT_COLUMNS, *OUTPUT_COLUMNS, *GAME_OUTPUT_COLUMNS,
                 *DERIVED_COLUMNS, *GAME_DERIVED_COLUMNS, "sample_id", "chunk")
 """All columns of a game dataset, in file order."""
+FLIGHT_COLUMNS = ("hit_distance", "hang_time", "apex", "landing_x", "landing_y",
+                  "hit_distance_m", "apex_m", "landing_x_m", "landing_y_m", "flight_status")
+"""The flight columns of a game dataset with a ``[flight]`` section (after
+:data:`GAME_COLUMNS`): Statcast's ft and s, then SI."""
 
 _MPH = 0.44704
 _RPM = 60.0 / (2.0 * np.pi)

@@ -32,7 +32,8 @@ from mcbat.bodies.presets import ball_preset, bat_preset
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
-from mcbat.core.swing import allocate_game_outputs, solve_game_batch
+from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks, storage
 from mcbat.dataset.schema import SCHEMA_VERSION, UNITS
 from mcbat.errors import InputError
@@ -268,12 +269,27 @@ def _run_game_chunk(study, job, index, write, solve_lock) -> ChunkSummary:
         threads = numba.get_num_threads()
         solve_game_batch(game_inputs, solver["steps"], solver["tolerance"],
                          solver["max_steps"], frame, out_arr, game_out, status, end_state)
+        flight = None if study.flight is None else _fly(study, game_out)
     counts = np.bincount(status, minlength=len(st.STATUS_NAMES))
     table_args = (start, index, game_inputs, frame, out_arr, game_out, status, end_state,
-                  job.metadata)
+                  job.metadata, flight)
     (write or _write_now)(write_game_chunk, table_args, job.path(index))
     return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
                         f"{socket.gethostname()}:{os.getpid()}")
+
+
+def _fly(study, game_out):
+    """The flight of a game chunk's batted balls (``[flight]``): ``(out, status)`` of
+    :func:`mcbat.core.flight.fly_batch`."""
+    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
+    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
+    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
+    n = v.shape[1]
+    start = np.repeat(np.asarray(study.flight.start, np.float64)[:, None], n, axis=1)
+    out, status = allocate_flight_outputs(n)
+    fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
+              w, out, status)
+    return out, status
 
 
 def write_game_chunk(table_args, path) -> None:

@@ -186,7 +186,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                 bar.close()
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
-    batted = (batted_ball_summary(display)
+    batted = (batted_ball_summary(display, flight=study.flight is not None)
               if getattr(study, "kind", "impact") == "game" else None)
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
@@ -198,18 +198,20 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
 SWEET_SPOT_WINDOW = (0.1524, 0.0127, 0.00635)
 
 
-def batted_ball_summary(out) -> dict:
-    """Median and 5-95 % range of launch speed, launch angle and backspin of a game
-    dataset's ok rows, and the median collision efficiency of its sweet-spot hits."""
-    names = ["launch_speed", "launch_angle", "backspin", "collision_efficiency",
+def batted_ball_summary(out, flight=False) -> dict:
+    """Median and 5-95 % range of launch speed, launch angle and backspin (and, with
+    ``flight``, of the distance and hang time) of a game dataset's ok rows, and the median
+    collision efficiency of its sweet-spot hits."""
+    carried = ["hit_distance", "hang_time"] if flight else []
+    names = ["launch_speed", "launch_angle", "backspin", *carried, "collision_efficiency",
              "from_barrel_end", "undercut", "status"]
     tables = [chunks.read_table(path, columns=names)
               for _, path in sorted(chunks.chunk_files(out).items())]
     cols = {n: np.concatenate([t.column(n).to_numpy() for t in tables]) for n in names}
     ok = cols["status"] == 0
     result = {}
-    for name in ("launch_speed", "launch_angle", "backspin"):
-        values = cols[name][ok]
+    for name in ("launch_speed", "launch_angle", "backspin", *carried):
+        values = cols[name][ok & np.isfinite(cols[name])]
         result[name] = tuple(float(v) for v in np.percentile(values, [50, 5, 95])) \
             if values.size else (math.nan,) * 3
     centre, half_width, square = SWEET_SPOT_WINDOW
@@ -223,9 +225,12 @@ def batted_ball_summary(out) -> dict:
 
 def batted_ball_lines(b: dict) -> list[str]:
     """The batted-ball summary of a game run, one string per line."""
-    units = {"launch_speed": "mph", "launch_angle": "deg", "backspin": "rpm"}
+    units = {"launch_speed": "mph", "launch_angle": "deg", "backspin": "rpm",
+             "hit_distance": "ft", "hang_time": "s"}
     out = ["batted ball (median, 5-95 %):"]
     for name, unit in units.items():
+        if name not in b:
+            continue
         med, lo, hi = b[name]
         out.append(f"  {name}: {med:.1f} {unit} ({lo:.1f} to {hi:.1f})")
     q, n = b["collision_efficiency_sweet_spot"]

@@ -38,6 +38,7 @@ from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, check_range, integer, parse
+from mcbat.study.flight import parse_flight
 from mcbat.study.spec import Study, check_solver, check_string, parse_ball, parse_bat
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
@@ -78,7 +79,7 @@ KEYS = {
 }
 GAME_SECTIONS = ("pitch", "swing")
 _REQUIRED = ("study", "ball", "bat", "pitch", "swing", "friction")
-_OPTIONAL = ("handedness", "contact", "restitution", "solver")
+_OPTIONAL = ("handedness", "contact", "restitution", "solver", "flight")
 HANDEDNESS = {"R": 1.0, "L": -1.0}
 _RAD = 180.0 / math.pi
 
@@ -145,6 +146,7 @@ class GameStudy(Study):
             raise InputError("bat.length", "a game needs the bat's length and its CM "
                              "(cm_from_knob or cm_from_barrel_end), or a bat preset")
         self._solver = check_solver(data.get("solver", {}))
+        self.flight = parse_flight(data["flight"]) if "flight" in data else None
         self.noise = MappingProxyType({})
         self._axial_key, self._angle_key = "from_barrel_end", "undercut"
 
@@ -234,6 +236,8 @@ class GameStudy(Study):
                    if any(k.startswith("restitution.") for k in self.inputs)
                    else {"preset": "game", **GAME_RESTITUTION.config()})
         out["contact"] = {"position": "from_barrel_end", "offset": "undercut"}
+        if self.flight is not None:
+            out["flight"] = self.flight.config()
         return out
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:

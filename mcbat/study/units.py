@@ -17,8 +17,14 @@ spin             rad/s      rad/s, rpm, rps
 angle            rad        rad, deg
 mass             kg         kg, g, oz, lb
 inertia          kg m^2     kg m^2 (also written kg*m^2), g cm^2
+temperature      K          K, degC, degF (affine: ``degF`` is ``(F - 32) 5/9 + 273.15`` K)
+pressure         Pa         Pa, hPa, kPa, inHg, mmHg (``1 inHg = 3386.389 Pa``,
+                            ``1 mmHg = 133.322387415 Pa``)
 dimensionless    1          1
 ===============  =========  ==========================================
+
+Temperatures convert with their offsets (``to_si``); :func:`factor` gives the scale of a
+temperature *difference* (a width), ``5/9`` for ``degF``.
 """
 
 from __future__ import annotations
@@ -30,8 +36,9 @@ import numpy as np
 
 from mcbat.errors import InputError
 
-__all__ = ["ANGLE", "DIMENSIONLESS", "INERTIA", "LENGTH", "MASS", "SI_UNITS", "SPEED", "SPIN",
-           "UNITS", "_EXACT", "factor", "format_value", "to_si"]
+__all__ = ["ANGLE", "DIMENSIONLESS", "INERTIA", "LENGTH", "MASS", "PRESSURE", "SI_UNITS",
+           "SPEED", "SPIN", "TEMPERATURE", "UNITS", "_EXACT", "factor", "format_value",
+           "to_si"]
 
 LENGTH = "length"
 SPEED = "speed"
@@ -39,6 +46,8 @@ SPIN = "spin"
 ANGLE = "angle"
 MASS = "mass"
 INERTIA = "inertia"
+TEMPERATURE = "temperature"
+PRESSURE = "pressure"
 DIMENSIONLESS = "dimensionless"
 
 #: Conversion factor to SI of every accepted unit, by quantity.
@@ -49,6 +58,9 @@ UNITS: dict[str, dict[str, float]] = {
     ANGLE: {"rad": 1.0, "deg": math.pi / 180.0},
     MASS: {"kg": 1.0, "g": 0.001, "oz": 0.028349523125, "lb": 0.45359237},
     INERTIA: {"kg m^2": 1.0, "kg*m^2": 1.0, "g cm^2": 1e-7},
+    TEMPERATURE: {"K": 1.0, "degC": 1.0, "degF": 5.0 / 9.0},
+    PRESSURE: {"Pa": 1.0, "hPa": 100.0, "kPa": 1000.0, "inHg": 3386.389,
+               "mmHg": 133.322387415},
     DIMENSIONLESS: {"1": 1.0},
 }
 
@@ -64,13 +76,19 @@ _EXACT: dict[str, dict[str, Fraction]] = {
     MASS: {"kg": Fraction(1), "g": Fraction("0.001"), "oz": Fraction("0.028349523125"),
            "lb": Fraction("0.45359237")},
     INERTIA: {"kg m^2": Fraction(1), "kg*m^2": Fraction(1), "g cm^2": Fraction("1e-7")},
+    TEMPERATURE: {"K": Fraction(1), "degC": Fraction(1), "degF": Fraction(5, 9)},
+    PRESSURE: {"Pa": Fraction(1), "hPa": Fraction(100), "kPa": Fraction(1000),
+               "inHg": Fraction("3386.389"), "mmHg": Fraction("133.322387415")},
     DIMENSIONLESS: {"1": Fraction(1)},
 }
+# Temperatures: K = (value - _ZERO[unit]) * factor + 273.15 for degC/degF.
+_ZERO = {"degC": Fraction(0), "degF": Fraction(32)}
+_KELVIN_AT_ZERO_C = Fraction("273.15")
 
 #: The SI unit of each quantity (what values without a ``unit`` are taken to be).
 SI_UNITS: dict[str, str] = {
     LENGTH: "m", SPEED: "m/s", SPIN: "rad/s", ANGLE: "rad", MASS: "kg",
-    INERTIA: "kg m^2", DIMENSIONLESS: "1",
+    INERTIA: "kg m^2", TEMPERATURE: "K", PRESSURE: "Pa", DIMENSIONLESS: "1",
 }
 
 _QUANTITY_OF = {unit: quantity for quantity, table in UNITS.items() for unit in table}
@@ -136,6 +154,11 @@ def to_si(value_or_array, unit, quantity, field=None):
     0.15
     """
     factor(unit, quantity, field)  # validates the unit
+    if quantity == TEMPERATURE and unit in _ZERO:
+        values = np.asarray(value_or_array, dtype=np.float64)
+        out = np.array([_temperature(float(v), unit) for v in values.ravel()],
+                       dtype=np.float64).reshape(values.shape)
+        return float(out) if np.ndim(value_or_array) == 0 else out
     if unit is None or _EXACT[quantity][unit] == 1:
         if np.ndim(value_or_array) == 0:
             return float(value_or_array)
@@ -146,6 +169,14 @@ def to_si(value_or_array, unit, quantity, field=None):
     values = np.asarray(value_or_array, dtype=np.float64)
     return np.array([_convert(float(v), exact) for v in values.ravel()],
                     dtype=np.float64).reshape(values.shape)
+
+
+def _temperature(value, unit):
+    """A temperature in ``unit`` (degC or degF) in K, exact then rounded once."""
+    if not math.isfinite(value):
+        return value
+    return float((Fraction(repr(value)) - _ZERO[unit]) * _EXACT[TEMPERATURE][unit]
+                 + _KELVIN_AT_ZERO_C)
 
 
 def _convert(value, exact):

@@ -1,0 +1,93 @@
+"""Speed of the flight: the batch kernel alone, and a game study with flight through
+`mcbat run` (issue 15).
+
+Run:  .venv/bin/python benchmarks/bench_flight.py [--n N] [--repeats K] [--runs R]
+
+1. ``fly_batch`` on N random launches (60-120 mph, -10..60 deg, spray +-45 deg, 0-4000 rpm
+   of backspin and +-2000 rpm of sidespin), default settings, all numba threads: flights/s
+   (median of K).
+2. ``mcbat run studies/game_fastball.toml`` (which has a [flight] section), N samples:
+   rows/s as the run reports it (median of R runs).
+"""
+
+import argparse
+import math
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
+from mcbat.study.flight import FlightSettings, launch_vectors
+
+ROOT = Path(__file__).resolve().parents[1]
+MPH, DEG, RPM = 0.44704, math.pi / 180, 2 * math.pi / 60
+
+
+def launches(n, seed=1):
+    rng = np.random.default_rng(seed)
+    v, w = launch_vectors(rng.uniform(60, 120, n) * MPH, rng.uniform(-10, 60, n) * DEG,
+                          rng.uniform(-45, 45, n) * DEG, rng.uniform(0, 4000, n) * RPM,
+                          rng.uniform(-2000, 2000, n) * RPM, np.zeros(n))
+    return np.stack(v), np.stack(w)
+
+
+def kernel(n, repeats):
+    settings = FlightSettings()
+    v, w = launches(n)
+    start = np.repeat(np.asarray(settings.start)[:, None], n, axis=1)
+    params = pack_params(settings.params(0.145, 0.036))
+    out, status = allocate_flight_outputs(n)
+    fly_batch(params, start, v, w, out, status)
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fly_batch(params, start, v, w, out, status)
+        times.append(time.perf_counter() - t0)
+    rate = n / statistics.median(times)
+    print(f"flight kernel: {rate:,.0f} flights/s ({numba.get_num_threads()} threads, {n:,} "
+          f"launches, median of {repeats}; mean {out[5].mean():.2f} steps, "
+          f"{(status == 0).mean():.0%} ok)")
+    return rate
+
+
+def runs(n, count):
+    work = Path(tempfile.mkdtemp(prefix="mcbat-bench-flight-"))
+    rates = []
+    try:
+        for _ in range(count):
+            shutil.rmtree(work / "d", ignore_errors=True)
+            proc = subprocess.run([sys.executable, "-m", "mcbat.cli", "run",
+                                   str(ROOT / "studies" / "game_fastball.toml"), "--samples",
+                                   str(n), "--out", str(work / "d"), "--quiet"],
+                                  capture_output=True, text=True, check=True)
+            found = re.search(r"\(([\d,]+) rows/s\)", proc.stdout)
+            rates.append(float(found.group(1).replace(",", "")))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    rate = statistics.median(rates)
+    print(f"mcbat run game_fastball with [flight]: {rate:,.0f} rows/s ({n:,} samples, "
+          f"median of {count}: {', '.join(f'{r:,.0f}' for r in rates)})")
+    return rate
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=1_000_000)
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--runs", type=int, default=5)
+    args = parser.parse_args(argv)
+    kernel(args.n, args.repeats)
+    if args.runs:
+        runs(min(args.n, 400_000), args.runs)
+
+
+if __name__ == "__main__":
+    main()

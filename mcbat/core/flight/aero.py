@@ -1,0 +1,46 @@
+"""Drag and lift coefficients of a spinning baseball, by model (``README.md``).
+
+Models (integer codes, so jitted code can branch on them):
+
+``NATHAN`` (0)
+    Nathan's calculator: ``C_D = 0.3008 + 0.0292 (spin / 1000 rpm) D``,
+    ``C_L = 1.120 S / (0.583 + 2.333 S)``, ``S = R |omega| D / |v|``.
+``SAWICKI2003`` (1)
+    Sawicki, Hubbard & Stronge (2003)'s lift, ``C_L = 1.5 S`` for ``S < 0.1`` and
+    ``0.09 + 0.6 S`` above, with the calculator's drag (their drag-crisis profile is not
+    in the project's sources, so it is not reproduced).
+``CONSTANT`` (2)
+    Given ``C_D`` and ``C_L``.
+
+``D`` is the spin decay factor (1 without decay).
+"""
+
+from collections import namedtuple
+
+from mcbat.core.jit import njit
+
+__all__ = ["CONSTANT", "MODELS", "NATHAN", "SAWICKI2003", "Aero", "coefficients"]
+
+NATHAN = 0
+SAWICKI2003 = 1
+CONSTANT = 2
+#: Model name -> code.
+MODELS = {"nathan": NATHAN, "sawicki2003": SAWICKI2003, "constant": CONSTANT}
+
+_RPM = 60.0 / (2.0 * 3.141592653589793)
+
+Aero = namedtuple("Aero", ("model", "drag", "lift"))
+"""The model's code, and ``C_D``, ``C_L`` (used by ``CONSTANT`` only)."""
+
+
+@njit(inline="always")
+def coefficients(aero, radius, spin, speed, decay):
+    """``(C_D, C_L)`` for spin ``spin`` (rad/s, before decay), air speed ``speed`` (m/s),
+    decay factor ``decay`` and ball radius ``radius`` (m)."""
+    if aero.model == CONSTANT:
+        return aero.drag, aero.lift
+    drag = 0.3008 + 0.0292 * (spin * _RPM / 1000.0) * decay
+    s = radius * spin * decay / speed if speed > 0.0 else 0.0
+    if aero.model == NATHAN:
+        return drag, 1.120 * s / (0.583 + 2.333 * s)
+    return drag, (1.5 * s if s < 0.1 else 0.09 + 0.6 * s)

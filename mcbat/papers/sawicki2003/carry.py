@@ -1,0 +1,39 @@
+"""The flight of the scan's batted balls: :mod:`mcbat.core.flight` with the calculator's
+standard conditions (70 degF, 29.92 inHg, 50 % RH, sea level), Nathan's aerodynamics and
+spin decay, from the calculator's launch point (0, 2, 3) ft, for the game studies' ball."""
+
+import numpy as np
+
+from mcbat.bodies import ball_preset
+from mcbat.core.flight import FLIGHT_FIELDS, allocate_flight_outputs, fly_batch, pack_params
+from mcbat.study.flight import FlightSettings
+
+__all__ = ["BALL", "FLIGHT_SETTINGS", "SETTINGS", "fly"]
+
+#: The flight settings of the reproduction (the defaults).
+SETTINGS = FlightSettings()
+#: The ball (the game studies' preset).
+BALL = ball_preset("baseball")
+#: The settings as written into the summary.
+FLIGHT_SETTINGS = {**SETTINGS.config(), "ball_mass_kg": BALL.mass,
+                   "ball_radius_m": BALL.radius}
+
+_FT = 0.3048
+
+
+def fly(v, w):
+    """Carry balls launched with field-frame velocity ``v`` (m/s) and spin ``w`` (rad/s),
+    ``float64[3, n]``; returns ``hit_distance``, ``landing_x``, ``landing_y``, ``apex``
+    (ft) and ``hang_time`` (s), NaN where a flight failed."""
+    v = np.ascontiguousarray(v, np.float64)
+    w = np.ascontiguousarray(w, np.float64)
+    start = np.repeat(np.asarray(SETTINGS.start, np.float64)[:, None], v.shape[1], axis=1)
+    out, status = allocate_flight_outputs(v.shape[1])
+    fly_batch(pack_params(SETTINGS.params(BALL.mass, BALL.radius)), start, v, w, out,
+              status)
+    row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
+    bad = status != 0
+    result = {name: np.where(bad, np.nan, out[row[name]] / _FT)
+              for name in ("hit_distance", "landing_x", "landing_y", "apex")}
+    result["hang_time"] = np.where(bad, np.nan, out[row["hang_time"]])
+    return result

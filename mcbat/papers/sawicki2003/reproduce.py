@@ -1,0 +1,157 @@
+"""``mcbat reproduce sawicki2003``: the optimal swing against a fastball and a curveball.
+
+For each pitch (``game_fastball``, ``game_curveball``) and each impact model (rigid,
+``e_x = 0``; compliant, the game preset's ``e_x``), :mod:`~mcbat.papers.sawicki2003.scan`
+solves the undercut x attack-angle grid with Monte Carlo scatter and flies every batted
+ball to the ground. The optimum is the cell of greatest mean carry. Writes, under one
+results directory::
+
+    results/sawicki2003/summary.json     per pitch and model: the optimum and its numbers
+    results/sawicki2003/table.txt        the printed table
+    results/sawicki2003/figures/*.png    distance vs undercut; spray chart; distance vs
+                                         launch angle coloured by launch speed
+
+Deterministic: the same files at every run (fixed seed, common random numbers).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+from mcbat.errors import InputError
+from mcbat.papers.sawicki2003 import figures
+from mcbat.papers.sawicki2003.carry import FLIGHT_SETTINGS, fly
+from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan
+from mcbat.runner.plan import positive_int
+
+__all__ = ["cell_means", "optimum", "reproduce", "verdict"]
+
+_REPORTED = ("launch_speed", "launch_angle", "backspin", "sidespin")
+
+
+def cell_means(scan) -> dict:
+    """Per (attack angle, undercut) cell: the mean and standard error of the distance and
+    the means of the launch quantities (ok rows only). Arrays over the cells, sorted by
+    attack angle, then undercut."""
+    keys = np.stack([scan.attack_angle, scan.undercut])
+    cells, inverse = np.unique(keys, axis=1, return_inverse=True)
+    inverse = inverse.ravel()
+    ok = scan.ok & np.isfinite(scan.flight["hit_distance"])
+    count = np.bincount(inverse, weights=ok, minlength=cells.shape[1])
+
+    def mean(values):
+        return np.bincount(inverse, weights=np.where(ok, values, 0.0),
+                           minlength=cells.shape[1]) / count
+
+    distance = scan.flight["hit_distance"]
+    d_mean = mean(distance)
+    d_var = mean(np.where(ok, distance, 0.0) ** 2) - d_mean ** 2
+    out = {"attack_angle": cells[0], "undercut": cells[1], "count": count,
+           "distance": d_mean,
+           "distance_sd": np.sqrt(np.maximum(d_var, 0.0) * count / np.maximum(count - 1, 1)),
+           "hang_time": mean(scan.flight["hang_time"])}
+    out["distance_se"] = out["distance_sd"] / np.sqrt(count)
+    for name in _REPORTED:
+        out[name] = mean(scan.batted[name])
+    return out
+
+
+def optimum(means: dict) -> dict:
+    """The cell of greatest mean distance, with its numbers (JSON-ready floats)."""
+    best = int(np.nanargmax(means["distance"]))
+    return {name: float(values[best]) for name, values in means.items()}
+
+
+def verdict(results: dict) -> dict:
+    """Curveball minus fastball, at each one's optimum, per model (ft, with the standard
+    error of the difference of two cell means)."""
+    out = {}
+    for model in MODELS:
+        fb, cb = results["fastball"][model], results["curveball"][model]
+        diff = cb["distance"] - fb["distance"]
+        se = math.hypot(cb["distance_se"], fb["distance_se"])
+        out[model] = {"curveball_minus_fastball_ft": diff, "standard_error_ft": se,
+                      "curveball_farther": bool(diff > 0),
+                      "significant_2sigma": bool(abs(diff) > 2 * se)}
+    return out
+
+
+def format_table(results: dict, comparison: dict) -> str:
+    """The printed table: one line per pitch and model, then the verdict."""
+    head = (f"{'pitch':<10} {'model':<10} {'undercut':>9} {'attack':>7} {'launch':>9} "
+            f"{'angle':>6} {'backspin':>9} {'distance':>14}")
+    units = (f"{'':<10} {'':<10} {'(in)':>9} {'(deg)':>7} {'(mph)':>9} {'(deg)':>6} "
+             f"{'(rpm)':>9} {'(ft, mean±se)':>14}")
+    lines = [head, units]
+    for pitch in PITCHES:
+        for model in MODELS:
+            r = results[pitch][model]
+            lines.append(
+                f"{pitch:<10} {model:<10} {r['undercut']:9.2f} {r['attack_angle']:7.1f} "
+                f"{r['launch_speed']:9.1f} {r['launch_angle']:6.1f} {r['backspin']:9.0f} "
+                f"{r['distance']:8.1f} ± {r['distance_se']:3.1f}")
+    lines.append("")
+    for model, v in comparison.items():
+        sign = "farther" if v["curveball_farther"] else "shorter"
+        lines.append(f"{model}: the optimally hit curveball carries "
+                     f"{abs(v['curveball_minus_fastball_ft']):.1f} ± "
+                     f"{v['standard_error_ft']:.1f} ft {sign} than the fastball"
+                     + ("" if v["significant_2sigma"] else " (within 2 standard errors)"))
+    return "\n".join(lines)
+
+
+def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print) -> dict:
+    """Run the scans, write the summary, the table and the figures under
+    ``out/sawicki2003``; returns the paths written. ``threads``: numba threads for the
+    kernels (default: all)."""
+    t0 = time.perf_counter()
+    if threads is not None:
+        threads = positive_int(threads, "threads")
+        if threads > numba.config.NUMBA_NUM_THREADS:
+            raise InputError("threads", f"at most {numba.config.NUMBA_NUM_THREADS} on this "
+                             f"machine, got {threads}")
+        numba.set_num_threads(threads)
+    per_cell = positive_int(per_cell, "per_cell")
+    root = Path(out) / "sawicki2003"
+    scans, results = {}, {}
+    for pitch in PITCHES:
+        results[pitch] = {}
+        for model in MODELS:
+            scan = run_scan(pitch, model, fly, per_cell)
+            scans[pitch, model] = (scan, cell_means(scan))
+            results[pitch][model] = optimum(scans[pitch, model][1])
+            echo(f"{pitch} / {model}: {scan.undercut.size:,} impacts and flights")
+    comparison = verdict(results)
+    root.mkdir(parents=True, exist_ok=True)
+    fig_dir = root / "figures"
+    fig_dir.mkdir(exist_ok=True)
+    paths = [figures.distance_vs_undercut(fig_dir, scans, results),
+             figures.spray_chart(fig_dir, scans, results),
+             figures.distance_vs_launch_angle(fig_dir, scans)]
+    summary = {"paper": "Sawicki, Hubbard & Stronge, Am. J. Phys. 71, 1152 (2003)",
+               "per_cell": per_cell, "models_e_x": MODELS, "flight": FLIGHT_SETTINGS,
+               "optimum": results, "curveball_vs_fastball": comparison,
+               "units": {"undercut": "in", "attack_angle": "deg", "launch_speed": "mph",
+                         "launch_angle": "deg", "backspin": "rpm", "sidespin": "rpm",
+                         "distance": "ft", "distance_sd": "ft", "distance_se": "ft",
+                         "hang_time": "s", "count": "rows"}}
+    summary_path = root / "summary.json"
+    summary_path.write_text(json.dumps(summary, indent=2, allow_nan=False) + "\n")
+    table = format_table(results, comparison)
+    table_path = root / "table.txt"
+    table_path.write_text(table + "\n")
+    echo("")
+    echo(table)
+    echo("")
+    echo(f"results in {root}/ ({time.perf_counter() - t0:.1f} s):")
+    echo(f"  summary  {summary_path}")
+    echo(f"  table    {table_path}")
+    for path in paths:
+        echo(f"  figure   {path}")
+    return {"summary": summary_path, "table": table_path, "figures": paths}

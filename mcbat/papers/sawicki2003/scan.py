@@ -1,0 +1,126 @@
+"""The optimal-swing scan: undercut x attack angle, with Monte Carlo scatter, per pitch and model.
+
+Sawicki, Hubbard & Stronge (Am. J. Phys. 71, 1152 (2003)) choose the undercut and the swing
+angle that maximise the range of a batted fastball and curveball. This module poses the
+same question to mcbat's impact model: the bundled game studies (``game_fastball``,
+``game_curveball``) give the pitch, the swing and their scatter; the undercut and the
+attack angle become a grid; every cell gets :data:`PER_CELL` Monte Carlo samples; the game
+kernel solves the impacts and the flight kernel carries the balls to the ground. It is run
+twice per pitch: with the rigid model (``e_x = 0``) and with tangential compliance
+(``e_x`` of the game preset, :data:`mcbat.bodies.game.GAME_E_X`).
+
+The scan is a game study built in memory (:func:`scan_study`), so it samples and solves
+exactly like ``mcbat run``; nothing is written here.
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+
+import numpy as np
+
+from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.core import status as st
+from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
+from mcbat.dataset.schema import derive_game
+from mcbat.study import Study
+from mcbat.study.game import COLUMNS as GAME_COLUMNS
+
+__all__ = ["ATTACK_ANGLES_DEG", "MODELS", "PER_CELL", "PITCHES", "UNDERCUTS_IN", "Scan",
+           "run_scan", "scan_study"]
+
+#: The pitches: name -> bundled game study.
+PITCHES = {"fastball": "game_fastball.toml", "curveball": "game_curveball.toml"}
+#: The impact models: name -> e_x (rigid: none; compliant: the game preset's).
+MODELS = {"rigid": 0.0, "compliant": GAME_RESTITUTION.e_x}
+#: The undercut grid (in): start, stop, number of points (0.05 in apart).
+UNDERCUTS_IN = (-0.25, 2.25, 51)
+#: The attack-angle grid (deg): start, stop, number of points.
+ATTACK_ANGLES_DEG = (0.0, 36.0, 10)
+#: Monte Carlo samples per (undercut, attack angle) cell.
+PER_CELL = 120
+#: The scan's seed (the same draws for every pitch and model: common random numbers).
+SEED = 2003
+
+# Scatter kept from the game studies: the pitch (speed, spin, axis, approach angles), the
+# bat speed and vertical bat angle, mu. Narrowed here: where on the bat (a hitter aiming
+# at the sweet spot) and the attack direction (balls to the middle of the field).
+_NARROWED = {
+    ("contact", "from_barrel_end"): {"dist": "truncnormal", "mean": 6.0, "std": 0.5,
+                                     "low": 4.5, "high": 7.5, "unit": "in"},
+    ("swing", "attack_direction"): {"dist": "truncnormal", "mean": 0.0, "std": 3.0,
+                                    "low": -9.0, "high": 9.0, "unit": "deg"},
+}
+
+
+def _grid(values, unit):
+    start, stop, num = values
+    return {"dist": "grid", "start": start, "stop": stop, "num": num, "unit": unit}
+
+
+def grid_points(values):
+    """The points of a ``(start, stop, num)`` grid."""
+    return np.linspace(*values)
+
+
+def scan_study(pitch: str, model: str, per_cell: int = PER_CELL) -> Study:
+    """The scan of ``pitch`` with ``model`` as a game study (in memory).
+
+    The attack angle is the outer grid, the undercut the inner one; sample ``i`` is in
+    cell ``i % cells`` (:class:`~mcbat.study.distributions.Grid` order), so every cell
+    gets ``per_cell`` samples."""
+    with resources.files("mcbat.studies").joinpath(PITCHES[pitch]).open("rb") as fh:
+        data = tomllib.load(fh)
+    data = copy.deepcopy(data)
+    cells = ATTACK_ANGLES_DEG[2] * UNDERCUTS_IN[2]
+    data["study"] = {"name": f"sawicki2003_{pitch}_{model}", "samples": cells * per_cell,
+                     "seed": SEED,
+                     "description": f"optimal-swing scan, {pitch}, {model} impact model"}
+    data["swing"]["attack_angle"] = _grid(ATTACK_ANGLES_DEG, "deg")
+    data["contact"]["undercut"] = _grid(UNDERCUTS_IN, "in")
+    for (section, key), spec in _NARROWED.items():
+        data[section][key] = dict(spec)
+    rest = GAME_RESTITUTION
+    data["restitution"] = {"e_ref": rest.e_ref, "e_slope": rest.e_slope,
+                           "e_speed_ref": rest.e_speed_ref, "e_x": MODELS[model]}
+    return Study.from_dict(data, source=f"sawicki2003 scan ({pitch}, {model})")
+
+
+@dataclass(frozen=True)
+class Scan:
+    """One scan's rows (struct of arrays, SI unless the name says otherwise).
+
+    ``attack_angle`` (deg) and ``undercut`` (in) are the grid values of each row;
+    ``batted`` has the batted ball in Statcast's conventions (:func:`derive_game`);
+    ``flight`` the landing (:func:`mcbat.papers.sawicki2003.carry.fly`)."""
+
+    pitch: str
+    model: str
+    attack_angle: np.ndarray
+    undercut: np.ndarray
+    batted: dict
+    flight: dict
+    ok: np.ndarray
+
+
+def run_scan(pitch: str, model: str, fly, per_cell: int = PER_CELL) -> Scan:
+    """Solve the scan of ``pitch`` with ``model``; ``fly(v, w)`` carries the batted balls
+    (field-frame velocity and spin, ``float64[3, n]``) and returns the flight columns."""
+    study = scan_study(pitch, model, per_cell)
+    inputs = study.sample_inputs(0, study.samples, study.seed)
+    frame, out, game_out, status, end_state = allocate_game_outputs(study.samples)
+    solver = study.solver
+    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
+                     frame, out, game_out, status, end_state)
+    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
+    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
+    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
+    col = {name: i for i, name in enumerate(GAME_COLUMNS)}
+    return Scan(pitch=pitch, model=model,
+                attack_angle=np.round(np.degrees(inputs[col["attack_angle"]]), 9),
+                undercut=np.round(inputs[col["undercut"]] / 0.0254, 9),
+                batted=derive_game(tuple(v), tuple(w)), flight=fly(v, w),
+                ok=status == st.OK)

@@ -1,0 +1,204 @@
+"""Flight settings: the atmosphere, the aerodynamic model and the integrator, as written in
+a study's ``[flight]`` section or a ``mcbat flight`` case (the same keys, units and checks).
+
+Keys (all optional)::
+
+    model = "nathan"            # or "sawicki2003", "constant" (then drag = C_D, lift = C_L)
+    spin_decay_time = 30        # s; the model's default when absent; "none" (or JSON null)
+    position = [0, 2, 3]        # launch point (field frame, m or {value, unit}); (0, 2, 3) ft
+    wind = [0, 0, 0]            # m/s (field frame), or {value = [...], unit = "mph"}
+    scheme = "adaptive"         # or "sheet": the spreadsheet's Euler steps of 0.01 s
+    tolerance = 1e-6            # the adaptive integrator's local error tolerance
+    [atmosphere]
+    temperature = { value = 70, unit = "degF" }   # default 70 degF
+    pressure = { value = 29.92, unit = "inHg" }   # barometric, corrected to sea level
+    relative_humidity = 50                        # percent
+    elevation = 0                                 # m (or ft) above sea level
+
+Defaults are the calculator's standard conditions (70 degF, 29.92 inHg, 50 %, sea level).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mcbat.core.flight import (
+    DEFAULT_TOLERANCE,
+    GRAVITY,
+    MODELS,
+    Aero,
+    FlightParams,
+    air_density,
+)
+from mcbat.errors import InputError
+from mcbat.study import units as u
+from mcbat.study.distributions import check_keys, parse
+
+__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FlightSettings", "launch_vectors",
+           "parse_flight"]
+
+#: The spin decay time of each model when none is given (s; None: no decay).
+DEFAULT_DECAY_TIME = {"nathan": 30.0, "sawicki2003": None, "constant": None}
+#: The calculator's launch point: 2 ft in front of the plate, 3 ft up (m).
+DEFAULT_START = (0.0, 0.6096, 0.9144)
+#: 100 mph in m/s: the calculator's decay uses t |v| / (tau 100 mph).
+_DECAY_SPEED = 44.704
+
+_ATMOSPHERE = {  # key -> (quantity, default SI, (low, high) SI)
+    "temperature": (u.TEMPERATURE, (70.0 - 32.0) * 5.0 / 9.0 + 273.15, (200.0, 350.0)),
+    "pressure": (u.PRESSURE, 29.92 * 3386.389, (50_000.0, 120_000.0)),
+    "relative_humidity": (u.DIMENSIONLESS, 50.0, (0.0, 100.0)),
+    "elevation": (u.LENGTH, 0.0, (-500.0, 5000.0)),
+}
+
+
+@dataclass(frozen=True)
+class FlightSettings:
+    """Validated flight settings (SI: K, Pa, percent, m, s, m/s)."""
+
+    temperature: float = _ATMOSPHERE["temperature"][1]
+    pressure: float = _ATMOSPHERE["pressure"][1]
+    relative_humidity: float = 50.0
+    elevation: float = 0.0
+    model: str = "nathan"
+    spin_decay_time: float | None = 30.0
+    drag: float = 0.0
+    lift: float = 0.0
+    start: tuple = DEFAULT_START
+    wind: tuple = (0.0, 0.0, 0.0)
+    scheme: str = "adaptive"
+    tolerance: float = DEFAULT_TOLERANCE
+
+    @property
+    def density(self) -> float:
+        """Air density (kg/m^3), Nathan's formula."""
+        return float(air_density(self.temperature - 273.15, self.pressure,
+                                 self.relative_humidity, self.elevation))
+
+    def params(self, mass: float, radius: float) -> FlightParams:
+        """The kernel's :class:`~mcbat.core.flight.FlightParams` for a ball of ``mass``
+        (kg) and ``radius`` (m)."""
+        decay = 0.0 if self.spin_decay_time is None else 1.0 / (self.spin_decay_time
+                                                                 * _DECAY_SPEED)
+        return FlightParams(
+            drag_factor=self.density * math.pi * radius * radius / (2.0 * mass),
+            radius=radius, aero=Aero(MODELS[self.model], self.drag, self.lift),
+            decay_rate=decay, gravity=GRAVITY, wind_x=self.wind[0], wind_y=self.wind[1],
+            wind_z=self.wind[2],
+            tolerance=0.0 if self.scheme == "sheet" else self.tolerance)
+
+    def config(self) -> dict:
+        """JSON-ready settings (SI), for metadata and summaries."""
+        return {"temperature_K": self.temperature, "pressure_Pa": self.pressure,
+                "relative_humidity_percent": self.relative_humidity,
+                "elevation_m": self.elevation, "air_density_kg_m3": self.density,
+                "model": self.model, "spin_decay_time_s": self.spin_decay_time,
+                "drag": self.drag if self.model == "constant" else None,
+                "lift": self.lift if self.model == "constant" else None,
+                "start_m": list(self.start), "wind_m_s": list(self.wind),
+                "scheme": self.scheme, "tolerance": self.tolerance}
+
+
+def _fixed(spec, field, quantity, low=None, high=None):
+    value = parse(spec, field, quantity, kinds=("fixed",)).value
+    if not math.isfinite(value):
+        raise InputError(field, f"must be a finite number, got {spec!r}")
+    if low is not None and not low <= value <= high:
+        raise InputError(field, f"must be within [{low:g}, {high:g}] "
+                                f"({u.SI_UNITS[quantity]}), got {spec!r}")
+    return value
+
+
+def _vector(spec, field, quantity):
+    unit = None
+    if isinstance(spec, dict):
+        check_keys(spec, field, ("value",), ("unit",))
+        spec, unit = spec["value"], spec.get("unit")
+    if not (isinstance(spec, list | tuple) and len(spec) == 3):
+        raise InputError(field, f"must be a list of 3 numbers, got {spec!r}")
+    values = []
+    for i, x in enumerate(spec):
+        if isinstance(x, bool) or not isinstance(x, int | float) or not math.isfinite(x):
+            raise InputError(f"{field}[{i}]", f"must be a finite number, got {x!r}")
+        values.append(float(u.to_si(x, unit, quantity, field)))
+    return tuple(values)
+
+
+def _choice(spec, field, options):
+    if not isinstance(spec, str) or spec not in options:
+        raise InputError(field, f"must be one of: {', '.join(options)}; got {spec!r}")
+    return spec
+
+
+#: The keys of a flight section (and of the settings part of a ``mcbat flight`` case).
+FLIGHT_KEYS = ("atmosphere", "model", "spin_decay_time", "drag", "lift", "position", "wind",
+               "scheme", "tolerance")
+
+
+def parse_flight(table, field="flight") -> FlightSettings:
+    """Validate a flight section (a dict, as TOML or JSON gives it).
+
+    Raises
+    ------
+    InputError
+        Naming the dotted key (``flight.atmosphere.relative_humidity``, ...).
+    """
+    check_keys(table, field, (), FLIGHT_KEYS)
+
+    def key(*parts):
+        return ".".join(p for p in (field, *parts) if p)
+
+    out = {}
+    atmosphere = table.get("atmosphere", {})
+    check_keys(atmosphere, key("atmosphere"), (), tuple(_ATMOSPHERE))
+    for name, (quantity, _, (low, high)) in _ATMOSPHERE.items():
+        if name in atmosphere:
+            out[name] = _fixed(atmosphere[name], key("atmosphere", name), quantity, low,
+                               high)
+    model = _choice(table.get("model", "nathan"), key("model"), tuple(MODELS))
+    out["model"] = model
+    for name in ("drag", "lift"):
+        if model == "constant":
+            if name not in table:
+                raise InputError(key(name), "required with model = \"constant\"")
+            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, 0.0, 2.0)
+        elif name in table:
+            raise InputError(key(name), "only with model = \"constant\"")
+    decay = table.get("spin_decay_time", DEFAULT_DECAY_TIME[model])
+    if decay is None or decay == "none":
+        out["spin_decay_time"] = None
+    else:
+        out["spin_decay_time"] = _fixed(decay, key("spin_decay_time"), u.DIMENSIONLESS,
+                                        1e-3, 1e6)
+    if "position" in table:
+        start = _vector(table["position"], key("position"), u.LENGTH)
+        if not start[2] >= 0.0:
+            raise InputError(key("position"), f"the launch point is below the ground "
+                                              f"(z = {start[2]:g} m < 0)")
+        out["start"] = start
+    if "wind" in table:
+        out["wind"] = _vector(table["wind"], key("wind"), u.SPEED)
+    out["scheme"] = _choice(table.get("scheme", "adaptive"), key("scheme"),
+                            ("adaptive", "sheet"))
+    if "tolerance" in table:
+        out["tolerance"] = _fixed(table["tolerance"], key("tolerance"), u.DIMENSIONLESS,
+                                  1e-12, 1e-3)
+    return FlightSettings(**out)
+
+
+def launch_vectors(launch_speed, launch_angle, spray_angle, backspin, sidespin, gyrospin):
+    """Field-frame velocity (m/s) and spin (rad/s) from Statcast-style launch numbers (SI:
+    m/s, rad, rad/s; scalars or arrays): the inverse of
+    :func:`mcbat.dataset.schema.derive_game` (``b = unit(v x z)``, ``s = b x unit(v)``)."""
+    la, sp = np.asarray(launch_angle, float), np.asarray(spray_angle, float)
+    ux, uy, uz = np.cos(la) * np.sin(sp), np.cos(la) * np.cos(sp), np.sin(la)
+    bx, by = np.cos(sp), -np.sin(sp)  # unit(u x z) = (u_y, -u_x, 0) / cos(la)
+    sx, sy, sz = by * uz, -bx * uz, bx * uy - by * ux
+    v = tuple(np.asarray(launch_speed, float) * c for c in (ux, uy, uz))
+    w = (backspin * bx + sidespin * sx + gyrospin * ux,
+         backspin * by + sidespin * sy + gyrospin * uy,
+         sidespin * sz + gyrospin * uz)
+    return v, w

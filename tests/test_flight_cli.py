@@ -1,0 +1,91 @@
+"""``mcbat flight``: one ball or an array, units, the trajectory, and bad inputs (exit 2,
+one line naming the key)."""
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mcbat.api import flight_case_from_dict, solve_flight
+
+ROOT = Path(__file__).resolve().parents[1]
+BALL = {"launch_speed": {"value": 103, "unit": "mph"},
+        "launch_angle": {"value": 27, "unit": "deg"},
+        "backspin": {"value": 2000, "unit": "rpm"}}
+
+
+def _mcbat(*args, stdin=None):
+    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
+                          capture_output=True, text=True, cwd=ROOT)
+
+
+def _strict(text):
+    def refuse(name):
+        raise ValueError(f"non-strict JSON constant {name}")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_one_ball_and_an_array_in_the_same_order():
+    one = _mcbat("flight", "-", stdin=json.dumps(BALL))
+    assert one.returncode == 0, one.stderr
+    single = _strict(one.stdout)
+    assert 380 < single["hit_distance"] < 440
+    assert single["hit_distance_m"] == pytest.approx(single["hit_distance"] * 0.3048)
+    slower = {**BALL, "launch_speed": {"value": 93, "unit": "mph"}}
+    many = _mcbat("flight", "-", stdin=json.dumps([slower, BALL]))
+    assert many.returncode == 0, many.stderr
+    results = _strict(many.stdout)
+    assert results[1] == single and results[0]["hit_distance"] < single["hit_distance"]
+
+
+def test_units_are_those_of_studies():
+    si = {"launch_speed": 103 * 0.44704, "launch_angle": 27 * math.pi / 180,
+          "backspin": 2000 * 2 * math.pi / 60,
+          "atmosphere": {"temperature": 294.26111111111111, "pressure": 101320.75888,
+                         "elevation": 0.0}}
+    written = {**BALL, "atmosphere": {"temperature": {"value": 70, "unit": "degF"},
+                                      "pressure": {"value": 29.92, "unit": "inHg"},
+                                      "elevation": {"value": 0, "unit": "ft"}}}
+    a = solve_flight(flight_case_from_dict(si)).hit_distance
+    b = solve_flight(flight_case_from_dict(written)).hit_distance
+    assert a == pytest.approx(b, rel=1e-12)
+
+
+def test_trajectory_samples_every_dt_to_the_landing():
+    proc = _mcbat("flight", "--trajectory", "0.5", "-", stdin=json.dumps(BALL))
+    assert proc.returncode == 0, proc.stderr
+    out = _strict(proc.stdout)
+    t = out["trajectory"]["t"]
+    assert t[0] == 0.0 and t[1] == 0.5 and t[-1] == pytest.approx(out["hang_time"])
+    assert out["trajectory"]["z"][-1] == 0.0
+    assert max(out["trajectory"]["z"]) <= out["apex_m"] + 1e-9
+    assert out["trajectory"]["z"][0] == pytest.approx(0.9144)  # (0, 2, 3) ft
+
+
+@pytest.mark.parametrize("change,key", [
+    ({"atmosphere": {"relative_humidity": -5}}, "atmosphere.relative_humidity"),
+    ({"position": {"value": [0, 2, -1], "unit": "ft"}}, "position"),
+    ({"model": "magic"}, "model"),
+    ({"launch_speed": "fast"}, "launch_speed"),
+    ({"spin_decay_time": -1}, "spin_decay_time"),
+    ({"model": "constant"}, "drag"),
+    ({"colour": "red"}, "colour"),
+    ({"atmosphere": {"temperature": {"value": 70, "unit": "mph"}}},
+     "atmosphere.temperature.unit"),
+])
+def test_bad_flight_inputs_exit_2_naming_the_key(change, key):
+    proc = _mcbat("flight", "-", stdin=json.dumps({**BALL, **change}))
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"case 0: {key}:" in lines[0], lines
+    assert proc.stdout == ""
+
+
+def test_nan_and_a_bad_trajectory_step_exit_2():
+    nan = _mcbat("flight", "-", stdin='{"launch_speed": NaN, "launch_angle": 0.3}')
+    assert nan.returncode == 2 and len(nan.stderr.strip().splitlines()) == 1
+    bad = _mcbat("flight", "--trajectory", "0", "-", stdin=json.dumps(BALL))
+    assert bad.returncode == 2 and "--trajectory" in bad.stderr
