@@ -40,7 +40,7 @@ from mcbat.errors import InputError
 
 __all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "dataset_hash", "plan_run",
            "positive_int", "prepare_directory", "remove_temporary_files", "run_chunk",
-           "warm_kernel", "write_error"]
+           "set_threads", "warm_kernel", "write_error"]
 
 DEFAULT_CHUNK_SIZE = 250_000
 
@@ -50,6 +50,18 @@ def positive_int(value, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise InputError(name, f"must be an integer >= 1, got {value!r}")
     return int(value)
+
+
+def set_threads(threads):
+    """Validate ``threads`` (None: leave numba's setting) and give numba that many kernel
+    threads; returns it."""
+    if threads is not None:
+        threads = positive_int(threads, "threads")
+        if threads > numba.config.NUMBA_NUM_THREADS:
+            raise InputError("threads", f"at most {numba.config.NUMBA_NUM_THREADS} on "
+                             f"this machine, got {threads}")
+        numba.set_num_threads(threads)
+    return threads
 
 
 def dataset_hash(study_config: dict, seed: int, samples: int) -> str:

@@ -37,7 +37,7 @@ from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, LOCATION_TABLES, 
 from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError
 from mcbat.study import units as u
-from mcbat.study.distributions import check_keys, check_range, integer, parse
+from mcbat.study.distributions import check_keys, check_range, parse
 from mcbat.study.flight import parse_flight
 from mcbat.study.spec import Study, check_solver, check_string, parse_ball, parse_bat
 
@@ -128,16 +128,7 @@ class GameStudy(Study):
             if section != "handedness" and not isinstance(data[section], dict):
                 raise InputError(section, f"must be a table ([{section}]), "
                                           f"got {data[section]!r}")
-        study = check_keys(data["study"], "study", ("name", "samples"),
-                           ("description", "seed", "chunk_size"))
-        self.name = check_string(study["name"], "study.name")
-        if not self.name.strip():
-            raise InputError("study.name", "must not be empty")
-        self.description = check_string(study.get("description", ""), "study.description")
-        self.samples = integer(study["samples"], "study.samples", minimum=1)
-        self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
-        self.chunk_size = (None if "chunk_size" not in study
-                           else integer(study["chunk_size"], "study.chunk_size", minimum=1))
+        self._parse_study_section(data["study"])
         self.handedness = data.get("handedness", "R")
         parse_handedness(self.handedness)
         self.ball = parse_ball(data["ball"])

@@ -21,14 +21,12 @@ import math
 import time
 from pathlib import Path
 
-import numba
 import numpy as np
 
-from mcbat.errors import InputError
 from mcbat.papers.sawicki2003 import figures
 from mcbat.papers.sawicki2003.carry import FLIGHT_SETTINGS, fly
 from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan
-from mcbat.runner.plan import positive_int
+from mcbat.runner.plan import positive_int, set_threads
 
 __all__ = ["cell_means", "optimum", "reproduce", "verdict"]
 
@@ -111,12 +109,7 @@ def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print) -> 
     ``out/sawicki2003``; returns the paths written. ``threads``: numba threads for the
     kernels (default: all)."""
     t0 = time.perf_counter()
-    if threads is not None:
-        threads = positive_int(threads, "threads")
-        if threads > numba.config.NUMBA_NUM_THREADS:
-            raise InputError("threads", f"at most {numba.config.NUMBA_NUM_THREADS} on this "
-                             f"machine, got {threads}")
-        numba.set_num_threads(threads)
+    set_threads(threads)
     per_cell = positive_int(per_cell, "per_cell")
     root = Path(out) / "sawicki2003"
     scans, results = {}, {}

@@ -5,10 +5,7 @@ from __future__ import annotations
 import contextlib
 from concurrent.futures import ThreadPoolExecutor
 
-import numba
-
-from mcbat.errors import InputError
-from mcbat.runner.plan import ChunkJob, positive_int, run_chunk, warm_kernel, write_error
+from mcbat.runner.plan import ChunkJob, run_chunk, set_threads, warm_kernel, write_error
 
 __all__ = ["LocalEngine"]
 
@@ -26,13 +23,7 @@ class LocalEngine:
     name = "local"
 
     def __init__(self, threads=None):
-        if threads is not None:
-            threads = positive_int(threads, "threads")
-            if threads > numba.config.NUMBA_NUM_THREADS:
-                raise InputError("threads", f"at most {numba.config.NUMBA_NUM_THREADS} on "
-                                 f"this machine, got {threads}")
-            numba.set_num_threads(threads)
-        self.threads = threads
+        self.threads = set_threads(threads)
 
     def connect(self):
         """Nothing to start: a null context."""
