@@ -36,8 +36,8 @@ def main():
     base = carry(103, 27, 2000)
     per_mph = (carry(104, 27, 2000) - carry(102, 27, 2000)) / 2
     t = BASE.temperature
-    per_10f = (carry(103, 27, 2000, settings=with_(temperature=t + 50 / 9))
-               - carry(103, 27, 2000, settings=with_(temperature=t - 50 / 9)))
+    per_10f = (carry(103, 27, 2000, settings=with_(temperature=t + 25 / 9))  # +-5 degF
+               - carry(103, 27, 2000, settings=with_(temperature=t - 25 / 9)))
     per_1000ft = (carry(103, 27, 2000, settings=with_(elevation=0.3048 * 1000))
                   - carry(103, 27, 2000, settings=with_(elevation=0.0)))
     print(f"carry at 103 mph, 27 deg, 2000 rpm: {base:.1f} ft")
