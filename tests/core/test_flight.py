@@ -131,3 +131,26 @@ def test_batch_kernel_equals_single_flights_and_flags_bad_rows():
     for i in range(n - 2):
         f = fly(p, tuple(start[:, i]), tuple(v[:, i]), tuple(w[:, i]))
         assert out[0, i] == f.distance and out[3, i] == f.hang_time
+
+
+@pytest.mark.parametrize("model,kw", [("sawicki2003", {}), ("constant",
+                                                          {"drag": 0.35, "lift": 0.2})])
+def test_other_models_with_wind_and_gyrospin_match_the_reference(model, kw):
+    import dataclasses
+
+    settings = dataclasses.replace(FlightSettings(), model=model, spin_decay_time=None,
+                                   wind=(2.0, -4.0, 0.5), drag=kw.get("drag", 0.0),
+                                   lift=kw.get("lift", 0.0))
+    p = settings.params(0.145, 0.036)
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        v, w = launch_vectors(rng.uniform(60, 120) * MPH, rng.uniform(-5, 60) * DEG,
+                              rng.uniform(-45, 45) * DEG, rng.uniform(0, 4000) * RPM,
+                              rng.uniform(-3000, 3000) * RPM, rng.uniform(-1000, 1000) * RPM)
+        v, w = tuple(float(x) for x in v), tuple(float(x) for x in w)
+        f = fly(p, settings.start, v, w)
+        r = reference_flight(settings.start, v, w, density=settings.density, mass=0.145,
+                             radius=0.036, model=model, decay_time=None, wind=settings.wind,
+                             **kw)
+        assert abs(f.distance - r["hit_distance"]) / FT < 0.05
+        assert abs(f.hang_time - r["hang_time"]) < 1e-3
