@@ -30,7 +30,6 @@ from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, bat_frame_co
 from mcbat.dataset import storage
 from mcbat.dataset.schema import (
     COLUMNS,
-    DERIVED_COLUMNS,
     FLIGHT_COLUMNS,
     GAME_COLUMNS,
     MEASURED_SUFFIX,
@@ -74,6 +73,28 @@ def package_versions() -> dict:
             "pandas": pandas.__version__, "pyarrow": pa.__version__}
 
 
+_INT8_COLUMNS = ("status", "end_state", "flight_status")
+
+
+def _arrow_arrays(names, cols, sample_id_start, chunk, n):
+    """The Arrow arrays of columns ``names`` from ``cols`` (status codes as int8,
+    ``rk4_steps`` as int32; ``sample_id`` and ``chunk`` generated)."""
+    arrays = []
+    for name in names:
+        if name in _INT8_COLUMNS:
+            arrays.append(pa.array(cols[name], pa.int8()))
+        elif name == "rk4_steps":
+            arrays.append(pa.array(np.nan_to_num(cols[name]).astype(np.int32)))
+        elif name == "sample_id":
+            arrays.append(pa.array(np.arange(sample_id_start, sample_id_start + n,
+                                             dtype=np.int64)))
+        elif name == "chunk":
+            arrays.append(pa.array(np.full(n, chunk, np.int32)))
+        else:
+            arrays.append(pa.array(cols[name]))
+    return arrays
+
+
 def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_inputs,
                 metadata, noise=None) -> pa.Table:
     """Assemble one chunk's table from the kernel's struct-of-arrays.
@@ -102,23 +123,8 @@ def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_in
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
     derived = derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),
                      (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"]))
-    arrays = []
-    for name in COLUMNS:
-        if name in DERIVED_COLUMNS:
-            arrays.append(pa.array(derived[name]))
-        elif name == "status":
-            arrays.append(pa.array(status, pa.int8()))
-        elif name == "end_state":
-            arrays.append(pa.array(end_state, pa.int8()))
-        elif name == "rk4_steps":
-            arrays.append(pa.array(np.nan_to_num(cols[name]).astype(np.int32)))
-        elif name == "sample_id":
-            arrays.append(pa.array(np.arange(sample_id_start, sample_id_start + n,
-                                             dtype=np.int64)))
-        elif name == "chunk":
-            arrays.append(pa.array(np.full(n, chunk, np.int32)))
-        else:
-            arrays.append(pa.array(cols[name]))
+    arrays = _arrow_arrays(COLUMNS, {**cols, **derived, "status": status,
+                                     "end_state": end_state}, sample_id_start, chunk, n)
     names = list(COLUMNS)
     for name, error in (noise or {}).items():
         value = derived[name] if name in derived else cols[name]
@@ -158,20 +164,8 @@ def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, 
         cols["hang_time"] = flight_out[row["hang_time"]]
         cols["flight_status"] = flight_status
         names = GAME_COLUMNS + FLIGHT_COLUMNS
-    arrays = []
-    for name in names:
-        if name in ("status", "end_state", "flight_status"):
-            arrays.append(pa.array({"status": status, "end_state": end_state}.get(
-                name, cols.get("flight_status")), pa.int8()))
-        elif name == "rk4_steps":
-            arrays.append(pa.array(np.nan_to_num(cols[name]).astype(np.int32)))
-        elif name == "sample_id":
-            arrays.append(pa.array(np.arange(sample_id_start, sample_id_start + n,
-                                             dtype=np.int64)))
-        elif name == "chunk":
-            arrays.append(pa.array(np.full(n, chunk, np.int32)))
-        else:
-            arrays.append(pa.array(cols[name]))
+    cols.update(status=status, end_state=end_state)
+    arrays = _arrow_arrays(names, cols, sample_id_start, chunk, n)
     table = pa.Table.from_arrays(arrays, names=list(names))
     if metadata is None:
         return table

@@ -39,7 +39,7 @@ from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, check_range, parse
 from mcbat.study.flight import parse_flight
-from mcbat.study.spec import Study, check_solver, check_string, parse_ball, parse_bat
+from mcbat.study.spec import Study, check_solver, check_string, fill_bodies, parse_ball, parse_bat
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
@@ -268,12 +268,7 @@ class GameStudy(Study):
             if column not in drawn:
                 cols[column][:] = value
         ball, bat = self.ball, self.bat
-        cols["ball_mass"][:] = ball.mass
-        cols["ball_radius"][:] = ball.radius
-        cols["ball_inertia_factor"][:] = ball.inertia_factor
-        cols["bat_mass"][:] = bat.mass
-        cols["bat_transverse_inertia"][:] = bat.transverse_inertia
-        cols["bat_axial_inertia"][:] = bat.axial_inertia
+        fill_bodies(cols, ball, bat)
         cols["bat_length"][:] = bat.length
         cols["bat_cm_from_knob"][:] = bat.length - bat.cm_from_barrel_end
         cols["handedness"][:] = HANDEDNESS[self.handedness]

@@ -127,7 +127,7 @@ from mcbat.study.distributions import (
 
 __all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS", "NOISE_SPAWN_KEY",
            "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
-           "check_string", "load_study", "parse_ball", "parse_bat"]
+           "check_string", "fill_bodies", "load_study", "parse_ball", "parse_bat"]
 
 #: Samples per block of the random stream (and per LHS design).
 RANDOM_BLOCK = 65536
@@ -663,12 +663,7 @@ class Study:
         _fill_defaults(cols, dest)
 
         ball, bat = self.ball, self.bat
-        cols["ball_mass"][:] = ball.mass
-        cols["ball_radius"][:] = ball.radius
-        cols["ball_inertia_factor"][:] = ball.inertia_factor
-        cols["bat_mass"][:] = bat.mass
-        cols["bat_transverse_inertia"][:] = bat.transverse_inertia
-        cols["bat_axial_inertia"][:] = bat.axial_inertia
+        fill_bodies(cols, ball, bat)
 
         axial = cols["axial"]
         if self._axial_key == "from_barrel_end":
@@ -740,6 +735,16 @@ def _qmc(engine, d, rng, **kwargs):
         return engine(d, rng=rng, **kwargs)
     except TypeError:  # scipy < 1.15
         return engine(d, seed=rng, **kwargs)
+
+
+def fill_bodies(cols, ball, bat) -> None:
+    """Fill the ball's and the bat's mass and inertia columns of ``cols`` in place."""
+    cols["ball_mass"][:] = ball.mass
+    cols["ball_radius"][:] = ball.radius
+    cols["ball_inertia_factor"][:] = ball.inertia_factor
+    cols["bat_mass"][:] = bat.mass
+    cols["bat_transverse_inertia"][:] = bat.transverse_inertia
+    cols["bat_axial_inertia"][:] = bat.axial_inertia
 
 
 def load_study(path) -> Study:
