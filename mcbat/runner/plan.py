@@ -35,6 +35,7 @@ from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAUL
 from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
 from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks, storage
+from mcbat.dataset.lock import LOCK_NAME
 from mcbat.dataset.schema import SCHEMA_VERSION, UNITS
 from mcbat.errors import InputError
 
@@ -175,7 +176,8 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
     kind = storage.entry_type(out)
     if kind == "file":
         raise InputError("out", "exists and is not a directory", str(out))
-    names = storage.list_names(out) if kind == "dir" else []
+    names = [name for name in (storage.list_names(out) if kind == "dir" else [])
+             if name != LOCK_NAME]
     if names:
         existing = chunks.read_manifest(out)
         if existing is None:

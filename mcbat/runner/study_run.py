@@ -21,6 +21,7 @@ import numpy as np
 
 from mcbat.core import status as st
 from mcbat.dataset import chunks, storage
+from mcbat.dataset.lock import dataset_lock
 from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
@@ -160,7 +161,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     with _out_errors(display):
         # Everything that can refuse the run, before a cluster is started or joined.
         prepare_directory(display, manifest, chunk_size, overwrite, check_only=True)
-    with runner.connect():
+    with dataset_lock(display), runner.connect():  # refused before a cluster starts
         with _out_errors(display):
             prepare_directory(display, manifest, chunk_size, overwrite)
             existing = chunks.chunk_files(display)

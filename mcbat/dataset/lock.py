@@ -1,0 +1,72 @@
+"""One writer per dataset directory: an OS-level lock held for the whole run.
+
+``run_study`` (every engine, and ``mcbat reproduce``) takes the lock of its output
+directory before it changes anything there and keeps it until the last chunk is written.
+A second run on the same directory, with or without ``overwrite``, is refused at once with
+a message naming the holder (host, pid, start time). The lock is ``fcntl.flock`` on the
+file :data:`LOCK_NAME` inside the directory: the operating system releases it when its
+process ends, however it ends, so the lock of a killed run is never stale (the file stays;
+it is not a lock by itself). Datasets at URLs (object stores) are not locked: those file
+systems offer no lock; one writer per URL is then the user's rule (``docs/errors.md``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime
+import errno
+import fcntl
+import os
+import socket
+from pathlib import Path
+
+from mcbat.errors import InputError
+
+__all__ = ["LOCK_NAME", "dataset_lock"]
+
+#: The lock file inside a dataset directory (ignored by listings, loads and checks).
+LOCK_NAME = "_mcbat.lock"
+
+
+def _holder(path: Path) -> str:
+    try:
+        text = path.read_text(encoding="utf-8").strip()
+    except OSError:
+        text = ""
+    return text or "another process"
+
+
+@contextlib.contextmanager
+def dataset_lock(directory):
+    """Hold the writer's lock of the local dataset ``directory`` (created if missing).
+
+    Raises
+    ------
+    InputError
+        Naming ``out`` when another run holds the lock.
+    """
+    if not isinstance(directory, Path):  # a URL: no lock there
+        yield
+        return
+    directory.mkdir(parents=True, exist_ok=True)
+    path = directory / LOCK_NAME
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as err:
+            if err.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                raise
+            raise InputError("out", f"another mcbat run is writing this dataset "
+                             f"({_holder(path)}); wait for it to finish, or choose another "
+                             "directory", str(directory)) from None
+        started = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"pid {os.getpid()} on {socket.gethostname()}, since {started}\n"
+                  .encode(), 0)
+        try:
+            yield
+        finally:
+            os.ftruncate(fd, 0)
+    finally:
+        os.close(fd)  # releases the lock

@@ -1,0 +1,102 @@
+"""One writer per dataset directory (issue 17, item 1): real ``mcbat run`` processes."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import mcbat
+from mcbat.dataset.lock import LOCK_NAME, dataset_lock
+from mcbat.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[2]
+STUDY = ROOT / "studies" / "throughput.toml"
+SAMPLES = "1200000"  # a few seconds on 2 cores: long enough to start a second run
+
+
+def _start(out, *extra):
+    return subprocess.Popen([sys.executable, "-m", "mcbat", "run", str(STUDY), "--out",
+                             str(out), "--samples", SAMPLES, "--chunk-size", "100000",
+                             "--quiet", *extra], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, cwd=ROOT)
+
+
+def _wait_for_holder(out, proc, timeout=60.0):
+    """Until the run holds the lock (its pid is written in the lock file)."""
+    deadline = time.monotonic() + timeout
+    lock = Path(out) / LOCK_NAME
+    while time.monotonic() < deadline:
+        if lock.exists() and f"pid {proc.pid} " in lock.read_text():
+            return
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.05)
+    pytest.fail("the first run never took the lock")
+
+
+@pytest.mark.parametrize("second_args", [
+    ["--samples", SAMPLES, "--chunk-size", "100000"],   # the identical run
+    ["--samples", "5000", "--overwrite"],               # another config, told to replace
+])
+def test_a_second_run_on_the_same_directory_is_refused(tmp_path, second_args):
+    out = tmp_path / "ds"
+    first = _start(out)
+    _wait_for_holder(out, first)
+    second = subprocess.run(
+        [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(out), "--quiet",
+         *second_args], capture_output=True, text=True, cwd=ROOT)
+    assert second.returncode == 2, second.stderr
+    line, = second.stderr.strip().splitlines()
+    assert "--out" in line and f"pid {first.pid}" in line
+    stdout, stderr = first.communicate(timeout=300)
+    assert first.returncode == 0, stderr
+    df = mcbat.load(out)
+    assert len(df) == int(SAMPLES) and df["sample_id"].is_unique
+    # the same as a run nobody disturbed
+    reference = tmp_path / "ref"
+    undisturbed = _start(reference)
+    undisturbed.communicate(timeout=300)
+    for path in sorted(reference.glob("chunk-*.parquet")):
+        assert (out / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_the_lock_of_a_killed_run_is_not_stale(tmp_path):
+    out = tmp_path / "ds"
+    first = _start(out)
+    _wait_for_holder(out, first)
+    os.kill(first.pid, signal.SIGKILL)
+    first.wait()
+    resumed = subprocess.run(
+        [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(out), "--samples",
+         SAMPLES, "--chunk-size", "100000", "--quiet"], capture_output=True, text=True,
+        cwd=ROOT)
+    assert resumed.returncode == 0, resumed.stderr
+    assert len(mcbat.load(out)) == int(SAMPLES)
+
+
+def test_the_lock_in_process(tmp_path):
+    out = tmp_path / "d"
+    with dataset_lock(out):
+        with pytest.raises(InputError) as err, dataset_lock(out):
+            pass
+        assert err.value.field == "out" and f"pid {os.getpid()}" in err.value.message
+    with dataset_lock(out):  # released
+        pass
+    assert (out / LOCK_NAME).read_text() == ""
+
+
+def test_a_dask_run_holds_the_lock_too(tmp_path):
+    out = tmp_path / "ds"
+    first = _start(out, "--engine", "dask", "--workers", "2", "--threads", "1")
+    _wait_for_holder(out, first, timeout=120.0)
+    second = subprocess.run(
+        [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(out), "--quiet",
+         "--samples", SAMPLES, "--chunk-size", "100000", "--engine", "dask"],
+        capture_output=True, text=True, cwd=ROOT)
+    assert second.returncode == 2 and f"pid {first.pid}" in second.stderr, second.stderr
+    stdout, stderr = first.communicate(timeout=300)
+    assert first.returncode == 0, stderr
+    assert len(mcbat.load(out)) == int(SAMPLES)
