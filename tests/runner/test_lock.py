@@ -85,7 +85,20 @@ def test_the_lock_in_process(tmp_path):
         assert err.value.field == "out" and f"pid {os.getpid()}" in err.value.message
     with dataset_lock(out):  # released
         pass
-    assert (out / LOCK_NAME).read_text() == ""
+    assert not out.exists()  # the lock made the directory; an empty one is removed again
+    out.mkdir()
+    (out / "kept.txt").write_text("x")
+    with dataset_lock(out):
+        assert (out / LOCK_NAME).exists()
+    assert sorted(p.name for p in out.iterdir()) == ["kept.txt"]
+
+
+def test_a_refused_run_leaves_no_directory_behind(tmp_path):
+    bad = subprocess.run([sys.executable, "-m", "mcbat", "run", str(STUDY), "--out",
+                          str(tmp_path / "new"), "--samples", "0", "--quiet"],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert bad.returncode == 2 and "--samples" in bad.stderr
+    assert not (tmp_path / "new").exists()
 
 
 def test_a_dask_run_holds_the_lock_too(tmp_path):
