@@ -27,7 +27,7 @@ Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistic
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "load", "load_study", "run", "solve", "solve_frame"]
+__all__ = ["__version__", "check", "load", "load_study", "run", "solve", "solve_frame"]
 
 
 def solve(case, settings=None):
@@ -68,11 +68,19 @@ def solve_frame(frame, **settings):
     return _solve_frame(frame, **settings)
 
 
-def load(directory, columns=None, labels=False):
+def load(directory, columns=None, labels=False, allow_partial=False):
     """A dataset directory as a pandas DataFrame: see :func:`mcbat.dataset.load`."""
     from mcbat.dataset import load as _load
 
-    return _load(directory, columns=columns, labels=labels)
+    return _load(directory, columns=columns, labels=labels, allow_partial=allow_partial)
+
+
+def check(directory, checksums=True):
+    """Check a dataset directory against its manifest: see
+    :func:`mcbat.dataset.check.check_dataset`."""
+    from mcbat.dataset.check import check_dataset
+
+    return check_dataset(directory, checksums=checksums)
 
 
 def load_study(path):

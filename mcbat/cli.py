@@ -1,7 +1,8 @@
 """The ``mcbat`` command.
 
-Exit codes: 0 success, 2 user error (one line on stderr, no traceback), 1 internal error.
-``--debug`` shows the traceback of any error.
+Exit codes: 0 success, 2 user error (one line on stderr, no traceback), 1 internal error,
+3 ``mcbat check`` found a dataset incomplete or inconsistent. ``--debug`` shows the
+traceback of any error.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ __all__ = ["build_parser", "main"]
 EXIT_OK = 0
 EXIT_INTERNAL = 1
 EXIT_USER = 2
+EXIT_DATASET_PROBLEMS = 3
 
 
 class _ArgumentParser(argparse.ArgumentParser):
@@ -168,6 +170,15 @@ def cmd_run(args) -> int:
     for line in summary.lines():
         print(line)
     return EXIT_OK
+
+
+def cmd_check(args) -> int:
+    from mcbat.dataset.check import check_dataset
+
+    result = check_dataset(args.directory, checksums=not args.quick)
+    for line in result.lines():
+        print(line)
+    return EXIT_OK if result.ok else EXIT_DATASET_PROBLEMS
 
 
 def cmd_reproduce(args) -> int:
@@ -322,6 +333,18 @@ def build_parser() -> argparse.ArgumentParser:
                      help="replace an existing dataset written with another config")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=cmd_run)
+
+    check = sub.add_parser(
+        "check", help="check a dataset directory against its manifest (exit 3 if not ok)",
+        description="Verify that every chunk the manifest expects is present, recorded and "
+                    "unchanged (size, Parquet footer, sample_id range, and the CRC-32 of "
+                    "every byte), and that no other chunk file is there. Exit 0 when the "
+                    "dataset is complete and consistent, 3 when it is not (each problem on "
+                    "one line), 2 when DIR is not a dataset.")
+    check.add_argument("directory", metavar="DIR", help="dataset directory or URL")
+    check.add_argument("--quick", action="store_true",
+                       help="sizes and footers only (what mcbat.load checks), no checksums")
+    check.set_defaults(func=cmd_check)
 
     rep = sub.add_parser(
         "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter "

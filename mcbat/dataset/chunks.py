@@ -2,13 +2,17 @@
 
 A dataset is a directory::
 
-    DIR/_mcbat.json            manifest: config hash, seed, samples, chunk size, study
+    DIR/_mcbat.json            manifest: config hash, seed, samples, chunk size, study,
+                               and the record of every chunk written (rows, bytes, CRC-32)
     DIR/chunk-000000.parquet   rows [0, C)
-    DIR/chunk-000001.parquet   rows [C, 2C) ...
+    DIR/chunk-000001.parquet   rows [C, 2C) ...   (chunk-1000000.parquet: no digit limit)
 
 Chunk files are written under a hidden temporary name and renamed into place
 (:func:`mcbat.dataset.storage.write_atomic`), so a file with a final name is always
-complete. Each file carries the schema-level metadata (key ``mcbat``): units, the study
+complete. Once a chunk file is in place, the run records it in the manifest (key
+``files``: ``{name: {"rows", "bytes", "crc32"}}``, the CRC-32 of the file's bytes); only a
+recorded chunk whose bytes match its record belongs to the dataset
+(:mod:`mcbat.dataset.check`). Each file carries the schema-level metadata (key ``mcbat``): units, the study
 config and its TOML text, seed, config hash and package versions. The columns are those
 of :mod:`mcbat.dataset.schema`.
 """
@@ -18,6 +22,7 @@ from __future__ import annotations
 import json
 import platform
 import re
+import zlib
 from importlib import metadata
 
 import numpy as np
@@ -37,13 +42,15 @@ from mcbat.dataset.schema import (
     derive_game,
 )
 
-__all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "chunk_files",
-           "chunk_index", "chunk_is_complete", "chunk_name", "is_temporary_chunk_name",
-           "package_versions", "read_manifest", "read_table", "write_chunk", "write_manifest"]
+__all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
+           "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name",
+           "is_temporary_chunk_name", "package_versions", "read_manifest", "read_metadata",
+           "read_table",
+           "verify_chunk", "write_chunk", "write_manifest"]
 
 MANIFEST = "_mcbat.json"
 METADATA_KEY = b"mcbat"
-_CHUNK_RE = re.compile(r"^chunk-(\d{6})\.parquet$")
+_CHUNK_RE = re.compile(r"^chunk-(\d{6,})\.parquet$")
 
 
 def chunk_name(index: int) -> str:
@@ -54,7 +61,11 @@ def chunk_name(index: int) -> str:
 def chunk_index(name: str) -> int | None:
     """The chunk index of a chunk file's name, or None for any other name."""
     match = _CHUNK_RE.match(name)
-    return int(match.group(1)) if match else None
+    if not match:
+        return None
+    index = int(match.group(1))
+    # Only the canonical spelling: "chunk-0000001.parquet" is not chunk 1's file.
+    return index if chunk_name(index) == name else None
 
 
 def is_temporary_chunk_name(name: str) -> bool:
@@ -173,8 +184,21 @@ def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, 
         {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()})
 
 
-def write_chunk(table: pa.Table, path) -> None:
-    """Write a chunk's ``table`` to ``path`` (a local path or a URL), atomically."""
+def checksum(data) -> str:
+    """CRC-32 of the bytes-like ``data``, as 8 hex digits. A checksum against accidents
+    (bit rot, a truncated or overwritten file), fast enough to run on every chunk
+    (~1 GB/s): not a defence against tampering."""
+    return f"{zlib.crc32(data):08x}"
+
+
+def write_chunk(table: pa.Table, path) -> dict:
+    """Write a chunk's ``table`` to ``path`` (a local path or a URL), atomically.
+
+    Returns
+    -------
+    dict
+        The chunk's record for the manifest: ``{"rows", "bytes", "crc32"}``.
+    """
     # Constant columns (most inputs of a typical study) cost nothing with dictionary + RLE;
     # dictionary-encoding random floats only wastes time before pyarrow falls back. LZ4:
     # doubles of physics barely compress, so the fastest codec wins (measured: zstd-1 is
@@ -184,10 +208,32 @@ def write_chunk(table: pa.Table, path) -> None:
         values = col.to_numpy()
         if len(values) and values.min() == values.max():
             constant.append(name)
-    options = dict(compression="lz4", use_dictionary=constant,
+    sink = pa.BufferOutputStream()  # in memory first: the checksum is of these bytes
+    pq.write_table(table, sink, compression="lz4", use_dictionary=constant,
                    write_statistics=["sample_id", "chunk"])
-    storage.write_atomic(path, lambda fs, tmp: pq.write_table(table, tmp, filesystem=fs,
-                                                              **options))
+    data = sink.getvalue()
+    record = {"rows": table.num_rows, "bytes": data.size, "crc32": checksum(data)}
+    storage.write_bytes_atomic(data, path)
+    return record
+
+
+def verify_chunk(path, record) -> str | None:
+    """Why the chunk file at ``path`` does not match its manifest ``record`` (None when it
+    does): missing, another size, or other bytes (the CRC-32 is recomputed)."""
+    if not isinstance(record, dict):
+        return "not recorded in the manifest"
+    size = storage.file_size(path)
+    if size is None:
+        return "missing"
+    if size != record.get("bytes"):
+        return f"{size} bytes, {record.get('bytes')} recorded"
+    try:
+        data = storage.read_bytes(path)
+    except OSError as err:
+        return f"unreadable ({err})"
+    if checksum(data) != record.get("crc32"):
+        return "checksum mismatch (the file was changed or corrupted)"
+    return None
 
 
 def write_manifest(directory, manifest: dict) -> None:
@@ -214,16 +260,20 @@ def chunk_files(directory) -> dict:
 def chunk_is_complete(path, expected_rows: int, config_hash: str) -> bool:
     """True if ``path`` is a readable chunk of this dataset with the expected rows."""
     try:
-        path = storage.location(path)
-        if isinstance(path, str):
-            fs, fs_path = storage.resolve(path)
-            meta = pq.read_metadata(fs_path, filesystem=fs)
-        else:
-            meta = pq.read_metadata(path)
+        meta = read_metadata(path)
         info = json.loads(meta.metadata[METADATA_KEY])
     except Exception:  # noqa: BLE001 - any unreadable file is redone, not trusted
         return False
     return meta.num_rows == expected_rows and info.get("config_hash") == config_hash
+
+
+def read_metadata(path) -> pq.FileMetaData:
+    """The Parquet footer of one chunk file."""
+    path = storage.location(path)
+    if isinstance(path, str):
+        fs, fs_path = storage.resolve(path)
+        return pq.read_metadata(fs_path, filesystem=fs)
+    return pq.read_metadata(path)
 
 
 def read_table(path, columns=None) -> pa.Table:

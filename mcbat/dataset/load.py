@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import warnings
+
 import pyarrow as pa
+import pyarrow.parquet as pq
 
 from mcbat.core import status as st
 from mcbat.dataset import storage
-from mcbat.dataset.chunks import MANIFEST, chunk_files, read_manifest, read_table
+from mcbat.dataset.check import check_dataset
+from mcbat.dataset.chunks import checksum, chunk_name
 from mcbat.dataset.schema import MEASURED_SUFFIX, UNITS
 from mcbat.errors import InputError
 
@@ -24,7 +28,7 @@ def units_of(columns) -> dict:
     return units
 
 
-def load(directory, columns=None, labels=False):
+def load(directory, columns=None, labels=False, allow_partial=False):
     """Load a dataset directory written by ``mcbat run`` as a pandas DataFrame.
 
     Parameters
@@ -35,6 +39,12 @@ def load(directory, columns=None, labels=False):
         Only these columns.
     labels : bool
         Turn ``status`` and ``end_state`` codes into categorical labels.
+    allow_partial : bool
+        Read the chunks that belong to the dataset even if some are missing or do not
+        match the manifest, with a warning that says what is left out. By default such a
+        dataset is refused (:func:`mcbat.dataset.check.check_dataset`). Every file's bytes
+        are checked against the CRC-32 the manifest recorded as they are read (~1 GB/s):
+        a corrupted chunk is never returned.
 
     Returns
     -------
@@ -46,23 +56,40 @@ def load(directory, columns=None, labels=False):
     Raises
     ------
     InputError
-        No such directory, not an mcbat dataset, no chunk files yet, or an unknown column.
+        No such directory, not an mcbat dataset, an incomplete or inconsistent dataset
+        (unless ``allow_partial``), no chunk files yet, or an unknown column.
     """
     import pandas as pd
 
-    directory = storage.location(directory)
-    if storage.entry_type(directory) != "dir":
-        raise InputError(None, "no such dataset directory", str(directory))
-    manifest = read_manifest(directory)
-    if manifest is None:
-        raise InputError(None, f"not an mcbat dataset (no {MANIFEST})", str(directory))
-    files = [path for _, path in sorted(chunk_files(directory).items())]
-    if not files:
-        raise InputError(None, "the dataset has no chunk files yet", str(directory))
     unknown = sorted(set(columns or ()) - set(UNITS))
     if unknown:
         raise InputError("columns", f"unknown column {unknown[0]!r}")
-    table = pa.concat_tables(read_table(path, columns) for path in files)
+    check = check_dataset(directory)
+    directory, manifest = check.directory, check.manifest
+    if not check.ok:
+        if not allow_partial:
+            raise InputError(None, f"{check.problems()[0]} (allow_partial=True reads what is "
+                             "there; `mcbat check` lists every problem)", str(directory))
+        warnings.warn(f"{directory}: partial dataset: " + "; ".join(check.problems()),
+                      stacklevel=2)
+    records = manifest.get("files") or {}
+    tables = []
+    for k, path in sorted(check.good.items()):
+        name = chunk_name(k)
+        try:
+            data = storage.read_bytes(path)
+            if name in records and checksum(data) != records[name].get("crc32"):
+                raise ValueError("checksum mismatch (the file was changed or corrupted)")
+            tables.append(pq.read_table(pa.BufferReader(data), columns=columns))
+        except (OSError, ValueError, pa.ArrowException) as err:
+            if not allow_partial:
+                raise InputError(None, f"{name}: {err}; rerun `mcbat run` to recompute it "
+                                 "(allow_partial=True reads the other chunks)",
+                                 str(directory)) from None
+            warnings.warn(f"{directory}: {name} left out: {err}", stacklevel=2)
+    if not tables:
+        raise InputError(None, "the dataset has no complete chunk files yet", str(directory))
+    table = pa.concat_tables(tables)
     df = table.to_pandas()
     if "sample_id" in df.columns:
         df = df.sort_values("sample_id", kind="stable").reset_index(drop=True)

@@ -27,8 +27,9 @@ import pyarrow.fs as pafs
 
 from mcbat.errors import InputError
 
-__all__ = ["entry_type", "is_temporary_name", "join", "list_names", "location", "make_dirs",
-           "read_json", "remove", "resolve", "write_atomic", "write_json_atomic"]
+__all__ = ["entry_type", "file_size", "is_temporary_name", "join", "list_names", "location",
+           "make_dirs", "read_bytes", "read_json", "remove", "resolve", "write_atomic",
+           "write_bytes_atomic", "write_json_atomic"]
 
 _URL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
 _TEMPORARY_RE = re.compile(r"^\..+\.tmp$")
@@ -173,19 +174,47 @@ def write_atomic(path, write) -> None:
         raise
 
 
-def write_json_atomic(data: dict, path) -> None:
-    """Write ``data`` as JSON to ``path`` (a local path or a URL), atomically."""
-    text = (json.dumps(data, indent=2, sort_keys=True) + "\n").encode("utf-8")
+def write_bytes_atomic(data, path) -> None:
+    """Write the bytes-like ``data`` to ``path`` (a local path or a URL), atomically."""
 
     def write(fs, tmp):
         if fs is None:
             with open(tmp, "wb") as handle:
-                handle.write(text)
+                handle.write(data)
         else:
             with fs.open_output_stream(tmp) as handle:
-                handle.write(text)
+                handle.write(data)
 
     write_atomic(path, write)
+
+
+def write_json_atomic(data: dict, path) -> None:
+    """Write ``data`` as JSON to ``path`` (a local path or a URL), atomically."""
+    write_bytes_atomic((json.dumps(data, indent=2, sort_keys=True) + "\n").encode("utf-8"),
+                       path)
+
+
+def read_bytes(path) -> bytes:
+    """The whole content of the file at ``path`` (a local path or a URL)."""
+    path = location(path)
+    if isinstance(path, Path):
+        return path.read_bytes()
+    fs, fs_path = resolve(path)
+    with fs.open_input_stream(fs_path) as handle:
+        return handle.read()
+
+
+def file_size(path) -> int | None:
+    """Size in bytes of the file at ``path``, or None if there is no file there."""
+    path = location(path)
+    if isinstance(path, Path):
+        try:
+            return path.stat().st_size if path.is_file() else None
+        except OSError:
+            return None
+    fs, fs_path = resolve(path)
+    info = fs.get_file_info(fs_path)
+    return info.size if info.type == pafs.FileType.File else None
 
 
 def read_json(path, what: str = "JSON file"):

@@ -39,9 +39,9 @@ from mcbat.dataset.lock import LOCK_NAME
 from mcbat.dataset.schema import SCHEMA_VERSION, UNITS
 from mcbat.errors import InputError
 
-__all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "dataset_hash", "plan_run",
-           "positive_int", "prepare_directory", "remove_temporary_files", "run_chunk",
-           "set_threads", "warm_kernel", "write_error"]
+__all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "chunks_to_compute",
+           "dataset_hash", "plan_run", "positive_int", "prepare_directory",
+           "remove_temporary_files", "run_chunk", "set_threads", "warm_kernel", "write_error"]
 
 DEFAULT_CHUNK_SIZE = 250_000
 
@@ -130,6 +130,10 @@ class ChunkSummary:
         Numba threads the kernel ran with.
     worker : str
         ``host:pid`` of the process that computed it.
+    file : dict or None
+        The chunk file's manifest record (``{"rows", "bytes", "crc32"}``,
+        :func:`mcbat.dataset.chunks.write_chunk`) once it is written; None while the
+        local engine's writer thread still writes it.
     """
 
     index: int
@@ -137,6 +141,7 @@ class ChunkSummary:
     status_counts: tuple
     threads: int
     worker: str
+    file: dict | None = None
 
 
 def plan_run(study, out, samples: int, seed: int, chunk_size: int) -> tuple[ChunkJob, dict]:
@@ -152,7 +157,8 @@ def plan_run(study, out, samples: int, seed: int, chunk_size: int) -> tuple[Chun
     n_chunks = -(-samples // chunk_size)
     manifest = {"schema": SCHEMA_VERSION, "config_hash": config_hash, "seed": seed,
                 "samples": samples, "chunk_size": chunk_size, "chunks": n_chunks,
-                "study": config, "study_name": study.name}
+                "study": config, "study_name": study.name, "study_toml": study.source_text,
+                "files": {}}
     metadata = {"config_hash": config_hash, "seed": seed, "samples": samples,
                 "chunk_size": chunk_size, "study": config, "study_toml": study.source_text,
                 "units": UNITS, "versions": chunks.package_versions(),
@@ -162,10 +168,17 @@ def plan_run(study, out, samples: int, seed: int, chunk_size: int) -> tuple[Chun
 
 
 def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
-                      check_only: bool = False) -> None:
+                      check_only: bool = False) -> dict | None:
     """Create ``out`` or check that it holds this very dataset; never lose foreign data.
 
     With ``check_only`` nothing is written: only the checks that can refuse the run.
+
+    Returns
+    -------
+    dict or None
+        The manifest now on disk (None with ``check_only``): ``manifest`` itself, or, when
+        ``out`` already holds this dataset, its manifest, with the records of the chunks
+        written so far and the study text it was first run with.
 
     Raises
     ------
@@ -178,9 +191,10 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
         raise InputError("out", "exists and is not a directory", str(out))
     names = [name for name in (storage.list_names(out) if kind == "dir" else [])
              if name != LOCK_NAME]
+    existing = None
     if names:
         existing = chunks.read_manifest(out)
-        if existing is None:
+        if not isinstance(existing, dict):
             raise InputError("out", "is not empty and is not an mcbat dataset; choose "
                              "another directory", str(out))
         same = existing.get("config_hash") == manifest["config_hash"]
@@ -198,16 +212,52 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
                 raise InputError("out", f"holds files mcbat did not write "
                                  f"({foreign[0]!r}); refusing to overwrite", str(out))
             if check_only:
-                return
+                return None
             for name in names:
                 storage.remove(out, name)
+            existing = None
     if check_only:
-        return
+        return None
     storage.make_dirs(out)
     # Leftover temporary files of a killed run are never trusted.
     remove_temporary_files(out)
-    if chunks.read_manifest(out) != manifest:
-        chunks.write_manifest(out, manifest)
+    # The same dataset: keep its chunk records and the study text it was started with (an
+    # edit of the study's comments does not change the data, nor the files' metadata).
+    kept = {"files": existing.get("files", {}),
+            "study_toml": existing.get("study_toml", manifest.get("study_toml"))} \
+        if existing is not None else {}
+    on_disk = {**manifest, **kept}
+    if existing != on_disk:
+        chunks.write_manifest(out, on_disk)
+    return on_disk
+
+
+def chunks_to_compute(out, job: ChunkJob, records: dict) -> tuple[list, list, list]:
+    """Which chunks a run computes: ``(todo, redone, stray)``.
+
+    A chunk is kept only if its file matches its manifest record (size and CRC-32 of the
+    bytes, :func:`mcbat.dataset.chunks.verify_chunk`). ``redone`` lists ``(index, reason)``
+    for the files that exist but are not kept (changed, corrupted, or written by a run
+    killed before it recorded them): they are recomputed, and the run says so. ``stray``
+    lists the names of chunk files beyond the dataset's last chunk (copies): the run
+    removes them, and says so.
+    """
+    present = chunks.chunk_files(out)
+    todo, redone = [], []
+    for k in range(job.chunks):
+        name = chunks.chunk_name(k)
+        record = records.get(name)
+        if k not in present:
+            todo.append(k)
+            continue
+        reason = chunks.verify_chunk(present[k], record)
+        if reason is None and record.get("rows") != job.rows(k):
+            reason = f"{record.get('rows')} rows recorded, {job.rows(k)} expected"
+        if reason is not None:
+            todo.append(k)
+            redone.append((k, reason))
+    stray = [chunks.chunk_name(k) for k in sorted(present) if k >= job.chunks]
+    return todo, redone, stray
 
 
 def remove_temporary_files(out) -> int:
@@ -221,9 +271,10 @@ def remove_temporary_files(out) -> int:
     return removed
 
 
-def write_chunk(table_args, path) -> None:
-    """Build a chunk's table and write it atomically (see :func:`run_chunk`)."""
-    chunks.write_chunk(chunks.build_table(*table_args), path)
+def write_chunk(table_args, path) -> dict:
+    """Build a chunk's table and write it atomically (see :func:`run_chunk`); returns
+    its manifest record."""
+    return chunks.write_chunk(chunks.build_table(*table_args), path)
 
 
 def run_chunk(study, job: ChunkJob, index: int, *, write=None,
@@ -243,8 +294,9 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     index : int
         The chunk.
     write : callable, optional
-        ``write(write_chunk, table_args, path)`` writes the file. Default: write it now,
-        before returning. The local engine hands it to its writer thread instead.
+        ``write(write_chunk, table_args, path)`` writes the file and returns its record.
+        Default: write it now, before returning. The local engine hands it to its writer
+        thread instead (and returns None: the record comes with the write's result).
     solve_lock : context manager, optional
         Held while the kernel runs (the Dask engine serialises kernel calls of a worker's
         threads with it).
@@ -268,9 +320,9 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     table_args = (start, index, inputs, out_arr, status, end_state,
                   {"impact_parameter": np.asarray(columns["impact_parameter"])},
                   job.metadata, study.measurement_noise(start, stop, job.seed))
-    (write or _write_now)(write_chunk, table_args, job.path(index))
+    record = (write or _write_now)(write_chunk, table_args, job.path(index))
     return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
-                        f"{socket.gethostname()}:{os.getpid()}")
+                        f"{socket.gethostname()}:{os.getpid()}", record)
 
 
 def _run_game_chunk(study, job, index, write, solve_lock) -> ChunkSummary:
@@ -287,9 +339,9 @@ def _run_game_chunk(study, job, index, write, solve_lock) -> ChunkSummary:
     counts = np.bincount(status, minlength=len(st.STATUS_NAMES))
     table_args = (start, index, game_inputs, frame, out_arr, game_out, status, end_state,
                   job.metadata, flight)
-    (write or _write_now)(write_game_chunk, table_args, job.path(index))
+    record = (write or _write_now)(write_game_chunk, table_args, job.path(index))
     return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
-                        f"{socket.gethostname()}:{os.getpid()}")
+                        f"{socket.gethostname()}:{os.getpid()}", record)
 
 
 def _fly(study, game_out):
@@ -306,13 +358,13 @@ def _fly(study, game_out):
     return out, status
 
 
-def write_game_chunk(table_args, path) -> None:
-    """Build a game chunk's table and write it atomically."""
-    chunks.write_chunk(chunks.build_game_table(*table_args), path)
+def write_game_chunk(table_args, path) -> dict:
+    """Build a game chunk's table and write it atomically; returns its manifest record."""
+    return chunks.write_chunk(chunks.build_game_table(*table_args), path)
 
 
 def _write_now(function, *args):
-    function(*args)
+    return function(*args)
 
 
 def warm_kernel() -> None:

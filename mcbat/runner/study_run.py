@@ -14,7 +14,7 @@ import math
 import os
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +25,13 @@ from mcbat.dataset.lock import dataset_lock
 from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
-from mcbat.runner.plan import DEFAULT_CHUNK_SIZE, plan_run, positive_int, prepare_directory
+from mcbat.runner.plan import (
+    DEFAULT_CHUNK_SIZE,
+    chunks_to_compute,
+    plan_run,
+    positive_int,
+    prepare_directory,
+)
 
 __all__ = ["ENGINES", "RunSummary", "make_engine", "run_study"]
 
@@ -50,6 +56,13 @@ class RunSummary:
         Computed rows per status name.
     engine_note : str or None
         Where the chunks were computed (Dask engine).
+    batted_ball : dict or None
+        Game studies: :func:`batted_ball_summary`.
+    redone : list of (int, str)
+        Chunk files found on disk but recomputed, with the reason (changed, corrupted, or
+        not recorded by a killed run).
+    removed : list of str
+        Stray chunk files (beyond the dataset's last chunk) the run removed.
     """
 
     directory: Path | str
@@ -61,6 +74,8 @@ class RunSummary:
     status_counts: dict = field(default_factory=dict)
     engine_note: str | None = None
     batted_ball: dict | None = None
+    redone: list = field(default_factory=list)
+    removed: list = field(default_factory=list)
 
     @property
     def rows_per_second(self) -> float:
@@ -74,6 +89,10 @@ class RunSummary:
         out = [f"dataset: {self.directory}",
                f"rows: {self.rows:,} in {self.chunks_total} chunk file(s) "
                f"({self.chunks_computed} computed, {self.chunks_kept} kept from before)"]
+        for index, reason in self.redone:
+            out.append(f"recomputed {chunks.chunk_name(index)}: {reason}")
+        for name in self.removed:
+            out.append(f"removed {name}: not part of this dataset (beyond its last chunk)")
         if self.chunks_computed:
             out.append(f"time: {self.seconds:.2f} s ({self.rows_per_second:,.0f} rows/s)")
         if self.engine_note:
@@ -163,11 +182,11 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         prepare_directory(display, manifest, chunk_size, overwrite, check_only=True)
     with dataset_lock(display), runner.connect():  # refused before a cluster starts
         with _out_errors(display):
-            prepare_directory(display, manifest, chunk_size, overwrite)
-            existing = chunks.chunk_files(display)
-        todo = [k for k in range(job.chunks)
-                if existing.get(k) is None
-                or not chunks.chunk_is_complete(existing[k], job.rows(k), job.config_hash)]
+            on_disk = prepare_directory(display, manifest, chunk_size, overwrite)
+            todo, redone, stray = chunks_to_compute(display, job, on_disk["files"])
+            for name in stray:
+                storage.remove(display, name)
+        job = replace(job, metadata={**job.metadata, "study_toml": on_disk["study_toml"]})
         bar = _progress_bar(study.name, sum(job.rows(k) for k in todo)) \
             if progress and todo else None
         counts = np.zeros(len(st.STATUS_NAMES), np.int64)
@@ -179,19 +198,26 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
             for summary in runner.run(study, job, todo, display):
                 counts += summary.status_counts
                 summaries.append(summary)
+                with _out_errors(display):
+                    _record(display, on_disk, summary)
                 if bar is not None:
                     bar.update(summary.rows)
         finally:
             seconds = time.perf_counter() - t0
             if bar is not None:
                 bar.close()
+        missing = [k for k in range(job.chunks)
+                   if chunks.chunk_name(k) not in on_disk["files"]]
+        if missing:  # an engine that did not deliver every chunk: never a silent hole
+            raise RuntimeError(f"chunk {missing[0]} of {display} was not written "
+                           f"({len(missing)} missing); rerun to complete the dataset")
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
     batted = (batted_ball_summary(display, flight=study.flight is not None)
               if getattr(study, "kind", "impact") == "game" else None)
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
-                      batted)
+                      batted, redone, stray)
 
 
 #: Rows counted as hit "at the sweet spot" by :func:`batted_ball_summary`: within 0.5 in of
@@ -246,6 +272,13 @@ def _progress_bar(name: str, total: int):
 
     return tqdm(total=total, unit=" impacts", unit_scale=True, file=sys.stderr,
                 desc=name, dynamic_ncols=True, smoothing=0.1)
+
+
+def _record(out, manifest: dict, summary) -> None:
+    """Record a written chunk in the manifest (rewritten atomically): from then on the
+    chunk belongs to the dataset."""
+    manifest["files"][chunks.chunk_name(summary.index)] = summary.file
+    chunks.write_manifest(out, manifest)
 
 
 @contextlib.contextmanager

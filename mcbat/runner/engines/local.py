@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 
 from mcbat.runner.plan import ChunkJob, run_chunk, set_threads, warm_kernel, write_error
 
@@ -35,30 +36,37 @@ class LocalEngine:
         warm_kernel()
 
     def run(self, study, job: ChunkJob, todo, display):
-        """Compute the chunks ``todo`` in order; yield each one's summary once it is
-        solved, its file being written meanwhile (every write is awaited before the end)."""
+        """Compute the chunks ``todo`` in order; yield each one's summary, with its file's
+        record, once its file is written (chunk k is written while chunk k+1 solves)."""
         with ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcbat-writer") as writer:
-            pending = None
+            pending = None  # (summary without its record, the write's future)
+            written = []
 
             def write(function, *args):
                 nonlocal pending
                 if pending is not None:
-                    _finish(pending, display)
-                pending = writer.submit(function, *args)
+                    summary, future = pending
+                    written.append(replace(summary, file=_finish(future, display)))
+                pending = (None, writer.submit(function, *args))
 
             for k in todo:
-                yield run_chunk(study, job, k, write=write)
+                summary = run_chunk(study, job, k, write=write)
+                pending = (summary, pending[1])
+                yield from written
+                written.clear()
             if pending is not None:
-                _finish(pending, display)
+                summary, future = pending
+                yield replace(summary, file=_finish(future, display))
 
     def note(self, summaries):
         """No note: the local engine is the default."""
         return None
 
 
-def _finish(pending, out):
-    """Wait for a chunk write; a full or unwritable disk is a clear error, not a crash."""
+def _finish(pending, out) -> dict:
+    """Wait for a chunk write and return its record; a full or unwritable disk is a clear
+    error, not a crash."""
     try:
-        pending.result()
+        return pending.result()
     except OSError as err:
         raise write_error(err, out) from None

@@ -1,0 +1,205 @@
+"""Is a dataset directory complete and consistent with its manifest? :func:`check_dataset`.
+
+The manifest (``_mcbat.json``) says how many chunks the dataset has and, once each one is
+written, records its file (rows, bytes, CRC-32 of the bytes; :mod:`mcbat.dataset.chunks`).
+A chunk file belongs to the dataset only if it is recorded and matches its record:
+
+- **missing**: a chunk the manifest expects has no file (an interrupted run);
+- **extra**: a chunk file the manifest does not expect (an index beyond the last chunk, or
+  a file a killed run wrote but never recorded; stray copies);
+- **mismatched**: a recorded file whose size, row count, dataset hash or ``sample_id`` range
+  differs from what it should be (a chunk copied over another, another dataset's chunk);
+  with ``checksums=True`` also one whose bytes no longer give the recorded CRC-32 (bit rot,
+  a partial overwrite; the only check that reads every byte).
+
+:func:`mcbat.load` runs the cheap checks (file sizes and Parquet footers) and refuses a
+dataset with any problem, unless ``allow_partial=True``; ``mcbat check DIR`` runs all of
+them. Datasets written before chunk records existed (manifest without ``files``) are checked
+by their footers alone.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import pyarrow.parquet as pq
+
+from mcbat.dataset import chunks, storage
+from mcbat.errors import InputError
+
+__all__ = ["DatasetCheck", "check_dataset"]
+
+
+@dataclass
+class DatasetCheck:
+    """The result of :func:`check_dataset`.
+
+    Attributes
+    ----------
+    directory : Path or str
+        The dataset directory.
+    manifest : dict
+        Its manifest.
+    good : dict of int -> location
+        The chunk files that belong to the dataset, by chunk index.
+    missing : list of int
+        Chunks without a file.
+    extra : list of str
+        Chunk files that do not belong to the dataset.
+    mismatched : list of (str, str)
+        ``(file name, reason)`` of recorded chunks that do not match their record.
+    checksums : bool
+        Whether the CRC-32 of every file was verified.
+    """
+
+    directory: object
+    manifest: dict
+    good: dict = field(default_factory=dict)
+    missing: list = field(default_factory=list)
+    extra: list = field(default_factory=list)
+    mismatched: list = field(default_factory=list)
+    checksums: bool = False
+
+    @property
+    def ok(self) -> bool:
+        """True when every chunk is present and matches, and nothing else is there."""
+        return not (self.missing or self.extra or self.mismatched)
+
+    @property
+    def rows_expected(self) -> int:
+        """Rows of the complete dataset."""
+        return int(self.manifest["samples"])
+
+    @property
+    def rows_good(self) -> int:
+        """Rows in the chunks that belong to the dataset."""
+        size = int(self.manifest["chunk_size"])
+        return sum(min(size, self.rows_expected - k * size) for k in self.good)
+
+    def problems(self) -> list[str]:
+        """One line per kind of problem (empty when :attr:`ok`)."""
+        out = []
+        if self.missing:
+            out.append(f"{len(self.missing)} of {self.manifest['chunks']} chunk(s) missing "
+                       f"({_indices(self.missing)}): {self.rows_good:,} of "
+                       f"{self.rows_expected:,} rows present; rerun the same `mcbat run` "
+                       "to complete it")
+        if self.extra:
+            out.append(f"{len(self.extra)} chunk file(s) not part of the dataset "
+                       f"({', '.join(self.extra[:3])}{', ...' if len(self.extra) > 3 else ''})"
+                       "; rerun `mcbat run` to recompute them, or remove them")
+        for name, reason in self.mismatched[:3]:
+            out.append(f"{name}: {reason}; rerun `mcbat run` to recompute it")
+        if len(self.mismatched) > 3:
+            out.append(f"... and {len(self.mismatched) - 3} more mismatched chunk file(s)")
+        return out
+
+    def lines(self) -> list[str]:
+        """The report of ``mcbat check``."""
+        how = "sizes, footers and CRC-32 of every byte" if self.checksums else \
+            "sizes and footers"
+        head = [f"dataset: {self.directory}",
+                f"chunks: {len(self.good)} of {self.manifest['chunks']} good ({how}), "
+                f"{self.rows_good:,} of {self.rows_expected:,} rows"]
+        return head + (self.problems() or ["ok: complete and consistent with its manifest"])
+
+
+def _indices(indices) -> str:
+    shown = ", ".join(str(k) for k in indices[:5])
+    return shown + (", ..." if len(indices) > 5 else "")
+
+
+def check_dataset(directory, *, checksums: bool = False) -> DatasetCheck:
+    """Check the dataset at ``directory`` against its manifest (see the module docs).
+
+    Parameters
+    ----------
+    directory : str or Path
+        A dataset directory or its URL.
+    checksums : bool
+        Also verify the CRC-32 of every chunk file's bytes (reads every byte).
+
+    Returns
+    -------
+    DatasetCheck
+
+    Raises
+    ------
+    InputError
+        No such directory, or not an mcbat dataset (no usable manifest).
+    """
+    directory = storage.location(directory)
+    if storage.entry_type(directory) != "dir":
+        raise InputError(None, "no such dataset directory", str(directory))
+    manifest = chunks.read_manifest(directory)
+    if manifest is None:
+        raise InputError(None, f"not an mcbat dataset (no {chunks.MANIFEST})",
+                         str(directory))
+    if not isinstance(manifest, dict) or not all(
+            isinstance(manifest.get(key), int) and manifest[key] >= 1
+            for key in ("samples", "chunk_size", "chunks")):
+        raise InputError(None, f"not an mcbat dataset (unusable {chunks.MANIFEST})",
+                         str(directory))
+    records = manifest.get("files")  # None: written before chunk records existed
+    result = DatasetCheck(directory, manifest, checksums=checksums)
+    present = chunks.chunk_files(directory)
+    n_chunks, size = manifest["chunks"], manifest["chunk_size"]
+    for k, path in sorted(present.items()):
+        name = chunks.chunk_name(k)
+        if k >= n_chunks or (records is not None and name not in records):
+            result.extra.append(name)
+            continue
+        rows = min(size, manifest["samples"] - k * size)
+        reason = _mismatch(path, k, rows, size, manifest, None if records is None
+                           else records[name], checksums)
+        if reason is None:
+            result.good[k] = path
+        else:
+            result.mismatched.append((name, reason))
+    result.missing = [k for k in range(n_chunks) if k not in present]
+    return result
+
+
+def _mismatch(path, index, rows, size, manifest, record, checksums) -> str | None:
+    """Why chunk file ``path`` is not chunk ``index`` of this dataset (None if it is)."""
+    if record is not None:
+        if not isinstance(record, dict):
+            return "unusable record in the manifest"
+        actual = storage.file_size(path)
+        if actual != record.get("bytes"):
+            return f"{actual} bytes, {record.get('bytes')} recorded"
+        if checksums:
+            reason = chunks.verify_chunk(path, record)
+            if reason is not None:
+                return reason
+    try:
+        meta = chunks.read_metadata(path)
+        info = json.loads(meta.metadata[chunks.METADATA_KEY])
+    except Exception as err:  # noqa: BLE001 - any unreadable footer is a mismatch
+        return f"unreadable Parquet footer ({type(err).__name__})"
+    if meta.num_rows != rows:
+        return f"{meta.num_rows} rows, {rows} expected"
+    if info.get("config_hash") != manifest.get("config_hash"):
+        return "a chunk of another dataset (its config hash differs)"
+    first, last = _sample_id_range(meta)
+    if (first, last) != (index * size, index * size + rows - 1):
+        return (f"holds sample_id {first}..{last}, chunk {index} is "
+                f"{index * size}..{index * size + rows - 1} (a copy of another chunk?)")
+    return None
+
+
+def _sample_id_range(meta: pq.FileMetaData) -> tuple:
+    """``(min, max)`` of ``sample_id`` from the footer's statistics (None if absent)."""
+    names = meta.schema.names
+    if "sample_id" not in names:
+        return None, None
+    j = names.index("sample_id")
+    lows, highs = [], []
+    for i in range(meta.num_row_groups):
+        stats = meta.row_group(i).column(j).statistics
+        if stats is None or not stats.has_min_max:
+            return None, None
+        lows.append(stats.min)
+        highs.append(stats.max)
+    return (min(lows), max(highs)) if lows else (None, None)
