@@ -36,6 +36,9 @@ from mcbat.runner.plan import (
 __all__ = ["ENGINES", "RunSummary", "make_engine", "run_study"]
 
 ENGINES = ("local", "dask")
+#: Most chunk files of one dataset: the manifest records each one, and a run's plan and
+#: resume check list them all.
+MAX_CHUNKS = 100_000
 
 
 @dataclass
@@ -173,6 +176,11 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     if chunk_size is None:
         chunk_size = getattr(study, "chunk_size", None) or DEFAULT_CHUNK_SIZE
     chunk_size = positive_int(chunk_size, "chunk_size")
+    study.check_sample_count(samples, "samples")
+    if -(-samples // chunk_size) > MAX_CHUNKS:
+        raise InputError("chunk_size", f"{samples:,} samples in chunks of {chunk_size:,} make "
+                         f"{-(-samples // chunk_size):,} chunk files, at most {MAX_CHUNKS:,}: "
+                         f"choose chunk_size >= {-(-samples // MAX_CHUNKS):,}")
     runner = make_engine(engine, threads, scheduler, workers)
 
     display = storage.location(out)
@@ -193,19 +201,20 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         summaries = []
         if todo:
             runner.ready()
+        recorder = _Recorder(display, on_disk)
         t0 = time.perf_counter()
         try:
             for summary in runner.run(study, job, todo, display):
                 counts += summary.status_counts
                 summaries.append(summary)
-                with _out_errors(display):
-                    _record(display, on_disk, summary)
+                recorder.add(summary)
                 if bar is not None:
                     bar.update(summary.rows)
         finally:
             seconds = time.perf_counter() - t0
             if bar is not None:
                 bar.close()
+            recorder.flush()
         missing = [k for k in range(job.chunks)
                    if chunks.chunk_name(k) not in on_disk["files"]]
         if missing:  # an engine that did not deliver every chunk: never a silent hole
@@ -274,11 +283,30 @@ def _progress_bar(name: str, total: int):
                 desc=name, dynamic_ncols=True, smoothing=0.1)
 
 
-def _record(out, manifest: dict, summary) -> None:
-    """Record a written chunk in the manifest (rewritten atomically): from then on the
-    chunk belongs to the dataset."""
-    manifest["files"][chunks.chunk_name(summary.index)] = summary.file
-    chunks.write_manifest(out, manifest)
+class _Recorder:
+    """Records written chunks in the manifest (rewritten atomically): from then on a chunk
+    belongs to the dataset. At most one rewrite per :attr:`INTERVAL` seconds (a dataset of
+    thousands of chunks would otherwise rewrite a growing manifest thousands of times), and
+    a last one when the run ends, however it ends. A run killed in between loses the
+    records of at most a second of chunks: a resume recomputes them."""
+
+    INTERVAL = 1.0
+
+    def __init__(self, out, manifest: dict):
+        self.out, self.manifest = out, manifest
+        self.dirty, self.last = False, -math.inf  # the first chunk is recorded at once
+
+    def add(self, summary) -> None:
+        self.manifest["files"][chunks.chunk_name(summary.index)] = summary.file
+        self.dirty = True
+        if time.monotonic() - self.last >= self.INTERVAL:
+            self.flush()
+
+    def flush(self) -> None:
+        if self.dirty:
+            with _out_errors(self.out):
+                chunks.write_manifest(self.out, self.manifest)
+            self.dirty, self.last = False, time.monotonic()
 
 
 @contextlib.contextmanager

@@ -98,13 +98,24 @@ def number(value, field):
     return value
 
 
-def integer(value, field, minimum=None):
-    """A TOML integer (not a float, not a boolean) ``>= minimum``."""
+def integer(value, field, minimum=None, maximum=2**63 - 1):
+    """A TOML integer (not a float, not a boolean) ``>= minimum`` and ``<= maximum``
+    (default: what a 64-bit integer holds)."""
     if isinstance(value, bool) or not isinstance(value, int):
-        raise InputError(field, f"must be an integer, got {_type_name(value)} {value!r}")
+        raise InputError(field, f"must be an integer, got {_type_name(value)} "
+                         f"{_short(value)}")
     if minimum is not None and value < minimum:
-        raise InputError(field, f"must be >= {minimum}, got {value!r}")
+        raise InputError(field, f"must be >= {minimum}, got {_short(value)}")
+    if maximum is not None and value > maximum:
+        raise InputError(field, f"must be <= {maximum:,}, got {_short(value)}")
     return int(value)
+
+
+def _short(value) -> str:
+    """``repr(value)``, shortened to ~60 characters (a 400-digit integer is one line)."""
+    text = repr(value) if not isinstance(value, int) or value.bit_length() < 200 \
+        else f"an integer of about {int(value.bit_length() * 0.30103) + 1} digits"
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def check_keys(table, field, required=(), optional=()):

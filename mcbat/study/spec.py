@@ -144,6 +144,9 @@ NOISE_OUTPUTS = {"exit_speed": "speed", "scattering_angle": "angle",
                  "spin_axial": "spin", "spin": "spin"}
 #: Bits of the Sobol engine: at most ``2**SOBOL_BITS`` samples.
 SOBOL_BITS = 32
+#: Most samples of one run: 10^12 (11 days at 10^6 impacts/s). Beyond it a sample count is
+#: a typo, and sample indices would near the range the seeding scheme is laid out for.
+MAX_SAMPLES = 10**12
 #: Version of the study format and sampling scheme, recorded in :meth:`Study.config`.
 FORMAT_VERSION = 1
 
@@ -420,13 +423,15 @@ class Study:
         study = check_keys(table, "study", ("name", "samples"),
                            ("description", "seed", "chunk_size"))
         self.name = check_string(study["name"], "study.name")
-        if not self.name.strip():
-            raise InputError("study.name", "must not be empty")
+        check_study_name(self.name)
         self.description = check_string(study.get("description", ""), "study.description")
-        self.samples = integer(study["samples"], "study.samples", minimum=1)
-        self.seed = integer(study.get("seed", 0), "study.seed", minimum=0)
+        self.samples = integer(study["samples"], "study.samples", minimum=1,
+                               maximum=MAX_SAMPLES)
+        self.seed = integer(study.get("seed", 0), "study.seed", minimum=0,
+                            maximum=2**63 - 1)
         self.chunk_size = (None if "chunk_size" not in study
-                           else integer(study["chunk_size"], "study.chunk_size", minimum=1))
+                           else integer(study["chunk_size"], "study.chunk_size", minimum=1,
+                                        maximum=MAX_SAMPLES))
 
     def _check_ranges(self):
         inputs = self.inputs
@@ -489,12 +494,24 @@ class Study:
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         if samples is not None:
-            new.samples = integer(samples, "samples", minimum=1)
+            new.samples = integer(samples, "samples", minimum=1, maximum=MAX_SAMPLES)
         if seed is not None:
-            new.seed = integer(seed, "seed", minimum=0)
+            new.seed = integer(seed, "seed", minimum=0, maximum=2**63 - 1)
         if chunk_size is not None:
-            new.chunk_size = integer(chunk_size, "chunk_size", minimum=1)
+            new.chunk_size = integer(chunk_size, "chunk_size", minimum=1,
+                                     maximum=MAX_SAMPLES)
+        new.check_sample_count(new.samples, "samples")
         return new
+
+    def check_sample_count(self, samples: int, field: str) -> None:
+        """Refuse ``samples`` beyond what this study's samplers can draw (before anything
+        runs): :data:`MAX_SAMPLES`, and ``2**SOBOL_BITS`` with a ``sobol`` input."""
+        if samples > MAX_SAMPLES:
+            raise InputError(field, f"must be <= {MAX_SAMPLES:,}, got {samples:,}")
+        if self._families["sobol"] and samples > 2**SOBOL_BITS:
+            sobol = ", ".join(name for name, _ in self._families["sobol"])
+            raise InputError(field, f"a study with sobol inputs ({sobol}) draws at most "
+                             f"2**{SOBOL_BITS} = {2**SOBOL_BITS:,} samples, got {samples:,}")
 
     def definition(self) -> dict:
         """The study as plain data (the dict ``tomllib`` returns): ``from_dict`` of it
@@ -698,6 +715,20 @@ _TARGETS = {
     **{f"{section}.{axis}": f"{prefix}{axis}_in"
        for section, (prefix, _) in _VECTORS.items() for axis in "xyz"},
 }
+
+
+def check_study_name(name: str) -> None:
+    """A study name is the default output directory's name (``results/<name>``): one
+    plain directory name, never a path that leads elsewhere."""
+    bad = next((c for c in name if ord(c) < 32 or ord(c) == 127), None)
+    if bad is not None:
+        raise InputError("study.name", f"must not contain control characters, got "
+                         f"{name!r}")
+    if not name.strip():
+        raise InputError("study.name", "must not be empty")
+    if "/" in name or "\\" in name or name.strip() in (".", "..") or len(name) > 120:
+        raise InputError("study.name", f"must be a plain directory name (no '/' or '\\', "
+                         f"not '.' or '..', at most 120 characters), got {name!r}")
 
 
 def _sample_range(start, stop, seed) -> tuple[int, int, int]:
