@@ -264,8 +264,8 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
     ------
     InputError
         If the bodies are not approaching at the contact.
-    RuntimeError
-        If the kernel reports a failure status (non-convergence, degenerate mechanics).
+        Also if the kernel reports a failure status (inputs whose magnitudes make the
+        arithmetic meaningless, non-convergence, degenerate mechanics), naming the status.
     """
     case.validate_approach()
     radius, slope = case.contact_surface()
@@ -277,7 +277,9 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         case.mu, case.e, case.e_x, settings.steps, settings.tolerance, settings.max_steps)))
     code = int(out["status"])
     if code != st.OK:
-        raise RuntimeError(f"impact solver failed with status {st.STATUS_NAMES[code]!r}")
+        raise InputError(None, f"the solver cannot solve this impact (status "
+                         f"{st.STATUS_NAMES[code]!r}: docs/errors.md lists what each status "
+                         "means)")
 
     def vec(prefix):
         return tuple(float(out[f"{prefix}{c}"]) for c in "xyz")
@@ -631,8 +633,7 @@ def solve_game(case: GameCase, settings: SolverSettings = SolverSettings()) -> G
     ------
     InputError
         Naming ``pitch_speed`` if the ball does not approach the bat at the contact.
-    RuntimeError
-        If the kernel reports another failure status.
+        Also if the kernel reports another failure status, naming it.
     """
     g = case.kernel_inputs()
     frame, out, game_out, status, end_state = allocate_game_outputs(1)
@@ -643,7 +644,9 @@ def solve_game(case: GameCase, settings: SolverSettings = SolverSettings()) -> G
         raise InputError("pitch_speed", "the ball does not approach the bat at the contact "
                          "(a pitch moving away from the swing)")
     if code != st.OK:
-        raise RuntimeError(f"game solver failed with status {st.STATUS_NAMES[code]!r}")
+        raise InputError(None, f"the solver cannot solve this impact (status "
+                         f"{st.STATUS_NAMES[code]!r}: docs/errors.md lists what each status "
+                         "means)")
     b = {name: column[0] for name, column in bat_frame_columns(g, frame).items()}
     o = dict(zip(OUTPUT_FIELDS, out[:, 0]))
     go = dict(zip(GAME_OUTPUT_FIELDS, game_out[:, 0]))

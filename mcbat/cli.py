@@ -1,8 +1,8 @@
 """The ``mcbat`` command.
 
 Exit codes: 0 success, 2 user error (one line on stderr, no traceback), 1 internal error,
-3 ``mcbat check`` found a dataset incomplete or inconsistent. ``--debug`` shows the
-traceback of any error.
+3 ``mcbat check`` found a dataset incomplete or inconsistent, 130 interrupted, 141 the
+reader of stdout went away (``| head``). ``--debug`` shows the traceback of any error.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ EXIT_OK = 0
 EXIT_INTERNAL = 1
 EXIT_USER = 2
 EXIT_DATASET_PROBLEMS = 3
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a reader that went away
 
 
 class _ArgumentParser(argparse.ArgumentParser):
@@ -74,17 +75,24 @@ def _read_cases(path):
     """Parse ``path`` (or ``-`` for stdin) as one JSON case or a JSON array of cases."""
     source = "<stdin>" if path == "-" else path
     try:
-        if path == "-":
-            text = sys.stdin.read()
+        if path == "-":  # bytes: the encoding is checked below (a text stdin has none)
+            stream = getattr(sys.stdin, "buffer", None)
+            raw = stream.read() if stream is not None else sys.stdin.read().encode()
         else:
-            with open(path, encoding="utf-8") as handle:
-                text = handle.read()
+            with open(path, "rb") as handle:
+                raw = handle.read()
+        text = raw.decode("utf-8-sig")  # JSON is UTF-8 (RFC 8259); a BOM is tolerated
     except OSError as err:
         raise InputError(None, f"cannot read input: {err.strerror}", source) from None
+    except UnicodeDecodeError as err:
+        raise InputError(None, f"not UTF-8 text (byte {err.start}); JSON input must be UTF-8",
+                         source) from None
     try:
         data = json.loads(text, parse_constant=_reject_constant)
     except ValueError as err:
         raise InputError(None, f"not valid JSON: {err}", source) from None
+    except RecursionError:
+        raise InputError(None, "not valid JSON: nested too deeply", source) from None
     single = isinstance(data, dict)
     cases = [data] if single else data
     if not isinstance(cases, list) or not cases:
@@ -446,6 +454,13 @@ def main(argv=None) -> int:
     except _UsageError as err:
         print(f"mcbat: error: {err}", file=sys.stderr)
         return EXIT_USER
+    except BrokenPipeError:
+        # The reader went away (`mcbat impact ... | head -1`): stop quietly, as a command
+        # killed by SIGPIPE would, and keep Python from complaining at exit.
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
     except KeyboardInterrupt:
         print("mcbat: interrupted; complete chunk files are kept, rerun the same command "
               "to resume", file=sys.stderr)

@@ -90,8 +90,10 @@ def test_kernel_status_codes_never_raise():
     assert capped["status"] == st.MAX_STEPS and math.isnan(capped["ball_vx"])
 
 
-def test_solver_failure_raises_runtime_error_in_api():
-    with pytest.raises(RuntimeError, match="max_steps"):
+def test_solver_failure_is_an_input_error_naming_the_status():
+    # a failure status of the user's case (here: too few steps allowed) is the user's to
+    # fix: an InputError (exit 2 from the CLI), never an internal error
+    with pytest.raises(InputError, match="status 'max_steps'"):
         solve(_case(ball_spin=(0.0, 200.0, 300.0)), SolverSettings(max_steps=2))
 
 

@@ -191,35 +191,12 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     with dataset_lock(display), runner.connect():  # refused before a cluster starts
         with _out_errors(display):
             on_disk = prepare_directory(display, manifest, chunk_size, overwrite)
-            todo, redone, stray = chunks_to_compute(display, job, on_disk["files"])
-            for name in stray:
-                storage.remove(display, name)
-        job = replace(job, metadata={**job.metadata, "study_toml": on_disk["study_toml"]})
-        bar = _progress_bar(study.name, sum(job.rows(k) for k in todo)) \
-            if progress and todo else None
-        counts = np.zeros(len(st.STATUS_NAMES), np.int64)
-        summaries = []
-        if todo:
-            runner.ready()
-        recorder = _Recorder(display, on_disk)
-        t0 = time.perf_counter()
         try:
-            for summary in runner.run(study, job, todo, display):
-                counts += summary.status_counts
-                summaries.append(summary)
-                recorder.add(summary)
-                if bar is not None:
-                    bar.update(summary.rows)
-        finally:
-            seconds = time.perf_counter() - t0
-            if bar is not None:
-                bar.close()
-            recorder.flush()
-        missing = [k for k in range(job.chunks)
-                   if chunks.chunk_name(k) not in on_disk["files"]]
-        if missing:  # an engine that did not deliver every chunk: never a silent hole
-            raise RuntimeError(f"chunk {missing[0]} of {display} was not written "
-                           f"({len(missing)} missing); rerun to complete the dataset")
+            todo, redone, stray, counts, summaries, seconds = _compute(
+                study, job, display, on_disk, runner, progress)
+        except BaseException:
+            _forget_if_empty(display, on_disk)
+            raise
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
     batted = (batted_ball_summary(display, flight=study.flight is not None)
@@ -227,6 +204,51 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
                       batted, redone, stray)
+
+
+def _compute(study, job, display, on_disk, runner, progress):
+    """Pick the chunks to compute (resume), compute and record them; returns
+    ``(todo, redone, stray, status counts, summaries, seconds)``."""
+    with _out_errors(display):
+        todo, redone, stray = chunks_to_compute(display, job, on_disk["files"])
+        for name in stray:
+            storage.remove(display, name)
+    job = replace(job, metadata={**job.metadata, "study_toml": on_disk["study_toml"]})
+    bar = _progress_bar(study.name, sum(job.rows(k) for k in todo)) \
+        if progress and todo else None
+    counts = np.zeros(len(st.STATUS_NAMES), np.int64)
+    summaries = []
+    if todo:
+        runner.ready()
+    recorder = _Recorder(display, on_disk)
+    t0 = time.perf_counter()
+    try:
+        for summary in runner.run(study, job, todo, display):
+            counts += summary.status_counts
+            summaries.append(summary)
+            recorder.add(summary)
+            if bar is not None:
+                bar.update(summary.rows)
+    finally:
+        seconds = time.perf_counter() - t0
+        if bar is not None:
+            bar.close()
+        recorder.flush()
+    missing = [k for k in range(job.chunks) if chunks.chunk_name(k) not in on_disk["files"]]
+    if missing:  # an engine that did not deliver every chunk: never a silent hole
+        raise RuntimeError(f"chunk {missing[0]} of {display} was not written "
+                           f"({len(missing)} missing); rerun to complete the dataset")
+    return todo, redone, stray, counts, summaries, seconds
+
+
+def _forget_if_empty(out, on_disk: dict) -> None:
+    """After a failed run that wrote no chunk: remove its manifest, so that the directory
+    does not block a corrected rerun ("holds a dataset of another config"). The lock then
+    removes the directory if the run created it."""
+    if on_disk["files"] or chunks.chunk_files(out):
+        return
+    with contextlib.suppress(OSError):
+        storage.remove(out, chunks.MANIFEST, missing_ok=True)
 
 
 #: Rows counted as hit "at the sweet spot" by :func:`batted_ball_summary`: within 0.5 in of

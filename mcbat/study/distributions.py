@@ -302,6 +302,10 @@ class TruncNormal(RandomDist):
 def _selector(weights):
     """``(cumulative weights, last index with a positive weight)``."""
     w = np.asarray(weights, dtype=np.float64)
+    with np.errstate(over="ignore"):
+        finite = np.isfinite(w.sum())
+    if not finite:  # huge weights: only their ratios matter
+        w = w / w.max()
     return np.cumsum(w), int(np.flatnonzero(w > 0.0)[-1])
 
 
@@ -479,6 +483,10 @@ def _std(spec, field, si):
     return si(std)
 
 
+#: Most points of one grid axis (its values are held in memory: 80 MB at this size).
+MAX_GRID_POINTS = 10**7
+
+
 def _weights(spec, field, count, what):
     if "weights" not in spec:
         return (1.0,) * count
@@ -546,7 +554,7 @@ def parse(spec, field, quantity, *, kinds=None, default_unit=None) -> Dist:
     u.factor(unit, quantity, _sub(field, "unit"))  # validates the unit
 
     def f(value):  # to SI, exactly (see mcbat.study.units)
-        return u.to_si(value, unit, quantity)
+        return u.to_si(value, unit, quantity, field)
 
     raw = {k: spec[k] for k in required + optional if k in spec}
     common = dict(field=field, quantity=quantity, unit=unit)
@@ -563,7 +571,8 @@ def _parse_value_table(spec, field, quantity, unit, refuse) -> Fixed:
     refuse("fixed")
     u.factor(unit, quantity, _sub(field, "unit"))  # validates the unit
     value = number(spec["value"], _sub(field, "value"))
-    return Fixed(field, quantity, unit, value=u.to_si(value, unit, quantity),
+    return Fixed(field, quantity, unit,
+                 value=u.to_si(value, unit, quantity, _sub(field, "value")),
                  raw=spec["value"], written=_sub(field, "value"))
 
 
@@ -628,7 +637,7 @@ def _build_choice(spec, field, f, raw, common):
 def _build_grid(spec, field, f, raw, common):
     start = f(number(spec["start"], _sub(field, "start")))
     stop = f(number(spec["stop"], _sub(field, "stop")))
-    num = integer(spec["num"], _sub(field, "num"), minimum=1)
+    num = integer(spec["num"], _sub(field, "num"), minimum=1, maximum=MAX_GRID_POINTS)
     return Grid(**common, start=start, stop=stop, num=num, raw=raw)
 
 

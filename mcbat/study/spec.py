@@ -789,12 +789,17 @@ def load_study(path) -> Study:
     """
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        text = Path(path).read_text(encoding="utf-8-sig")  # a leading BOM is allowed
+    except UnicodeDecodeError as exc:
+        raise InputError(None, f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8: "
+                         "save it as UTF-8", source=source) from None
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
         raise InputError(None, f"cannot read the study file: {reason}", source=source) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise _toml_error(exc, text, source) from None
+    except RecursionError:
+        raise InputError(None, "invalid TOML: nested too deeply", source=source) from None
     return Study.from_dict(data, source=source, text=text)

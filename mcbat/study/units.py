@@ -154,6 +154,14 @@ def to_si(value_or_array, unit, quantity, field=None):
     0.15
     """
     factor(unit, quantity, field)  # validates the unit
+    try:
+        return _to_si(value_or_array, unit, quantity)
+    except OverflowError:
+        raise InputError(field, f"too large: {value_or_array!r} {unit} is beyond the largest "
+                         "floating-point number once converted to SI") from None
+
+
+def _to_si(value_or_array, unit, quantity):
     if quantity == TEMPERATURE and unit in _ZERO:
         values = np.asarray(value_or_array, dtype=np.float64)
         out = np.array([_temperature(float(v), unit) for v in values.ravel()],
@@ -180,7 +188,8 @@ def _temperature(value, unit):
 
 
 def _convert(value, exact):
-    """``value * exact``, the value read as its shortest decimal, rounded once."""
+    """``value * exact``, the value read as its shortest decimal, rounded once (an
+    OverflowError when the product exceeds the largest float)."""
     if not math.isfinite(value):
         return value * float(exact)
     return float(Fraction(repr(value)) * exact)

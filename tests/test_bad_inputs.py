@@ -1,0 +1,157 @@
+"""Issue 17, items 6-9: every bad input exits 2 with one line naming the key or option,
+without a traceback and without leaving a directory that blocks the corrected rerun."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import mcbat
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "studies" / "example.toml"
+CASE = json.loads((ROOT / "examples" / "cabo2012_sec5.json").read_text())
+
+
+def mcbat_cli(*args, stdin=None, cwd=None):
+    return subprocess.run([sys.executable, "-m", "mcbat", *map(str, args)], input=stdin,
+                          capture_output=True, cwd=cwd or ROOT)
+
+
+def assert_one_line_error(proc, *needles):
+    err = proc.stderr.decode("utf-8", "replace")
+    assert proc.returncode == 2, err
+    assert "Traceback" not in err
+    line, = err.strip().splitlines()
+    assert line.startswith("mcbat: error: ")
+    for needle in needles:
+        assert needle in line, line
+    return line
+
+
+def _edit(text, old, new):
+    assert old in text
+    return text.replace(old, new)
+
+
+STUDY = EXAMPLE.read_text()
+SPIN = 'z = { dist = "choice", values = [79, 0, -72] }'
+IMPACT = 'impact_parameter = { dist = "uniform", low = -1.5, high = 1.5, unit = "in" }'
+BAD_STUDIES = {
+    "400-digit integer": (_edit(STUDY, "samples = 20000", "samples = " + "9" * 400),
+                          ["study.samples", "must be <= 1,000,000,000,000"]),
+    "1e308 rps": (_edit(STUDY, SPIN, 'z = { value = 1e308, unit = "rps" }'),
+                  ["ball_spin.z.value", "too large", "rps"]),
+    "max_steps beyond int64": (STUDY + "\n[solver]\nmax_steps = 100000000000000000000000\n",
+                               ["solver.max_steps", "must be <="]),
+    "grid num 1e13": (_edit(STUDY, IMPACT, 'impact_parameter = { dist = "grid", start = -1.5, '
+                            'stop = 1.5, num = 10000000000000, unit = "in" }'),
+                      ["contact.impact_parameter.num", "must be <= 10,000,000"]),
+    "NUL in the name": (_edit(STUDY, 'name = "example"', 'name = "ex\\u0000ample"'),
+                        ["study.name", "control characters"]),
+    "name escaping results/": (_edit(STUDY, 'name = "example"', 'name = "../../evil"'),
+                               ["study.name", "plain directory name"]),
+    "absolute name": (_edit(STUDY, 'name = "example"', 'name = "/tmp/x"'),
+                      ["study.name", "plain directory name"]),
+    "nested too deeply": ("a = " + "[" * 50_000 + "]" * 50_000 + "\n" + STUDY,
+                          ["nested too deeply"]),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD_STUDIES))
+def test_bad_study_exits_2_and_leaves_nothing(tmp_path, name):
+    text, needles = BAD_STUDIES[name]
+    (tmp_path / "s.toml").write_bytes(text.encode("utf-8"))
+    proc = mcbat_cli("run", tmp_path / "s.toml", "--quiet", cwd=tmp_path)
+    assert_one_line_error(proc, *needles)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no results/ at all
+
+
+def test_utf16_and_bom_files(tmp_path):
+    (tmp_path / "u16.toml").write_text(STUDY, encoding="utf-16")
+    assert_one_line_error(mcbat_cli("run", tmp_path / "u16.toml"), "not UTF-8 text")
+    (tmp_path / "u16.json").write_text(json.dumps(CASE), encoding="utf-16")
+    assert_one_line_error(mcbat_cli("impact", tmp_path / "u16.json"), "not UTF-8 text")
+    # a UTF-8 byte-order mark is harmless: accepted in both
+    (tmp_path / "bom.toml").write_bytes(b"\xef\xbb\xbf" + STUDY.encode())
+    proc = mcbat_cli("run", tmp_path / "bom.toml", "--out", tmp_path / "ds", "--samples",
+                     500, "--quiet")
+    assert proc.returncode == 0, proc.stderr
+    proc = mcbat_cli("impact", "-", stdin=b"\xef\xbb\xbf" + json.dumps(CASE).encode())
+    assert proc.returncode == 0 and json.loads(proc.stdout)["status"] == "ok"
+
+
+def test_deep_json_is_a_clear_error():
+    proc = mcbat_cli("impact", "-", stdin=b"[" * 100_000 + b"]" * 100_000)
+    assert_one_line_error(proc, "<stdin>", "nested too deeply")
+
+
+def test_one_unsolvable_case_fails_the_call_naming_its_index():
+    # Documented choice (docs/errors.md): the whole call fails cleanly (exit 2, nothing on
+    # stdout), naming the case; never an internal error.
+    bad = json.loads(json.dumps(CASE))
+    bad["ball_velocity"] = [-1e300, 0.0, 0.0]
+    proc = mcbat_cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]).encode())
+    assert_one_line_error(proc, "case 1", "status 'invalid_input'")
+    assert proc.stdout == b""
+
+
+def test_a_reader_that_goes_away_is_not_an_error(tmp_path):
+    cases = json.dumps([CASE] * 3000).encode()
+    proc = subprocess.run(f"{sys.executable} -m mcbat impact - | head -c 10", shell=True,
+                          input=cases, capture_output=True, cwd=ROOT)
+    assert proc.stdout == b"[\n  {\n    \""[:10]
+    assert proc.stderr == b""
+
+
+@pytest.mark.parametrize("args,needles", [
+    (["--samples", "1000000000000000"], ["--samples", "must be <= 1,000,000,000,000"]),
+    (["--samples", "100000000", "--chunk-size", "100"], ["--chunk-size", "at most 100,000"]),
+])
+def test_sample_counts_beyond_the_limits_are_refused_up_front(tmp_path, args, needles):
+    proc = mcbat_cli("run", EXAMPLE, "--out", tmp_path / "ds", "--quiet", *args)
+    assert_one_line_error(proc, *needles)
+    assert not (tmp_path / "ds").exists()
+
+
+def test_sobol_limit_is_checked_before_anything_runs(tmp_path):
+    text = _edit(STUDY, IMPACT, 'impact_parameter = { dist = "sobol", low = -1.5, high = 1.5,'
+                 ' unit = "in" }')
+    (tmp_path / "s.toml").write_text(text)
+    proc = mcbat_cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--samples",
+                     2**32 + 1, "--chunk-size", 2**20)
+    assert_one_line_error(proc, "--samples", "sobol", "2**32")
+    assert not (tmp_path / "ds").exists()
+
+
+def test_huge_weights_keep_their_ratio(tmp_path):
+    text = _edit(STUDY, SPIN, 'z = { dist = "choice", values = [79, 0], '
+                 'weights = [1e308, 1e308] }')
+    (tmp_path / "s.toml").write_text(text)
+    proc = mcbat_cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--samples",
+                     4000, "--quiet")
+    assert proc.returncode == 0 and proc.stderr == b"", proc.stderr
+    share = (mcbat.load(tmp_path / "ds")["ball_wz_in"] == 79.0).mean()
+    assert abs(share - 0.5) < 0.04  # 4000 draws: sigma 0.008
+
+
+def test_a_failed_first_run_does_not_block_the_corrected_rerun(tmp_path, monkeypatch):
+    # The run fails in its first chunk (a kernel error injected here): the directory it
+    # created is gone, so the corrected rerun is not "a dataset of another config".
+    from mcbat.runner import plan, run_study
+    from mcbat.study import load_study
+
+    def broken(*args, **kwargs):
+        raise MemoryError("injected")
+
+    monkeypatch.setattr(plan, "solve_batch", broken)
+    study = load_study(EXAMPLE)
+    with pytest.raises(MemoryError):
+        run_study(study, tmp_path / "ds", samples=100, progress=False)
+    assert not (tmp_path / "ds").exists()
+    monkeypatch.undo()
+    summary = run_study(study.with_overrides(seed=3), tmp_path / "ds", samples=100,
+                        progress=False)
+    assert summary.chunks_computed == 1
