@@ -193,12 +193,11 @@ def cmd_reproduce(args) -> int:
     if args.paper == "sawicki2003":
         from mcbat.papers.sawicki2003.reproduce import reproduce as reproduce_sawicki
 
-        for flag in ("samples", "overwrite"):
-            if getattr(args, flag):
-                raise InputError(f"--{flag}", "applies to the cabo2012 reproduction only "
-                                              "(sawicki2003 writes no dataset)")
-        with _flags("out", "threads"):
-            reproduce_sawicki(args.out, threads=args.threads)
+        if args.samples:
+            raise InputError("--samples", "applies to the cabo2012 reproduction only "
+                                          "(sawicki2003 writes no dataset)")
+        with _flags("out", "threads", "overwrite"):
+            reproduce_sawicki(args.out, threads=args.threads, overwrite=args.overwrite)
         return EXIT_OK
     from mcbat.papers.cabo2012.reproduce import reproduce
 
@@ -373,7 +372,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="kernel threads (default: all cores)")
     rep.add_argument("--overwrite", action="store_true",
                      help="replace a Monte Carlo dataset in DIR written with another sample "
-                          "count or by an older mcbat")
+                          "count or by an older mcbat, and files named like the outputs "
+                          "(summary.json, figures/...) that mcbat did not write")
     rep.add_argument("--quiet", action="store_true", help="no progress bar")
     rep.set_defaults(func=cmd_reproduce)
 

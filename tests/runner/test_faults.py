@@ -82,3 +82,14 @@ def test_full_disk_is_a_clear_error_and_the_run_resumes_identically(tmpfs, tmp_p
     assert run(*args, "--out", clean).returncode == 0
     a, b = mcbat.load(target / "ds"), mcbat.load(clean)
     assert a.drop(columns="chunk").equals(b.drop(columns="chunk"))
+
+
+def test_full_disk_while_reproduce_writes_its_figures(tmpfs):
+    # Room for the marker and little else: the figures cannot be written.
+    target = tmpfs("tiny", "size=64k")
+    proc = run("reproduce", "sawicki2003", "--out", target)
+    assert proc.returncode == 2, proc.stderr
+    line, = proc.stderr.strip().splitlines()
+    assert "--out" in line and "No space left on device" in line
+    assert "Traceback" not in proc.stderr
+    assert not list(target.rglob(".*tmp"))  # no half-written text file left behind

@@ -23,6 +23,7 @@ from pathlib import Path
 from mcbat.dataset import load
 from mcbat.papers.cabo2012 import figures, sec5, summary
 from mcbat.papers.cabo2012.calibration import calibrate_restitution
+from mcbat.papers.outputs import ResultsDirectory
 from mcbat.runner import run_study
 from mcbat.study import load_study
 
@@ -30,6 +31,8 @@ __all__ = ["STUDY", "reproduce"]
 
 #: The bundled study of the Monte Carlo dataset (``studies/cross_nathan_2006.toml``).
 STUDY = "cross_nathan_2006.toml"
+#: What the reproduction writes into its results directory, besides the dataset.
+OUTPUT_NAMES = ("calibration.json", "figures", "summary.json")
 
 
 def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=print,
@@ -37,9 +40,11 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
     """Run the Sec. V reproduction into ``out``; returns a dict of the paths written.
 
     ``overwrite`` replaces a Monte Carlo dataset there that another sample count or an
-    older mcbat wrote (it is otherwise kept and resumed, or refused)."""
+    older mcbat wrote (it is otherwise kept and resumed, or refused), and files named like
+    the reproduction's outputs that mcbat did not write (:mod:`mcbat.papers.outputs`)."""
     t0 = time.perf_counter()
     out = Path(out)
+    results = ResultsDirectory(out, "cabo2012", OUTPUT_NAMES, overwrite=overwrite)
     with resources.as_file(resources.files("mcbat.studies").joinpath(STUDY)) as path:
         study = load_study(path)
     dataset_dir = out / study.name
@@ -47,11 +52,15 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
                     overwrite=overwrite)
     for line in run.lines():
         echo(line)
+    with results.writing():
+        return _results(results, dataset_dir, echo, t0)
 
+
+def _results(results, dataset_dir, echo, t0) -> dict:
+    """The calibration, figures and summary of :func:`reproduce`, from its dataset."""
+    out = results.root
     calibration = calibrate_restitution()
-    out.mkdir(parents=True, exist_ok=True)
-    calibration_path = out / "calibration.json"
-    calibration_path.write_text(json.dumps(
+    calibration_path = results.write_text("calibration.json", json.dumps(
         {**calibration.to_dict(), "paper_loss_fraction": sec5.LOSS_FRACTION,
          "paper_e_star": sec5.e_star_paper()}, indent=2) + "\n")
     echo(f"calibration: e* = {calibration.e_star:.7f} (e^2 = {calibration.loss_fraction:.7f}; "
@@ -61,8 +70,7 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
     df = load(dataset_dir)
     e_star = sec5.e_star_paper()  # the study's restitution, so curves and cloud agree
     model = summary.model_curves(e_star)
-    fig_dir = out / "figures"
-    fig_dir.mkdir(parents=True, exist_ok=True)
+    fig_dir = results.directory("figures")
     paths = []
     slip = figures.fig_slip_velocity(fig_dir)
     paths += [p for p, _ in (slip.values() if isinstance(slip, dict) else slip)]
@@ -74,8 +82,7 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
     paths.append(figures.fig_spin_vs_impact_parameter(fig_dir, df, model)[0])
 
     headline = summary.summarize(df, model, calibration=calibration.to_dict())
-    summary_path = out / "summary.json"
-    summary_path.write_text(json.dumps(headline, indent=2) + "\n")
+    summary_path = results.write_text("summary.json", json.dumps(headline, indent=2) + "\n")
     echo("")
     echo(summary.format_table(headline))
     echo("")

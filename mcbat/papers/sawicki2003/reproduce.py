@@ -25,6 +25,7 @@ import numpy as np
 
 from mcbat.papers.sawicki2003 import figures
 from mcbat.papers.sawicki2003.carry import FLIGHT_SETTINGS, fly
+from mcbat.papers.outputs import ResultsDirectory
 from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan
 from mcbat.runner.plan import positive_int, set_threads
 
@@ -104,41 +105,48 @@ def format_table(results: dict, comparison: dict) -> str:
     return "\n".join(lines)
 
 
-def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print) -> dict:
+def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print,
+              overwrite=False) -> dict:
     """Run the scans, write the summary, the table and the figures under
     ``out/sawicki2003``; returns the paths written. ``threads``: numba threads for the
-    kernels (default: all)."""
+    kernels (default: all). ``overwrite``: replace files named like the outputs that
+    mcbat did not write (:mod:`mcbat.papers.outputs`)."""
     t0 = time.perf_counter()
     set_threads(threads)
     per_cell = positive_int(per_cell, "per_cell")
-    root = Path(out) / "sawicki2003"
-    scans, results = {}, {}
+    results = ResultsDirectory(Path(out) / "sawicki2003", "sawicki2003",
+                               ("figures", "summary.json", "table.txt"), overwrite=overwrite)
+    scans, optima = {}, {}
     for pitch in PITCHES:
-        results[pitch] = {}
+        optima[pitch] = {}
         for model in MODELS:
             scan = run_scan(pitch, model, fly, per_cell)
             scans[pitch, model] = (scan, cell_means(scan))
-            results[pitch][model] = optimum(scans[pitch, model][1])
+            optima[pitch][model] = optimum(scans[pitch, model][1])
             echo(f"{pitch} / {model}: {scan.undercut.size:,} impacts and flights")
-    comparison = verdict(results)
-    root.mkdir(parents=True, exist_ok=True)
-    fig_dir = root / "figures"
-    fig_dir.mkdir(exist_ok=True)
-    paths = [figures.distance_vs_undercut(fig_dir, scans, results),
-             figures.spray_chart(fig_dir, scans, results),
+    comparison = verdict(optima)
+    with results.writing():
+        return _write(results, scans, optima, comparison, per_cell, echo, t0)
+
+
+def _write(results, scans, optima, comparison, per_cell, echo, t0) -> dict:
+    """The figures, summary and table of :func:`reproduce`."""
+    root = results.root
+    fig_dir = results.directory("figures")
+    paths = [figures.distance_vs_undercut(fig_dir, scans, optima),
+             figures.spray_chart(fig_dir, scans, optima),
              figures.distance_vs_launch_angle(fig_dir, scans)]
     summary = {"paper": "Sawicki, Hubbard & Stronge, Am. J. Phys. 71, 1152 (2003)",
                "per_cell": per_cell, "models_e_x": MODELS, "flight": FLIGHT_SETTINGS,
-               "optimum": results, "curveball_vs_fastball": comparison,
+               "optimum": optima, "curveball_vs_fastball": comparison,
                "units": {"undercut": "in", "attack_angle": "deg", "launch_speed": "mph",
                          "launch_angle": "deg", "backspin": "rpm", "sidespin": "rpm",
                          "distance": "ft", "distance_sd": "ft", "distance_se": "ft",
                          "hang_time": "s", "count": "rows"}}
-    summary_path = root / "summary.json"
-    summary_path.write_text(json.dumps(summary, indent=2, allow_nan=False) + "\n")
-    table = format_table(results, comparison)
-    table_path = root / "table.txt"
-    table_path.write_text(table + "\n")
+    summary_path = results.write_text("summary.json",
+                                      json.dumps(summary, indent=2, allow_nan=False) + "\n")
+    table = format_table(optima, comparison)
+    table_path = results.write_text("table.txt", table + "\n")
     echo("")
     echo(table)
     echo("")
