@@ -169,6 +169,10 @@ def cmd_run(args) -> int:
 
     study = load_study(args.study)  # validates everything before anything is written
     out = args.out or str(Path("results") / study.name)
+    if re.match(r"(?i)memory://", out):
+        raise InputError("--out", "memory:// keeps files in this process's memory: they would "
+                         "vanish when the command ends (the Python API can use it); give a "
+                         "directory or a persistent URL", out)
     with _flags(*RUN_PARAMETERS):
         summary = run_study(study, out, samples=args.samples, seed=args.seed,
                             threads=args.threads, chunk_size=args.chunk_size,

@@ -155,3 +155,14 @@ def test_a_failed_first_run_does_not_block_the_corrected_rerun(tmp_path, monkeyp
     summary = run_study(study.with_overrides(seed=3), tmp_path / "ds", samples=100,
                         progress=False)
     assert summary.chunks_computed == 1
+
+
+@pytest.mark.parametrize("url,needles", [
+    ("memory://x/y", ["--out", "memory:// keeps files"]),
+    ("file://otherhost/tmp/x", ["--out", "host 'otherhost' is not supported"]),
+    ("s3://bucket/ds?endpoint_override=localhost:9000", ["--out", "query strings"]),
+])
+def test_surprising_urls_are_refused(tmp_path, url, needles):
+    proc = mcbat_cli("run", EXAMPLE, "--out", url, "--samples", 100, "--quiet", cwd=tmp_path)
+    assert_one_line_error(proc, *needles)
+    assert list(tmp_path.iterdir()) == []  # nothing written anywhere here

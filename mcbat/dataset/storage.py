@@ -40,8 +40,17 @@ def location(where) -> Path | str:
     without a host is one too), else the URL as a string."""
     if isinstance(where, str) and _URL_RE.match(where):
         parsed = urlparse(where)
-        if parsed.scheme.lower() == "file" and parsed.netloc in ("", "localhost"):
+        scheme = parsed.scheme.lower()
+        if scheme == "file":
+            if parsed.netloc not in ("", "localhost"):
+                raise InputError(None, f"a file:// URL names this machine's files; host "
+                                 f"{parsed.netloc!r} is not supported (mount it and give "
+                                 "the local path)", where)
             return Path(unquote(parsed.path))
+        if parsed.query or parsed.fragment:
+            raise InputError(None, "URL query strings and fragments are not supported (the "
+                             "dataset's file names are appended to the path); configure the "
+                             "file system through its environment variables instead", where)
         return where.rstrip("/")
     return Path(where)
 

@@ -183,7 +183,10 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                          f"choose chunk_size >= {-(-samples // MAX_CHUNKS):,}")
     runner = make_engine(engine, threads, scheduler, workers)
 
-    display = storage.location(out)
+    try:
+        display = storage.location(out)
+    except InputError as err:
+        raise InputError("out", err.message, err.source) from None
     job, manifest = plan_run(study, display, samples, int(seed), chunk_size)
     with _out_errors(display):
         # Everything that can refuse the run, before a cluster is started or joined.
