@@ -34,7 +34,7 @@ class InputError(ValueError):
     def _render(self):
         where = f"{self.source}: " if self.source else ""
         field = f"{self.field}: " if self.field else ""
-        return f"{where}{field}{self.message}"
+        return _one_line(f"{where}{field}{self.message}")
 
     def within(self, prefix=None, source=None):
         """A copy located inside ``prefix`` (a parent field) and/or ``source`` (a file)."""
@@ -42,6 +42,14 @@ class InputError(ValueError):
         if prefix:
             field = f"{prefix}.{field}" if field else prefix
         return InputError(field, self.message, source or self.source)
+
+
+def _one_line(text: str) -> str:
+    """``text`` with every non-printable character (newlines, NUL, line separators)
+    escaped: an error is one line, whatever the user's keys and values contain."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
@@ -60,7 +68,11 @@ def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> fl
     """
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
         raise InputError(name, f"must be a number, got {value!r}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:  # an integer beyond the largest float
+        raise InputError(name, f"must be finite, got an integer of "
+                         f"{int(value).bit_length()} bits") from None
     if not math.isfinite(value):
         raise InputError(name, f"must be finite, got {value!r}")
     if positive and not value > 0.0:

@@ -91,8 +91,11 @@ def _type_name(value):
 def number(value, field):
     """A finite float from a TOML number, or :class:`InputError` on ``field``."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(field, f"must be a number, got {_type_name(value)} {value!r}")
-    value = float(value)
+        raise InputError(field, f"must be a number, got {_type_name(value)} {_short(value)}")
+    try:
+        value = float(value)
+    except OverflowError:  # an integer beyond the largest float
+        raise InputError(field, f"must be finite, got {_short(value)}") from None
     if not math.isfinite(value):
         raise InputError(field, f"must be finite, got {value!r}")
     return value

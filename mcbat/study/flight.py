@@ -35,7 +35,7 @@ from mcbat.core.flight import (
 )
 from mcbat.errors import InputError
 from mcbat.study import units as u
-from mcbat.study.distributions import check_keys, parse
+from mcbat.study.distributions import check_keys, number, parse
 
 __all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FlightSettings", "launch_vectors",
            "parse_flight"]
@@ -121,8 +121,7 @@ def _vector(spec, field, quantity):
         raise InputError(field, f"must be a list of 3 numbers, got {spec!r}")
     values = []
     for i, x in enumerate(spec):
-        if isinstance(x, bool) or not isinstance(x, int | float) or not math.isfinite(x):
-            raise InputError(f"{field}[{i}]", f"must be a finite number, got {x!r}")
+        x = number(x, f"{field}[{i}]")  # finite, not a boolean
         values.append(float(u.to_si(x, unit, quantity, field)))
     return tuple(values)
 

@@ -285,9 +285,11 @@ def _parse_inputs(data) -> dict:
 def check_solver(table):
     """The ``[solver]`` section, validated, with the kernel's defaults filled in."""
     check_keys(table, "solver", (), ("steps", "tolerance", "max_steps"))
-    steps = integer(table.get("steps", DEFAULT_STEPS), "solver.steps", minimum=1)
+    # Upper bounds keep one impact's work bounded (a step budget of 10^6 is ~0.1 s).
+    steps = integer(table.get("steps", DEFAULT_STEPS), "solver.steps", minimum=1,
+                    maximum=10**4)
     max_steps = integer(table.get("max_steps", DEFAULT_MAX_STEPS), "solver.max_steps",
-                        minimum=1)
+                        minimum=1, maximum=10**6)
     tolerance = number(table.get("tolerance", DEFAULT_TOLERANCE), "solver.tolerance")
     if not 0.0 < tolerance < 1.0:
         raise InputError("solver.tolerance", f"must be > 0 and < 1, got {tolerance!r}")
