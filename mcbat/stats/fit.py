@@ -41,7 +41,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.geometry import angles_from_impact_parameters
+from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
 from mcbat.core.status import OK, STATUS_NAMES
 from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
@@ -63,7 +63,10 @@ SEARCH = {"e": (0.05, 0.98), "mu": (0.01, 1.0), "ball_inertia_factor": (0.1, 0.8
 """Ranges of the coarse grid that starts the search (mu on a logarithmic grid: where
 impacts slide, the likelihood changes fast with mu; where all stick it is flat)."""
 GRID_EVALUATIONS = 121
-"""Size of the coarse starting grid (11 x 11 for two parameters, 5^3 for three, ...)."""
+"""Size of the coarse starting grid (11 x 11 for two parameters; at least 6 points a
+parameter: 6^3 for three, ...)."""
+STARTS = 2
+"""Local searches, from the best points of the grid."""
 ONE_SIGMA = 0.5
 """Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
 LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
@@ -71,6 +74,13 @@ LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
 search ranges is refused (a typo or a wrong unit), not fitted."""
+GRAZING = 0.999
+"""A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
+above 87.4 deg) is refused: the ball grazes the bat."""
+UNIT_SIGMA = 3.0
+"""When half the rows of an observable or more lie this many sigma beyond every model
+prediction over the search ranges, the column is refused with a hint about its unit (a
+correct table has ~0.3 % of its rows that far from the true model)."""
 _INDEX = {name: i for i, name in enumerate(INPUT_FIELDS)}
 _OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
 _BAD = 1e30
@@ -266,6 +276,12 @@ class Likelihood:
         azimuth = inputs[_INDEX["angle"]] - angle0
         angles_from_impact_parameters(b, ball_r, radius, slope, azimuth,
                                       inputs[_INDEX["angle"]])
+        reach = np.array([ball_centre_radial_distance(*v) for v in zip(ball_r, radius, slope)])
+        grazing = (np.abs(b_meas) >= GRAZING * reach.reshape(rows, draws).min(axis=1))
+        if grazing.any():
+            raise InputError("impact_parameter", f"{_rows(grazing, b_meas)}: at the reach of "
+                             f"ball and bat ({reach.min():.5g} m): a grazing contact, not a "
+                             f"measurable impact", source)
         missed = np.isnan(inputs[_INDEX["angle"]]).reshape(rows, draws).all(axis=1)
         if missed.any():
             raise InputError("impact_parameter", f"{_rows(missed, b_meas)}: beyond the reach of "
@@ -404,14 +420,15 @@ class Likelihood:
             y = self.y[:, j]
             beyond = np.maximum(lo[:, j] - y, y - hi[:, j]) / sd[:, j]
             far = beyond > OUTLIER_SIGMA
-            if not far.any():
-                continue
+            many = beyond > UNIT_SIGMA
             span = f"{np.min(lo[:, j]):.3g}..{np.max(hi[:, j]):.3g} {UNITS_HINT[col][0]}"
-            if far.sum() >= 0.5 * self.rows:
-                raise InputError(col, f"{int(far.sum())} of {self.rows} rows lie far outside "
+            if many.sum() >= 0.5 * self.rows:
+                raise InputError(col, f"{int(many.sum())} of {self.rows} rows lie far outside "
                                  f"anything the model gives for this study (model "
                                  f"{span}, measured median {np.median(y):.3g}): "
                                  f"{UNITS_HINT[col][1]}", self.source)
+            if not far.any():
+                continue
             raise InputError(col, f"{_rows(far, y)}: more than {OUTLIER_SIGMA:g} sigma beyond "
                              f"anything the model gives for this study (model {span}): a typo "
                              f"or another unit? Fix or remove the row", self.source)
@@ -477,7 +494,7 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
         # mu does not matter): a coarse grid over the search ranges finds the right basin
         # before the local search. The grid also gives the range of the model's predictions,
         # against which values in a wrong unit are refused.
-        points = max(4, round(GRID_EVALUATIONS ** (1.0 / len(like.free))))
+        points = max(6, round(GRID_EVALUATIONS ** (1.0 / len(like.free))))
         axes = [np.geomspace(*SEARCH[p], points) if p == "mu"
                 else np.linspace(*SEARCH[p], points) for p in like.free]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
@@ -488,14 +505,16 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
             raise like.failure_error()
         like.check_envelope()
         like.envelope = None
-        x0 = grid[int(np.argmin(values))]
+        starts = grid[np.argsort(values)[:STARTS]]
     else:
-        x0 = np.asarray(start, float)
-        if not like(x0) < _BAD:
+        starts = [np.asarray(start, float)]
+        if not like(starts[0]) < _BAD:
             raise like.failure_error() if like.failure else InputError(
-                "start", f"outside the parameter ranges: {list(x0)}")
+                "start", f"outside the parameter ranges: {list(starts[0])}")
     scale = np.array([0.05 * (SEARCH[p][1] - SEARCH[p][0]) for p in like.free])
-    res = _minimize(like, x0, scale)
+    # Local searches from the best grid points: the likelihood can have a second basin
+    # (e.g. every drop stuck at large mu, with e_x = 0) that one start would settle in.
+    res = min((_minimize(like, x0, scale) for x0 in starts), key=lambda r: r.fun)
     best, nll_min = res.x, float(res.fun)
     err, cov = _curvature_errors(like, best)
     summary = {}
@@ -575,7 +594,7 @@ def _profile(like, best, nll_min, err, cov):
     found = {"x": None, "nll": nll_min - 1e-3}
 
     def profile(i, t):
-        """min over the other parameters of -ln L with parameter i at t; the point."""
+        """Min over the other parameters of -ln L with parameter i at t; the point."""
         others = [j for j in range(n) if j != i]
         x = best.copy()
         x[i] = t
@@ -625,24 +644,27 @@ def _profile(like, best, nll_min, err, cov):
         for sign, edge in ((-1, lo_edge), (1, hi_edge)):
             sides[sign] = _side(lambda t, i=i: profile(i, t), best[i], sign, edge,
                                 scale[i], (name, edge) in PHYSICAL_EDGES)
-        lower, upper = sides[-1], sides[1]
-        entry = {"lower_error": lower["error"], "upper_error": upper["error"],
-                 "status": "measured", "limit": None, "at_bound": None}
-        for side in (lower, upper):
-            if side["physical"]:
-                entry["at_bound"] = side["edge"]
-        if lower["error"] is None and upper["error"] is None:
-            entry["status"] = "unidentified"
-        elif upper["error"] is None or lower["error"] is None:
-            sign, side = (-1, lower) if upper["error"] is None else (1, upper)
-            entry["status"] = "lower_limit" if sign < 0 else "upper_limit"
-            if side["root"] is not None:
-                entry["limit"] = _limit(lambda t, i=i: profile(i, t), best[i], sign,
-                                        side["edge"], scale[i], side["root"])
-            else:  # the interval reaches a physical edge on the bounded side
-                entry["limit"] = side["edge"]
-        summary[name] = entry
+        summary[name] = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
+            lambda t: profile(i, t), best[i], sign, side["edge"], scale[i], side["root"]))
     return summary, found["x"]
+
+
+def _entry(lower, upper, limit):
+    """The :attr:`FitResult.intervals` entry of one parameter from its two sides;
+    ``limit(sign, side)`` computes a one-sided 95 % limit."""
+    entry = {"lower_error": lower["error"], "upper_error": upper["error"],
+             "status": "measured", "limit": None, "at_bound": None}
+    for side in (lower, upper):
+        if side["physical"]:
+            entry["at_bound"] = side["edge"]
+    if lower["error"] is None and upper["error"] is None:
+        entry["status"] = "unidentified"
+    elif upper["error"] is None or lower["error"] is None:
+        sign, side = (-1, lower) if upper["error"] is None else (1, upper)
+        entry["status"] = "lower_limit" if sign < 0 else "upper_limit"
+        # The bounded side's 95 % limit, or the physical edge its interval reaches.
+        entry["limit"] = limit(sign, side) if side["root"] is not None else side["edge"]
+    return entry
 
 
 def _side(delta, best, sign, edge, scale, physical):

@@ -30,7 +30,8 @@ from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solv
 from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
 
-__all__ = ["COLUMNS", "MEASURED_INPUTS", "OBSERVABLES", "UNITS_HINT", "read_measurements", "synthesize", "write_table_atomic"]
+__all__ = ["COLUMNS", "MEASURED_INPUTS", "OBSERVABLES", "UNITS_HINT", "read_measurements",
+           "synthesize", "write_table_atomic"]
 
 COLUMNS = {"impact_parameter": "m", "spin_in": "rad/s", "exit_speed": "m/s",
            "scattering_angle": "deg", "spin_out": "rad/s"}
