@@ -102,10 +102,13 @@ def _read_cases(path):
 
 
 def _json_value(value):
+    """``value`` with non-finite floats (also inside lists and dicts) as None: strict JSON."""
     if isinstance(value, float) and not math.isfinite(value):
         return None
-    if isinstance(value, list):
+    if isinstance(value, (list, tuple)):
         return [_json_value(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _json_value(v) for k, v in value.items()}
     return value
 
 
@@ -215,24 +218,50 @@ def cmd_calibrate(args) -> int:
     from mcbat.papers.cabo2012 import sec5
     from mcbat.papers.cabo2012.calibration import calibrate_restitution
 
+    if args.target is not None and not (math.isfinite(args.target) and args.target > 0):
+        raise InputError("--target", f"must be a finite speed > 0 (m/s), got {args.target!r}")
     with _flags("target"):
         result = calibrate_restitution(sec5.TARGET_SPEED if args.target is None
                                        else args.target)
-    json.dump(result.to_dict(), sys.stdout, indent=2)
+    json.dump(_json_value(result.to_dict()), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
     return EXIT_OK
+
+
+def _check_output(path, flag, suffixes):
+    """Refuse an output path that cannot be written, before any work is done."""
+    import os
+
+    target = Path(path)
+    if target.suffix.lower() not in suffixes:
+        raise InputError(flag, f"unsupported file type {target.suffix or '(none)'!r} for "
+                         f"{path} (use one of: {', '.join(suffixes)})")
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(flag, f"cannot write {path}: no such directory {str(parent)!r}")
+    if target.is_dir():
+        raise InputError(flag, f"cannot write {path}: it is a directory")
+    if not os.access(parent, os.W_OK):
+        raise InputError(flag, f"cannot write {path}: the directory is not writable")
+
+
+SYNTH_PARAMETERS = ("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_noise",
+                    "spin_noise", "impact_parameter_noise", "spin_in_noise")
 
 
 def cmd_synth(args) -> int:
     from mcbat.stats.measurements import synthesize, write_table_atomic
     from mcbat.study import load_study
 
+    if args.out:
+        _check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
     study = load_study(args.study)
-    with _flags("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_noise",
-                "spin_noise"):
+    with _flags(*SYNTH_PARAMETERS):
         table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu, e_x=args.e_x,
                            speed_noise=args.speed_noise, angle_noise=args.angle_noise,
-                           spin_noise=args.spin_noise)
+                           spin_noise=args.spin_noise,
+                           impact_parameter_noise=args.impact_parameter_noise,
+                           spin_in_noise=args.spin_in_noise)
     if args.out:
         write_table_atomic(table, args.out)
         print(f"{len(table)} rows written to {args.out}")
@@ -241,18 +270,31 @@ def cmd_synth(args) -> int:
     return EXIT_OK
 
 
+RESIDUAL_FORMATS = (".png", ".pdf", ".svg")
+
+
 def cmd_fit(args) -> int:
-    from mcbat.stats.fit import compare_models, fit
+    from mcbat.stats.fit import check_bootstrap, check_free, compare_models, fit
     from mcbat.stats.measurements import read_measurements
     from mcbat.study import load_study
 
+    # Every option is checked before any work.
+    with _flags("free", "bootstrap", "draws", "seed"):
+        free = tuple(check_free(args.free))
+        check_bootstrap(args.bootstrap)
+        if args.draws < 4:
+            raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
+        if args.seed < 0:
+            raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
+    if args.residuals:
+        _check_output(args.residuals, "--residuals", RESIDUAL_FORMATS)
     study = load_study(args.study)
     table = read_measurements(args.data, required=("impact_parameter",))
-    free = tuple(p.strip() for p in args.free.split(",") if p.strip())
-    with _flags("free", "bootstrap"):
-        result = fit(study, table, free, bootstrap=args.bootstrap)
-        comparison = None if args.no_compare else compare_models(study, table, free,
-                                                                 fitted=result)
+    with _flags("free", "bootstrap", "draws", "seed", "intervals"):
+        result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
+                     seed=args.seed, intervals=args.intervals)
+        comparison = None if args.no_compare else compare_models(
+            study, table, free, draws=args.draws, seed=args.seed, fitted=result)
     if args.residuals:
         from mcbat.stats.figures import fig_fit_residuals
 
@@ -261,19 +303,14 @@ def cmd_fit(args) -> int:
         out = result.to_dict()
         if comparison is not None:
             out["model_comparison"] = comparison.to_dict()
-        json.dump(out, sys.stdout, indent=2)
+        json.dump(_json_value(out), sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
         return EXIT_OK
     print(f"fit of {', '.join(free)} to {len(table)} rows of {args.data} "
           f"(study {study.name}):")
-    for name, value in result.params.items():
-        extra = (f", bootstrap {result.bootstrap_stderr[name]:.4g}"
-                 if name in result.bootstrap_stderr else "")
-        print(f"  {name} = {value:.6g} +- {result.stderr[name]:.2g} (curvature{extra})")
+    for line in result.lines():
+        print(line)
     print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
-    for name in result.unconstrained:
-        print(f"  warning: the data do not bound {name} (the likelihood is flat up to the "
-              f"edge of its range); its value is not a measurement")
     if comparison is not None:
         print("\n".join(comparison.lines()))
     return EXIT_OK
@@ -409,15 +446,25 @@ def build_parser() -> argparse.ArgumentParser:
                      help="1-sigma error of the scattering angle, deg (default 3)")
     syn.add_argument("--spin-noise", type=float, default=0.10,
                      help="relative 1-sigma error of the outgoing spin (default 0.10)")
-    syn.add_argument("--out", metavar="M.csv", help="output file (default: stdout)")
+    syn.add_argument("--impact-parameter-noise", type=float, default=0.0, metavar="M",
+                     help="1-sigma error of the written impact parameter, m (default 0: "
+                          "exact); adds an impact_parameter_err column")
+    syn.add_argument("--spin-in-noise", type=float, default=0.0, metavar="RAD_S",
+                     help="1-sigma error of the written incoming spin, rad/s (default 0); "
+                          "adds a spin_in_err column")
+    syn.add_argument("--out", metavar="M.csv", help="output file, .csv or .parquet "
+                     "(default: stdout)")
     syn.set_defaults(func=cmd_synth)
 
     fit = sub.add_parser(
         "fit", help="fit model parameters to a measurement table",
         description="Maximum-likelihood fit of the free parameters (any of e, mu, "
                     "ball_inertia_factor, axial, e_x) to a measurement table, with the "
-                    "study's nuisance scatter marginalised by the kernel; uncertainties from "
-                    "the curvature (and --bootstrap N refits); chi2/dof and its p-value. "
+                    "study's nuisance scatter and the errors of measured inputs "
+                    "(impact_parameter_err, spin_in_err) marginalised by the kernel; "
+                    "profile-likelihood intervals (asymmetric; one-sided 95 % limits where "
+                    "the data bound a parameter on one side only), the curvature error, and "
+                    "--bootstrap N refits; chi2/dof and its p-value. "
                     "Then a model comparison: the rigid model (e_x = 0) against tangential "
                     "compliance (e_x free, Cross & Nathan 2006), by BIC, with AIC and the "
                     "likelihood ratio.")
@@ -426,7 +473,16 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--free", default="e,mu", help="comma-separated (default: e,mu)")
     fit.add_argument("--bootstrap", type=_int_arg("--bootstrap"), default=0, metavar="N",
                      help="parametric bootstrap refits (default 0)")
-    fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure")
+    fit.add_argument("--intervals", choices=("profile", "curvature"), default="profile",
+                     help="profile: profile-likelihood intervals and one-sided limits "
+                          "(default); curvature: Hessian errors only (faster)")
+    fit.add_argument("--draws", type=_int_arg("--draws"), default=48, metavar="M",
+                     help="model draws per row for the nuisance scatter and the input errors "
+                          "(default 48)")
+    fit.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S",
+                     help="seed of the draws (default 0)")
+    fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure "
+                     "(.png, .pdf or .svg)")
     fit.add_argument("--json", action="store_true", help="print the result as JSON")
     fit.add_argument("--no-compare", action="store_true",
                      help="skip the rigid-versus-compliant model comparison")

@@ -1,18 +1,34 @@
-"""Fit model parameters to a measurement table, with nuisance scatter marginalised.
+"""Fit model parameters to a measurement table, marginalising nuisance scatter and the
+errors of the measured inputs.
 
-Likelihood. Row ``i`` of the table has a measured impact parameter ``b_i`` and incoming spin
-``w_i`` (taken as exact), and measured observables ``y_ij`` (exit speed, scattering angle,
-outgoing spin) with 1-sigma errors ``s_ij``. The study supplies the fixed setup and the
-nuisance scatter (the axial impact point, the spread of the incoming spin, ...): for each
-row, ``M`` nuisance draws are solved with the fast kernel at parameters ``theta``, giving
-the model's mean ``m_ij(theta)`` and spread ``v_ij(theta)``. The log-likelihood is Gaussian,
+Likelihood. Row ``i`` of the table has a measured impact parameter ``b_i`` and possibly an
+incoming spin ``w_i``, and measured observables ``y_ij`` (exit speed, scattering angle,
+outgoing spin) with 1-sigma errors ``s_ij``. For each row, ``M`` draws are solved with the
+fast kernel at parameters ``theta``:
 
-    -2 ln L = sum_ij (y_ij - m_ij)^2 / (s_ij^2 + v_ij) + ln(s_ij^2 + v_ij),
+* the study's nuisance scatter (the axial impact point, the spread of the incoming spin
+  when the table has no ``spin_in``, ...) is drawn from the study;
+* a measured input with an ``_err`` column (``impact_parameter_err``, ``spin_in_err``) is
+  drawn from its posterior given the measurement: a normal of that width about the
+  measured value, truncated to the range the study allows for that input (a flat prior
+  there; for the drop-test study, ``|b| <= 1 in``), stratified over the ``M`` draws
+  (one draw in each of ``M`` equal-probability slices, shuffled) so that the smear is
+  represented with little Monte Carlo noise; without an ``_err`` column the input is exact.
 
-with the nuisance draws held fixed (common random numbers) so that ``L`` is smooth in
-``theta``. ``scipy.optimize.minimize`` finds the maximum; uncertainties come from the
-curvature (a finite-difference Hessian of ``-ln L``) and, optionally, a parametric
-bootstrap. ``chi^2`` is the sum of squared normalised residuals at the best fit, with
+Draws whose impact fails (status not ``ok``, e.g. a nuisance geometry in which the ball does
+not reach the bat) are dropped: the measured rows are impacts. The draws give the model's
+mean ``m_ij(theta)`` and spread ``v_ij(theta)`` over the ``n_i`` good draws, and
+
+    -2 ln L = sum_ij (y_ij - m_ij)^2 / t_ij + ln(2 pi t_ij),  t_ij = s_ij^2 + v_ij (1 + 1/n_i)
+
+(the ``1/n_i`` term is the Monte Carlo error of the mean). The draws are held fixed (common
+random numbers), so ``L`` is smooth in ``theta``. A coarse grid and Nelder-Mead find the
+maximum. Intervals are profile-likelihood intervals (``-ln L`` rises by 1/2 when the other
+parameters are re-optimised; asymmetric in general); where the likelihood stays flat up to
+the end of a parameter's range on one side, a one-sided 95 % limit (a rise of 1.353) is
+reported instead, and a parameter flat on both sides is reported as not identified. The
+curvature error (finite-difference Hessian) is kept as ``stderr``; a parametric bootstrap is
+optional. ``chi^2`` is the sum of squared normalised residuals at the best fit, with
 ``dof = rows x observables - free parameters`` and its ``scipy.stats.chi2`` p-value.
 """
 
@@ -25,9 +41,11 @@ import numpy as np
 from scipy import optimize, stats
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
+from mcbat.core.status import OK, STATUS_NAMES
 from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
-from mcbat.stats.measurements import OBSERVABLES
+from mcbat.stats.measurements import MEASURED_INPUTS, OBSERVABLES, UNITS_HINT
 
 __all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "Likelihood", "ModelComparison", "SEARCH",
            "compare_models", "fit"]
@@ -36,19 +54,49 @@ FREE = {"e": (1e-3, 1.0), "mu": (1e-3, 2.0), "ball_inertia_factor": (0.05, 1.0),
         "axial": (-1.0, 1.0), "e_x": (0.0, 1.0)}
 """Parameters that can be fitted, with their allowed ranges (``e_x``: the tangential
 restitution of Cross & Nathan 2006, 0 = the rigid model)."""
+PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3)}
+"""Ends of :data:`FREE` that are physical limits (an interval may end there); the other
+ends (``mu = 2``, ...) only end the search, and a likelihood still flat there means the data
+do not bound the parameter on that side."""
 SEARCH = {"e": (0.05, 0.98), "mu": (0.01, 1.0), "ball_inertia_factor": (0.1, 0.8),
           "axial": (-0.05, 0.05), "e_x": (0.0, 0.6)}
 """Ranges of the coarse grid that starts the search (mu on a logarithmic grid: where
 impacts slide, the likelihood changes fast with mu; where all stick it is flat)."""
-GRID_EVALUATIONS = 256
-"""Size of the coarse starting grid (16 x 16 for two parameters, 6^3 for three, ...)."""
+GRID_EVALUATIONS = 121
+"""Size of the coarse starting grid (11 x 11 for two parameters; at least 6 points a
+parameter: 6^3 for three, ...)."""
+STARTS = 2
+"""Local searches, from the best points of the grid."""
+ONE_SIGMA = 0.5
+"""Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
+LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
+"""Rise of ``-ln L`` (1.353) that sets a one-sided 95 % limit."""
+OUTLIER_SIGMA = 8.0
+"""A measured value further than this many sigma beyond every model prediction over the
+search ranges is refused (a typo or a wrong unit), not fitted."""
+GRAZING = 0.999
+"""A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
+above 87.4 deg) is refused: the ball grazes the bat."""
+UNIT_SIGMA = 3.0
+"""When half the rows of an observable or more lie this many sigma beyond every model
+prediction over the search ranges, the column is refused with a hint about its unit (a
+correct table has ~0.3 % of its rows that far from the true model)."""
 _INDEX = {name: i for i, name in enumerate(INPUT_FIELDS)}
 _OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
+_BAD = 1e30
 
 
 @dataclass
 class FitResult:
-    """Best-fit parameters with uncertainties and the goodness of fit."""
+    """Best-fit parameters with uncertainties and the goodness of fit.
+
+    ``stderr`` holds the curvature errors (``inf`` for a parameter the data do not bound,
+    NaN where the curvature is not positive); ``intervals`` the profile-likelihood result
+    per parameter: ``lower_error``, ``upper_error`` (positive, or None on a side the data do
+    not bound), ``status`` (``"measured"``, ``"lower_limit"``, ``"upper_limit"`` or
+    ``"unidentified"``), ``limit`` (the one-sided 95 % limit, or None) and ``at_bound``
+    (the physical edge the interval reaches, or None).
+    """
 
     params: dict
     stderr: dict
@@ -59,8 +107,9 @@ class FitResult:
     bootstrap_stderr: dict = field(default_factory=dict)
     residuals: object = None
     unconstrained: list = field(default_factory=list)
-    """Parameters whose likelihood stays flat (within 2 units of -ln L) up to an edge of
-    the search range: the data do not bound them, their ``stderr`` is inf."""
+    """Parameters the data do not bound on at least one side (status other than
+    ``"measured"``): their ``stderr`` is inf and their value is not a measurement."""
+    intervals: dict = field(default_factory=dict)
 
     @property
     def aic(self) -> float:
@@ -72,68 +121,219 @@ class FitResult:
         return 2.0 * self.neg_log_likelihood + len(self.params) * math.log(n_points)
 
     def to_dict(self) -> dict:
-        """The fit as JSON-ready data (the ``mcbat fit --json`` output)."""
-        params = {k: {"value": v, "stderr": self.stderr.get(k, math.nan)}
-                  for k, v in self.params.items()}
-        for k, v in self.bootstrap_stderr.items():
-            params[k]["bootstrap_stderr"] = v
-        return {"params": params, "chi2": self.chi2, "dof": self.dof,
-                "p_value": self.p_value, "aic": self.aic,
-                "unconstrained": list(self.unconstrained)}
+        """The fit as JSON-ready data (the ``mcbat fit --json`` output; non-finite numbers
+        become None)."""
+        params = {}
+        for k, v in self.params.items():
+            entry = {"value": v, "stderr": self.stderr.get(k, math.nan)}
+            entry.update(self.intervals.get(k, {}))
+            if k in self.bootstrap_stderr:
+                entry["bootstrap_stderr"] = self.bootstrap_stderr[k]
+            params[k] = entry
+        return _finite({"params": params, "chi2": self.chi2, "dof": self.dof,
+                        "p_value": self.p_value, "aic": self.aic,
+                        "unconstrained": list(self.unconstrained)})
+
+    def lines(self) -> list[str]:
+        """The parameters as printed by ``mcbat fit``, one string per line."""
+        out = []
+        for name, value in self.params.items():
+            iv = self.intervals.get(name, {})
+            status = iv.get("status", "measured")
+            extra = (f"; bootstrap {self.bootstrap_stderr[name]:.2g}"
+                     if name in self.bootstrap_stderr else "")
+            curv = self.stderr.get(name, math.nan)
+            curv = f"curvature +- {curv:.2g}" if math.isfinite(curv) else "no curvature error"
+            if status == "measured":
+                lo, hi = iv.get("lower_error"), iv.get("upper_error")
+                edge = (f", reaching the physical bound {name} = {iv['at_bound']:g}"
+                        if iv.get("at_bound") is not None else "")
+                if lo is None:
+                    out.append(f"  {name} = {value:.6g} +- {self.stderr[name]:.2g} "
+                               f"(curvature{extra})")
+                else:
+                    out.append(f"  {name} = {value:.6g} -{lo:.2g} +{hi:.2g} (68 % profile "
+                               f"likelihood{edge}; {curv}{extra})")
+            elif status in ("lower_limit", "upper_limit"):
+                sign, side = (">", "above") if status == "lower_limit" else ("<", "below")
+                out.append(f"  {name} {sign} {iv['limit']:.4g} (95 % CL; the data do not "
+                           f"bound {name} from {side}: best value {value:.4g} is not a "
+                           f"measurement)")
+            else:
+                lo, hi = FREE[name]
+                out.append(f"  {name}: not identified by the data (the likelihood is flat "
+                           f"over {lo:g}..{hi:g}; {value:.4g} is not a measurement)")
+        return out
+
+
+def _finite(obj):
+    """``obj`` with every non-finite float replaced by None (strict JSON)."""
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def check_free(free):
+    """``free`` as a list of known, distinct parameter names, or :class:`InputError`."""
+    if isinstance(free, str):
+        free = [p.strip() for p in free.split(",")]
+    free = list(free)
+    if not free or any(not p for p in free):
+        raise InputError("free", f"give one or more parameters, comma-separated, from "
+                         f"{', '.join(FREE)}; got {','.join(free)!r}")
+    unknown = [p for p in free if p not in FREE]
+    if unknown:
+        raise InputError("free", f"unknown parameter {unknown[0]!r} (choose from "
+                         f"{', '.join(FREE)})")
+    dup = sorted({p for p in free if free.count(p) > 1})
+    if dup:
+        raise InputError("free", f"parameter {dup[0]!r} given twice")
+    return free
+
+
+def _check_count(value, name, minimum):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InputError(name, f"must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def check_bootstrap(n):
+    """``n`` refits: 0 (none) or at least 2 (a spread needs two), or :class:`InputError`."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not (n == 0 or n >= 2):
+        raise InputError("bootstrap", f"must be 0 (no bootstrap) or an integer >= 2, got {n!r}")
+    return int(n)
 
 
 class Likelihood:
-    """``-ln L(theta)`` of a measurement table under a study's model (see module doc)."""
+    """``-ln L(theta)`` of a measurement table under a study's model (see module doc).
+
+    Parameters
+    ----------
+    study : mcbat.study.Study
+        Fixed setup and nuisance scatter; it must place the contact by
+        ``contact.impact_parameter`` (the ball's line offset from the bat axis).
+    table : pandas.DataFrame
+        Measurement table: ``impact_parameter`` (m), optionally ``spin_in`` (rad/s), the
+        observables (m/s, deg, rad/s) and ``_err`` columns (1 sigma, same units).
+    free : sequence of str
+        Parameters to fit, from :data:`FREE`.
+    draws : int
+        Draws per row (at least 4).
+    seed : int
+        Seed of the draws.
+    fixed : dict, optional
+        Solver inputs held at given values (``{"e_x": 0.0}``: the rigid model).
+    """
 
     def __init__(self, study, table, free, draws=48, seed=0, fixed=None):
-        unknown = [p for p in free if p not in FREE]
-        if unknown:
-            raise InputError("free", f"unknown parameter {unknown[0]!r} (choose from "
-                             f"{', '.join(FREE)})")
-        if not free:
-            raise InputError("free", "give at least one parameter to fit")
-        for name in ("impact_parameter",):
-            if name not in table.columns:
-                raise InputError(name, "missing required column",
-                                 table.attrs.get("source"))
+        source = table.attrs.get("source")
+        self.free = check_free(free)
+        draws = _check_count(draws, "draws", 4)
+        seed = _check_count(seed, "seed", 0)
+        if "contact.impact_parameter" not in study.inputs:
+            raise InputError("impact_parameter", f"study {study.name!r} places the contact by "
+                             f"contact.angle, not contact.impact_parameter: a measured impact "
+                             f"parameter needs a study of a ball moving across the bat onto "
+                             f"its axis (as studies/cross_nathan_2006.toml)", source)
+        if "impact_parameter" not in table.columns:
+            raise InputError("impact_parameter", "missing required column", source)
         self.observables = [c for c in OBSERVABLES if c in table.columns]
         if not self.observables:
             raise InputError(None, f"the table has none of the observables "
-                             f"{', '.join(OBSERVABLES)}", table.attrs.get("source"))
-        self.free = list(free)
+                             f"{', '.join(OBSERVABLES)}", source)
+        for col in table.columns:
+            base = col[:-4] if col.endswith("_err") else None
+            if base is not None and base not in OBSERVABLES and base not in MEASURED_INPUTS:
+                raise InputError(col, f"the model cannot use an uncertainty of {base!r} (only "
+                                 f"of {', '.join(OBSERVABLES + MEASURED_INPUTS)})", source)
+        for name in fixed or {}:
+            if name not in _INDEX:
+                raise InputError("fixed", f"unknown solver input {name!r}")
+        self.source = source
         self.study = study
         rows = len(table)
         self.rows = rows
         self.draws = draws
-        # Nuisance draws: the study's own scatter, then each row's measured b and spin.
         cols = study.sample(0, rows * draws, seed)
         inputs = np.stack([np.asarray(cols[n], np.float64) for n in INPUT_FIELDS])
-        b = np.repeat(table["impact_parameter"].to_numpy(float), draws)
-        from mcbat.core.geometry import angle_from_impact_parameter
-
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 13,)))
+        b_meas = table["impact_parameter"].to_numpy(float)
+        b = self._input_draws("impact_parameter", table, rng,
+                              study.inputs["contact.impact_parameter"].support())
+        # The study's approach azimuth of each draw, then the contact angle of the row's b.
+        n = rows * draws
         ball_r = inputs[_INDEX["ball_radius"]]
-        radius = inputs[_INDEX["bat_radius"]]
-        slope = inputs[_INDEX["bat_slope"]]
-        inputs[_INDEX["angle"]] = [angle_from_impact_parameter(bb, rr, rad, sl, 0.0)
-                                   for bb, rr, rad, sl in zip(b, ball_r, radius, slope)]
-        if np.isnan(inputs[_INDEX["angle"]]).any():
-            raise InputError("impact_parameter", "beyond the reach of ball and bat: the ball "
-                             "would miss", table.attrs.get("source"))
+        radius, slope = inputs[_INDEX["bat_radius"]], inputs[_INDEX["bat_slope"]]
+        angle0 = np.empty(n)
+        angles_from_impact_parameters(np.asarray(cols["impact_parameter"], float), ball_r,
+                                      radius, slope, np.zeros(n), angle0)
+        azimuth = inputs[_INDEX["angle"]] - angle0
+        angles_from_impact_parameters(b, ball_r, radius, slope, azimuth,
+                                      inputs[_INDEX["angle"]])
+        reach = np.array([ball_centre_radial_distance(*v) for v in zip(ball_r, radius, slope)])
+        grazing = (np.abs(b_meas) >= GRAZING * reach.reshape(rows, draws).min(axis=1))
+        if grazing.any():
+            raise InputError("impact_parameter", f"{_rows(grazing, b_meas)}: at the reach of "
+                             f"ball and bat ({reach.min():.5g} m): a grazing contact, not a "
+                             f"measurable impact", source)
+        missed = np.isnan(inputs[_INDEX["angle"]]).reshape(rows, draws).all(axis=1)
+        if missed.any():
+            raise InputError("impact_parameter", f"{_rows(missed, b_meas)}: beyond the reach of "
+                             f"ball and bat (the ball would miss)", source)
         if "spin_in" in table.columns:
-            inputs[_INDEX["ball_wz_in"]] = np.repeat(table["spin_in"].to_numpy(float), draws)
+            inputs[_INDEX["ball_wz_in"]] = self._input_draws("spin_in", table, rng,
+                                                             (-math.inf, math.inf))
         for name, value in (fixed or {}).items():  # e.g. e_x = 0: the rigid model
             inputs[_INDEX[name]] = value
         self.inputs = inputs
-        self.base = {p: inputs[_INDEX[p]].copy() for p in free}
+        self.base = {p: inputs[_INDEX[p]].copy() for p in self.free}
         self.y = np.stack([table[c].to_numpy(float) for c in self.observables], axis=1)
         self.s2 = np.stack([table[f"{c}_err"].to_numpy(float) ** 2 if f"{c}_err" in table
                             else np.full(rows, _default_err(c, self.y[:, j])) ** 2
                             for j, c in enumerate(self.observables)], axis=1)
-        self.out = allocate_outputs(rows * draws)
+        self.out = allocate_outputs(n)
         self.calls = 0
+        self.failure = None
+        self.envelope = None
+
+    def _input_draws(self, name, table, rng, support):
+        """Per-draw values of measured input ``name``: exact, or smeared by its ``_err``."""
+        value = table[name].to_numpy(float)
+        if f"{name}_err" not in table.columns:
+            return np.repeat(value, self.draws)
+        sigma = table[f"{name}_err"].to_numpy(float)
+        # Stratified: one uniform in each of M equal slices, the slices shuffled per row.
+        slices = rng.permuted(np.tile(np.arange(self.draws), (self.rows, 1)), axis=1)
+        u = (slices + rng.uniform(size=slices.shape)) / self.draws
+        lo, hi = support
+        a = ((lo - value) / sigma)[:, None]
+        b = ((hi - value) / sigma)[:, None]
+        far = (a > OUTLIER_SIGMA).ravel() | (b < -OUTLIER_SIGMA).ravel()
+        if far.any():
+            raise InputError(name, f"{_rows(far, value)}: more than {OUTLIER_SIGMA:g} of its "
+                             f"errors outside the study's range {lo:g}..{hi:g}", self.source)
+        if math.isinf(lo) and math.isinf(hi):
+            z = stats.norm.ppf(u)
+        else:
+            z = stats.truncnorm.ppf(u, a, b)
+        return (value[:, None] + sigma[:, None] * z).ravel()
 
     def predict(self, theta):
-        """Model mean and nuisance variance per row and observable, at ``theta``."""
+        """Model mean and spread per row and observable at ``theta``, or None (and the reason
+        in :attr:`failure`) when some row has fewer than two good draws.
+
+        Returns
+        -------
+        mean, var, n_ok : ndarray
+            ``(rows, observables)`` mean and variance (units of the observables) over the
+            good draws, and ``(rows,)`` the number of good draws.
+        """
         x = self.inputs
         for name, value in zip(self.free, theta):
             if name == "axial":  # a shift of the impact point, keeping its scatter
@@ -145,6 +345,15 @@ class Likelihood:
         solve_batch(x, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
                     end)
         self.calls += 1
+        ok = (status == OK).reshape(self.rows, self.draws)
+        n_ok = ok.sum(axis=1)
+        if (n_ok < 2).any():
+            bad = n_ok < 2
+            codes = status.reshape(self.rows, self.draws)[bad]
+            worst = np.bincount(codes[codes != OK], minlength=len(STATUS_NAMES))
+            name = STATUS_NAMES[int(np.argmax(worst))]
+            self.failure = (bad, name, dict(zip(self.free, map(float, theta))))
+            return None
         derived = derive([out[_OUT[f"ball_v{c}"]] for c in "xyz"],
                          [out[_OUT[f"ball_w{c}"]] for c in "xyz"])
         values = {"exit_speed": derived["exit_speed"],
@@ -152,25 +361,86 @@ class Likelihood:
                   "spin_out": derived["spin_axial"]}
         sims = np.stack([values[c].reshape(self.rows, self.draws) for c in self.observables],
                         axis=2)
-        return sims.mean(axis=1), sims.var(axis=1, ddof=1)
+        if ok.all():
+            return sims.mean(axis=1), sims.var(axis=1, ddof=1), n_ok
+        sims = np.where(ok[:, :, None], sims, 0.0)
+        mean = sims.sum(axis=1) / n_ok[:, None]
+        dev = np.where(ok[:, :, None], sims - mean[:, None, :], 0.0)
+        return mean, (dev * dev).sum(axis=1) / (n_ok[:, None] - 1), n_ok
+
+    def _total(self, var, n_ok):
+        return self.s2 + var * (1.0 + 1.0 / n_ok[:, None])
 
     def __call__(self, theta):
         """``-ln L`` at the free parameters ``theta`` (1e30 outside their ranges or where
-        the likelihood is not finite)."""
+        the likelihood cannot be evaluated)."""
         for name, value in zip(self.free, theta):
             lo, hi = FREE[name]
             if not lo <= value <= hi:
-                return 1e30
-        mean, var = self.predict(theta)
-        total = self.s2 + var
+                return _BAD
+        pred = self.predict(theta)
+        if pred is None:
+            return _BAD
+        mean, var, n_ok = pred
+        total = self._total(var, n_ok)
+        if self.envelope is not None:  # the range of predictions over the search grid
+            lo, hi, sd = self.envelope
+            np.minimum(lo, mean, out=lo)
+            np.maximum(hi, mean, out=hi)
+            np.maximum(sd, np.sqrt(total), out=sd)
         nll = 0.5 * np.sum((self.y - mean) ** 2 / total + np.log(2 * np.pi * total))
-        return float(nll) if np.isfinite(nll) else 1e30
+        return float(nll) if np.isfinite(nll) else _BAD
 
     def residuals(self, theta):
         """Normalised residuals ``(measured - model mean) / sigma`` at ``theta``, one row per
         measurement and one column per observable."""
-        mean, var = self.predict(theta)
-        return (self.y - mean) / np.sqrt(self.s2 + var)
+        pred = self.predict(theta)
+        if pred is None:
+            raise self.failure_error()
+        mean, var, n_ok = pred
+        return (self.y - mean) / np.sqrt(self._total(var, n_ok))
+
+    def failure_error(self):
+        """An :class:`InputError` saying which rows could not be evaluated, and why."""
+        bad, status, theta = self.failure
+        where = ", ".join(f"{k} = {v:.4g}" for k, v in theta.items())
+        hint = {"not_approaching": " (the ball does not approach the bat at the contact: "
+                                   "an impact parameter at the reach of ball and bat?)",
+                "max_steps": " (the solver's step budget: raise [solver] max_steps)"}
+        return InputError("impact_parameter" if status == "not_approaching" else None,
+                          f"the likelihood cannot be evaluated: {_rows(bad)} "
+                          f"({int(bad.sum())} of {self.rows}) have no good impact among their "
+                          f"{self.draws} draws (status {status}{hint.get(status, '')}) at "
+                          f"{where}", self.source)
+
+    def check_envelope(self):
+        """Refuse rows far outside anything the model predicted over the search grid."""
+        lo, hi, sd = self.envelope
+        for j, col in enumerate(self.observables):
+            y = self.y[:, j]
+            beyond = np.maximum(lo[:, j] - y, y - hi[:, j]) / sd[:, j]
+            far = beyond > OUTLIER_SIGMA
+            many = beyond > UNIT_SIGMA
+            span = f"{np.min(lo[:, j]):.3g}..{np.max(hi[:, j]):.3g} {UNITS_HINT[col][0]}"
+            if many.sum() >= 0.5 * self.rows:
+                raise InputError(col, f"{int(many.sum())} of {self.rows} rows lie far outside "
+                                 f"anything the model gives for this study (model "
+                                 f"{span}, measured median {np.median(y):.3g}): "
+                                 f"{UNITS_HINT[col][1]}", self.source)
+            if not far.any():
+                continue
+            raise InputError(col, f"{_rows(far, y)}: more than {OUTLIER_SIGMA:g} sigma beyond "
+                             f"anything the model gives for this study (model {span}): a typo "
+                             f"or another unit? Fix or remove the row", self.source)
+
+
+def _rows(mask, values=None, limit=5):
+    """``"rows 3, 7 (value ...)"``: the 1-based rows where ``mask`` holds."""
+    idx = np.flatnonzero(mask)
+    shown = ", ".join(str(i + 1) + (f" ({values[i]:.6g})" if values is not None else "")
+                      for i in idx[:limit])
+    more = f" and {len(idx) - limit} more" if len(idx) > limit else ""
+    return f"row{'s' if len(idx) > 1 else ''} {shown}{more}"
 
 
 def _default_err(column, values):
@@ -183,7 +453,7 @@ def _default_err(column, values):
 
 
 def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=None,
-        fixed=None):
+        fixed=None, intervals="profile"):
     """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc).
 
     Parameters
@@ -193,63 +463,288 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
     table : pandas.DataFrame
         A measurement table (:func:`mcbat.stats.measurements.read_measurements`).
     free : sequence of str
-        Parameters to fit, from :data:`FREE`.
+        Parameters to fit, from :data:`FREE` (distinct).
     draws : int
-        Nuisance draws per row.
+        Draws per row (nuisance scatter and measured-input errors).
     seed : int
-        Seed of the nuisance draws (and of the bootstrap).
+        Seed of the draws (and of the bootstrap).
     bootstrap : int
-        Number of parametric bootstrap refits (0: none).
+        Number of parametric bootstrap refits (0: none, else at least 2).
     start : sequence of float, optional
         Starting point; default: the best point of a coarse grid over :data:`SEARCH`.
     fixed : dict, optional
         Inputs held at given values instead of the study's (``{"e_x": 0.0}``: rigid).
+    intervals : {"profile", "curvature"}
+        ``"profile"``: profile-likelihood intervals and limits (:attr:`FitResult.intervals`);
+        ``"curvature"``: the Hessian errors only (faster).
+
+    Raises
+    ------
+    InputError
+        Naming the parameter, the option or the table column: unknown or repeated
+        parameters, rows the model cannot evaluate, values far outside anything the model
+        produces (a wrong unit), ...
     """
+    bootstrap = check_bootstrap(bootstrap)
+    if intervals not in ("profile", "curvature"):
+        raise InputError("intervals", f"must be 'profile' or 'curvature', got {intervals!r}")
     like = Likelihood(study, table, free, draws=draws, seed=seed, fixed=fixed)
     if start is None:
         # The likelihood has flat regions (e.g. every impact sticks above some mu, and then
         # mu does not matter): a coarse grid over the search ranges finds the right basin
-        # before the local search.
-        points = max(4, round(GRID_EVALUATIONS ** (1.0 / len(like.free))))
+        # before the local search. The grid also gives the range of the model's predictions,
+        # against which values in a wrong unit are refused.
+        points = max(6, round(GRID_EVALUATIONS ** (1.0 / len(like.free))))
         axes = [np.geomspace(*SEARCH[p], points) if p == "mu"
                 else np.linspace(*SEARCH[p], points) for p in like.free]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
-        x0 = grid[int(np.argmin([like(x) for x in grid]))]
+        shape = like.y.shape
+        like.envelope = (np.full(shape, np.inf), np.full(shape, -np.inf), np.zeros(shape))
+        values = np.array([like(x) for x in grid])
+        if not (values < _BAD).any():
+            raise like.failure_error()
+        like.check_envelope()
+        like.envelope = None
+        starts = grid[np.argsort(values)[:STARTS]]
     else:
-        x0 = np.asarray(start, float)
-    res = optimize.minimize(like, x0, method="Nelder-Mead",
-                            options={"xatol": 1e-6, "fatol": 1e-7, "maxiter": 2000})
-    best = res.x
-    hess = _hessian(like, best, [FREE[p] for p in like.free])
-    try:
-        cov = np.linalg.inv(hess)
-        err = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
-    except np.linalg.LinAlgError:
-        err = np.full(len(best), np.nan)
-    # A parameter the data cannot bound (e.g. mu when every impact sticks: above the
-    # threshold the likelihood is flat) has no meaningful curvature error: flag it.
-    unconstrained = []
-    for i, name in enumerate(like.free):
-        for edge in SEARCH[name]:
-            if edge in FREE[name]:
-                continue  # a physical bound (e_x = 0), not the end of the search
-            probe = best.copy()
-            probe[i] = edge
-            if abs(edge - best[i]) > 1e-9 and like(probe) - res.fun < 2.0:
-                unconstrained.append(name)
-                err[i] = math.inf
-                break
+        starts = [np.asarray(start, float)]
+        if not like(starts[0]) < _BAD:
+            raise like.failure_error() if like.failure else InputError(
+                "start", f"outside the parameter ranges: {list(starts[0])}")
+    scale = np.array([0.05 * (SEARCH[p][1] - SEARCH[p][0]) for p in like.free])
+    # Local searches from the best grid points: the likelihood can have a second basin
+    # (e.g. every drop stuck at large mu, with e_x = 0) that one start would settle in.
+    res = min((_minimize(like, x0, scale) for x0 in starts), key=lambda r: r.fun)
+    best, nll_min = res.x, float(res.fun)
+    err, cov = _curvature_errors(like, best)
+    summary = {}
+    if intervals == "profile":
+        summary, better = _profile(like, best, nll_min, err, cov)
+        if better is not None:  # the profile found a lower point: restart from it
+            res = _minimize(like, better, scale)
+            best, nll_min = res.x, float(res.fun)
+            err, cov = _curvature_errors(like, best)
+            summary, _ = _profile(like, best, nll_min, err, cov)
+        unconstrained = [p for p in like.free if summary[p]["status"] != "measured"]
+    else:
+        unconstrained = _flat_to_edge(like, best, nll_min)
+    for name in unconstrained:
+        err[like.free.index(name)] = math.inf
     r = like.residuals(best)
     chi2 = float(np.sum(r * r))
     dof = int(r.size - len(best))
     result = FitResult(params=dict(zip(like.free, map(float, best))),
                        stderr=dict(zip(like.free, map(float, err))), chi2=chi2, dof=dof,
                        p_value=float(stats.chi2.sf(chi2, dof)) if dof > 0 else math.nan,
-                       neg_log_likelihood=float(res.fun), residuals=r,
-                       unconstrained=unconstrained)
+                       neg_log_likelihood=nll_min, residuals=r,
+                       unconstrained=unconstrained, intervals=summary)
     if bootstrap:
         result.bootstrap_stderr = _bootstrap(like, best, bootstrap, seed)
     return result
+
+
+def _minimize(like, x0, scale):
+    """Nelder-Mead from ``x0`` with a simplex of ``scale`` (tolerances well below any error)."""
+    simplex = np.vstack([x0] + [x0 + np.eye(len(x0))[i] * scale[i] *
+                                (1 if x0[i] + scale[i] <= FREE[p][1] else -1)
+                                for i, p in enumerate(like.free)])
+    return optimize.minimize(like, x0, method="Nelder-Mead",
+                             options={"xatol": 1e-5, "fatol": 1e-5, "maxiter": 4000,
+                                      "initial_simplex": simplex})
+
+
+def _curvature_errors(like, best):
+    """Curvature errors and covariance (NaN where the Hessian is not positive definite)."""
+    hess = _hessian(like, best, [FREE[p] for p in like.free])
+    n = len(best)
+    try:
+        np.linalg.cholesky(hess)
+        cov = np.linalg.inv(hess)
+        return np.sqrt(np.diag(cov)), cov
+    except np.linalg.LinAlgError:
+        diag = np.diag(hess)
+        err = np.where(diag > 0, 1.0 / np.sqrt(np.abs(diag)), np.nan)
+        return err, np.full((n, n), np.nan)
+
+
+def _flat_to_edge(like, best, nll_min):
+    """Parameters whose likelihood stays within 2 of the minimum up to a search edge."""
+    flat = []
+    for i, name in enumerate(like.free):
+        for edge in SEARCH[name]:
+            if edge in FREE[name]:
+                continue  # a physical bound (e_x = 0), not the end of the search
+            probe = best.copy()
+            probe[i] = edge
+            if abs(edge - best[i]) > 1e-9 and like(probe) - nll_min < 2.0:
+                flat.append(name)
+                break
+    return flat
+
+
+def _profile(like, best, nll_min, err, cov):
+    """Profile-likelihood intervals of every free parameter.
+
+    Returns the per-parameter summary (:attr:`FitResult.intervals`) and a better point if
+    the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
+    """
+    n = len(best)
+    scale = np.array([e if np.isfinite(e) and e > 0 else 0.05 * (SEARCH[p][1] - SEARCH[p][0])
+                      for p, e in zip(like.free, err)])
+    found = {"x": None, "nll": nll_min - 1e-3}
+
+    def profile(i, t):
+        """Min over the other parameters of -ln L with parameter i at t; the point."""
+        others = [j for j in range(n) if j != i]
+        x = best.copy()
+        x[i] = t
+        if others and np.all(np.isfinite(cov)):  # start on the line of the covariance
+            x[others] += cov[others, i] / cov[i, i] * (t - best[i])
+            for j in others:
+                lo, hi = FREE[like.free[j]]
+                x[j] = min(max(x[j], lo), hi)
+        if not others:
+            value = like(x)
+        elif len(others) == 1:  # Brent's method along the one other parameter
+            j = others[0]
+
+            def sub1(y):
+                x[j] = y
+                return like(x)
+            y0, s = x[j], scale[j]
+            lo, hi = FREE[like.free[j]]
+            y0 = min(max(y0, lo + s), hi - s) if hi - lo > 2 * s else y0
+            r = optimize.minimize_scalar(sub1, bracket=(y0 - s, y0 + s), method="brent",
+                                         options={"xtol": 0.01 * s / max(abs(y0), s),
+                                                  "maxiter": 60})
+            x[j] = r.x
+            value = float(r.fun)
+        else:
+            def sub(y):
+                x[others] = y
+                return like(x)
+            y0 = x[others].copy()
+            simplex = np.vstack([y0] + [y0 + np.eye(len(others))[k] * scale[j] *
+                                        (1 if y0[k] + scale[j] <= FREE[like.free[j]][1]
+                                         else -1)
+                                        for k, j in enumerate(others)])
+            r = optimize.minimize(sub, y0, method="Nelder-Mead",
+                                  options={"xatol": 0.01 * scale[others].min(), "fatol": 1e-4,
+                                           "maxiter": 400, "initial_simplex": simplex})
+            x[others] = r.x
+            value = float(r.fun)
+        if value < found["nll"]:
+            found["x"], found["nll"] = x.copy(), value
+        return value - nll_min
+
+    summary = {}
+    for i, name in enumerate(like.free):
+        lo_edge, hi_edge = FREE[name]
+        sides = {}
+        for sign, edge in ((-1, lo_edge), (1, hi_edge)):
+            sides[sign] = _side(lambda t, i=i: profile(i, t), best[i], sign, edge,
+                                scale[i], (name, edge) in PHYSICAL_EDGES)
+        summary[name] = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
+            lambda t: profile(i, t), best[i], sign, side["edge"], scale[i], side["root"]))
+    return summary, found["x"]
+
+
+def _entry(lower, upper, limit):
+    """The :attr:`FitResult.intervals` entry of one parameter from its two sides;
+    ``limit(sign, side)`` computes a one-sided 95 % limit."""
+    entry = {"lower_error": lower["error"], "upper_error": upper["error"],
+             "status": "measured", "limit": None, "at_bound": None}
+    for side in (lower, upper):
+        if side["physical"]:
+            entry["at_bound"] = side["edge"]
+    if lower["error"] is None and upper["error"] is None:
+        entry["status"] = "unidentified"
+    elif upper["error"] is None or lower["error"] is None:
+        sign, side = (-1, lower) if upper["error"] is None else (1, upper)
+        entry["status"] = "lower_limit" if sign < 0 else "upper_limit"
+        # The bounded side's 95 % limit, or the physical edge its interval reaches.
+        entry["limit"] = limit(sign, side) if side["root"] is not None else side["edge"]
+    return entry
+
+
+def _side(delta, best, sign, edge, scale, physical):
+    """One side of a profile interval: where ``delta`` (the rise of ``-ln L``) reaches 1/2.
+
+    ``error`` is the distance from ``best`` (None if the rise stays below 1/2 up to a
+    non-physical ``edge``; the distance to the edge if it is a physical limit);
+    ``root`` is where the rise is 1/2.
+    """
+    result = {"error": None, "physical": False, "edge": edge, "root": None}
+    room = abs(edge - best)
+    if room < 1e-12:
+        if physical:
+            result.update(error=0.0, physical=True)
+        return result
+    steps = [1.3, 2.0, 3.0, 5.0, 8.0, 13.0, 21.0, 40.0, 80.0]
+    last_t, last_d = best, 0.0
+    points = []
+    for k in steps:
+        t = best + sign * min(k * scale, room)
+        d = delta(t)
+        points.append((t, d))
+        if d >= ONE_SIGMA:
+            break
+        last_t, last_d = t, d
+        if abs(t - best) >= room:
+            break
+    t, d = points[-1]
+    if d < ONE_SIGMA:  # flat up to the edge (or beyond the scan)
+        if abs(t - best) >= room and physical:
+            result.update(error=room, physical=True)
+        return result
+    root = _crossing(delta, ONE_SIGMA, (last_t, last_d), (t, d), 0.005 * scale)
+    result["error"] = abs(root - best)
+    result["root"] = root
+    return result
+
+
+def _limit(delta, best, sign, edge, scale, root):
+    """Where the rise of ``-ln L`` reaches :data:`LIMIT_95` beyond ``root`` (towards
+    ``edge``): the one-sided 95 % limit; None if it stays below up to the edge."""
+    room = abs(edge - best)
+    lo, hi = root, root
+    d = ONE_SIGMA
+    while d < LIMIT_95:
+        if abs(hi - best) >= room:
+            return None
+        lo, hi = hi, best + sign * min(abs(hi - best) * 1.6, room)
+        d = delta(hi)
+    return _crossing(delta, LIMIT_95, (lo, delta(lo) if lo != root else ONE_SIGMA), (hi, d),
+                     0.005 * scale)
+
+
+def _crossing(delta, level, a, b, xtol):
+    """Where ``delta`` reaches ``level`` between ``a = (t, delta(t))`` below it and ``b``
+    above: regula falsi (Illinois) on ``sqrt(2 delta)``, which is nearly linear in ``t``
+    near a likelihood maximum, so a few evaluations suffice."""
+    target = math.sqrt(2 * level)
+
+    def g(d):
+        return math.sqrt(2 * max(d, 0.0)) - target
+
+    (ta, fa), (tb, fb) = (a[0], g(a[1])), (b[0], g(b[1]))
+    side = 0
+    for _ in range(60):
+        t = tb - fb * (tb - ta) / (fb - fa) if fb != fa else 0.5 * (ta + tb)
+        ft = g(delta(t))
+        if abs(ft) < 1e-4 or abs(tb - ta) < xtol:
+            return float(t)
+        if (ft < 0) == (fa < 0):
+            ta, fa = t, ft
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        else:
+            tb, fb = t, ft
+            if side == 1:
+                fa *= 0.5
+            side = 1
+    return float(t)
 
 
 @dataclass
@@ -304,11 +799,11 @@ class ModelComparison:
                     "bic": r.bic(self.n_points), "chi2": r.chi2, "dof": r.dof,
                     "p_value": r.p_value}
 
-        return {"preferred": self.preferred, "criterion": "BIC",
+        return _finite({"preferred": self.preferred, "criterion": "BIC",
                 "delta_aic": self.delta_aic, "delta_bic": self.delta_bic,
                 "likelihood_ratio": self.likelihood_ratio, "lr_p_value": self.lr_p_value,
                 "n_points": self.n_points,
-                "rigid": model(self.rigid), "compliant": model(self.compliant)}
+                "rigid": model(self.rigid), "compliant": model(self.compliant)})
 
     def lines(self) -> list[str]:
         """The comparison as printed by ``mcbat fit``, one string per line."""
@@ -346,7 +841,8 @@ def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=N
     if fitted is not None and "e_x" not in fitted.params and rigid_study:
         rigid = fitted
     elif base:
-        rigid = fit(study, table, base, fixed={"e_x": 0.0}, **like_kwargs)
+        rigid = fit(study, table, base, fixed={"e_x": 0.0}, intervals="curvature",
+                    **like_kwargs)
     else:  # nothing else free: the rigid model is a single point
         like = Likelihood(study, table, ["e_x"], **like_kwargs)
         nll = like([0.0])
@@ -363,7 +859,8 @@ def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=N
         x_rigid = [rigid.params[p] for p in base]
         scan = np.linspace(*SEARCH["e_x"], 13)
         e_x0 = scan[int(np.argmin([like([*x_rigid, v]) for v in scan]))]
-        compliant = fit(study, table, base + ["e_x"], start=[*x_rigid, e_x0], **like_kwargs)
+        compliant = fit(study, table, base + ["e_x"], start=[*x_rigid, e_x0],
+                        intervals="curvature", **like_kwargs)
     n_points = int(rigid.residuals.size)
     return ModelComparison(rigid=rigid, compliant=compliant, n_points=n_points)
 

@@ -30,13 +30,26 @@ from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solv
 from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
 
-__all__ = ["COLUMNS", "OBSERVABLES", "read_measurements", "synthesize", "write_table_atomic"]
+__all__ = ["COLUMNS", "MEASURED_INPUTS", "OBSERVABLES", "UNITS_HINT", "read_measurements",
+           "synthesize", "write_table_atomic"]
 
 COLUMNS = {"impact_parameter": "m", "spin_in": "rad/s", "exit_speed": "m/s",
            "scattering_angle": "deg", "spin_out": "rad/s"}
 """Measured quantities and their units."""
 OBSERVABLES = ("exit_speed", "scattering_angle", "spin_out")
 """The columns a fit compares with the model."""
+MEASURED_INPUTS = ("impact_parameter", "spin_in")
+"""Measured inputs: a fit uses their values, and marginalises their ``_err`` (1 sigma)."""
+UNITS_HINT = {
+    "exit_speed": ("m/s", "wrong unit? exit_speed is in m/s (mph would be 2.24 times "
+                          "larger, km/h 3.6 times)"),
+    "scattering_angle": ("deg", "wrong unit? scattering_angle is in degrees (radians would "
+                                "be 57 times smaller)"),
+    "spin_out": ("rad/s", "wrong unit or sign convention? spin_out is in rad/s about the bat "
+                          "axis (rpm would be 9.55 times larger)"),
+}
+"""Units of the observables, and the hint given when a table's values are far outside the
+model's range."""
 
 
 def read_measurements(path, required=()):
@@ -124,24 +137,54 @@ def _numbers(name, values, source):
 
 
 def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.05,
-               angle_noise=3.0, spin_noise=0.10, spin_floor=1.0):
+               angle_noise=3.0, spin_noise=0.10, spin_floor=1.0, impact_parameter_noise=0.0,
+               spin_in_noise=0.0):
     """A noisy synthetic measurement table drawn from the model (what an experiment yields).
 
-    The study supplies the setup and the nuisance scatter (impact point, incoming spin, ...);
-    ``e`` (e*), ``mu`` and ``e_x`` (tangential restitution, Cross & Nathan 2006) override
-    the study's values. Noise: relative ``speed_noise`` on the
-    exit speed, ``angle_noise`` degrees on the angle, relative ``spin_noise`` on the outgoing
-    spin (with a floor of ``spin_floor`` rad/s, so spins near zero keep an error). The
-    ``_err`` columns hold the sigmas used. Deterministic in ``seed``.
+    Parameters
+    ----------
+    study : mcbat.study.Study
+        The setup and the nuisance scatter (impact point, incoming spin, ...).
+    rows : int
+        Number of rows (impacts); rows the solver cannot finish are dropped.
+    seed : int
+        Seed of the draws and of the noise (deterministic in it).
+    e, mu, e_x : float, optional
+        ``e*``, the friction coefficient and the tangential restitution (Cross & Nathan
+        2006), overriding the study's values.
+    speed_noise : float
+        Relative 1-sigma error of the exit speed.
+    angle_noise : float
+        1-sigma error of the scattering angle, deg.
+    spin_noise, spin_floor : float
+        Relative 1-sigma error of the outgoing spin, with a floor of ``spin_floor`` rad/s
+        (so spins near zero keep an error).
+    impact_parameter_noise : float
+        1-sigma error (m) of the written impact parameter: the impact is solved at the true
+        value, the table gets the true value plus noise and an ``impact_parameter_err``
+        column (none when 0, the default: exact).
+    spin_in_noise : float
+        Likewise for the incoming spin (rad/s) and ``spin_in_err``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``impact_parameter``, ``spin_in``, the observables and their ``_err``
+        columns (the sigmas used), plus the input ``_err`` columns when noise was added.
     """
     import pandas as pd
 
+    rows = _count(rows, "rows", 1)
+    seed = _count(seed, "seed", 0)
     limits = {"e": (e, 0.0, 1.0), "mu": (mu, 0.0, math.inf), "e_x": (e_x, 0.0, 1.0),
               "speed_noise": (speed_noise, 0.0, math.inf),
               "angle_noise": (angle_noise, 0.0, math.inf),
-              "spin_noise": (spin_noise, 0.0, math.inf)}
+              "spin_noise": (spin_noise, 0.0, math.inf),
+              "impact_parameter_noise": (impact_parameter_noise, 0.0, 0.05),
+              "spin_in_noise": (spin_in_noise, 0.0, math.inf)}
     for name, (value, low, high) in limits.items():
-        if value is not None and not low <= value <= high:
+        if value is not None and not (isinstance(value, (int, float, np.floating))
+                                      and low <= value <= high):
             raise InputError(name, f"must be in [{low:g}, {high:g}], got {value!r}")
     cols = study.sample(0, rows, seed)
     for name, value in (("e", e), ("mu", mu), ("e_x", e_x)):
@@ -161,9 +204,13 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.
     speed_err = speed_noise * speed
     angle_err = np.full(rows, float(angle_noise))
     spin_err = np.maximum(spin_noise * np.abs(spin), spin_floor)
+    # Input noise from its own stream: the tables with and without it share every draw.
+    in_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 9,)))
+    b_noise = impact_parameter_noise * in_rng.standard_normal(rows)
+    w_noise = spin_in_noise * in_rng.standard_normal(rows)
     table = pd.DataFrame({
-        "impact_parameter": cols["impact_parameter"],
-        "spin_in": cols["ball_wz_in"],
+        "impact_parameter": cols["impact_parameter"] + b_noise,
+        "spin_in": cols["ball_wz_in"] + w_noise,
         "exit_speed": speed + speed_err * rng.standard_normal(rows),
         "exit_speed_err": speed_err,
         "scattering_angle": angle + angle_err * rng.standard_normal(rows),
@@ -171,7 +218,18 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.
         "spin_out": spin + spin_err * rng.standard_normal(rows),
         "spin_out_err": spin_err,
     })
+    if impact_parameter_noise > 0:
+        table.insert(1, "impact_parameter_err", np.full(rows, float(impact_parameter_noise)))
+    if spin_in_noise > 0:
+        table.insert(table.columns.get_loc("spin_in") + 1, "spin_in_err",
+                     np.full(rows, float(spin_in_noise)))
     return table[ok].reset_index(drop=True)
+
+
+def _count(value, name, minimum):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InputError(name, f"must be an integer >= {minimum}, got {value!r}")
+    return int(value)
 
 
 def write_table_atomic(table, path):

@@ -1,10 +1,12 @@
 """Fitting e*, mu and e_x to measurement tables, and the rigid-versus-compliant comparison."""
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from mcbat.errors import InputError
@@ -106,3 +108,69 @@ def test_injection_and_recovery():
     assert max(times) < 30.0
     assert all(abs(b) < 0.3 for b in bias)
     assert all(0.60 <= c <= 0.76 for c in coverage)
+
+
+def test_impact_parameter_error_is_marginalised():
+    """5 mm of error on b (issue 16: pulls of +2 sigma, chi2/dof 8.7 when b was taken as
+    exact): with its _err column the fit recovers the truth and chi2/dof is normal; the
+    same table with the column dropped is refused or fits far worse."""
+    truth = {"e": 0.6, "mu": 0.15}
+    table = synthesize(STUDY, 60, seed=21, impact_parameter_noise=0.005, **truth)
+    result = fit(STUDY, table, tuple(truth), seed=21)
+    for name, value in truth.items():
+        iv = result.intervals[name]
+        assert iv["status"] == "measured"
+        err = iv["upper_error"] if value > result.params[name] else iv["lower_error"]
+        assert abs(result.params[name] - value) < 3 * err
+    assert 0.001 < result.p_value
+    # Taken as exact, the noisy b makes some rows impossible for the model: they are
+    # refused by name (or, if not, the fit is far worse).
+    try:
+        exact = fit(STUDY, table.drop(columns="impact_parameter_err"), tuple(truth), seed=21,
+                    intervals="curvature")
+    except InputError as err:
+        assert "sigma beyond anything the model gives" in str(err)
+    else:
+        assert exact.chi2 > 2 * result.chi2
+
+
+def test_a_non_positive_curvature_is_not_clipped_to_zero():
+    from mcbat.stats.fit import _curvature_errors
+
+    class Saddle:
+        free = ["e", "mu"]
+
+        def __call__(self, x):
+            return (x[0] - 0.5) ** 2 - (x[1] - 0.5) ** 2
+
+    err, cov = _curvature_errors(Saddle(), [0.5, 0.5])
+    assert err[0] > 0 and math.isnan(err[1]) and np.isnan(cov).all()
+
+
+def test_flat_on_both_sides_is_reported_unidentified_with_null_errors():
+    from mcbat.stats.fit import FitResult, _entry
+
+    side = {"error": None, "physical": False, "edge": 2.0, "root": None}
+    entry = _entry(dict(side, edge=1e-3), side, limit=None)
+    assert entry["status"] == "unidentified"
+    result = FitResult(params={"mu": 0.7}, stderr={"mu": math.inf}, chi2=1.0, dof=1,
+                       p_value=0.3, neg_log_likelihood=0.0, intervals={"mu": entry},
+                       unconstrained=["mu"])
+    text = json.dumps(result.to_dict(), allow_nan=False)
+    assert '"stderr": null' in text and "not identified" in result.lines()[0]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("setting", ["a", "c"])
+def test_interval_coverage_small(tmp_path, setting):
+    """A small run of benchmarks/interval_coverage.py (the full one: >= 400 tables per
+    setting, docs/fitting.md). With 60 tables the binomial spread of a coverage is 6 %, so
+    this checks within 3 of those spreads, and the mean pull within 3 standard errors."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import interval_coverage as ic
+
+    ic.worker((0, 1, 60, setting, str(tmp_path)))
+    for row in ic.summary(tmp_path, log=print):
+        assert abs(row["coverage"] - 0.683) < 3 * row["coverage_se"]
+        assert abs(row["mean_pull"]) < 3 * row["mean_pull_se"]
+        assert row["no_interval"] == 0
