@@ -269,12 +269,16 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
     """
     case.validate_approach()
     radius, slope = case.contact_surface()
-    out = dict(zip(IMPACT_FIELDS, solve_impact(
+    # Floats only: a Python int reaching the jitted kernel would compile (and cache) an
+    # integer specialisation, and overflow it with the next big integer.
+    physics = tuple(float(x) for x in (
         case.ball.mass, case.ball.radius, case.ball.inertia_factor,
         case.bat.mass, case.bat.transverse_inertia, case.bat.axial_inertia,
         case.contact.axial, case.contact.angle, radius, slope,
         *case.ball_velocity, *case.ball_spin, *case.bat_velocity, *case.bat_spin,
-        case.mu, case.e, case.e_x, settings.steps, settings.tolerance, settings.max_steps)))
+        case.mu, case.e, case.e_x))
+    out = dict(zip(IMPACT_FIELDS, solve_impact(
+        *physics, int(settings.steps), float(settings.tolerance), int(settings.max_steps))))
     code = int(out["status"])
     if code != st.OK:
         raise InputError(None, f"the solver cannot solve this impact (status "

@@ -118,7 +118,8 @@ def run_main(*argv, stdin=None):
         os.sys.stdin = io.StringIO(stdin)
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            code = main([str(a) for a in argv])
+            debug = ["--debug"] if os.environ.get("MCBAT_FUZZ_DEBUG") else []
+            code = main(debug + [str(a) for a in argv])
     finally:
         os.sys.stdin = old_stdin
     return code, out.getvalue(), err.getvalue()
@@ -126,6 +127,8 @@ def run_main(*argv, stdin=None):
 
 def assert_contract(code, err, what):
     assert code in (0, 2), f"exit {code} for {what}: {err}"
+    if os.environ.get("MCBAT_FUZZ_DEBUG"):  # --debug prints tracebacks on purpose
+        return
     assert "Traceback" not in err, err
     if code == 2:
         assert len(err.strip().splitlines()) == 1 and err.startswith("mcbat: error: "), err

@@ -32,9 +32,10 @@ class Ball:
     preset: str | None = field(default=None, compare=False)
 
     def __post_init__(self):
-        check_real(self.mass, "mass", positive=True)
-        check_real(self.radius, "radius", positive=True)
-        check_real(self.inertia_factor, "inertia_factor", positive=True)
+        object.__setattr__(self, "mass", check_real(self.mass, "mass", positive=True))
+        object.__setattr__(self, "radius", check_real(self.radius, "radius", positive=True))
+        object.__setattr__(self, "inertia_factor",
+                           check_real(self.inertia_factor, "inertia_factor", positive=True))
 
     def config(self) -> dict:
         """The ball as plain data (part of a study's config hash)."""

@@ -50,13 +50,16 @@ class Bat:
     preset: str | None = field(default=None, compare=False)
 
     def __post_init__(self):
-        check_real(self.mass, "mass", positive=True)
-        check_real(self.transverse_inertia, "transverse_inertia", positive=True)
-        check_real(self.axial_inertia, "axial_inertia", positive=True)
+        object.__setattr__(self, "mass", check_real(self.mass, "mass", positive=True))
+        object.__setattr__(self, "transverse_inertia",
+                           check_real(self.transverse_inertia, "transverse_inertia", positive=True))
+        object.__setattr__(self, "axial_inertia",
+                           check_real(self.axial_inertia, "axial_inertia", positive=True))
         if (self.radius is None) == (self.profile is None):
             raise InputError("radius", "give exactly one of a barrel radius or a profile")
         if self.radius is not None:
-            check_real(self.radius, "radius", positive=True)
+            object.__setattr__(self, "radius",
+                               check_real(self.radius, "radius", positive=True))
 
     def __repr__(self) -> str:
         name = f"{self.preset!r}: " if self.preset else ""

@@ -47,10 +47,12 @@ class Restitution:
     e_x: float = 0.0
 
     def __post_init__(self):
-        check_real(self.e_ref, "e_ref", minimum=0.0, maximum=1.0)
-        check_real(self.e_slope, "e_slope")
-        check_real(self.e_speed_ref, "e_speed_ref", minimum=0.0)
-        check_real(self.e_x, "e_x", minimum=0.0, maximum=1.0)
+        object.__setattr__(self, "e_ref",
+                           check_real(self.e_ref, "e_ref", minimum=0.0, maximum=1.0))
+        object.__setattr__(self, "e_slope", check_real(self.e_slope, "e_slope"))
+        object.__setattr__(self, "e_speed_ref",
+                           check_real(self.e_speed_ref, "e_speed_ref", minimum=0.0))
+        object.__setattr__(self, "e_x", check_real(self.e_x, "e_x", minimum=0.0, maximum=1.0))
         if self.location is not None:
             location_table(self.location)
 

@@ -180,7 +180,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     if -(-samples // chunk_size) > MAX_CHUNKS:
         raise InputError("chunk_size", f"{samples:,} samples in chunks of {chunk_size:,} make "
                          f"{-(-samples // chunk_size):,} chunk files, at most {MAX_CHUNKS:,}: "
-                         f"choose chunk_size >= {-(-samples // MAX_CHUNKS):,}")
+                         f"choose chunk_size={-(-samples // MAX_CHUNKS)} or more")
     runner = make_engine(engine, threads, scheduler, workers)
 
     try:

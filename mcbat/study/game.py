@@ -91,7 +91,7 @@ def is_game(data) -> bool:
 
 def parse_handedness(value, field="handedness") -> float:
     """``"R"`` -> +1, ``"L"`` -> -1."""
-    if value not in HANDEDNESS:
+    if not isinstance(value, str) or value not in HANDEDNESS:
         raise InputError(field, f'must be "R" or "L", got {value!r}')
     return HANDEDNESS[value]
 
