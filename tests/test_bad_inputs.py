@@ -108,7 +108,8 @@ def test_a_reader_that_goes_away_is_not_an_error(tmp_path):
 
 @pytest.mark.parametrize("args,needles", [
     (["--samples", "1000000000000000"], ["--samples", "must be <= 1,000,000,000,000"]),
-    (["--samples", "100000000", "--chunk-size", "100"], ["--chunk-size", "at most 100,000", "choose --chunk-size 1000 or more"]),
+    (["--samples", "100000000", "--chunk-size", "100"],
+     ["--chunk-size", "at most 100,000", "choose --chunk-size 1000 or more"]),
 ])
 def test_sample_counts_beyond_the_limits_are_refused_up_front(tmp_path, args, needles):
     proc = mcbat_cli("run", EXAMPLE, "--out", tmp_path / "ds", "--quiet", *args)

@@ -12,9 +12,9 @@ Chunk files are written under a hidden temporary name and renamed into place
 complete. Once a chunk file is in place, the run records it in the manifest (key
 ``files``: ``{name: {"rows", "bytes", "crc32"}}``, the CRC-32 of the file's bytes); only a
 recorded chunk whose bytes match its record belongs to the dataset
-(:mod:`mcbat.dataset.check`). Each file carries the schema-level metadata (key ``mcbat``): units, the study
-config and its TOML text, seed, config hash and package versions. The columns are those
-of :mod:`mcbat.dataset.schema`.
+(:mod:`mcbat.dataset.check`). Each file carries the schema-level metadata (key ``mcbat``):
+units, the study config and its TOML text, seed, config hash and package versions. The
+columns are those of :mod:`mcbat.dataset.schema`.
 """
 
 from __future__ import annotations

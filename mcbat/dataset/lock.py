@@ -8,8 +8,9 @@ file :data:`LOCK_NAME` inside the directory: the operating system releases it wh
 process ends, however it ends, so the lock of a killed run is never stale. A run that
 ends removes the file (a killed run leaves it behind: it is not a lock by itself, and
 listings, loads and checks ignore it); a directory the lock created and that is still
-empty at the end is removed too, so a refused run leaves nothing behind. Datasets at URLs (object stores) are not locked: those file
-systems offer no lock; one writer per URL is then the user's rule (``docs/errors.md``).
+empty at the end is removed too, so a refused run leaves nothing behind. Datasets at URLs
+(object stores) are not locked: those file systems offer no lock; one writer per URL is
+then the user's rule (``docs/errors.md``).
 """
 
 from __future__ import annotations

@@ -23,9 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
+from mcbat.papers.outputs import ResultsDirectory
 from mcbat.papers.sawicki2003 import figures
 from mcbat.papers.sawicki2003.carry import FLIGHT_SETTINGS, fly
-from mcbat.papers.outputs import ResultsDirectory
 from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan
 from mcbat.runner.plan import positive_int, set_threads
 
