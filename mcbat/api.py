@@ -75,8 +75,8 @@ class Contact:
     angle: float
 
     def __post_init__(self):
-        _real(self.axial, "axial")
-        _real(self.angle, "angle")
+        object.__setattr__(self, "axial", _real(self.axial, "axial"))
+        object.__setattr__(self, "angle", _real(self.angle, "angle"))
 
     @classmethod
     def from_impact_parameter(cls, axial, impact_parameter, ball: Ball, bat: Bat,
@@ -132,9 +132,9 @@ class ImpactCase:
     def __post_init__(self):
         for name in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin"):
             object.__setattr__(self, name, _vector(getattr(self, name), name))
-        _real(self.mu, "mu", minimum=0.0)
-        _real(self.e, "e", minimum=0.0, maximum=1.0)
-        _real(self.e_x, "e_x", minimum=0.0, maximum=1.0)
+        object.__setattr__(self, "mu", _real(self.mu, "mu", minimum=0.0))
+        object.__setattr__(self, "e", _real(self.e, "e", minimum=0.0, maximum=1.0))
+        object.__setattr__(self, "e_x", _real(self.e_x, "e_x", minimum=0.0, maximum=1.0))
         self.contact_surface()  # the contact must lie on the bat
 
     @staticmethod
@@ -505,18 +505,20 @@ class GameCase:
             raise InputError("bat", "a game needs the bat's length and CM (cm_from_knob), "
                              "or a bat preset")
         parse_handedness(self.handedness)
-        _real(self.pitch_speed, "pitch_speed", positive=True)
+        object.__setattr__(self, "pitch_speed",
+                           _real(self.pitch_speed, "pitch_speed", positive=True))
         for name in ("vertical_approach_angle", "horizontal_approach_angle"):
             value = _real(getattr(self, name), name)
             if not abs(value) < _RIGHT_ANGLE:
                 raise InputError(name, f"must lie within (-90, 90) deg for a pitch moving "
                                  f"towards the plate, got {math.degrees(value):.6g} deg")
-        _real(self.spin_rate, "spin_rate", minimum=0.0)
-        _real(self.spin_axis, "spin_axis")
-        _real(self.spin_efficiency, "spin_efficiency", minimum=0.0, maximum=1.0)
+        object.__setattr__(self, "spin_rate", _real(self.spin_rate, "spin_rate", minimum=0.0))
+        object.__setattr__(self, "spin_axis", _real(self.spin_axis, "spin_axis"))
+        object.__setattr__(self, "spin_efficiency",
+                           _real(self.spin_efficiency, "spin_efficiency", minimum=0.0, maximum=1.0))
         if self.gyro_sign not in (1, -1):
             raise InputError("gyro_sign", f"must be +1 or -1, got {self.gyro_sign!r}")
-        _real(self.bat_speed, "bat_speed", minimum=0.0)
+        object.__setattr__(self, "bat_speed", _real(self.bat_speed, "bat_speed", minimum=0.0))
         for name in ("attack_angle", "attack_direction", "vertical_bat_angle"):
             value = _real(getattr(self, name), name)
             if not abs(value) < _RIGHT_ANGLE:
@@ -524,12 +526,14 @@ class GameCase:
                                  f"got {math.degrees(value):.6g} deg")
         check_swing_angles(self.attack_angle, self.vertical_bat_angle, "vertical_bat_angle")
         sweet = bat.length - SWEET_SPOT_FROM_BARREL_END
-        _real(self.pivot, "pivot", minimum=0.0)
+        object.__setattr__(self, "pivot", _real(self.pivot, "pivot", minimum=0.0))
         if not self.pivot < sweet:
             raise InputError("pivot", f"must lie between the knob and the sweet spot "
                              f"(< {sweet:.4g} m from the knob), got {self.pivot!r}")
-        _real(self.from_barrel_end, "from_barrel_end", minimum=0.0, maximum=bat.length)
-        _real(self.mu, "mu", minimum=0.0)
+        object.__setattr__(self, "from_barrel_end",
+                           _real(self.from_barrel_end, "from_barrel_end", minimum=0.0,
+                                 maximum=bat.length))
+        object.__setattr__(self, "mu", _real(self.mu, "mu", minimum=0.0))
         radius, slope = self.contact_surface()
         reach = radius + self.ball.radius / math.sqrt(1.0 + slope * slope)
         if not abs(_real(self.undercut, "undercut")) <= reach:

@@ -483,7 +483,10 @@ def _std(spec, field, si):
     std = number(spec["std"], _sub(field, "std"))
     if not std > 0.0:
         raise InputError(_sub(field, "std"), f"must be > 0, got {spec['std']!r}")
-    return si(std)
+    std = si(std)
+    if not std > 0.0:  # a subnormal value that the unit conversion rounds to 0
+        raise InputError(_sub(field, "std"), f"too small: {spec['std']!r} is 0 in SI")
+    return std
 
 
 #: Most points of one grid axis (its values are held in memory: 80 MB at this size).
