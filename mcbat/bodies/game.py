@@ -25,7 +25,7 @@ DEFAULT_PIVOT = 0.1524
 
 #: Tangential restitution e_x at game speeds: 0.35, between the measured ~0.30 (Nathan
 #: et al., Procedia Eng. 34, 182 (2012)) and ~0.4 (Kensrud, Nathan & Smith, Am. J. Phys.
-#: 85, 503 (2017)), as quoted in BATTING.md.
+#: 85, 503 (2017)), as quoted in docs/batting.md.
 GAME_E_X = 0.35
 
 #: Location tables shipped in ``data/`` (name -> file).

@@ -158,7 +158,7 @@ def derive_game(ball_velocity, ball_spin) -> dict:
         ``atan2(v_x, v_y)``, positive towards right field), ``spin_rate`` (rpm),
         ``backspin`` (``w . b``, ``b = unit(v x z)``), ``sidespin`` (``w . s``,
         ``s = b x unit(v)``; positive curves towards left field), ``gyrospin``
-        (``w . unit(v)``), all rpm (BATTING.md).
+        (``w . unit(v)``), all rpm (docs/batting.md).
     """
     vx, vy, vz = (np.asarray(c, np.float64) for c in ball_velocity)
     wx, wy, wz = (np.asarray(c, np.float64) for c in ball_spin)
