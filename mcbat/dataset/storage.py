@@ -13,6 +13,7 @@ Errors name no command-line flag: a location the user gave is reported as ``loca
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import os
@@ -64,10 +65,8 @@ def join(directory, name: str) -> Path | str:
 @functools.lru_cache(maxsize=32)
 def _filesystem(url: str) -> tuple[pafs.FileSystem, str]:
     """(file system, path) of a URL: pyarrow's own file systems first, then fsspec."""
-    try:
+    with contextlib.suppress(pa.ArrowInvalid):  # a scheme pyarrow does not know: fsspec
         return pafs.FileSystem.from_uri(url)
-    except pa.ArrowInvalid:  # a scheme pyarrow does not know
-        pass
     try:
         import fsspec
 
@@ -166,10 +165,8 @@ def write_atomic(path, write) -> None:
             write(fs, tmp)
             fs.move(tmp, fs_path)
         except BaseException:
-            try:
+            with contextlib.suppress(Exception):  # best effort; the original error matters
                 fs.delete_file(tmp)
-            except Exception:  # noqa: BLE001 - best effort; the original error matters
-                pass
             raise
         return
     tmp = path.with_name(temporary_name(path.name))
