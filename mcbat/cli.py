@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 from mcbat import __version__
-from mcbat.errors import InputError
+from mcbat.errors import EnvironmentFailure, InputError
 
 __all__ = ["build_parser", "main"]
 
@@ -25,6 +25,7 @@ EXIT_OK = 0
 EXIT_INTERNAL = 1
 EXIT_USER = 2
 EXIT_DATASET_PROBLEMS = 3
+EXIT_ENVIRONMENT = 4  # the environment failed mid-run (a lost Dask scheduler)
 EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a reader that went away
 
 
@@ -502,7 +503,8 @@ def _int_arg(flag):
 
 def main(argv=None) -> int:
     """Run the ``mcbat`` command with ``argv`` (default: ``sys.argv[1:]``); returns the exit
-    code (0 ok, 2 user error, 1 internal error, 130 interrupted)."""
+    code (0 ok, 2 user error, 1 internal error, 3 dataset problems, 4 the environment
+    failed mid-run, 130 interrupted, 141 broken pipe)."""
     parser = build_parser()
     debug = "--debug" in (sys.argv[1:] if argv is None else argv)
     try:
@@ -533,6 +535,9 @@ def main(argv=None) -> int:
         if isinstance(err, InputError):
             print(f"mcbat: error: {err}", file=sys.stderr)
             return EXIT_USER
+        if isinstance(err, EnvironmentFailure):
+            print(f"mcbat: error: {err}", file=sys.stderr)
+            return EXIT_ENVIRONMENT
         print(f"mcbat: internal error: {type(err).__name__}: {err}"
               + ("" if debug else " (run with --debug for a traceback)"), file=sys.stderr)
         return EXIT_INTERNAL

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-__all__ = ["InputError", "check_real", "check_vector"]
+__all__ = ["EnvironmentFailure", "InputError", "check_real", "check_vector"]
 
 
 class InputError(ValueError):
@@ -42,6 +42,16 @@ class InputError(ValueError):
         if prefix:
             field = f"{prefix}.{field}" if field else prefix
         return InputError(field, self.message, source or self.source)
+
+
+class EnvironmentFailure(RuntimeError):
+    """Something outside mcbat failed mid-run (the Dask scheduler went away). The CLI
+    prints ``str(error)`` on one line and exits with code 4; complete chunk files are
+    kept, so rerunning the same command once the environment is back resumes the run.
+    """
+
+    def __init__(self, message):
+        super().__init__(_one_line(message))
 
 
 def _one_line(text: str) -> str:

@@ -2,8 +2,10 @@
 without a traceback and without leaving a directory that blocks the corrected rerun."""
 
 import json
+import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -117,6 +119,33 @@ def test_sample_counts_beyond_the_limits_are_refused_up_front(tmp_path, args, ne
     assert not (tmp_path / "ds").exists()
 
 
+def _peak_rss_after_three_chunks(out, samples):
+    """Peak RSS (kB) of ``mcbat run`` on 10^5-row chunks, killed after 3 chunk files."""
+    run = subprocess.Popen([sys.executable, "-m", "mcbat", "run", str(EXAMPLE), "--out",
+                            str(out), "--samples", str(samples), "--chunk-size", str(10**5),
+                            "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 120
+        while len(list(out.glob("chunk-*.parquet"))) < 3:
+            assert time.monotonic() < deadline and run.poll() is None, run.stderr.read()
+            time.sleep(0.05)
+        status = Path(f"/proc/{run.pid}/status").read_text()
+    finally:
+        run.kill()
+        run.wait()
+    return int(re.search(r"VmHWM:\s+(\d+) kB", status).group(1))
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc (Linux)")
+def test_a_huge_scan_streams_with_the_memory_of_a_small_one(tmp_path):
+    # 10^10 samples (10^5 chunks; --samples 10^15 is refused above) against 10^6: the
+    # samples are drawn chunk by chunk, so the peak is what one chunk in flight needs.
+    small = _peak_rss_after_three_chunks(tmp_path / "small", 10**6)
+    huge = _peak_rss_after_three_chunks(tmp_path / "huge", 10**10)
+    assert huge < 1024**2, f"peak RSS {huge / 1024:.0f} MB"
+    assert huge < 1.1 * small, f"peak RSS {huge / 1024:.0f} MB vs {small / 1024:.0f} MB"
+
+
 def test_sobol_limit_is_checked_before_anything_runs(tmp_path):
     text = _edit(STUDY, IMPACT, 'impact_parameter = { dist = "sobol", low = -1.5, high = 1.5,'
                  ' unit = "in" }')
@@ -167,3 +196,12 @@ def test_surprising_urls_are_refused(tmp_path, url, needles):
     proc = mcbat_cli("run", EXAMPLE, "--out", url, "--samples", 100, "--quiet", cwd=tmp_path)
     assert_one_line_error(proc, *needles)
     assert list(tmp_path.iterdir()) == []  # nothing written anywhere here
+
+
+def test_a_duplicate_csv_column_is_named_as_such(tmp_path):
+    data = tmp_path / "drops.csv"
+    data.write_text("impact_parameter,exit_speed,exit_speed\n0.01,1.5,1.6\n")
+    proc = mcbat_cli("fit", "--study", ROOT / "studies" / "cross_nathan_2006.toml",
+                     "--data", data)
+    line = assert_one_line_error(proc, "exit_speed: duplicate column: appears 2 times")
+    assert "exit_speed.1" not in line

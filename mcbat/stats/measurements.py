@@ -99,10 +99,37 @@ def _read_table(path, source):
                          source)
     try:
         if suffix == ".csv":
-            return pd.read_csv(path, comment="#", skipinitialspace=True, dtype=str)
-        return pd.read_parquet(path)
+            table = pd.read_csv(path, comment="#", skipinitialspace=True, dtype=str)
+        else:
+            return pd.read_parquet(path)
     except Exception as err:  # noqa: BLE001 - any parser failure is the file's fault
         raise InputError(None, f"cannot read the table: {err}", source) from None
+    _refuse_duplicate_header(path, source)
+    return table
+
+
+def _refuse_duplicate_header(path, source):
+    """A CSV header naming a column twice is an error naming it: pandas would rename the
+    second one (``exit_speed.1``), and the message would blame a column the file lacks."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8-sig", errors="replace") as lines:
+        for row in csv.reader(lines, skipinitialspace=True):
+            names = []
+            for cell in row:  # a '#' starts a comment, to the end of the line
+                names.append(cell.split("#", 1)[0].strip())
+                if "#" in cell:
+                    break
+            if any(names):
+                break
+        else:
+            return
+    seen = set()
+    for name in names:
+        if name in seen:
+            raise InputError(name, f"duplicate column: appears {names.count(name)} times "
+                             "in the header", source)
+        seen.add(name)
 
 
 def _check_columns(columns, required, source):

@@ -315,6 +315,53 @@ def test_killed_worker_is_retried_and_the_dataset_is_identical(dask_installed, t
     assert_same_dataset(out, reference)
 
 
+def test_a_lost_scheduler_is_one_line_and_exit_4_at_once_and_the_rerun_resumes(
+        dask_installed, tmp_path, tmp_path_factory):
+    samples, chunk_size = 600_000, 20_000
+    cluster = ExternalCluster(tmp_path / "dask")
+    out = tmp_path / "ds"
+    args = ["run", str(EXAMPLE), "--out", str(out), "--samples", str(samples), "--seed",
+            "21", "--chunk-size", str(chunk_size), "--quiet", "--engine", "dask"]
+    run = None
+    try:
+        run = subprocess.Popen([sys.executable, "-m", "mcbat.cli", *args, "--scheduler",
+                                cluster.address],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        deadline = time.monotonic() + TIMEOUT
+        while not (out.is_dir() and len(ds.chunk_files(out)) >= 3):
+            assert time.monotonic() < deadline and run.poll() is None, run.stderr.read()
+            time.sleep(0.01)
+        os.killpg(cluster.procs[0].pid, signal.SIGKILL)  # the scheduler, mid-run
+        killed = time.monotonic()
+        stdout, stderr = run.communicate(timeout=TIMEOUT)
+        waited = time.monotonic() - killed
+    finally:
+        if run is not None and run.poll() is None:
+            run.kill()
+            run.wait()
+        cluster.close()
+    assert run.returncode == 4, stderr
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in stderr, stderr
+    assert lines[0].startswith("mcbat: error: lost the connection to the Dask scheduler "
+                               f"({cluster.address})")
+    assert "rerun the same command to resume" in lines[0]
+    # Dask's own reconnection attempt would take distributed.comm.timeouts.connect (30 s).
+    assert waited < 10, f"{waited:.1f} s between the scheduler's death and the exit"
+    assert len(ds.chunk_files(out)) < samples // chunk_size, "the run was over before"
+    assert not (out / "_mcbat.lock").exists()  # released: the rerun is not blocked
+    # A new cluster: the same command resumes to the local engine's dataset.
+    again = ExternalCluster(tmp_path / "dask-again")
+    try:
+        resumed = mcbat_cli(*args, "--scheduler", again.address)
+    finally:
+        again.close()
+    assert resumed.returncode == 0, resumed.stderr
+    assert "kept from before" in resumed.stdout
+    assert_same_dataset(out, local_reference(tmp_path_factory, EXAMPLE, samples, 21,
+                                             chunk_size))
+
+
 # ---------------------------------------------------------------- chunk tasks
 
 

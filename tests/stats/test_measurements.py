@@ -38,6 +38,10 @@ def test_good_table_reads_as_floats(tmp_path):
     (GOOD.replace("spin_in", "spin_inn"), (), "spin_inn: unknown column"),
     ("spin_out_err\n0.1\n", (), "spin_out_err: uncertainty without its value column"),
     ("exit_speed\n", (), "the table has no data rows"),
+    (GOOD.replace("spin_in", "exit_speed"), (),
+     "exit_speed: duplicate column: appears 2 times in the header"),
+    ("# measured 2026-11-01\n" + GOOD.replace("spin_in,", "spin_in, spin_in ,"), (),
+     "spin_in: duplicate column: appears 2 times"),
 ])
 def test_malformed_tables_give_clear_errors(tmp_path, text, required, words):
     path = _table(tmp_path, text)

@@ -20,7 +20,10 @@ Failures: a task whose worker dies is rescheduled by the Dask scheduler on anoth
 retried :data:`RETRIES` times. Reruns are harmless: a chunk file is written under a
 temporary name and renamed, with the same content every time. At the end the engine
 removes temporary files a killed worker left behind and checks that every chunk file is
-complete. ``dask`` and ``distributed`` are an optional extra: they (and
+complete. A scheduler that goes away mid-run (killed, or its host lost) ends the run at
+once with :class:`~mcbat.errors.EnvironmentFailure` (the CLI's exit code 4): Dask would
+otherwise spend ``distributed.comm.timeouts.connect`` (30 s) trying to reconnect, and the
+tasks it held are lost anyway. ``dask`` and ``distributed`` are an optional extra: they (and
 :mod:`~mcbat.runner.engines.dask_tasks`, which needs them) are imported only when this
 engine is used, inside its methods.
 """
@@ -35,7 +38,7 @@ import uuid
 import numba
 
 from mcbat.dataset import chunks
-from mcbat.errors import InputError
+from mcbat.errors import EnvironmentFailure, InputError
 from mcbat.runner.plan import positive_int, remove_temporary_files, write_error
 
 __all__ = ["INSTALL_HINT", "RETRIES", "DaskEngine", "require_distributed"]
@@ -146,9 +149,20 @@ class DaskEngine:
         finally:
             self.client = None
             if client is not None:
-                with contextlib.suppress(Exception):
-                    client.unregister_worker_plugin(WarmUp.name)
-                client.close()
+                if client.status == "running":
+                    with contextlib.suppress(Exception):
+                        client.unregister_worker_plugin(WarmUp.name)
+                    client.close()
+                else:  # the scheduler went away: do not wait for Dask's reconnection,
+                    # and keep the reconnection attempt we cut short from logging its
+                    # tracebacks (the user gets one line: EnvironmentFailure)
+                    quiet = logging.getLogger("distributed.client")
+                    level, quiet.level = quiet.level, logging.CRITICAL + 1
+                    try:
+                        with contextlib.suppress(Exception):
+                            client.close(timeout=1)
+                    finally:
+                        quiet.setLevel(level)
             if cluster is not None:
                 cluster.close()
 
@@ -170,9 +184,8 @@ class DaskEngine:
     def run(self, study, job, todo, display):
         """Submit one task per chunk in ``todo``; yield their summaries as they finish."""
         from distributed import as_completed
-        from distributed.scheduler import KilledWorker
 
-        from mcbat.runner.engines.dask_tasks import WorkerSetupError, chunk_task
+        from mcbat.runner.engines.dask_tasks import chunk_task
 
         if not todo:
             return
@@ -183,20 +196,16 @@ class DaskEngine:
         try:
             for future in as_completed(futures):
                 try:
-                    summary = future.result()
-                except OSError as err:
-                    raise write_error(err, display) from None
-                except WorkerSetupError as err:
-                    raise InputError(err.field, err.message) from None
-                except KilledWorker as err:
-                    raise RuntimeError(
-                        f"a chunk task was lost with {err.allowed_failures + 1} workers in a "
-                        "row (each died while computing it); complete chunk files are kept, "
-                        "rerun to resume") from None
+                    summary = self._result(future, display)
+                except Exception:
+                    if self.client.status != "running":
+                        raise self._lost_scheduler() from None
+                    raise
                 future.release()
                 yield summary
         finally:
-            self.client.cancel(futures)
+            if self.client.status == "running":
+                self.client.cancel(futures)
         # Every task has returned, so a temporary chunk file left now was being written by
         # a worker that was killed (its chunk was recomputed elsewhere).
         remove_temporary_files(job.out)
@@ -204,6 +213,32 @@ class DaskEngine:
             if not chunks.chunk_is_complete(job.path(k), job.rows(k), job.config_hash):
                 raise RuntimeError(f"chunk {k} was reported written but {job.path(k)} is not "
                                    "a complete chunk file")
+
+    @staticmethod
+    def _result(future, display):
+        """A finished chunk task's summary, its failure as the error a user can act on."""
+        from distributed.scheduler import KilledWorker
+
+        from mcbat.runner.engines.dask_tasks import WorkerSetupError
+
+        try:
+            return future.result()
+        except OSError as err:
+            raise write_error(err, display) from None
+        except WorkerSetupError as err:
+            raise InputError(err.field, err.message) from None
+        except KilledWorker as err:
+            raise RuntimeError(
+                f"a chunk task was lost with {err.allowed_failures + 1} workers in a row "
+                "(each died while computing it); complete chunk files are kept, rerun to "
+                "resume") from None
+
+    def _lost_scheduler(self):
+        where = self.scheduler or "the local cluster's scheduler"
+        return EnvironmentFailure(
+            f"lost the connection to the Dask scheduler ({where}); complete chunk files "
+            "are kept: restart the scheduler and its workers and rerun the same command to "
+            "resume")
 
     def note(self, summaries) -> str:
         """One line on where the chunks were computed."""
