@@ -257,7 +257,7 @@ def test_interrupted_dask_run_resumes_identically(cluster, tmp_path, tmp_path_fa
         if run.poll() is None:
             run.kill()
             run.wait()
-    assert run.returncode == 130, stderr
+    assert run.returncode == 130, (stdout, stderr)
     assert "complete chunk files are kept, rerun the same command to resume" in stderr
     assert len(ds.chunk_files(tmp_path / "ds")) < samples // chunk_size
     resumed = mcbat_cli(*args)
