@@ -10,6 +10,7 @@ The front door (``import mcbat`` stays light: everything loads on first use)::
     mcbat.run("study.toml", out)   a study file or Study -> a Parquet dataset directory
     mcbat.solve_frame(df)          a DataFrame of inputs -> a DataFrame of results
     mcbat.load(out)                a dataset directory -> a DataFrame (units in df.attrs)
+    mcbat.load_summary(out)        a run's [summary] -> a DataFrame, one row per bin
     mcbat.load_study(path)         a TOML study file -> a validated Study
 
 Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistics):
@@ -27,7 +28,8 @@ Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistic
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "check", "load", "load_study", "run", "solve", "solve_frame"]
+__all__ = ["__version__", "check", "load", "load_study", "load_summary", "run", "solve",
+           "solve_frame"]
 
 
 def solve(case, settings=None):
@@ -50,13 +52,18 @@ def run(study, out, **options):
         The dataset directory (or a URL).
     **options
         ``samples``, ``seed``, ``threads``, ``chunk_size``, ``overwrite``, ``progress``,
-        ``engine``, ``scheduler``, ``workers``: see :func:`mcbat.runner.run_study`.
+        ``engine``, ``scheduler``, ``workers``, ``summary_only``: see
+        :func:`mcbat.runner.run_study`; ``columns`` (a list of column names) overrides the
+        study's ``[output] columns``.
     """
     from mcbat.runner import run_study
     from mcbat.study import Study, load_study
 
     if not isinstance(study, Study):
         study = load_study(study)
+    columns = options.pop("columns", None)
+    if columns is not None:
+        study = study.with_overrides(columns=columns)
     return run_study(study, out, **options)
 
 
@@ -73,6 +80,14 @@ def load(directory, columns=None, labels=False, allow_partial=False):
     from mcbat.dataset import load as _load
 
     return _load(directory, columns=columns, labels=labels, allow_partial=allow_partial)
+
+
+def load_summary(directory):
+    """The binned statistics of a run with a ``[summary]`` section, one row per bin: see
+    :func:`mcbat.dataset.summary.load_summary`."""
+    from mcbat.dataset.summary import load_summary as _load_summary
+
+    return _load_summary(directory)
 
 
 def check(directory, checksums=True):

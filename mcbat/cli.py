@@ -164,7 +164,7 @@ def cmd_flight(args) -> int:
 
 
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
-                  "workers", "overwrite")
+                  "workers", "overwrite", "summary_only", "columns")
 
 
 def cmd_run(args) -> int:
@@ -172,6 +172,9 @@ def cmd_run(args) -> int:
     from mcbat.study import load_study
 
     study = load_study(args.study)  # validates everything before anything is written
+    if args.columns is not None:
+        with _flags("columns"):
+            study = study.with_overrides(columns=args.columns)
     out = args.out or str(Path("results") / study.name)
     if re.match(r"(?i)memory://", out):
         raise InputError("--out", "memory:// keeps files in this process's memory: they would "
@@ -182,7 +185,7 @@ def cmd_run(args) -> int:
                             threads=args.threads, chunk_size=args.chunk_size,
                             overwrite=args.overwrite, progress=not args.quiet,
                             engine=args.engine, scheduler=args.scheduler,
-                            workers=args.workers)
+                            workers=args.workers, summary_only=args.summary_only)
     for line in summary.lines():
         print(line)
     return EXIT_OK
@@ -378,6 +381,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--workers", type=_int_arg("--workers"), metavar="N",
                      help="--engine dask: start a local cluster of N worker processes "
                           "(default: one per core)")
+    run.add_argument("--columns", metavar="A,B,...",
+                     help="store only these columns (and sample_id); overrides the study's "
+                          "[output] columns")
+    run.add_argument("--summary-only", action="store_true",
+                     help="compute the study's [summary] (binned statistics, "
+                          "_summary.parquet) without storing the rows")
     run.add_argument("--overwrite", action="store_true",
                      help="replace an existing dataset written with another config")
     run.add_argument("--quiet", action="store_true", help="no progress bar")

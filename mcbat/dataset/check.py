@@ -30,6 +30,8 @@ from mcbat.errors import InputError
 
 __all__ = ["DatasetCheck", "check_dataset"]
 
+SUMMARY = "_summary.parquet"  # = mcbat.dataset.summary.SUMMARY (kept light: no numba here)
+
 
 @dataclass
 class DatasetCheck:
@@ -51,6 +53,9 @@ class DatasetCheck:
         ``(file name, reason)`` of recorded chunks that do not match their record.
     checksums : bool
         Whether the CRC-32 of every file was verified.
+    summary : str or None
+        What is wrong with the ``[summary]`` table of a study that has one (unfinished, or
+        not matching its record), None when it is fine or there is none.
     """
 
     directory: object
@@ -60,11 +65,19 @@ class DatasetCheck:
     extra: list = field(default_factory=list)
     mismatched: list = field(default_factory=list)
     checksums: bool = False
+    summary: str | None = None
+
+    @property
+    def summary_only(self) -> bool:
+        """True for a summary-only run: no rows are expected."""
+        return bool(self.manifest.get("summary_only"))
 
     @property
     def ok(self) -> bool:
-        """True when every chunk is present and matches, and nothing else is there."""
-        return not (self.missing or self.extra or self.mismatched)
+        """True when every chunk is present and matches (none is expected of a
+        summary-only run), nothing else is there, and the summary table is complete."""
+        return not ((self.missing and not self.summary_only) or self.extra
+                    or self.mismatched or self.summary)
 
     @property
     def rows_expected(self) -> int:
@@ -80,7 +93,9 @@ class DatasetCheck:
     def problems(self) -> list[str]:
         """One line per kind of problem (empty when :attr:`ok`)."""
         out = []
-        if self.missing:
+        if self.summary:
+            out.append(self.summary)
+        if self.missing and not self.summary_only:
             out.append(f"{len(self.missing)} of {self.manifest['chunks']} chunk(s) missing "
                        f"({_indices(self.missing)}): {self.rows_good:,} of "
                        f"{self.rows_expected:,} rows present; rerun the same `mcbat run` "
@@ -101,7 +116,8 @@ class DatasetCheck:
             "sizes and footers"
         head = [f"dataset: {self.directory}",
                 f"chunks: {len(self.good)} of {self.manifest['chunks']} good ({how}), "
-                f"{self.rows_good:,} of {self.rows_expected:,} rows"]
+                f"{self.rows_good:,} of {self.rows_expected:,} rows"
+                + (" (a summary-only run: no rows stored)" if self.summary_only else "")]
         return head + (self.problems() or ["ok: complete and consistent with its manifest"])
 
 
@@ -158,7 +174,25 @@ def check_dataset(directory, *, checksums: bool = False) -> DatasetCheck:
         else:
             result.mismatched.append((name, reason))
     result.missing = [k for k in range(n_chunks) if k not in present]
+    result.summary = _summary_problem(directory, manifest, checksums)
     return result
+
+
+def _summary_problem(directory, manifest, checksums) -> str | None:
+    """What is wrong with the summary table of a study with ``[summary]`` (None: fine)."""
+    if not isinstance(manifest.get("study"), dict) or manifest["study"].get("summary") is None:
+        return None
+    record = (manifest.get("summary") or {}).get("table")
+    if not isinstance(record, dict):
+        return ("the [summary] table is not finished; rerun the same `mcbat run` to "
+                "complete it")
+    path = storage.join(directory, SUMMARY)
+    size = storage.file_size(path)
+    if size != record.get("bytes"):
+        return f"{SUMMARY}: {size} bytes, {record.get('bytes')} recorded; rerun `mcbat run`"
+    if checksums and chunks.checksum(storage.read_bytes(path)) != record.get("crc32"):
+        return f"{SUMMARY}: checksum mismatch (changed or corrupted); rerun `mcbat run`"
+    return None
 
 
 def _mismatch(path, index, rows, size, manifest, record, checksums) -> str | None:

@@ -37,16 +37,18 @@ from mcbat.dataset.schema import (
     COLUMNS,
     FLIGHT_COLUMNS,
     GAME_COLUMNS,
+    GAME_INPUT_COLUMNS,
+    INPUT_COLUMNS,
     MEASURED_SUFFIX,
     derive,
     derive_game,
 )
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
-           "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name",
-           "is_temporary_chunk_name", "package_versions", "read_manifest", "read_metadata",
-           "read_table",
-           "verify_chunk", "write_chunk", "write_manifest"]
+           "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "game_columns",
+           "impact_columns", "is_temporary_chunk_name", "package_versions", "read_manifest",
+           "read_metadata", "read_table", "to_table", "verify_chunk", "write_chunk",
+           "write_manifest"]
 
 MANIFEST = "_mcbat.json"
 METADATA_KEY = b"mcbat"
@@ -85,77 +87,74 @@ def package_versions() -> dict:
 
 
 _INT8_COLUMNS = ("status", "end_state", "flight_status")
+#: Columns that keep their type whatever ``[output] precision`` says: the inputs (enough to
+#: re-solve a row) and the bookkeeping.
+_FULL_PRECISION = frozenset(INPUT_COLUMNS) | frozenset(GAME_INPUT_COLUMNS) | {
+    "sample_id", "chunk", "rk4_steps", *_INT8_COLUMNS}
 
 
-def _arrow_arrays(names, cols, sample_id_start, chunk, n):
-    """The Arrow arrays of columns ``names`` from ``cols`` (status codes as int8,
-    ``rk4_steps`` as int32; ``sample_id`` and ``chunk`` generated)."""
-    arrays = []
-    for name in names:
-        if name in _INT8_COLUMNS:
-            arrays.append(pa.array(cols[name], pa.int8()))
-        elif name == "rk4_steps":
-            arrays.append(pa.array(np.nan_to_num(cols[name]).astype(np.int32)))
-        elif name == "sample_id":
-            arrays.append(pa.array(np.arange(sample_id_start, sample_id_start + n,
-                                             dtype=np.int64)))
-        elif name == "chunk":
-            arrays.append(pa.array(np.full(n, chunk, np.int32)))
-        else:
-            arrays.append(pa.array(cols[name]))
-    return arrays
+def _arrow_array(name, values, sample_id_start, chunk, n, float32):
+    """The Arrow array of column ``name`` (status codes int8, ``rk4_steps`` int32,
+    ``sample_id`` and ``chunk`` generated; outputs float32 if ``float32``)."""
+    if name in _INT8_COLUMNS:
+        return pa.array(values, pa.int8())
+    if name == "rk4_steps":
+        return pa.array(np.nan_to_num(values).astype(np.int32))
+    if name == "sample_id":
+        return pa.array(np.arange(sample_id_start, sample_id_start + n, dtype=np.int64))
+    if name == "chunk":
+        return pa.array(np.full(n, chunk, np.int32))
+    if float32 and name not in _FULL_PRECISION:
+        return pa.array(np.asarray(values, np.float32))
+    return pa.array(values)
 
 
-def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_inputs,
-                metadata, noise=None) -> pa.Table:
-    """Assemble one chunk's table from the kernel's struct-of-arrays.
+def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None):
+    """Every column of an impact chunk as arrays, from the kernel's struct-of-arrays.
 
     Parameters
     ----------
-    sample_id_start : int
-        ``sample_id`` of the first row.
-    chunk : int
-        Chunk index.
     inputs : float64[len(INPUT_FIELDS), n]
         Kernel inputs.
     out, status, end_state
         Kernel outputs (see :func:`mcbat.core.batch.solve_batch`).
     extra_inputs : dict of str -> float64[n]
-        Inputs not passed to the kernel (``impact_parameter``).
-    metadata : dict or None
-        JSON-serialisable dataset metadata stored in the schema.
+        Inputs not passed to the kernel (``impact_parameter``, ``from_barrel_end``;
+        ``from_barrel_end`` is NaN when absent).
     noise : dict of str -> float64[n], optional
         Simulated measurement errors: column ``<name>_measured`` = ``<name>`` + error,
-        appended after the contract columns (the model value stays untouched).
+        after the contract columns (the model value stays untouched).
+
+    Returns
+    -------
+    names : list of str
+        The columns in file order (:data:`~mcbat.dataset.schema.COLUMNS`, then the
+        measured ones); ``sample_id`` and ``chunk`` are generated when written.
+    cols : dict of str -> ndarray
     """
     n = inputs.shape[1]
     cols = {name: inputs[i] for i, name in enumerate(INPUT_FIELDS)}
+    cols["from_barrel_end"] = np.full(n, np.nan)
     cols.update(extra_inputs)
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
-    derived = derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),
-                     (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"]))
-    arrays = _arrow_arrays(COLUMNS, {**cols, **derived, "status": status,
-                                     "end_state": end_state}, sample_id_start, chunk, n)
+    cols.update(derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),
+                       (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"])))
+    cols.update(status=status, end_state=end_state)
     names = list(COLUMNS)
     for name, error in (noise or {}).items():
-        value = derived[name] if name in derived else cols[name]
-        arrays.append(pa.array(value + error))
+        cols[f"{name}{MEASURED_SUFFIX}"] = cols[name] + error
         names.append(f"{name}{MEASURED_SUFFIX}")
-    table = pa.Table.from_arrays(arrays, names=names)
-    if metadata is None:
-        return table
-    return table.replace_schema_metadata(
-        {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()})
+    return names, cols
 
 
 _FT = 0.3048  # m per ft (Statcast reports distances in ft)
 
 
-def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, status,
-                     end_state, metadata, flight=None) -> pa.Table:
-    """Assemble one chunk's table of a game study (:data:`~mcbat.dataset.schema.GAME_COLUMNS`)
-    from the arrays of :func:`mcbat.core.swing.solve_game_batch`."""
-    n = game_inputs.shape[1]
+def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None):
+    """Every column of a game chunk as arrays (:data:`~mcbat.dataset.schema.GAME_COLUMNS`,
+    plus :data:`~mcbat.dataset.schema.FLIGHT_COLUMNS` with ``flight``), from the arrays of
+    :func:`mcbat.core.swing.solve_game_batch`; returns ``(names, cols)`` as
+    :func:`impact_columns`."""
     cols = {name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
     cols.update(bat_frame_columns(game_inputs, frame))
     cols.update({name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)})
@@ -165,7 +164,7 @@ def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, 
     cols.update(derive_game(
         (cols["field_ball_vx"], cols["field_ball_vy"], cols["field_ball_vz"]),
         (cols["field_ball_wx"], cols["field_ball_wy"], cols["field_ball_wz"])))
-    names = GAME_COLUMNS
+    names = list(GAME_COLUMNS)
     if flight is not None:  # (out, status) of mcbat.core.flight.fly_batch, SI
         flight_out, flight_status = flight
         row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
@@ -174,14 +173,51 @@ def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, 
             cols[name] = flight_out[row[name]] / _FT
         cols["hang_time"] = flight_out[row["hang_time"]]
         cols["flight_status"] = flight_status
-        names = GAME_COLUMNS + FLIGHT_COLUMNS
+        names += FLIGHT_COLUMNS
     cols.update(status=status, end_state=end_state)
-    arrays = _arrow_arrays(names, cols, sample_id_start, chunk, n)
+    return names, cols
+
+
+def to_table(names, cols, sample_id_start, chunk, output=None, metadata=None) -> pa.Table:
+    """The Arrow table of a chunk's columns ``names`` (file order) from ``cols``.
+
+    Parameters
+    ----------
+    names, cols
+        From :func:`impact_columns` or :func:`game_columns`.
+    sample_id_start, chunk : int
+        ``sample_id`` of the first row; the chunk index.
+    output : mcbat.study.output.OutputSpec, optional
+        The columns to keep (``sample_id`` always) and the outputs' precision.
+    metadata : dict, optional
+        JSON-serialisable dataset metadata stored in the schema.
+    """
+    n = len(cols["status"])
+    float32 = output is not None and output.precision == "float32"
+    if output is not None and output.columns is not None:
+        keep = set(output.columns) | {"sample_id"}
+        names = [name for name in names if name in keep]
+    arrays = [_arrow_array(name, cols.get(name), sample_id_start, chunk, n, float32)
+              for name in names]
     table = pa.Table.from_arrays(arrays, names=list(names))
     if metadata is None:
         return table
     return table.replace_schema_metadata(
         {METADATA_KEY: json.dumps(metadata, sort_keys=True).encode()})
+
+
+def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_inputs,
+                metadata, noise=None, output=None) -> pa.Table:
+    """One impact chunk's table (:func:`impact_columns`, then :func:`to_table`)."""
+    names, cols = impact_columns(inputs, out, status, end_state, extra_inputs, noise)
+    return to_table(names, cols, sample_id_start, chunk, output, metadata)
+
+
+def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, status,
+                     end_state, metadata, flight=None, output=None) -> pa.Table:
+    """One game chunk's table (:func:`game_columns`, then :func:`to_table`)."""
+    names, cols = game_columns(game_inputs, frame, out, game_out, status, end_state, flight)
+    return to_table(names, cols, sample_id_start, chunk, output, metadata)
 
 
 def checksum(data) -> str:
@@ -191,8 +227,13 @@ def checksum(data) -> str:
     return f"{zlib.crc32(data):08x}"
 
 
-def write_chunk(table: pa.Table, path) -> dict:
+def write_chunk(table: pa.Table, path, compression="none") -> dict:
     """Write a chunk's ``table`` to ``path`` (a local path or a URL), atomically.
+
+    ``compression`` is the codec of the float columns (``"none"``, ``"lz4"``, ``"zstd"``,
+    ``"snappy"``); integer columns always use LZ4. Doubles of physics barely compress:
+    LZ4 saves ~12 % of a ``studies/throughput.toml`` chunk for 2-3 times the writing
+    time, so they are stored plain by default.
 
     Returns
     -------
@@ -200,17 +241,17 @@ def write_chunk(table: pa.Table, path) -> dict:
         The chunk's record for the manifest: ``{"rows", "bytes", "crc32"}``.
     """
     # Constant columns (most inputs of a typical study) cost nothing with dictionary + RLE;
-    # dictionary-encoding random floats only wastes time before pyarrow falls back. LZ4:
-    # doubles of physics barely compress, so the fastest codec wins (measured: zstd-1 is
-    # 1.7x slower for a 7 % smaller file).
-    constant = []
+    # dictionary-encoding random floats only wastes time before pyarrow falls back.
+    constant, codecs = [], {}
     for name, col in zip(table.column_names, table.columns, strict=True):
         values = col.to_numpy()
         if len(values) and values.min() == values.max():
             constant.append(name)
+        codecs[name] = compression if pa.types.is_floating(col.type) else "lz4"
     sink = pa.BufferOutputStream()  # in memory first: the checksum is of these bytes
-    pq.write_table(table, sink, compression="lz4", use_dictionary=constant,
-                   write_statistics=["sample_id", "chunk"])
+    pq.write_table(table, sink, compression=codecs, use_dictionary=constant,
+                   write_statistics=[n for n in ("sample_id", "chunk")
+                                     if n in table.column_names])
     data = sink.getvalue()
     record = {"rows": table.num_rows, "bytes": data.size, "crc32": checksum(data)}
     storage.write_bytes_atomic(data, path)

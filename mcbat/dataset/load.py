@@ -88,6 +88,10 @@ def load(directory, columns=None, labels=False, allow_partial=False):
                                  str(directory)) from None
             warnings.warn(f"{directory}: {name} left out: {err}", stacklevel=2)
     if not tables:
+        if check.summary_only:
+            raise InputError(None, "a summary-only run stores no rows: read its binned "
+                             "statistics with mcbat.load_summary(DIR), or rerun without "
+                             "--summary-only to store the rows too", str(directory))
         raise InputError(None, "the dataset has no complete chunk files yet", str(directory))
     table = pa.concat_tables(tables)
     df = table.to_pandas()

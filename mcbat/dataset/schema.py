@@ -7,9 +7,10 @@ API, the fits and the synthetic measurements all call it).
 
 Columns (SI units, see :data:`UNITS`; the lab frame of ``docs/physics.md``):
 
-* inputs: ``mu``, ``e`` (energetic e*), ``e_x``, ``axial``, ``angle``,
-  ``impact_parameter``, ``ball_mass``, ``ball_radius``, ``ball_inertia_factor``,
-  ``bat_mass``, ``bat_radius``, ``bat_slope``, ``bat_transverse_inertia``,
+* inputs: ``mu``, ``e`` (energetic e*), ``e_x``, ``axial``, ``from_barrel_end`` (the
+  contact's distance from the barrel end, ``cm_from_barrel_end - axial``; NaN for a bat
+  without one), ``angle``, ``impact_parameter``, ``ball_mass``, ``ball_radius``,
+  ``ball_inertia_factor``, ``bat_mass``, ``bat_radius``, ``bat_slope``, ``bat_transverse_inertia``,
   ``bat_axial_inertia``, ``ball_vx_in`` ... ``ball_wz_in``, ``bat_vx_in`` ... ``bat_wz_in``;
 * outputs: ``ball_vx`` ... ``ball_wz``, ``bat_vx`` ... ``bat_wz``, ``normal_impulse``,
   ``stick_impulse`` (NaN if none), ``compression_impulse``, ``tangential_impulse_1/2``,
@@ -46,7 +47,9 @@ __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
 
 #: Version of the column contract; stored in every manifest and chunk file.
 #: 3: game datasets (:data:`GAME_COLUMNS`); the bat-frame columns are those of version 2.
-SCHEMA_VERSION = 3
+#: 4: ``from_barrel_end`` in every dataset (after ``axial``); ``[output]`` column selection
+#: and float32 outputs; ``[summary]`` tables; float columns stored uncompressed by default.
+SCHEMA_VERSION = 4
 
 _LINEAR = {"v": "m/s", "w": "rad/s"}
 UNITS = {
@@ -85,12 +88,13 @@ UNITS = {
 }
 """Unit of every column."""
 
-INPUT_COLUMNS = ("mu", "e", "e_x", "axial", "angle", "impact_parameter", "ball_mass",
-                 "ball_radius", "ball_inertia_factor", "bat_mass", "bat_radius", "bat_slope",
-                 "bat_transverse_inertia", "bat_axial_inertia",
+INPUT_COLUMNS = ("mu", "e", "e_x", "axial", "from_barrel_end", "angle", "impact_parameter",
+                 "ball_mass", "ball_radius", "ball_inertia_factor", "bat_mass", "bat_radius",
+                 "bat_slope", "bat_transverse_inertia", "bat_axial_inertia",
                  *(f for f in INPUT_FIELDS if f.endswith("_in")))
-"""The inputs of a row: the kernel's :data:`~mcbat.core.batch.INPUT_FIELDS` and the
-impact parameter (a second description of the contact angle)."""
+"""The inputs of a row: the kernel's :data:`~mcbat.core.batch.INPUT_FIELDS`, the contact's
+distance from the barrel end and the impact parameter (second descriptions of the contact's
+position and angle)."""
 OUTPUT_COLUMNS = (*OUTPUT_FIELDS, "end_state", "status")
 DERIVED_COLUMNS = ("exit_speed", "scattering_angle", "spin_axial", "spin")
 COLUMNS = (*INPUT_COLUMNS, *OUTPUT_COLUMNS, *DERIVED_COLUMNS, "sample_id", "chunk")

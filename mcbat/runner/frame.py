@@ -29,8 +29,9 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
         One impact per row, with a column for every kernel input of
         :data:`mcbat.core.batch.INPUT_FIELDS` (SI units, the names of the dataset schema;
         a dataset loaded with :func:`mcbat.load` has them). ``impact_parameter`` is
-        computed from ``angle`` (approach azimuth 0) when absent; ``sample_id`` is kept
-        when present, else numbered from 0. Other columns are ignored.
+        computed from ``angle`` (approach azimuth 0) when absent; ``from_barrel_end`` and
+        ``sample_id`` are kept when present (else NaN, and numbered from 0). Other columns
+        are ignored.
     steps, tolerance, max_steps
         The kernel's accuracy settings (see :class:`mcbat.api.SolverSettings`).
     threads : int, optional
@@ -75,8 +76,10 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
         solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state)
     finally:
         numba.set_num_threads(previous)
-    table = build_table(0, 0, inputs, out, status, end_state,
-                        {"impact_parameter": impact_parameter}, None)
+    extra = {"impact_parameter": impact_parameter}
+    if "from_barrel_end" in frame.columns:  # (the frame's bat; else NaN: unknown here)
+        extra["from_barrel_end"] = np.asarray(frame["from_barrel_end"], np.float64)
+    table = build_table(0, 0, inputs, out, status, end_state, extra, None)
     df = table.drop_columns(["chunk"]).to_pandas()
     if "sample_id" in frame.columns:
         df["sample_id"] = np.asarray(frame["sample_id"], np.int64)

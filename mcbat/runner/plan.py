@@ -35,13 +35,30 @@ from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAUL
 from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
 from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks, storage
+from mcbat.dataset.load import units_of
 from mcbat.dataset.lock import LOCK_NAME
-from mcbat.dataset.schema import SCHEMA_VERSION, UNITS
+from mcbat.dataset.schema import (
+    COLUMNS,
+    FLIGHT_COLUMNS,
+    GAME_COLUMNS,
+    MEASURED_SUFFIX,
+    SCHEMA_VERSION,
+    UNITS,
+)
+from mcbat.dataset.summary import (
+    STATE,
+    SUMMARY,
+    check_summary_size,
+    quantile_name,
+    summarise,
+)
 from mcbat.errors import InputError
+from mcbat.study.output import OutputSpec, SummarySpec
 
 __all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "chunks_to_compute",
-           "dataset_hash", "plan_run", "positive_int", "prepare_directory",
-           "remove_temporary_files", "run_chunk", "set_threads", "warm_kernel", "write_error"]
+           "dataset_columns", "dataset_hash", "plan_run", "positive_int", "prepare_directory",
+           "remove_temporary_files", "run_chunk", "set_threads", "summary_metadata",
+           "warm_kernel", "write_error"]
 
 DEFAULT_CHUNK_SIZE = 250_000
 
@@ -87,6 +104,13 @@ class ChunkJob:
         :func:`dataset_hash` of the run; stored in every chunk file.
     metadata : dict
         JSON-serialisable dataset metadata stored in every chunk file's schema.
+    output : mcbat.study.output.OutputSpec
+        The columns written and their precision (``[output]``).
+    summary : mcbat.study.output.SummarySpec or None
+        The binned statistics each chunk contributes (``[summary]``), names checked and
+        bounds in the columns' stored units.
+    summary_only : bool
+        Compute the summary without writing the rows.
     """
 
     out: str
@@ -95,6 +119,9 @@ class ChunkJob:
     chunk_size: int
     config_hash: str
     metadata: dict
+    output: OutputSpec = OutputSpec()
+    summary: SummarySpec | None = None
+    summary_only: bool = False
 
     @property
     def chunks(self) -> int:
@@ -133,7 +160,9 @@ class ChunkSummary:
     file : dict or None
         The chunk file's manifest record (``{"rows", "bytes", "crc32"}``,
         :func:`mcbat.dataset.chunks.write_chunk`) once it is written; None while the
-        local engine's writer thread still writes it.
+        local engine's writer thread still writes it, and in a summary-only run.
+    partial : mcbat.core.binned_stats.SummaryPartial or None
+        The chunk's share of the ``[summary]`` statistics.
     """
 
     index: int
@@ -142,29 +171,76 @@ class ChunkSummary:
     threads: int
     worker: str
     file: dict | None = None
+    partial: object = None
 
 
-def plan_run(study, out, samples: int, seed: int, chunk_size: int) -> tuple[ChunkJob, dict]:
+def plan_run(study, out, samples: int, seed: int, chunk_size: int, *,
+             summary_only: bool = False) -> tuple[ChunkJob, dict]:
     """The :class:`ChunkJob` and the dataset manifest of a run (validated arguments).
 
     A local ``out`` becomes absolute in the job: workers may run in another working
     directory, or on another host where the same path names the same shared storage.
+    The ``[output]`` and ``[summary]`` column names are checked against the dataset's
+    columns here (the study does not know the schema).
     """
     display = storage.location(out)
     where = display if not isinstance(display, Path) else Path(os.path.abspath(display))
+    names = dataset_columns(study)
+    output = study.output
+    for name in output.columns or ():
+        if name not in names:
+            raise InputError(study.output_field, f"{name!r} is not a column of this "
+                             "study's dataset (see mcbat.dataset.schema)")
+    summary = study.summary_spec(units_of(names)) if study.summary is not None else None
+    if summary_only and summary is None:
+        raise InputError("summary_only", "needs a [summary] section in the study (what to "
+                         "bin and which columns to summarise)")
+    if summary is not None:
+        check_summary_size(summary)
     config = study.config()
     config_hash = dataset_hash(config, seed, samples)
     n_chunks = -(-samples // chunk_size)
     manifest = {"schema": SCHEMA_VERSION, "config_hash": config_hash, "seed": seed,
                 "samples": samples, "chunk_size": chunk_size, "chunks": n_chunks,
                 "study": config, "study_name": study.name, "study_toml": study.source_text,
-                "files": {}}
+                "summary_only": bool(summary_only), "files": {}}
     metadata = {"config_hash": config_hash, "seed": seed, "samples": samples,
                 "chunk_size": chunk_size, "study": config, "study_toml": study.source_text,
                 "units": UNITS, "versions": chunks.package_versions(),
                 "status_codes": st.STATUS_NAMES, "end_state_codes": st.END_STATE_NAMES,
                 "schema": SCHEMA_VERSION}
-    return ChunkJob(str(where), samples, seed, chunk_size, config_hash, metadata), manifest
+    job = ChunkJob(str(where), samples, seed, chunk_size, config_hash, metadata, output,
+                   summary, bool(summary_only))
+    return job, manifest
+
+
+def summary_metadata(job: ChunkJob) -> dict:
+    """The metadata of a run's ``_summary.parquet``: the dataset's identity, the
+    ``[summary]`` section and the unit of every column of the table."""
+    spec = job.summary
+    stored = units_of(spec.columns)
+    units = {"count": "1"}
+    for axis in spec.by:
+        units[f"{axis.name}_low"] = units[f"{axis.name}_high"] = axis.unit
+    for name in spec.columns:
+        units[f"{name}_count"] = "1"
+        for stat in ("mean", "std", "min", "max"):
+            units[f"{name}_{stat}"] = stored.get(name)
+        for q in spec.quantiles:
+            units[quantile_name(name, q)] = stored.get(name)
+    meta = job.metadata
+    return {"config_hash": job.config_hash, "seed": job.seed, "samples": job.samples,
+            "study": meta["study"], "study_toml": meta.get("study_toml"),
+            "schema": SCHEMA_VERSION, "versions": meta.get("versions"), "units": units}
+
+
+def dataset_columns(study) -> list:
+    """The columns of ``study``'s dataset, in file order (before an ``[output]``
+    selection)."""
+    if getattr(study, "kind", "impact") == "game":
+        return list(GAME_COLUMNS) + (list(FLIGHT_COLUMNS) if study.flight is not None
+                                     else [])
+    return list(COLUMNS) + [f"{name}{MEASURED_SUFFIX}" for name in study.noise]
 
 
 def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
@@ -205,9 +281,7 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
                 raise InputError("out", f"holds a dataset written with {what}; "
                                  "pass overwrite=True to replace it, or choose another "
                                  "directory", str(out))
-            foreign = [name for name in names
-                       if name != chunks.MANIFEST and chunks.chunk_index(name) is None
-                       and not chunks.is_temporary_chunk_name(name)]
+            foreign = [name for name in names if not _ours(name)]
             if foreign:
                 raise InputError("out", f"holds files mcbat did not write "
                                  f"({foreign[0]!r}); refusing to overwrite", str(out))
@@ -224,12 +298,24 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
     # The same dataset: keep its chunk records and the study text it was started with (an
     # edit of the study's comments does not change the data, nor the files' metadata).
     kept = {"files": existing.get("files", {}),
-            "study_toml": existing.get("study_toml", manifest.get("study_toml"))} \
+            "study_toml": existing.get("study_toml", manifest.get("study_toml")),
+            "summary": existing.get("summary")} \
         if existing is not None else {}
+    if kept.get("summary") is None:
+        kept.pop("summary", None)
     on_disk = {**manifest, **kept}
     if existing != on_disk:
         chunks.write_manifest(out, on_disk)
     return on_disk
+
+
+def _ours(name: str) -> bool:
+    """True for a file name a run writes in a dataset directory."""
+    if name in (chunks.MANIFEST, SUMMARY, STATE) or chunks.chunk_index(name) is not None:
+        return True
+    return chunks.is_temporary_chunk_name(name) or any(
+        name.startswith(f".{ours}.") and storage.is_temporary_name(name)
+        for ours in (SUMMARY, STATE))
 
 
 def chunks_to_compute(out, job: ChunkJob, records: dict) -> tuple[list, list, list]:
@@ -261,25 +347,26 @@ def chunks_to_compute(out, job: ChunkJob, records: dict) -> tuple[list, list, li
 
 
 def remove_temporary_files(out) -> int:
-    """Delete the temporary chunk files a killed writer left in ``out``; returns how many.
+    """Delete the temporary files a killed writer left in ``out``; returns how many.
     Only safe when no writer of this dataset is running."""
     removed = 0
     for name in storage.list_names(out):
-        if chunks.is_temporary_chunk_name(name):
+        if storage.is_temporary_name(name) and _ours(name):
             storage.remove(out, name, missing_ok=True)
             removed += 1
     return removed
 
 
-def write_chunk(table_args, path) -> dict:
-    """Build a chunk's table and write it atomically (see :func:`run_chunk`); returns
-    its manifest record."""
-    return chunks.write_chunk(chunks.build_table(*table_args), path)
+def write_columns(table_args, path, compression="none") -> dict:
+    """Build a chunk's table from its columns and write it atomically (see
+    :func:`run_chunk`); returns its manifest record."""
+    return chunks.write_chunk(chunks.to_table(*table_args), path, compression)
 
 
 def run_chunk(study, job: ChunkJob, index: int, *, write=None,
               solve_lock=None) -> ChunkSummary:
-    """Compute chunk ``index`` of a run and write its Parquet file atomically.
+    """Compute chunk ``index`` of a run: write its Parquet file atomically (unless the run
+    is summary-only) and compute its share of the ``[summary]`` statistics.
 
     The chunk's inputs are drawn from ``(seed, sample index)`` alone
     (:meth:`mcbat.study.Study.sample`), so the file is the same wherever and however
@@ -290,13 +377,15 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     study : mcbat.study.Study
         The validated study (its solver settings are used).
     job : ChunkJob
-        The run's output location, sample count, seed, chunk size and metadata.
+        The run's output location, sample count, seed, chunk size, metadata, columns and
+        summary.
     index : int
         The chunk.
     write : callable, optional
-        ``write(write_chunk, table_args, path)`` writes the file and returns its record.
-        Default: write it now, before returning. The local engine hands it to its writer
-        thread instead (and returns None: the record comes with the write's result).
+        ``write(write_columns, table_args, path, compression)`` writes the file and
+        returns its record. Default: write it now, before returning. The local engine
+        hands it to its writer thread instead (and returns None: the record comes with the
+        write's result).
     solve_lock : context manager, optional
         Held while the kernel runs (the Dask engine serialises kernel calls of a worker's
         threads with it).
@@ -305,43 +394,64 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     -------
     ChunkSummary
     """
-    if getattr(study, "kind", "impact") == "game":
-        return _run_game_chunk(study, job, index, write, solve_lock)
     start, stop = job.bounds(index)
+    solve = _solve_game_chunk if getattr(study, "kind", "impact") == "game" else _solve_chunk
+    with solve_lock if solve_lock is not None else contextlib.nullcontext():
+        threads = numba.get_num_threads()
+        names, cols = solve(study, start, stop, job.seed)
+        partial = None if job.summary is None else summarise(job.summary, cols)
+    counts = np.bincount(cols["status"], minlength=len(st.STATUS_NAMES))
+    record = None
+    if not job.summary_only:
+        table_args = (names, cols, start, index, job.output, job.metadata)
+        record = (write or _write_now)(write_columns, table_args, job.path(index),
+                                       job.output.compression)
+    return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
+                        f"{socket.gethostname()}:{os.getpid()}", record, partial)
+
+
+def _solve_chunk(study, start, stop, seed):
+    """Sample and solve an impact chunk; ``(names, cols)`` of
+    :func:`mcbat.dataset.chunks.impact_columns`."""
     solver = study.solver
-    columns = study.sample(start, stop, job.seed)
-    inputs = np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
+    columns = study.sample(start, stop, seed)
+    inputs = study_inputs(columns)
     out_arr, status, end_state = allocate_outputs(stop - start)
-    with solve_lock if solve_lock is not None else contextlib.nullcontext():
-        threads = numba.get_num_threads()
-        solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
-                    out_arr, status, end_state)
-    counts = np.bincount(status, minlength=len(st.STATUS_NAMES))
-    table_args = (start, index, inputs, out_arr, status, end_state,
-                  {"impact_parameter": np.asarray(columns["impact_parameter"])},
-                  job.metadata, study.measurement_noise(start, stop, job.seed))
-    record = (write or _write_now)(write_chunk, table_args, job.path(index))
-    return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
-                        f"{socket.gethostname()}:{os.getpid()}", record)
+    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out_arr,
+                status, end_state)
+    barrel = study.bat.cm_from_barrel_end
+    extra = {"impact_parameter": columns["impact_parameter"],
+             "from_barrel_end": (np.full(stop - start, np.nan) if barrel is None
+                                 else barrel - columns["axial"])}
+    return chunks.impact_columns(inputs, out_arr, status, end_state, extra,
+                                 study.measurement_noise(start, stop, seed))
 
 
-def _run_game_chunk(study, job, index, write, solve_lock) -> ChunkSummary:
-    """:func:`run_chunk` for a game study: the game kernel, the game columns."""
-    start, stop = job.bounds(index)
+def study_inputs(columns) -> np.ndarray:
+    """The kernel's input array from :meth:`mcbat.study.Study.sample`'s columns: the first
+    rows of the array they are views of (no copy), else a stacked copy."""
+    n_fields = len(INPUT_FIELDS)
+    base = columns[INPUT_FIELDS[0]].base
+    if (isinstance(base, np.ndarray) and base.ndim == 2 and base.dtype == np.float64
+            and base.shape[0] >= n_fields and base.flags.c_contiguous
+            and all(columns[name].ctypes.data == base[i].ctypes.data
+                    and columns[name].shape == base[i].shape
+                    for i, name in enumerate(INPUT_FIELDS))):
+        return base[:n_fields]
+    return np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
+
+
+def _solve_game_chunk(study, start, stop, seed):
+    """Sample and solve a game chunk (and fly it, with ``[flight]``); ``(names, cols)`` of
+    :func:`mcbat.dataset.chunks.game_columns`."""
     solver = study.solver
-    game_inputs = study.sample_inputs(start, stop, job.seed)  # rows: GAME_INPUT_FIELDS
+    game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
     frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
-    with solve_lock if solve_lock is not None else contextlib.nullcontext():
-        threads = numba.get_num_threads()
-        solve_game_batch(game_inputs, solver["steps"], solver["tolerance"],
-                         solver["max_steps"], frame, out_arr, game_out, status, end_state)
-        flight = None if study.flight is None else _fly(study, game_out)
-    counts = np.bincount(status, minlength=len(st.STATUS_NAMES))
-    table_args = (start, index, game_inputs, frame, out_arr, game_out, status, end_state,
-                  job.metadata, flight)
-    record = (write or _write_now)(write_game_chunk, table_args, job.path(index))
-    return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
-                        f"{socket.gethostname()}:{os.getpid()}", record)
+    solve_game_batch(game_inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
+                     frame, out_arr, game_out, status, end_state)
+    flight = None if study.flight is None else _fly(study, game_out)
+    return chunks.game_columns(game_inputs, frame, out_arr, game_out, status, end_state,
+                               flight)
 
 
 def _fly(study, game_out):
@@ -356,11 +466,6 @@ def _fly(study, game_out):
     fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
               w, out, status)
     return out, status
-
-
-def write_game_chunk(table_args, path) -> dict:
-    """Build a game chunk's table and write it atomically; returns its manifest record."""
-    return chunks.write_chunk(chunks.build_game_table(*table_args), path)
 
 
 def _write_now(function, *args):

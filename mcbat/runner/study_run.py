@@ -22,6 +22,7 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.dataset import chunks, storage
 from mcbat.dataset.lock import dataset_lock
+from mcbat.dataset.summary import SUMMARY, SummaryState, write_summary
 from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
@@ -31,6 +32,7 @@ from mcbat.runner.plan import (
     plan_run,
     positive_int,
     prepare_directory,
+    summary_metadata,
 )
 
 __all__ = ["ENGINES", "RunSummary", "make_engine", "run_study"]
@@ -66,6 +68,8 @@ class RunSummary:
         not recorded by a killed run).
     removed : list of str
         Stray chunk files (beyond the dataset's last chunk) the run removed.
+    summary : dict or None
+        With ``[summary]``: ``{"path", "bins", "outside", "summary_only"}``.
     """
 
     directory: Path | str
@@ -79,6 +83,7 @@ class RunSummary:
     batted_ball: dict | None = None
     redone: list = field(default_factory=list)
     removed: list = field(default_factory=list)
+    summary: dict | None = None
 
     @property
     def rows_per_second(self) -> float:
@@ -89,9 +94,16 @@ class RunSummary:
     def lines(self) -> list[str]:
         """The run's closing report, one string per line."""
         failed = sum(v for k, v in self.status_counts.items() if k != "ok")
-        out = [f"dataset: {self.directory}",
-               f"rows: {self.rows:,} in {self.chunks_total} chunk file(s) "
-               f"({self.chunks_computed} computed, {self.chunks_kept} kept from before)"]
+        out = [f"dataset: {self.directory}"]
+        kept = f"{self.chunks_computed} computed, {self.chunks_kept} kept from before"
+        if self.summary is not None and self.summary["summary_only"]:
+            out.append(f"rows: {self.rows:,} in {self.chunks_total} chunk(s) ({kept}), "
+                       "summarised only (no rows stored)")
+        else:
+            out.append(f"rows: {self.rows:,} in {self.chunks_total} chunk file(s) ({kept})")
+        if self.summary is not None:
+            out.append(f"summary: {self.summary['path']} ({self.summary['bins']:,} bins; "
+                       f"{self.summary['outside']:,} rows outside every bin)")
         for index, reason in self.redone:
             out.append(f"recomputed {chunks.chunk_name(index)}: {reason}")
         for name in self.removed:
@@ -133,7 +145,7 @@ def make_engine(engine="local", threads=None, scheduler=None, workers=None):
 
 def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
               overwrite=False, progress=True, engine="local", scheduler=None,
-              workers=None) -> RunSummary:
+              workers=None, summary_only=False) -> RunSummary:
     """Run ``study`` into the dataset directory ``out`` (resuming if possible).
 
     Parameters
@@ -158,6 +170,9 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     workers : int, optional
         ``dask``: start a local cluster of this many worker processes (default: one per
         core, when no ``scheduler`` is given).
+    summary_only : bool
+        Compute the study's ``[summary]`` without storing the rows (read it with
+        :func:`mcbat.load_summary`).
 
     Returns
     -------
@@ -187,7 +202,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         display = storage.location(out)
     except InputError as err:
         raise InputError("out", err.message, err.source) from None
-    job, manifest = plan_run(study, display, samples, int(seed), chunk_size)
+    job, manifest = plan_run(study, display, samples, int(seed), chunk_size,
+                             summary_only=summary_only)
     with _out_errors(display):
         # Everything that can refuse the run, before a cluster is started or joined.
         prepare_directory(display, manifest, chunk_size, overwrite, check_only=True)
@@ -195,27 +211,43 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         with _out_errors(display):
             on_disk = prepare_directory(display, manifest, chunk_size, overwrite)
         try:
-            todo, redone, stray, counts, summaries, seconds = _compute(
+            todo, redone, stray, counts, summaries, seconds, state = _compute(
                 study, job, display, on_disk, runner, progress)
         except BaseException:
             _forget_if_empty(display, on_disk)
             raise
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
-    batted = (batted_ball_summary(display, flight=study.flight is not None)
-              if getattr(study, "kind", "impact") == "game" else None)
+    batted = None
+    if (getattr(study, "kind", "impact") == "game" and not job.summary_only
+            and _stored(study, BATTED_BALL_COLUMNS)):
+        batted = batted_ball_summary(display, flight=study.flight is not None
+                                     and _stored(study, ("hit_distance", "hang_time")))
+    summary = None if state is None else {
+        "path": storage.join(display, SUMMARY), "bins": job.summary.n_bins,
+        "outside": int(state.total.outside[0]), "summary_only": job.summary_only}
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
-                      batted, redone, stray)
+                      batted, redone, stray, summary)
 
 
 def _compute(study, job, display, on_disk, runner, progress):
     """Pick the chunks to compute (resume), compute and record them; returns
-    ``(todo, redone, stray, status counts, summaries, seconds)``."""
+    ``(todo, redone, stray, status counts, summaries, seconds, summary state)``."""
     with _out_errors(display):
-        todo, redone, stray = chunks_to_compute(display, job, on_disk["files"])
+        if job.summary_only:  # no rows: chunk files of an earlier run stay as they are
+            todo, redone, stray = [], [], []
+        else:
+            todo, redone, stray = chunks_to_compute(display, job, on_disk["files"])
         for name in stray:
             storage.remove(display, name)
+        state = None
+        if job.summary is not None:
+            state = SummaryState.resume(job.summary, display,
+                                        (on_disk.get("summary") or {}).get("state"))
+            # Chunks after the saved state are recomputed for their partials (their files,
+            # if any, are rewritten with the same bytes).
+            todo = sorted(set(todo) | set(range(state.merged, job.chunks)))
     job = replace(job, metadata={**job.metadata, "study_toml": on_disk["study_toml"]})
     bar = _progress_bar(study.name, sum(job.rows(k) for k in todo)) \
         if progress and todo else None
@@ -223,12 +255,12 @@ def _compute(study, job, display, on_disk, runner, progress):
     summaries = []
     if todo:
         runner.ready()
-    recorder = _Recorder(display, on_disk)
+    recorder = _Recorder(display, on_disk, state)
     t0 = time.perf_counter()
     try:
         for summary in runner.run(study, job, todo, display):
             counts += summary.status_counts
-            summaries.append(summary)
+            summaries.append(replace(summary, partial=None))  # (the state keeps the sums)
             recorder.add(summary)
             if bar is not None:
                 bar.update(summary.rows)
@@ -236,19 +268,22 @@ def _compute(study, job, display, on_disk, runner, progress):
         seconds = time.perf_counter() - t0
         if bar is not None:
             bar.close()
-        recorder.flush()
-    missing = [k for k in range(job.chunks) if chunks.chunk_name(k) not in on_disk["files"]]
+        recorder.flush(final=True)
+    missing = [] if job.summary_only else [
+        k for k in range(job.chunks) if chunks.chunk_name(k) not in on_disk["files"]]
     if missing:  # an engine that did not deliver every chunk: never a silent hole
         raise RuntimeError(f"chunk {missing[0]} of {display} was not written "
                            f"({len(missing)} missing); rerun to complete the dataset")
-    return todo, redone, stray, counts, summaries, seconds
+    if state is not None:
+        recorder.finish_summary(job)
+    return todo, redone, stray, counts, summaries, seconds, state
 
 
 def _forget_if_empty(out, on_disk: dict) -> None:
-    """After a failed run that wrote no chunk: remove its manifest, so that the directory
-    does not block a corrected rerun ("holds a dataset of another config"). The lock then
-    removes the directory if the run created it."""
-    if on_disk["files"] or chunks.chunk_files(out):
+    """After a failed run that wrote no chunk (nor a summary state): remove its manifest,
+    so that the directory does not block a corrected rerun ("holds a dataset of another
+    config"). The lock then removes the directory if the run created it."""
+    if on_disk["files"] or on_disk.get("summary") or chunks.chunk_files(out):
         return
     with contextlib.suppress(OSError):
         storage.remove(out, chunks.MANIFEST, missing_ok=True)
@@ -257,6 +292,16 @@ def _forget_if_empty(out, on_disk: dict) -> None:
 #: Rows counted as hit "at the sweet spot" by :func:`batted_ball_summary`: within 0.5 in of
 #: 6 in from the barrel end, and within 0.25 in of a head-on hit.
 SWEET_SPOT_WINDOW = (0.1524, 0.0127, 0.00635)
+
+
+#: The columns :func:`batted_ball_summary` reads (with ``flight``: and the flight's).
+BATTED_BALL_COLUMNS = ("launch_speed", "launch_angle", "backspin", "collision_efficiency",
+                       "from_barrel_end", "undercut", "status")
+
+
+def _stored(study, names) -> bool:
+    """True if the run stores every column of ``names`` (``[output] columns``)."""
+    return study.output.columns is None or set(names) <= set(study.output.columns)
 
 
 def batted_ball_summary(out, flight=False) -> dict:
@@ -313,25 +358,58 @@ class _Recorder:
     belongs to the dataset. At most one rewrite per :attr:`INTERVAL` seconds (a dataset of
     thousands of chunks would otherwise rewrite a growing manifest thousands of times), and
     a last one when the run ends, however it ends. A run killed in between loses the
-    records of at most a second of chunks: a resume recomputes them."""
+    records of at most a second of chunks: a resume recomputes them.
+
+    With ``[summary]`` it merges each chunk's partial into the run's
+    :class:`~mcbat.dataset.summary.SummaryState` (in chunk order) and saves the state with
+    the manifest, at most every :attr:`STATE_INTERVAL` seconds (it may be megabytes).
+    """
 
     INTERVAL = 1.0
+    STATE_INTERVAL = 10.0
 
-    def __init__(self, out, manifest: dict):
-        self.out, self.manifest = out, manifest
+    def __init__(self, out, manifest: dict, state=None):
+        self.out, self.manifest, self.state = out, manifest, state
         self.dirty, self.last = False, -math.inf  # the first chunk is recorded at once
+        self.state_saved = None if state is None else state.merged
+        self.state_last = time.monotonic()
 
     def add(self, summary) -> None:
-        self.manifest["files"][chunks.chunk_name(summary.index)] = summary.file
-        self.dirty = True
+        if summary.file is not None:
+            self.manifest["files"][chunks.chunk_name(summary.index)] = summary.file
+            self.dirty = True
+        if self.state is not None and summary.partial is not None:
+            self.state.add(summary.index, summary.partial)
         if time.monotonic() - self.last >= self.INTERVAL:
             self.flush()
 
-    def flush(self) -> None:
+    def flush(self, final=False) -> None:
+        state = self.state
+        if state is not None and state.merged != self.state_saved and (
+                final or time.monotonic() - self.state_last >= self.STATE_INTERVAL):
+            with _out_errors(self.out):
+                record = state.save(self.out)
+            self.manifest.setdefault("summary", {})["state"] = record
+            self.manifest["summary"].pop("table", None)
+            self.state_saved, self.state_last, self.dirty = state.merged, time.monotonic(), True
         if self.dirty:
             with _out_errors(self.out):
                 chunks.write_manifest(self.out, self.manifest)
             self.dirty, self.last = False, time.monotonic()
+
+    def finish_summary(self, job) -> None:
+        """Write ``_summary.parquet`` (all chunks merged) and record it."""
+        record = self.manifest.get("summary") or {}
+        table = record.get("table")
+        if isinstance(table, dict) and storage.file_size(
+                storage.join(self.out, SUMMARY)) == table.get("bytes"):
+            return  # complete from before, and this run merged nothing new
+        with _out_errors(self.out):
+            written = write_summary(self.out, job.summary, self.state,
+                                    summary_metadata(job))
+        self.manifest.setdefault("summary", {})["table"] = written
+        self.dirty = True
+        self.flush()
 
 
 @contextlib.contextmanager

@@ -79,7 +79,7 @@ KEYS = {
 }
 GAME_SECTIONS = ("pitch", "swing")
 _REQUIRED = ("study", "ball", "bat", "pitch", "swing", "friction")
-_OPTIONAL = ("handedness", "contact", "restitution", "solver", "flight")
+_OPTIONAL = ("handedness", "contact", "restitution", "solver", "flight", "output", "summary")
 HANDEDNESS = {"R": 1.0, "L": -1.0}
 _RAD = 180.0 / math.pi
 
@@ -138,6 +138,7 @@ class GameStudy(Study):
                              "(cm_from_knob or cm_from_barrel_end), or a bat preset")
         self._solver = check_solver(data.get("solver", {}))
         self.flight = parse_flight(data["flight"]) if "flight" in data else None
+        self._parse_output(data)
         self.noise = MappingProxyType({})
         self._axial_key, self._angle_key = "from_barrel_end", "undercut"
 

@@ -105,6 +105,7 @@ import math
 import re
 import tomllib
 import warnings
+from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
 
@@ -124,6 +125,7 @@ from mcbat.study.distributions import (
     number,
     parse,
 )
+from mcbat.study.output import OutputSpec, parse_columns, parse_output, parse_summary
 
 __all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS", "NOISE_SPAWN_KEY",
            "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
@@ -155,7 +157,7 @@ COLUMNS = INPUT_FIELDS + ("impact_parameter",)
 
 _REQUIRED_SECTIONS = ("study", "ball", "bat", "contact", "ball_velocity", "friction")
 _OPTIONAL_SECTIONS = ("ball_spin", "bat_velocity", "bat_spin", "restitution", "solver",
-                      "noise")
+                      "noise", "output", "summary")
 _VECTORS = {
     "ball_velocity": ("ball_v", u.SPEED),
     "ball_spin": ("ball_w", u.SPIN),
@@ -412,6 +414,7 @@ class Study:
         self.bat = parse_bat(data["bat"])
         self._solver = check_solver(data.get("solver", {}))
         self.noise = _parse_noise(data.get("noise", {}))
+        self._parse_output(data)
         inputs = _parse_inputs(data)
         contact = data["contact"]
         self._axial_key = _exactly_one(contact, "contact", "axial", "from_barrel_end")
@@ -419,6 +422,22 @@ class Study:
         self.inputs = MappingProxyType(inputs)
         self._check_ranges()
         self._plan()
+
+    def _parse_output(self, data):
+        """``[output]`` and ``[summary]`` (:mod:`mcbat.study.output`; the runner checks
+        the column names against the dataset's schema)."""
+        self.output = parse_output(data.get("output", {}))
+        self.output_field = "output.columns"
+        self._summary_table = data.get("summary")
+        self.summary = (None if self._summary_table is None
+                        else parse_summary(self._summary_table))
+
+    def summary_spec(self, column_units):
+        """The ``[summary]`` section checked against the dataset's columns
+        (``{name: stored unit}``), bounds in the stored units (None without one)."""
+        if self._summary_table is None:
+            return None
+        return parse_summary(self._summary_table, column_units)
 
     def _parse_study_section(self, table):
         """The ``[study]`` section: name, description, samples, seed, chunk size."""
@@ -490,11 +509,16 @@ class Study:
 
     # ------------------------------------------------------------ overrides and config
 
-    def with_overrides(self, *, samples=None, seed=None, chunk_size=None) -> Study:
-        """A copy with the run's sample count, seed or chunk size replacing the defaults
-        (``None`` keeps the study's), validated like the file's values."""
+    def with_overrides(self, *, samples=None, seed=None, chunk_size=None,
+                       columns=None) -> Study:
+        """A copy with the run's sample count, seed, chunk size or stored columns
+        (``[output] columns``) replacing the defaults (``None`` keeps the study's),
+        validated like the file's values."""
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
+        if columns is not None:
+            new.output = replace(self.output, columns=parse_columns(columns, "columns"))
+            new.output_field = "columns"
         if samples is not None:
             new.samples = integer(samples, "samples", minimum=1, maximum=MAX_SAMPLES)
         if seed is not None:
@@ -524,6 +548,8 @@ class Study:
         size (:meth:`with_overrides`) written into its ``[study]`` table.
         """
         data = copy.deepcopy(self._data)
+        if self.output != OutputSpec():  # (a --columns override travels with the study)
+            data["output"] = {k: v for k, v in self.output.config().items() if v is not None}
         table = data["study"]
         table["samples"], table["seed"] = self.samples, self.seed
         if self.chunk_size is None:
@@ -562,6 +588,8 @@ class Study:
                        for name, dist in self.inputs.items()],
             "solver": self.solver,
             "noise": dict(self.noise),
+            "output": self.output.config(),
+            "summary": None if self.summary is None else self.summary.config(),
         }
 
     def config_json(self) -> str:
@@ -668,11 +696,16 @@ class Study:
         """
         start, stop, seed = _sample_range(start, self.samples if stop is None else stop,
                                           self.seed if seed is None else seed)
+        table = np.empty((len(COLUMNS), stop - start))
+        self._sample_into(table, start, stop, seed)
+        return {name: table[i] for i, name in enumerate(COLUMNS)}
+
+    def _sample_into(self, table, start, stop, seed) -> None:
+        """Fill ``table`` (rows: :data:`COLUMNS`) with samples ``start .. stop - 1``."""
         n = stop - start
-        table = np.empty((len(COLUMNS), n))
         cols = {name: table[i] for i, name in enumerate(COLUMNS)}
         if n == 0:
-            return cols
+            return
 
         # Inputs are drawn straight into their columns (from_barrel_end into "axial" and
         # loss_fraction into "e", converted in place below).
@@ -705,7 +738,6 @@ class Study:
             angles_from_impact_parameters(cols["impact_parameter"], np.full(n, ball.radius),
                                           cols["bat_radius"], cols["bat_slope"], azimuth,
                                           cols["angle"])
-        return cols
 
 
 # Input → the column it is drawn into.

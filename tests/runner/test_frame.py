@@ -23,7 +23,7 @@ def dataset(tmp_path_factory):
 def test_solve_frame_returns_exactly_the_rows_mcbat_run_writes(dataset):
     assert (dataset["status"] != 0).any() and dataset["end_state"].nunique() == 2
     inputs = dataset[[c for c in dataset.columns if c in INPUT_FIELDS or
-                      c in ("impact_parameter", "sample_id")]]
+                      c in ("impact_parameter", "from_barrel_end", "sample_id")]]
     frame = mcbat.solve_frame(inputs)
     expected = dataset.drop(columns="chunk")
     assert list(frame.columns) == [c for c in COLUMNS if c != "chunk"]

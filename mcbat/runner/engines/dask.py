@@ -198,7 +198,7 @@ class DaskEngine:
                 try:
                     summary = self._result(future, display)
                 except Exception:
-                    if self.client.status != "running":
+                    if self._scheduler_lost():
                         raise self._lost_scheduler() from None
                     raise
                 future.release()
@@ -209,7 +209,7 @@ class DaskEngine:
         # Every task has returned, so a temporary chunk file left now was being written by
         # a worker that was killed (its chunk was recomputed elsewhere).
         remove_temporary_files(job.out)
-        for k in todo:
+        for k in [] if job.summary_only else todo:
             if not chunks.chunk_is_complete(job.path(k), job.rows(k), job.config_hash):
                 raise RuntimeError(f"chunk {k} was reported written but {job.path(k)} is not "
                                    "a complete chunk file")
@@ -217,12 +217,15 @@ class DaskEngine:
     @staticmethod
     def _result(future, display):
         """A finished chunk task's summary, its failure as the error a user can act on."""
+        from distributed.comm import CommClosedError
         from distributed.scheduler import KilledWorker
 
         from mcbat.runner.engines.dask_tasks import WorkerSetupError
 
         try:
             return future.result()
+        except CommClosedError:
+            raise  # the connection, not the disk (run() tells a lost scheduler apart)
         except OSError as err:
             raise write_error(err, display) from None
         except WorkerSetupError as err:
@@ -232,6 +235,20 @@ class DaskEngine:
                 f"a chunk task was lost with {err.allowed_failures + 1} workers in a row "
                 "(each died while computing it); complete chunk files are kept, rerun to "
                 "resume") from None
+
+    def _scheduler_lost(self, wait=2.0) -> bool:
+        """True if the client lost its scheduler: a failed task result can arrive a moment
+        before the client notices the closed connection, so look for ``wait`` seconds."""
+        import time
+
+        deadline = time.monotonic() + wait
+        while True:
+            comm = self.client.scheduler_comm
+            if self.client.status != "running" or comm is None or comm.closed():
+                return True
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.05)
 
     def _lost_scheduler(self):
         where = self.scheduler or "the local cluster's scheduler"

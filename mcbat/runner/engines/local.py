@@ -37,26 +37,27 @@ class LocalEngine:
 
     def run(self, study, job: ChunkJob, todo, display):
         """Compute the chunks ``todo`` in order; yield each one's summary, with its file's
-        record, once its file is written (chunk k is written while chunk k+1 solves)."""
+        record, once its file is written (chunk k is written while chunk k+1 solves; a
+        summary-only chunk, which writes nothing, at once)."""
         with ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcbat-writer") as writer:
-            pending = None  # (summary without its record, the write's future)
-            written = []
+            writing = None  # (summary without its record, the write's future)
+            submitted = []
 
             def write(function, *args):
-                nonlocal pending
-                if pending is not None:
-                    summary, future = pending
-                    written.append(replace(summary, file=_finish(future, display)))
-                pending = (None, writer.submit(function, *args))
+                submitted.append(writer.submit(function, *args))
 
             for k in todo:
+                submitted.clear()
                 summary = run_chunk(study, job, k, write=write)
-                pending = (summary, pending[1])
-                yield from written
-                written.clear()
-            if pending is not None:
-                summary, future = pending
-                yield replace(summary, file=_finish(future, display))
+                if writing is not None:  # the previous chunk's file, written meanwhile
+                    yield replace(writing[0], file=_finish(writing[1], display))
+                    writing = None
+                if submitted:
+                    writing = (summary, submitted.pop())
+                else:
+                    yield summary
+            if writing is not None:
+                yield replace(writing[0], file=_finish(writing[1], display))
 
     def note(self, summaries):
         """No note: the local engine is the default."""

@@ -1,0 +1,138 @@
+"""Issue 18's figures: `mcbat run` against the kernel alone, in one session.
+
+Run:  .venv/bin/python benchmarks/bench_pipeline.py [--samples 2000000] [--repeats 5]
+      .venv/bin/python benchmarks/bench_pipeline.py --scan 1000000000   # the big summary scan
+
+Measured on ``studies/throughput.toml`` (2 threads), each run a fresh process into an empty
+directory (one unmeasured warm-up run first), medians over ``--repeats``:
+
+* the kernel alone (``solve_batch`` on pre-drawn inputs, in this process), impacts/s;
+* ``mcbat run`` with every column: rows/s within the run (its own closing line) and for the
+  whole process (start-up included);
+* ``--columns`` with 12 columns;
+* ``--summary-only`` with a ``[summary]`` (40 bins of from_barrel_end, exit_speed and
+  scattering_angle with 3 quantiles): rows/s and its ratio to the kernel alone.
+
+``--scan N`` runs one summary-only scan of N samples instead and reports its wall time, its
+bytes on disk and its peak memory (VmHWM).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+THROUGHPUT = ROOT / "studies" / "throughput.toml"
+SUMMARY = """
+[summary]
+by = { from_barrel_end = { bins = 40, low = 0, high = 70, unit = "cm" } }
+columns = ["exit_speed", "scattering_angle"]
+quantiles = [0.05, 0.5, 0.95]
+"""
+TWELVE = ("mu,e,from_barrel_end,angle,ball_vx_in,bat_wy_in,exit_speed,scattering_angle,"
+          "spin,status,end_state,normal_impulse")
+
+
+def kernel_rate(samples, repeats):
+    """Impacts/s of the batch kernel alone on the mix, 2 threads."""
+    from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
+    from mcbat.study import load_study
+
+    study = load_study(THROUGHPUT)
+    n = min(samples, 1_000_000)
+    cols = study.sample(0, n)
+    inputs = np.stack([cols[name] for name in INPUT_FIELDS])
+    solver = study.solver
+    args = (solver["steps"], solver["tolerance"], solver["max_steps"])
+    out = allocate_outputs(n)
+    solve_batch(inputs[:, :64].copy(), *args, *allocate_outputs(64))
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        solve_batch(inputs, *args, *out)
+        times.append(time.perf_counter() - t0)
+    return n / float(np.median(times))
+
+
+def run(study, samples, extra, work):
+    """One `mcbat run` in a fresh process: (rows/s of the run, wall s, peak kB, bytes)."""
+    out = work / "ds"
+    cmd = [sys.executable, "-m", "mcbat.cli", "run", str(study), "--out", str(out),
+           "--samples", str(samples), "--threads", "2", "--quiet", *extra]
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    peak = 0
+    while proc.poll() is None:
+        try:
+            status = Path(f"/proc/{proc.pid}/status").read_text()
+            peak = max(peak, int(re.search(r"VmHWM:\s+(\d+)", status).group(1)))
+        except (OSError, AttributeError):
+            pass
+        time.sleep(0.2)
+    stdout, stderr = proc.communicate()
+    wall = time.perf_counter() - t0
+    if proc.returncode:
+        raise SystemExit(f"{' '.join(cmd)} failed:\n{stderr}")
+    rate = float(re.search(r"\(([\d,]+) rows/s\)", stdout).group(1).replace(",", ""))
+    size = sum(p.stat().st_size for p in out.iterdir())
+    shutil.rmtree(out)
+    return rate, wall, peak, size
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--samples", type=int, default=2_000_000)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--scan", type=int, default=None, metavar="N")
+    args = parser.parse_args()
+    work = Path(tempfile.mkdtemp(prefix="mcbat-pipeline-"))
+    try:
+        summary_study = work / "throughput_summary.toml"
+        summary_study.write_text(THROUGHPUT.read_text() + SUMMARY)
+        if args.scan:
+            rate, wall, peak, size = run(summary_study, args.scan,
+                                         ["--summary-only", "--chunk-size", "1000000"], work)
+            print(f"summary-only scan of {args.scan:,} samples: {wall / 60:.1f} min wall, "
+                  f"{rate:,.0f} rows/s within the run, {size / 1e6:.2f} MB on disk, peak "
+                  f"memory {peak / 1024:,.0f} MB")
+            return
+        kernel = kernel_rate(args.samples, args.repeats)
+        modes = {"all columns": (THROUGHPUT, []),
+                 "12 columns": (THROUGHPUT, ["--columns", TWELVE]),
+                 "summary only": (summary_study, ["--summary-only"])}
+        results = {name: [] for name in modes}
+        for name, (study, extra) in modes.items():
+            run(study, 250_000, extra, work)  # warm-up: numba cache, page cache
+            for _ in range(args.repeats):
+                results[name].append(run(study, args.samples, extra, work))
+        import numba
+
+        print(f"machine: {os.cpu_count()} cores, python {sys.version.split()[0]}, numba "
+              f"{numba.__version__}; {args.samples:,} samples, 2 threads, medians of "
+              f"{args.repeats}")
+        print(f"kernel alone: {kernel:,.0f} impacts/s")
+        for name, rows in results.items():
+            rate = np.median([r[0] for r in rows])
+            wall = np.median([r[1] for r in rows])
+            peak = max(r[2] for r in rows)
+            size = np.median([r[3] for r in rows])
+            print(f"{name}: {rate:,.0f} rows/s within the run ({rate / kernel:.0%} of the "
+                  f"kernel), whole process {wall:.2f} s = {args.samples / wall:,.0f} rows/s, "
+                  f"peak {peak / 1024:,.0f} MB, {size / 1e6:,.1f} MB on disk "
+                  f"(runs: {', '.join(f'{r[0]:,.0f}' for r in rows)})")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
