@@ -13,8 +13,9 @@ directory (one unmeasured warm-up run first), medians over ``--repeats``:
 * ``--summary-only`` with a ``[summary]`` (40 bins of from_barrel_end, exit_speed and
   scattering_angle with 3 quantiles): rows/s and its ratio to the kernel alone.
 
-``--scan N`` runs one summary-only scan of N samples instead and reports its wall time, its
-bytes on disk and its peak memory (VmHWM).
+``--scan N`` runs one summary-only scan of N samples instead (chunks of 524,288 rows) and
+reports its wall time, its bytes on disk and its peak memory (VmHWM); ``--memory`` runs
+summary-only scans of 10 M and 100 M samples and compares their peak memory.
 """
 
 from __future__ import annotations
@@ -94,17 +95,20 @@ def main():
     parser.add_argument("--samples", type=int, default=2_000_000)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--scan", type=int, default=None, metavar="N")
+    parser.add_argument("--memory", action="store_true")
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="mcbat-pipeline-"))
     try:
         summary_study = work / "throughput_summary.toml"
         summary_study.write_text(THROUGHPUT.read_text() + SUMMARY)
-        if args.scan:
-            rate, wall, peak, size = run(summary_study, args.scan,
-                                         ["--summary-only", "--chunk-size", "1000000"], work)
-            print(f"summary-only scan of {args.scan:,} samples: {wall / 60:.1f} min wall, "
+        scans = [args.scan] if args.scan else [10_000_000, 100_000_000] if args.memory else []
+        for samples in scans:
+            rate, wall, peak, size = run(summary_study, samples,
+                                         ["--summary-only", "--chunk-size", "524288"], work)
+            print(f"summary-only scan of {samples:,} samples: {wall / 60:.1f} min wall, "
                   f"{rate:,.0f} rows/s within the run, {size / 1e6:.2f} MB on disk, peak "
-                  f"memory {peak / 1024:,.0f} MB")
+                  f"memory {peak / 1024:,.0f} MB", flush=True)
+        if scans:
             return
         kernel = kernel_rate(args.samples, args.repeats)
         modes = {"all columns": (THROUGHPUT, []),

@@ -371,7 +371,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "threads per worker (default: cores / workers, or 1 with "
                           "--scheduler)")
     run.add_argument("--chunk-size", type=_int_arg("--chunk-size"), metavar="C",
-                     help="rows per Parquet file (default: the study's, or 250,000)")
+                     help="rows per Parquet file (default: the study's, or 262,144 = 4 x 65,536)")
     run.add_argument("--engine", choices=("local", "dask"), default="local",
                      help="local: numba threads in this process (default); dask: one task "
                           "per chunk on a Dask cluster (docs/cluster.md)")

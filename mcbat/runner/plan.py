@@ -60,7 +60,10 @@ __all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "chunks_to_compute"
            "remove_temporary_files", "run_chunk", "set_threads", "summary_metadata",
            "warm_kernel", "write_error"]
 
-DEFAULT_CHUNK_SIZE = 250_000
+#: Rows per chunk by default: 4 blocks of the random stream (RANDOM_BLOCK = 65,536), so that
+#: a chunk draws no block it uses only in part (250,000 rows drew up to 5 blocks, 17 % more
+#: sampling time per row).
+DEFAULT_CHUNK_SIZE = 262_144
 
 
 def positive_int(value, name: str) -> int:

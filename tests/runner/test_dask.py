@@ -244,8 +244,11 @@ def test_interrupted_dask_run_resumes_identically(cluster, tmp_path, tmp_path_fa
     args = ["run", str(EXAMPLE), "--out", str(tmp_path / "ds"), "--samples", str(samples),
             "--seed", "21", "--chunk-size", str(chunk_size), "--quiet", "--engine", "dask",
             "--scheduler", cluster.address]
+    # SIGINT as a terminal delivers it: a test suite started in the background of a
+    # non-interactive shell has it ignored, and Python would keep ignoring it.
     run = subprocess.Popen([sys.executable, "-m", "mcbat.cli", *args],
-                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + TIMEOUT
         while not ((tmp_path / "ds").is_dir() and len(ds.chunk_files(tmp_path / "ds")) >= 3):

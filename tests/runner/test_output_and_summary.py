@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 
@@ -201,6 +202,10 @@ def test_output_columns_and_float32(tmp_path):
     assert (rows["mu"] == ref["mu"]).all() and (rows["status"] == ref["status"]).all()
     np.testing.assert_array_equal(rows["exit_speed"], ref["exit_speed"].astype(np.float32))
     assert rows.attrs["units"]["exit_speed"] == "m/s"
+    other = tmp_path / "other"  # another chunking and thread count: the same rows
+    run_study(study, other, samples=10_000, seed=2, chunk_size=3_000, threads=1,
+              progress=False)
+    pd.testing.assert_frame_equal(mcbat.load(other), rows, check_exact=True)
 
 
 def test_columns_override_and_from_barrel_end(tmp_path):
