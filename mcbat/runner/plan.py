@@ -56,9 +56,9 @@ from mcbat.errors import InputError
 from mcbat.study.output import OutputSpec, SummarySpec
 
 __all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "chunks_to_compute",
-           "dataset_columns", "dataset_hash", "draw_chunk", "plan_run", "positive_int",
-           "prepare_directory", "remove_temporary_files", "run_chunk", "set_threads",
-           "summary_metadata", "warm_kernel", "write_error"]
+           "dataset_columns", "dataset_hash", "plan_run", "positive_int", "prepare_directory",
+           "remove_temporary_files", "run_chunk", "set_threads", "summary_metadata",
+           "warm_kernel", "write_error"]
 
 #: Rows per chunk by default: 4 blocks of the random stream (RANDOM_BLOCK = 65,536), so that
 #: a chunk draws no block it uses only in part (250,000 rows drew up to 5 blocks, 17 % more
@@ -366,8 +366,8 @@ def write_columns(table_args, path, compression="none") -> dict:
     return chunks.write_chunk(chunks.to_table(*table_args), path, compression)
 
 
-def run_chunk(study, job: ChunkJob, index: int, *, write=None, solve_lock=None,
-              drawn=None) -> ChunkSummary:
+def run_chunk(study, job: ChunkJob, index: int, *, write=None,
+              solve_lock=None) -> ChunkSummary:
     """Compute chunk ``index`` of a run: write its Parquet file atomically (unless the run
     is summary-only) and compute its share of the ``[summary]`` statistics.
 
@@ -392,21 +392,16 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None, solve_lock=None,
     solve_lock : context manager, optional
         Held while the kernel runs (the Dask engine serialises kernel calls of a worker's
         threads with it).
-    drawn : optional
-        The chunk's inputs, :func:`draw_chunk` (drawn ahead by the local engine); drawn
-        here by default.
 
     Returns
     -------
     ChunkSummary
     """
     start, stop = job.bounds(index)
-    if drawn is None:
-        drawn = draw_chunk(study, job, index)
     solve = _solve_game_chunk if getattr(study, "kind", "impact") == "game" else _solve_chunk
     with solve_lock if solve_lock is not None else contextlib.nullcontext():
         threads = numba.get_num_threads()
-        names, cols = solve(study, drawn)
+        names, cols = solve(study, start, stop, job.seed)
         partial = None if job.summary is None else summarise(job.summary, cols)
     counts = np.bincount(cols["status"], minlength=len(st.STATUS_NAMES))
     record = None
@@ -418,32 +413,21 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None, solve_lock=None,
                         f"{socket.gethostname()}:{os.getpid()}", record, partial)
 
 
-def draw_chunk(study, job: ChunkJob, index: int):
-    """The sampled inputs of chunk ``index`` (what :func:`run_chunk` solves): for an impact
-    study ``(columns, measurement noise)``, for a game study its input array. Deterministic
-    in the sample indices, so it may be drawn ahead, in another thread."""
-    start, stop = job.bounds(index)
-    if getattr(study, "kind", "impact") == "game":
-        return study.sample_inputs(start, stop, job.seed)  # rows: GAME_INPUT_FIELDS
-    return (study.sample(start, stop, job.seed),
-            study.measurement_noise(start, stop, job.seed))
-
-
-def _solve_chunk(study, drawn):
-    """Solve an impact chunk's inputs; ``(names, cols)`` of
+def _solve_chunk(study, start, stop, seed):
+    """Sample and solve an impact chunk; ``(names, cols)`` of
     :func:`mcbat.dataset.chunks.impact_columns`."""
     solver = study.solver
-    columns, noise = drawn
+    columns = study.sample(start, stop, seed)
     inputs = study_inputs(columns)
-    n = inputs.shape[1]
-    out_arr, status, end_state = allocate_outputs(n)
+    out_arr, status, end_state = allocate_outputs(stop - start)
     solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out_arr,
                 status, end_state)
     barrel = study.bat.cm_from_barrel_end
     extra = {"impact_parameter": columns["impact_parameter"],
-             "from_barrel_end": (np.full(n, np.nan) if barrel is None
+             "from_barrel_end": (np.full(stop - start, np.nan) if barrel is None
                                  else barrel - columns["axial"])}
-    return chunks.impact_columns(inputs, out_arr, status, end_state, extra, noise)
+    return chunks.impact_columns(inputs, out_arr, status, end_state, extra,
+                                 study.measurement_noise(start, stop, seed))
 
 
 def study_inputs(columns) -> np.ndarray:
@@ -460,11 +444,12 @@ def study_inputs(columns) -> np.ndarray:
     return np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
 
 
-def _solve_game_chunk(study, game_inputs):
-    """Solve a game chunk's inputs (and fly it, with ``[flight]``); ``(names, cols)`` of
+def _solve_game_chunk(study, start, stop, seed):
+    """Sample and solve a game chunk (and fly it, with ``[flight]``); ``(names, cols)`` of
     :func:`mcbat.dataset.chunks.game_columns`."""
     solver = study.solver
-    frame, out_arr, game_out, status, end_state = allocate_game_outputs(game_inputs.shape[1])
+    game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
+    frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
     solve_game_batch(game_inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
                      frame, out_arr, game_out, status, end_state)
     flight = None if study.flight is None else _fly(study, game_out)

@@ -7,14 +7,7 @@ from collections import deque
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 
-from mcbat.runner.plan import (
-    ChunkJob,
-    draw_chunk,
-    run_chunk,
-    set_threads,
-    warm_kernel,
-    write_error,
-)
+from mcbat.runner.plan import ChunkJob, run_chunk, set_threads, warm_kernel, write_error
 
 __all__ = ["LocalEngine"]
 
@@ -57,24 +50,16 @@ class LocalEngine:
         chunk, which writes nothing, is yielded at once.
         """
         with ThreadPoolExecutor(max_workers=self.IN_FLIGHT,
-                                thread_name_prefix="mcbat-writer") as writer, \
-                ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcbat-draw") as drawer:
+                                thread_name_prefix="mcbat-writer") as writer:
             writing = deque()  # (summary without its record, the write's future), in order
             submitted = []
 
             def write(function, *args):
                 submitted.append(writer.submit(function, *args))
 
-            # The next chunk's samples are drawn while this one solves: drawing is one
-            # thread of numpy, and would otherwise leave the other core idle.
-            ahead = drawer.submit(draw_chunk, study, job, todo[0]) if todo else None
-            for i, k in enumerate(todo):
-                drawn = ahead.result()
-                ahead = (drawer.submit(draw_chunk, study, job, todo[i + 1])
-                         if i + 1 < len(todo) else None)
+            for k in todo:
                 submitted.clear()
-                summary = run_chunk(study, job, k, write=write, drawn=drawn)
-                del drawn
+                summary = run_chunk(study, job, k, write=write)
                 writing.append((summary, submitted.pop() if submitted else None))
                 # Record what is written, in order; wait only with too many in flight.
                 while writing and (len(writing) > self.IN_FLIGHT or writing[0][1] is None
