@@ -205,3 +205,14 @@ def test_a_duplicate_csv_column_is_named_as_such(tmp_path):
                      "--data", data)
     line = assert_one_line_error(proc, "exit_speed: duplicate column: appears 2 times")
     assert "exit_speed.1" not in line
+
+
+def test_a_std_that_is_zero_in_si_is_refused(tmp_path):
+    # Found by the long fuzz run: 5e-324 mm is a positive number that is 0 m.
+    text = _edit(STUDY, 'from_barrel_end = { dist = "uniform", low = 14, high = 16, unit = "cm" }',
+                 'from_barrel_end = { dist = "truncnormal", mean = 150, std = 5e-324, '
+                 'low = 140, high = 160, unit = "mm" }')
+    (tmp_path / "s.toml").write_text(text)
+    proc = mcbat_cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--quiet")
+    assert_one_line_error(proc, "contact.from_barrel_end.std", "too small", "0 in SI")
+    assert not (tmp_path / "ds").exists()
