@@ -115,14 +115,20 @@ def test_summary_is_identical_whatever_threads_chunks_engine_mode(full_run, tmp_
         assert pq.read_table(got / "_summary.parquet").equals(reference), options
 
 
-def test_summary_with_the_dask_engine_is_the_local_one(full_run, tmp_path):
+def test_summary_and_column_selection_with_the_dask_engine_are_the_local_ones(full_run,
+                                                                              tmp_path):
     pytest.importorskip("distributed")
     study, out, _ = full_run
+    study = study.with_overrides(columns=["exit_speed", "mu", "status"])
     got = tmp_path / "dask"
     run_study(study, got, samples=60_000, seed=5, chunk_size=16_000, progress=False,
-              engine="dask", workers=2, threads=1, summary_only=True)
+              engine="dask", workers=2, threads=1)
     assert pq.read_table(got / "_summary.parquet").equals(
         pq.read_table(out / "_summary.parquet"))
+    rows = mcbat.load(got)
+    assert list(rows.columns) == ["mu", "status", "exit_speed", "sample_id"]
+    pd.testing.assert_frame_equal(rows, mcbat.load(out)[list(rows.columns)],
+                                  check_exact=True)
 
 
 def test_summary_only_stores_no_rows_and_load_says_where_to_look(full_run, tmp_path):
