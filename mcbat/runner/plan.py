@@ -390,8 +390,8 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
         hands it to its writer thread instead (and returns None: the record comes with the
         write's result).
     solve_lock : context manager, optional
-        Held while the kernel runs (the Dask engine serialises kernel calls of a worker's
-        threads with it).
+        Held while the chunk is sampled and solved (the Dask engine serialises kernel calls
+        of a worker's threads with it).
 
     Returns
     -------

@@ -34,7 +34,7 @@ _CHECKED: set = set()
 _CACHE_LOCK = threading.Lock()
 # One kernel call at a time per process: numba's workqueue threading layer must not be
 # entered from two threads at once; with --nthreads 1 (the recommended setup) the lock is
-# never contended. Sampling and writing of other threads' chunks still overlap with it.
+# never contended. Writing other threads' chunks still overlaps with it.
 _KERNEL_LOCK = threading.Lock()
 
 
