@@ -696,16 +696,11 @@ class Study:
         """
         start, stop, seed = _sample_range(start, self.samples if stop is None else stop,
                                           self.seed if seed is None else seed)
-        table = np.empty((len(COLUMNS), stop - start))
-        self._sample_into(table, start, stop, seed)
-        return {name: table[i] for i, name in enumerate(COLUMNS)}
-
-    def _sample_into(self, table, start, stop, seed) -> None:
-        """Fill ``table`` (rows: :data:`COLUMNS`) with samples ``start .. stop - 1``."""
         n = stop - start
+        table = np.empty((len(COLUMNS), n))
         cols = {name: table[i] for i, name in enumerate(COLUMNS)}
         if n == 0:
-            return
+            return cols
 
         # Inputs are drawn straight into their columns (from_barrel_end into "axial" and
         # loss_fraction into "e", converted in place below).
@@ -738,6 +733,7 @@ class Study:
             angles_from_impact_parameters(cols["impact_parameter"], np.full(n, ball.radius),
                                           cols["bat_radius"], cols["bat_slope"], azimuth,
                                           cols["angle"])
+        return cols
 
 
 # Input → the column it is drawn into.

@@ -86,6 +86,13 @@ def chunk_of(key):
     return int(re.search(r"chunk-(\d{6})", str(key)).group(1))
 
 
+def _stop(run):
+    """Kill a `mcbat run` process a test started, if it is still running."""
+    if run is not None and run.poll() is None:
+        run.kill()
+        run.wait()
+
+
 class ExternalCluster:
     """A `dask scheduler` and `dask worker` processes on 127.0.0.1, started the way they
     are on a real cluster (each worker: one process under a nanny, one thread)."""
@@ -257,9 +264,7 @@ def test_interrupted_dask_run_resumes_identically(cluster, tmp_path, tmp_path_fa
         run.send_signal(signal.SIGINT)  # Ctrl-C
         stdout, stderr = run.communicate(timeout=TIMEOUT)
     finally:
-        if run.poll() is None:
-            run.kill()
-            run.wait()
+        _stop(run)
     assert run.returncode == 130, (stdout, stderr)
     assert "complete chunk files are kept, rerun the same command to resume" in stderr
     assert len(ds.chunk_files(tmp_path / "ds")) < samples // chunk_size
@@ -307,9 +312,7 @@ def test_killed_worker_is_retried_and_the_dataset_is_identical(dask_installed, t
         assert len(written) < samples // chunk_size, "the run was over before the kill"
         stdout, stderr = run.communicate(timeout=TIMEOUT)
     finally:
-        if run is not None and run.poll() is None:
-            run.kill()
-            run.wait()
+        _stop(run)
         cluster.close()
     assert run.returncode == 0, stderr
     assert f"rows: {samples:,} in 30 chunk file(s) (30 computed" in stdout
@@ -339,9 +342,7 @@ def test_a_lost_scheduler_is_one_line_and_exit_4_at_once_and_the_rerun_resumes(
         stdout, stderr = run.communicate(timeout=TIMEOUT)
         waited = time.monotonic() - killed
     finally:
-        if run is not None and run.poll() is None:
-            run.kill()
-            run.wait()
+        _stop(run)
         cluster.close()
     assert run.returncode == 4, stderr
     lines = stderr.strip().splitlines()
