@@ -115,7 +115,9 @@ class Bat:
                 return float(self.radius), 0.0
             n = np.shape(axial)
             return np.full(n, float(self.radius)), np.zeros(n)
-        return self.profile.radius(axial), self.profile.slope(axial)
+        if np.ndim(axial) == 0:
+            return self.profile.radius(axial), self.profile.slope(axial)
+        return self.profile.surfaces(axial)
 
     def min_reach(self, ball_radius, axial_low, axial_high) -> float:
         """Smallest distance (m) of a touching ball's centre from the bat axis,

@@ -25,6 +25,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
+from mcbat.core.geometry import profile_surfaces
+
 __all__ = ["BatProfile", "mass_properties"]
 
 # Gauss-Legendre nodes and weights on [0, 1]. Three points integrate polynomials of degree
@@ -280,6 +282,16 @@ class BatProfile:
     def mass_properties(self):
         """``(mass, transverse_inertia, axial_inertia)`` in kg, kg m^2, kg m^2 (about the CM)."""
         return self.mass, self.transverse_inertia, self.axial_inertia
+
+    def surfaces(self, z):
+        """``(radius, slope)`` at the axial positions ``z`` (float64 arrays, m from the
+        CM), in parallel; bit-identical to :meth:`radius` and :meth:`slope`, NaN off the
+        ends."""
+        z = np.ascontiguousarray(z, dtype=np.float64)
+        radius, slope = np.empty_like(z), np.empty_like(z)
+        profile_surfaces(self._pchip.x, self._pchip.c, self._dpchip.c, z.ravel(),
+                         radius.reshape(-1), slope.reshape(-1))
+        return radius, slope
 
     def _evaluate(self, spline, z):
         values = spline(np.asarray(z, dtype=float))

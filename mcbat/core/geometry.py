@@ -11,9 +11,11 @@ surface of radius ``radius`` = r(axial) with slope ``slope`` = r'(axial) (0 for 
 
 import math
 
+import numba
+
 from mcbat.core.jit import njit
 
-__all__ = ["angle_from_impact_parameter", "angles_from_impact_parameters",
+__all__ = ["profile_surfaces", "angle_from_impact_parameter", "angles_from_impact_parameters",
            "ball_centre_radial_distance", "contact_frame", "impact_parameter_from_angle",
            "impact_parameters_from_angles"]
 
@@ -97,3 +99,53 @@ def impact_parameters_from_angles(angle, ball_radius, radius, slope, approach_az
     for i in range(out.shape[0]):
         out[i] = impact_parameter_from_angle(angle[i], ball_radius[i], radius[i], slope[i],
                                              approach_azimuth[i])
+
+
+@njit
+def _piecewise_polynomial(breaks, coeffs, interval, s):
+    """``sum_k coeffs[K-1-k, interval] s**k``, summed from the constant term up with the
+    powers built by repeated products: scipy's ``PPoly`` order of operations, so the
+    value is bit-identical to ``PchipInterpolator``'s."""
+    order = coeffs.shape[0]
+    value = 0.0
+    power = 1.0
+    for k in range(order):
+        value = value + coeffs[order - 1 - k, interval] * power
+        if k < order - 1:
+            power *= s
+    return value
+
+
+@njit(parallel=True)
+def profile_surfaces(breaks, radius_coeffs, slope_coeffs, axial, radius, slope):
+    """A bat profile's radius and slope at many axial positions (in parallel).
+
+    Parameters
+    ----------
+    breaks : float64[m + 1]
+        The profile's nodes (m from the CM, increasing).
+    radius_coeffs, slope_coeffs : float64[4, m], float64[3, m]
+        The piecewise cubic r(z) (PCHIP) and its derivative r'(z) in scipy's ``PPoly``
+        layout: ``c[k, i]`` multiplies ``(z - breaks[i])**(order - 1 - k)``.
+    axial : float64[n]
+        Axial positions, m from the CM.
+    radius, slope : float64[n]
+        Written: r (m) and r' (dimensionless); NaN off the profile's ends.
+    """
+    m = breaks.shape[0] - 1
+    for i in numba.prange(axial.shape[0]):
+        z = axial[i]
+        if not breaks[0] <= z <= breaks[m]:
+            radius[i] = math.nan
+            slope[i] = math.nan
+            continue
+        lo, hi = 0, m  # the interval with breaks[lo] <= z < breaks[lo + 1] (the last: <=)
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if z < breaks[mid]:
+                hi = mid
+            else:
+                lo = mid
+        s = z - breaks[lo]
+        radius[i] = _piecewise_polynomial(breaks, radius_coeffs, lo, s)
+        slope[i] = _piecewise_polynomial(breaks, slope_coeffs, lo, s)

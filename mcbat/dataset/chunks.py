@@ -22,6 +22,7 @@ from __future__ import annotations
 import json
 import platform
 import re
+import threading
 import zlib
 from importlib import metadata
 
@@ -227,6 +228,40 @@ def checksum(data) -> str:
     return f"{zlib.crc32(data):08x}"
 
 
+def _is_constant(values) -> bool:
+    """Whether every value equals the first (False with a NaN); the ends are compared
+    first, so a column of random values costs nothing."""
+    return (len(values) > 0 and values[0] == values[-1]
+            and not np.any(values != values[0]))
+
+
+_buffers = threading.local()  # one reusable encoding buffer per writing thread
+
+
+def _capacity(table: pa.Table) -> int:
+    """Bytes of buffer to encode ``table`` into: plain pages need little beyond the data."""
+    return int(table.nbytes * 1.05) + (4 << 20)
+
+
+def _encode(table: pa.Table, options: dict):
+    """The Parquet bytes of ``table``, written into this thread's reusable buffer (a fresh
+    100 MB buffer per chunk costs its page faults again: ~30 % of the encoding time).
+
+    The bytes returned are valid until this thread's next call."""
+    capacity = _capacity(table)
+    buffer = getattr(_buffers, "buffer", None)
+    if buffer is None or buffer.size < capacity:
+        buffer = _buffers.buffer = pa.allocate_buffer(capacity)
+    sink = pa.FixedSizeBufferWriter(buffer)
+    try:
+        pq.write_table(table, sink, **options)
+    except OSError:  # "Write out of bounds": it did not fit (compressed pages can grow)
+        sink = pa.BufferOutputStream()
+        pq.write_table(table, sink, **options)
+        return sink.getvalue()
+    return buffer.slice(0, sink.tell())
+
+
 def write_chunk(table: pa.Table, path, compression="none") -> dict:
     """Write a chunk's ``table`` to ``path`` (a local path or a URL), atomically.
 
@@ -244,15 +279,12 @@ def write_chunk(table: pa.Table, path, compression="none") -> dict:
     # dictionary-encoding random floats only wastes time before pyarrow falls back.
     constant, codecs = [], {}
     for name, col in zip(table.column_names, table.columns, strict=True):
-        values = col.to_numpy()
-        if len(values) and values.min() == values.max():
+        if _is_constant(col.to_numpy()):
             constant.append(name)
         codecs[name] = compression if pa.types.is_floating(col.type) else "lz4"
-    sink = pa.BufferOutputStream()  # in memory first: the checksum is of these bytes
-    pq.write_table(table, sink, compression=codecs, use_dictionary=constant,
-                   write_statistics=[n for n in ("sample_id", "chunk")
-                                     if n in table.column_names])
-    data = sink.getvalue()
+    options = {"compression": codecs, "use_dictionary": constant,
+               "write_statistics": [n for n in ("sample_id", "chunk") if n in table.column_names]}
+    data = _encode(table, options)  # in memory first: the checksum is of these bytes
     record = {"rows": table.num_rows, "bytes": data.size, "crc32": checksum(data)}
     storage.write_bytes_atomic(data, path)
     return record

@@ -60,9 +60,8 @@ __all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "chunks_to_compute"
            "remove_temporary_files", "run_chunk", "set_threads", "summary_metadata",
            "warm_kernel", "write_error"]
 
-#: Rows per chunk by default: 4 blocks of the random stream (RANDOM_BLOCK = 65,536), so that
-#: a chunk draws no block it uses only in part (250,000 rows drew up to 5 blocks, 17 % more
-#: sampling time per row).
+#: Rows per chunk by default: 2**18, four LHS blocks (LHS_BLOCK = 65,536), so that a chunk of
+#: an LHS study draws no design it uses only in part; ~100 MB of rows with every column.
 DEFAULT_CHUNK_SIZE = 262_144
 
 

@@ -5,6 +5,6 @@ See :mod:`mcbat.study.spec` for the file format and the determinism scheme, and
 ``studies/README.md`` for a walk-through.
 """
 
-from mcbat.study.spec import COLUMNS, RANDOM_BLOCK, Study, load_study
+from mcbat.study.spec import COLUMNS, LHS_BLOCK, Study, load_study
 
-__all__ = ["COLUMNS", "RANDOM_BLOCK", "Study", "load_study"]
+__all__ = ["COLUMNS", "LHS_BLOCK", "Study", "load_study"]

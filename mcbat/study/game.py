@@ -255,8 +255,8 @@ class GameStudy(Study):
         if n == 0:
             return table
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
-        dest = {name: cols[targets[name]] for name in self.inputs}
-        self._draw(start, stop, seed, dest)
+        row = {name: i for i, name in enumerate(COLUMNS)}
+        self._draw(start, stop, seed, table, {name: row[targets[name]] for name in self.inputs})
         defaults = {spec[2]: spec[1] for keys in KEYS.values() for spec in keys.values()
                     if spec[1] is not None}
         rest = (GAME_RESTITUTION if not any(k.startswith("restitution.") for k in self.inputs)

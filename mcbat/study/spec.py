@@ -77,23 +77,25 @@ Determinism
 Sample ``i`` depends only on the study, the seed and ``i``, never on how rows are grouped
 into chunks: ``sample(0, n)`` equals any concatenation of ``sample(a, b)`` pieces.
 
-* Random inputs (uniform, normal, truncnormal, choice, mixture) are drawn in blocks of
-  :data:`RANDOM_BLOCK` = 65,536 samples. Block ``k`` (samples ``k*B .. (k+1)*B - 1``) uses
-  ``numpy.random.default_rng(SeedSequence(seed, spawn_key=(k,)))`` and draws every random
-  input for the whole block, one input after the other in declaration order (the order of
-  the sections and keys in the file). A range ``[start, stop)`` is cut out of the blocks
-  it overlaps.
+* Random inputs (uniform, normal, truncnormal, choice, mixture) are drawn by a jitted,
+  parallel, counter-based sampler (:mod:`mcbat.core.sampling`): the values of input
+  ``name`` in sample ``i`` come from one Philox4x32-10 block, key ``seed``, counter ``(i,
+  CRC-32 of name)``, so they depend on nothing else (not on the other inputs, the chunk,
+  the thread count or the engine). Normal values use the inverse CDF (AS241). (Format
+  version 2; version 1 drew numpy PCG64 streams per block of 65,536 samples.)
 * Grid inputs form an outer product (the first declared varies slowest); sample ``i``
   takes grid point ``i mod G``, ``G`` the product of the ``num`` s.
 * Sobol inputs share one scrambled :class:`scipy.stats.qmc.Sobol` engine (one dimension
   each, in declaration order) seeded with ``SeedSequence(seed, spawn_key=(2**31,))``;
   sample ``i`` is its point ``i`` (``fast_forward(start)``).
-* LHS inputs share one :class:`scipy.stats.qmc.LatinHypercube` design *per random block*
-  of 65,536 samples, seeded with ``SeedSequence(seed, spawn_key=(2**31 + 1, k))``: the
-  stratification holds within each full block (a last, partial block is a subset).
+* LHS inputs share one :class:`scipy.stats.qmc.LatinHypercube` design per block of
+  :data:`LHS_BLOCK` = 65,536 samples, seeded with ``SeedSequence(seed, spawn_key=(2**31 +
+  1, k))``: the stratification holds within each full block (a last, partial block is a
+  subset).
 
-Changing the order of the inputs in the file, adding or removing a random input changes
-the samples (the canonical :meth:`Study.config` and its hash record the order).
+Adding, removing or reordering random inputs leaves the draws of the others unchanged;
+for grid, Sobol and LHS inputs the order matters (the canonical :meth:`Study.config` and
+its hash record it).
 """
 
 from __future__ import annotations
@@ -119,6 +121,7 @@ from mcbat.core.geometry import angles_from_impact_parameters, impact_parameters
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import (
+    Normal,
     check_keys,
     check_range,
     integer,
@@ -126,20 +129,20 @@ from mcbat.study.distributions import (
     parse,
 )
 from mcbat.study.output import OutputSpec, parse_columns, parse_output, parse_summary
+from mcbat.study.random_program import compile_program, draw
 
-__all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS", "NOISE_SPAWN_KEY",
-           "RANDOM_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
+__all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS",
+           "LHS_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
            "check_string", "fill_bodies", "load_study", "parse_ball", "parse_bat"]
 
-#: Samples per block of the random stream (and per LHS design).
-RANDOM_BLOCK = 65536
+#: Samples per LHS design (the stratification holds within each full block).
+LHS_BLOCK = 65536
 #: ``spawn_key`` of the Sobol engine's SeedSequence.
 SOBOL_SPAWN_KEY = 2**31
 #: First element of the ``spawn_key`` of the per-block LHS designs.
 LHS_SPAWN_KEY = 2**31 + 1
-# Measurement noise (section [noise]) is drawn per block from SeedSequence(seed,
-# spawn_key=(NOISE_SPAWN_KEY, block)): independent of the inputs' streams.
-NOISE_SPAWN_KEY = 2**31 + 2
+# Measurement noise (section [noise]) of output <name> is drawn like a random input
+# named "noise.<name>" (its own Philox stream).
 # Outputs that can get simulated measurement noise, and their quantities. The noisy copy
 # goes to a separate column "<name>_measured"; the model value is never altered.
 NOISE_OUTPUTS = {"exit_speed": "speed", "scattering_angle": "angle",
@@ -150,7 +153,7 @@ SOBOL_BITS = 32
 #: a typo, and sample indices would near the range the seeding scheme is laid out for.
 MAX_SAMPLES = 10**12
 #: Version of the study format and sampling scheme, recorded in :meth:`Study.config`.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 
 #: Columns returned by :meth:`Study.sample`: the solver inputs, then the impact parameter.
 COLUMNS = INPUT_FIELDS + ("impact_parameter",)
@@ -568,12 +571,11 @@ class Study:
             "format": "mcbat.study",
             "version": FORMAT_VERSION,
             "sampling": {
-                "random_block": RANDOM_BLOCK,
-                "bit_generator": "PCG64",
-                "block_seed": "SeedSequence(seed, spawn_key=(block,))",
+                "random": "Philox4x32-10, key = seed, counter = (sample index, "
+                          "CRC-32 of the input's name); inverse-CDF normals (AS241)",
                 "sobol": f"scipy.stats.qmc.Sobol(scramble=True, bits={SOBOL_BITS}), "
                          f"SeedSequence(seed, spawn_key=({SOBOL_SPAWN_KEY},))",
-                "lhs": "scipy.stats.qmc.LatinHypercube per block, "
+                "lhs": f"scipy.stats.qmc.LatinHypercube per block of {LHS_BLOCK}, "
                        f"SeedSequence(seed, spawn_key=({LHS_SPAWN_KEY}, block))",
             },
             "study": {"name": self.name, "description": self.description,
@@ -607,30 +609,24 @@ class Study:
 
     # ------------------------------------------------------------ sampling
 
-    def _draw(self, start, stop, seed, dest):
+    def _draw(self, start, stop, seed, table, rows):
         """Write the values of every declared input for samples ``[start, stop)`` into
-        ``dest[name]`` (float64 arrays of length ``stop - start``)."""
+        row ``rows[name]`` of ``table`` (float64, ``stop - start`` columns)."""
         n = stop - start
         fam = self._families
         for name, dist in fam["fixed"]:
-            dest[name][:] = dist.value
-        first, last = start // RANDOM_BLOCK, (stop - 1) // RANDOM_BLOCK
-        B = RANDOM_BLOCK
+            table[rows[name]] = dist.value
 
         if fam["random"]:
-            for k in range(first, last + 1):
-                rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(k,)))
-                lo, hi = max(start, k * B), min(stop, (k + 1) * B)
-                for name, dist in fam["random"]:
-                    block = dist.draw(rng, B)
-                    dest[name][lo - start:hi - start] = block[lo - k * B:hi - k * B]
+            program = compile_program(fam["random"], rows)
+            draw(program, seed, start, table)
 
         if fam["grid"]:
             g = np.arange(start, stop, dtype=np.int64) % self.grid_size
             stride = self.grid_size
             for name, dist in fam["grid"]:
                 stride //= dist.num
-                np.take(dist.values(), (g // stride) % dist.num, out=dest[name])
+                np.take(dist.values(), (g // stride) % dist.num, out=table[rows[name]])
 
         if fam["sobol"]:
             if stop > 2**SOBOL_BITS:
@@ -645,34 +641,33 @@ class Study:
                     engine.fast_forward(start)
                 points = engine.random(n)
             for j, (name, dist) in enumerate(fam["sobol"]):
-                dest[name][:] = dist.from_unit(points[:, j])
+                table[rows[name]] = dist.from_unit(points[:, j])
 
         if fam["lhs"]:
-            for k in range(first, last + 1):
+            B = LHS_BLOCK
+            for k in range(start // B, (stop - 1) // B + 1):
                 rng = np.random.default_rng(np.random.SeedSequence(
                     seed, spawn_key=(LHS_SPAWN_KEY, k)))
                 design = _qmc(qmc.LatinHypercube, len(fam["lhs"]), rng).random(B)
                 lo, hi = max(start, k * B), min(stop, (k + 1) * B)
                 for j, (name, dist) in enumerate(fam["lhs"]):
-                    dest[name][lo - start:hi - start] = dist.from_unit(
+                    table[rows[name], lo - start:hi - start] = dist.from_unit(
                         design[lo - k * B:hi - k * B, j])
 
     def measurement_noise(self, start, stop, seed=None) -> dict[str, np.ndarray]:
         """Gaussian measurement errors for the ``[noise]`` outputs of samples
-        ``start .. stop - 1`` (same units as the columns; deterministic in the index)."""
+        ``start .. stop - 1`` (same units as the columns; deterministic in the index:
+        Philox stream ``noise.<name>``, see :mod:`mcbat.core.sampling`)."""
         seed = self.seed if seed is None else seed
-        out = {name: np.empty(stop - start) for name in self.noise}
-        if not out or stop <= start:
-            return out
-        B = RANDOM_BLOCK
-        for k in range(start // B, (stop - 1) // B + 1):
-            rng = np.random.default_rng(np.random.SeedSequence(
-                seed, spawn_key=(NOISE_SPAWN_KEY, k)))
-            lo, hi = max(start, k * B), min(stop, (k + 1) * B)
-            for name, std in self.noise.items():
-                draws = rng.standard_normal(B)
-                out[name][lo - start:hi - start] = std * draws[lo - k * B:hi - k * B]
-        return out
+        names = list(self.noise)
+        table = np.empty((len(names), max(stop - start, 0)))
+        if names and stop > start:
+            draws = [(f"noise.{name}", Normal(f"noise.{name}", "noise", None, mean=0.0,
+                                              std=self.noise[name]))
+                     for name in names]
+            draw(compile_program(draws, {f"noise.{name}": i for i, name in enumerate(names)}),
+                 seed, start, table)
+        return {name: table[i] for i, name in enumerate(names)}
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
         """Solver inputs of samples ``start .. stop - 1``.
@@ -697,17 +692,18 @@ class Study:
         start, stop, seed = _sample_range(start, self.samples if stop is None else stop,
                                           self.seed if seed is None else seed)
         n = stop - start
-        table = np.empty((len(COLUMNS), n))
+        # Inputs are drawn straight into their columns (from_barrel_end into "axial" and
+        # loss_fraction into "e", converted in place below); an input with no column of
+        # its own (approach_azimuth) into an extra row after them.
+        extra = [name for name in self.inputs if name not in _TARGETS]
+        table = np.empty((len(COLUMNS) + len(extra), n))
         cols = {name: table[i] for i, name in enumerate(COLUMNS)}
         if n == 0:
             return cols
-
-        # Inputs are drawn straight into their columns (from_barrel_end into "axial" and
-        # loss_fraction into "e", converted in place below).
-        dest = {name: cols[_TARGETS[name]] if name in _TARGETS else np.empty(n)
-                for name in self.inputs}
-        self._draw(start, stop, seed, dest)
-        _fill_defaults(cols, dest)
+        rows = {name: (_COLUMN_ROWS[_TARGETS[name]] if name in _TARGETS
+                       else len(COLUMNS) + extra.index(name)) for name in self.inputs}
+        self._draw(start, stop, seed, table, rows)
+        _fill_defaults(cols, rows)
 
         ball, bat = self.ball, self.bat
         fill_bodies(cols, ball, bat)
@@ -722,9 +718,8 @@ class Study:
             np.clip(axial, *bat.axial_bounds(), out=axial)  # rounding in unit conversions
             cols["bat_radius"][:], cols["bat_slope"][:] = bat.surface(axial)
 
-        azimuth = dest.get("contact.approach_azimuth")
-        if azimuth is None:
-            azimuth = np.zeros(n)
+        azimuth = (table[rows["contact.approach_azimuth"]]
+                   if "contact.approach_azimuth" in rows else np.zeros(n))
         if self._angle_key == "angle":
             impact_parameters_from_angles(cols["angle"], np.full(n, ball.radius),
                                           cols["bat_radius"], cols["bat_slope"], azimuth,
@@ -736,6 +731,8 @@ class Study:
         return cols
 
 
+#: Row of each column in the table :meth:`Study.sample` fills.
+_COLUMN_ROWS = {name: i for i, name in enumerate(COLUMNS)}
 # Input → the column it is drawn into.
 _TARGETS = {
     "contact.axial": "axial", "contact.from_barrel_end": "axial",
@@ -773,20 +770,20 @@ def _sample_range(start, stop, seed) -> tuple[int, int, int]:
     return int(start), int(stop), int(seed)
 
 
-def _fill_defaults(cols, dest) -> None:
+def _fill_defaults(cols, drawn) -> None:
     """Columns of inputs the study leaves out (zero vectors, ``e* = 1``, ``e_x = 0``), and
     ``e*`` from a drawn loss fraction (in place)."""
     for section, (prefix, _) in _VECTORS.items():
         for axis in "xyz":
-            if f"{section}.{axis}" not in dest:
+            if f"{section}.{axis}" not in drawn:
                 cols[f"{prefix}{axis}_in"][:] = 0.0
-    if "restitution.loss_fraction" in dest:
+    if "restitution.loss_fraction" in drawn:
         e = cols["e"]
         np.subtract(1.0, e, out=e)
         np.sqrt(e, out=e)
-    elif "restitution.e" not in dest:
+    elif "restitution.e" not in drawn:
         cols["e"][:] = 1.0
-    if "restitution.e_x" not in dest:
+    if "restitution.e_x" not in drawn:
         cols["e_x"][:] = 0.0
 
 

@@ -328,3 +328,16 @@ def test_loader_bad_density_names_file(tmp_path):
     path.write_text("0\t60\n60\t60\n")
     with pytest.raises(ValueError, match=r"cyl\.tsv: density"):
         load_profile_tsv(path, density=0.0)
+
+
+def test_parallel_surfaces_are_bit_identical_to_the_scipy_spline():
+    """BatProfile.surfaces (the jitted evaluation used to sample studies) returns exactly
+    PchipInterpolator's values: at the nodes, between them, at the ends and off them."""
+    p = r161_profile()
+    z = np.concatenate([np.linspace(p.knob_end - 0.01, p.barrel_end + 0.01, 20_001), p.z,
+                        np.nextafter(p.z, np.inf), np.nextafter(p.z, -np.inf)])
+    radius, slope = p.surfaces(z)
+    assert np.array_equal(radius, p.radius(z), equal_nan=True)
+    assert np.array_equal(slope, p.slope(z), equal_nan=True)
+    inside = (z >= p.knob_end) & (z <= p.barrel_end)
+    assert not np.isnan(radius[inside]).any() and np.isnan(radius[~inside]).all()

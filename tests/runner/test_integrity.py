@@ -177,3 +177,21 @@ def test_old_datasets_without_records_still_load(copy):
     (copy / ds.chunk_name(1)).write_bytes((copy / ds.chunk_name(1)).read_bytes()[:400])
     with pytest.raises(InputError, match="chunk-000001.parquet: unreadable Parquet footer"):
         mcbat.load(copy)
+
+
+def test_a_chunk_too_big_for_the_encoding_buffer_is_written_all_the_same(tmp_path,
+                                                                          monkeypatch):
+    """The reusable encoding buffer is sized from the table; a chunk that does not fit
+    (compressed pages can grow) falls back to a growing buffer, with the same bytes."""
+    import numpy as np
+    import pyarrow as pa
+
+    table = pa.table({"x": np.random.default_rng(0).random(50_000),
+                      "k": np.full(50_000, 3.0)})
+    fits = ds.write_chunk(table, tmp_path / "a.parquet", compression="zstd")
+    monkeypatch.setattr(ds, "_capacity", lambda t: 1000)
+    monkeypatch.setattr(ds._buffers, "buffer", None, raising=False)
+    spills = ds.write_chunk(table, tmp_path / "b.parquet", compression="zstd")
+    assert fits == spills
+    assert (tmp_path / "a.parquet").read_bytes() == (tmp_path / "b.parquet").read_bytes()
+    assert pa.parquet.read_table(tmp_path / "b.parquet").equals(table)

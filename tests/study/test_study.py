@@ -17,7 +17,7 @@ from mcbat.core import status
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.errors import InputError
-from mcbat.study import COLUMNS, RANDOM_BLOCK, Study, load_study
+from mcbat.study import COLUMNS, LHS_BLOCK, Study, load_study
 from mcbat.study.units import UNITS, to_si
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
@@ -116,7 +116,7 @@ def test_chunking_profiled_study():
 
 def test_far_offset_equals_prefix_slice():
     s = Study.from_dict(PROFILED)
-    start = 3 * RANDOM_BLOCK + 12_345
+    start = 3 * LHS_BLOCK + 12_345
     tail = s.sample(start, start + 100)
     whole = s.sample(0, start + 100)
     for name in COLUMNS:
@@ -241,10 +241,10 @@ def test_sobol_two_dimensions_form_a_net():
 def test_lhs_strata_once_per_block(all_kinds_sample):
     for name in ("angle", "bat_wy_in"):
         for k in range(3):  # three full blocks of 65,536
-            u = all_kinds_sample[name][k * RANDOM_BLOCK:(k + 1) * RANDOM_BLOCK]
+            u = all_kinds_sample[name][k * LHS_BLOCK:(k + 1) * LHS_BLOCK]
             assert u.min() >= 0.0 and u.max() < 1.0
-            strata = np.sort(np.floor(u * RANDOM_BLOCK).astype(np.int64))
-            assert np.array_equal(strata, np.arange(RANDOM_BLOCK)), (name, k)
+            strata = np.sort(np.floor(u * LHS_BLOCK).astype(np.int64))
+            assert np.array_equal(strata, np.arange(LHS_BLOCK)), (name, k)
 
 
 def test_loss_fraction_becomes_energetic_e(all_kinds_sample):
