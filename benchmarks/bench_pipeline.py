@@ -13,7 +13,7 @@ directory (one unmeasured warm-up run first), medians over ``--repeats``:
 * ``--summary-only`` with a ``[summary]`` (40 bins of from_barrel_end, exit_speed and
   scattering_angle with 3 quantiles): rows/s and its ratio to the kernel alone.
 
-``--scan N`` runs one summary-only scan of N samples instead (chunks of 524,288 rows) and
+``--scan N`` runs one summary-only scan of N samples instead (default chunks) and
 reports its wall time, its bytes on disk and its peak memory (VmHWM); ``--memory`` runs
 summary-only scans of 10 M and 100 M samples and compares their peak memory.
 """
@@ -104,7 +104,7 @@ def main():
         scans = [args.scan] if args.scan else [10_000_000, 100_000_000] if args.memory else []
         for samples in scans:
             rate, wall, peak, size = run(summary_study, samples,
-                                         ["--summary-only", "--chunk-size", "524288"], work)
+                                         ["--summary-only"], work)
             print(f"summary-only scan of {samples:,} samples: {wall / 60:.1f} min wall, "
                   f"{rate:,.0f} rows/s within the run, {size / 1e6:.2f} MB on disk, peak "
                   f"memory {peak / 1024:,.0f} MB", flush=True)
