@@ -47,7 +47,6 @@ _PHILOX_M1 = np.uint64(0xCD9E8D57)
 _PHILOX_W0 = np.uint64(0x9E3779B9)
 _PHILOX_W1 = np.uint64(0xBB67AE85)
 _ZERO = np.uint64(0)
-_EVERY = np.zeros(1, np.int64)  # "which" of an input with one component
 
 
 class DrawProgram(NamedTuple):
@@ -200,30 +199,25 @@ def _select(cum, first, count, last, u):
 
 @njit(inline="always")
 def _finish(program, j, values, which, component, lo, hi):
-    """Turn the uniforms ``values[lo:hi]`` into values of component ``j``, where
-    ``which[i] == component`` (every ``i`` when ``which`` is empty). The kind is tested
-    once per block and the loops are branch-free selects, so the common kinds vectorise."""
+    """Turn the uniforms ``values[lo:hi]`` into values of component ``j`` where
+    ``which[i] == component``. The kind is tested once per block and the loops of the
+    common kinds are branch-free selects, so they vectorise."""
     kind = program.kind[j]
     p = program.param
-    if which.shape[0] == 0:
-        which, component = _EVERY, 0  # (a zero stride: "which" reads 0 for every i)
-        lo_w = 0
-    else:
-        lo_w = 1
     if kind == FIXED:
         for i in range(lo, hi):
-            values[i] = p[j, 0] if which[i * lo_w] == component else values[i]
+            values[i] = p[j, 0] if which[i] == component else values[i]
     elif kind == UNIFORM:
         low, span = p[j, 0], p[j, 1] - p[j, 0]
         for i in range(lo, hi):
-            values[i] = low + span * values[i] if which[i * lo_w] == component else values[i]
+            values[i] = low + span * values[i] if which[i] == component else values[i]
     elif kind == NORMAL:
         for i in range(lo, hi):
-            if which[i * lo_w] == component:
+            if which[i] == component:
                 values[i] = p[j, 0] + p[j, 1] * standard_normal_quantile(values[i])
     elif kind == TRUNCNORMAL:
         for i in range(lo, hi):
-            if which[i * lo_w] == component:
+            if which[i] == component:
                 x = standard_normal_quantile(p[j, 4] + (p[j, 5] - p[j, 4]) * values[i])
                 if p[j, 6] != 0.0:
                     x = -x
@@ -231,7 +225,7 @@ def _finish(program, j, values, which, component, lo, hi):
     else:  # CHOICE
         first, count = program.choice_first[j], program.choice_count[j]
         for i in range(lo, hi):
-            if which[i * lo_w] == component:
+            if which[i] == component:
                 values[i] = program.choice_value[first + _select(
                     program.choice_cum, first, count, program.choice_last[j], values[i])]
 
@@ -260,7 +254,6 @@ def draw_random_inputs(program, seed, start, out):
     n = out.shape[1]
     selector = np.empty(n)         # u_select of the current input (mixtures only)
     which = np.empty(n, np.int64)  # its component
-    no_selection = np.empty(0, np.int64)
     for block in numba.prange((n + _BLOCK - 1) // _BLOCK):
         lo, hi = block * _BLOCK, min(n, (block + 1) * _BLOCK)
         for k in range(program.row.shape[0]):
@@ -275,7 +268,9 @@ def draw_random_inputs(program, seed, start, out):
                 values[i] = unit_uniform(w2, w3)
             first, count = program.first[k], program.count[k]
             if count == 1:
-                _finish(program, first, values, no_selection, 0, lo, hi)
+                for i in range(lo, hi):
+                    which[i] = 0
+                _finish(program, first, values, which, 0, lo, hi)
                 continue
             # which = the number of running weight sums <= u * total, capped at the last
             # positive weight (as _select, one sum at a time so that the loops vectorise)

@@ -26,6 +26,7 @@ from mcbat.dataset.summary import SUMMARY, SummaryState, write_summary
 from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
+from mcbat.runner.memory import reuse_freed_memory
 from mcbat.runner.plan import (
     DEFAULT_CHUNK_SIZE,
     chunks_to_compute,
@@ -207,7 +208,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     with _out_errors(display):
         # Everything that can refuse the run, before a cluster is started or joined.
         prepare_directory(display, manifest, chunk_size, overwrite, check_only=True)
-    with dataset_lock(display), runner.connect():  # refused before a cluster starts
+    with dataset_lock(display), runner.connect(), reuse_freed_memory():
+        # (the lock and the connection: refused before a cluster starts)
         with _out_errors(display):
             on_disk = prepare_directory(display, manifest, chunk_size, overwrite)
         try:

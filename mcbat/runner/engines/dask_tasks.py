@@ -21,6 +21,7 @@ import numba
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from mcbat.dataset import chunks
+from mcbat.runner.memory import set_run_allocation
 from mcbat.runner.plan import ChunkJob, ChunkSummary, dataset_hash, run_chunk, warm_kernel
 from mcbat.study import Study
 
@@ -123,6 +124,7 @@ def warm_up(threads: int) -> dict:
     samplers, pandas for the version check, Parquet) in this worker: ~1 s once, instead
     of in its first chunk."""
     budget = set_numba_threads(threads)
+    set_run_allocation()  # a worker runs chunk after chunk: keep their buffers
     with _KERNEL_LOCK:
         warm_kernel()
     chunks.package_versions()  # imports pandas and scipy
