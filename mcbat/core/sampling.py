@@ -205,8 +205,9 @@ def _finish(program, j, values, which, component, lo, hi):
     kind = program.kind[j]
     p = program.param
     if kind == FIXED:
+        value = p[j, 0]
         for i in range(lo, hi):
-            values[i] = p[j, 0] if which[i] == component else values[i]
+            values[i] = value if which[i] == component else values[i]
     elif kind == UNIFORM:
         low, span = p[j, 0], p[j, 1] - p[j, 0]
         for i in range(lo, hi):
@@ -228,6 +229,17 @@ def _finish(program, j, values, which, component, lo, hi):
             if which[i] == component:
                 values[i] = program.choice_value[first + _select(
                     program.choice_cum, first, count, program.choice_last[j], values[i])]
+
+
+@njit(inline="always")
+def _four_sums(cum, first, count):
+    """The running weight sums ``cum[first:first + count]`` (``count <= 4``), padded with
+    +inf to four."""
+    t0 = cum[first]
+    t1 = cum[first + 1] if count > 1 else math.inf
+    t2 = cum[first + 2] if count > 2 else math.inf
+    t3 = cum[first + 3] if count > 3 else math.inf
+    return t0, t1, t2, t3
 
 
 #: Samples per block of the parallel loop: its inner loops run over a block (L1-sized).
@@ -273,16 +285,23 @@ def draw_random_inputs(program, seed, start, out):
                 _finish(program, first, values, which, 0, lo, hi)
                 continue
             # which = the number of running weight sums <= u * total, capped at the last
-            # positive weight (as _select, one sum at a time so that the loops vectorise)
+            # positive weight (as _select); up to 4 components in one pass that
+            # vectorises (the missing sums are +inf), more one sum at a time.
             total = program.cum[first + count - 1]
-            for i in range(lo, hi):
-                which[i] = 0
-            for c in range(count):
-                threshold = program.cum[first + c]
-                for i in range(lo, hi):
-                    which[i] += selector[i] * total >= threshold
             last = program.last[k]
-            for i in range(lo, hi):
-                which[i] = min(which[i], last)
+            if count <= 4:
+                t0, t1, t2, t3 = _four_sums(program.cum, first, count)
+                for i in range(lo, hi):
+                    x = selector[i] * total
+                    which[i] = min((x >= t0) + (x >= t1) + (x >= t2) + (x >= t3), last)
+            else:
+                for i in range(lo, hi):
+                    which[i] = 0
+                for c in range(count):
+                    threshold = program.cum[first + c]
+                    for i in range(lo, hi):
+                        which[i] += selector[i] * total >= threshold
+                for i in range(lo, hi):
+                    which[i] = min(which[i], last)
             for component in range(count):
                 _finish(program, first + component, values, which, component, lo, hi)

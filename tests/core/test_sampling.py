@@ -147,3 +147,19 @@ def test_indices_beyond_32_bits_and_large_seeds_draw_distinct_values():
     big_seed = _program(spec, seed=2**63 - 1, start=5, n=1000)["e.x"]
     assert not np.array_equal(low, high) and not np.array_equal(low, big_seed)
     assert stats.kstest(high, "uniform").pvalue > 1e-4
+
+
+@pytest.mark.parametrize("count", [2, 4, 5, 7])
+def test_mixtures_of_any_size_pick_components_by_weight(count):
+    """Up to four components are selected in one vectorised pass, more one sum at a time:
+    both paths give the weights' frequencies (a zero weight is never drawn)."""
+    weights = [float(j + 1) for j in range(count)]
+    weights[-2] = 0.0
+    spec = {"f.x": {"dist": "mixture", "weights": weights,
+                    "components": [float(j) for j in range(count)]}}
+    n = 100_000
+    x = _program(spec, n=n)["f.x"]
+    total = sum(weights)
+    for j, w in enumerate(weights):
+        p = w / total
+        assert abs(np.mean(x == j) - p) <= 5 * np.sqrt(p * (1 - p) / n) + 1e-12, (j, count)
