@@ -47,9 +47,9 @@ from mcbat.dataset.schema import (
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
            "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "game_columns",
-           "impact_columns", "is_temporary_chunk_name", "package_versions", "read_manifest",
-           "read_metadata", "read_table", "to_table", "verify_chunk", "write_chunk",
-           "write_manifest"]
+           "impact_columns", "is_temporary_chunk_name", "numpy_to_arrow", "package_versions",
+           "read_manifest", "read_metadata", "read_table", "to_table", "verify_chunk",
+           "write_chunk", "write_manifest"]
 
 MANIFEST = "_mcbat.json"
 METADATA_KEY = b"mcbat"
@@ -77,14 +77,13 @@ def is_temporary_chunk_name(name: str) -> bool:
 
 
 def package_versions() -> dict:
-    """Versions of Python and of the packages that determine the data (provenance)."""
-    import numba
-    import pandas
-    import scipy
-
+    """Versions of Python and of the packages that determine the data (provenance), from
+    their installed metadata (importing pandas and scipy only to ask would cost a run
+    ~0.5 s of start-up)."""
     return {"mcbat": metadata.version("mcbat"), "python": platform.python_version(),
-            "numpy": np.__version__, "numba": numba.__version__, "scipy": scipy.__version__,
-            "pandas": pandas.__version__, "pyarrow": pa.__version__}
+            "numpy": np.__version__, "numba": metadata.version("numba"),
+            "scipy": metadata.version("scipy"), "pandas": metadata.version("pandas"),
+            "pyarrow": pa.__version__}
 
 
 _INT8_COLUMNS = ("status", "end_state", "flight_status")
@@ -94,20 +93,49 @@ _FULL_PRECISION = frozenset(INPUT_COLUMNS) | frozenset(GAME_INPUT_COLUMNS) | {
     "sample_id", "chunk", "rk4_steps", *_INT8_COLUMNS}
 
 
+_ARROW_TYPES = {np.dtype(np.float64): pa.float64(), np.dtype(np.float32): pa.float32(),
+                np.dtype(np.int64): pa.int64(), np.dtype(np.int32): pa.int32(),
+                np.dtype(np.int8): pa.int8()}
+_NUMPY_TYPES = {arrow: numpy for numpy, arrow in _ARROW_TYPES.items()}
+
+
+def _numpy_view(column: pa.ChunkedArray) -> np.ndarray:
+    """The values of a column of one primitive chunk without nulls, viewed in place
+    (pyarrow's ``to_numpy`` imports pandas, ~0.2 s of a run's start-up); else a copy."""
+    if column.num_chunks == 1:
+        array = column.chunk(0)
+        dtype = _NUMPY_TYPES.get(array.type)
+        if dtype is not None and array.null_count == 0:
+            return np.frombuffer(array.buffers()[1], dtype, count=len(array),
+                                 offset=array.offset * dtype.itemsize)
+    return column.to_numpy()
+
+
+def numpy_to_arrow(values, dtype=None) -> pa.Array:
+    """An Arrow array viewing the numpy values (converted to ``dtype`` if given), with no
+    null bitmap (NaN stays a value): what ``pa.array`` gives, built from the buffer
+    because ``pa.array`` imports pandas (~0.2 s of start-up) to ask whether the values
+    are a Series. float64, float32, int64, int32 or int8."""
+    values = np.ascontiguousarray(values, dtype=dtype)
+    return pa.Array.from_buffers(_ARROW_TYPES[values.dtype], values.size,
+                                 [None, pa.py_buffer(values)])
+
+
 def _arrow_array(name, values, sample_id_start, chunk, n, float32):
     """The Arrow array of column ``name`` (status codes int8, ``rk4_steps`` int32,
     ``sample_id`` and ``chunk`` generated; outputs float32 if ``float32``)."""
     if name in _INT8_COLUMNS:
-        return pa.array(values, pa.int8())
+        return numpy_to_arrow(values, np.int8)
     if name == "rk4_steps":
-        return pa.array(np.nan_to_num(values).astype(np.int32))
+        return numpy_to_arrow(np.nan_to_num(values).astype(np.int32), np.int32)
     if name == "sample_id":
-        return pa.array(np.arange(sample_id_start, sample_id_start + n, dtype=np.int64))
+        return numpy_to_arrow(np.arange(sample_id_start, sample_id_start + n, dtype=np.int64),
+                          np.int64)
     if name == "chunk":
-        return pa.array(np.full(n, chunk, np.int32))
+        return numpy_to_arrow(np.full(n, chunk, np.int32), np.int32)
     if float32 and name not in _FULL_PRECISION:
-        return pa.array(np.asarray(values, np.float32))
-    return pa.array(values)
+        return numpy_to_arrow(values, np.float32)
+    return numpy_to_arrow(values, np.float64)
 
 
 def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None):
@@ -279,7 +307,7 @@ def write_chunk(table: pa.Table, path, compression="none") -> dict:
     # dictionary-encoding random floats only wastes time before pyarrow falls back.
     constant, codecs = [], {}
     for name, col in zip(table.column_names, table.columns, strict=True):
-        if _is_constant(col.to_numpy()):
+        if _is_constant(_numpy_view(col)):
             constant.append(name)
         codecs[name] = compression if pa.types.is_floating(col.type) else "lz4"
     options = {"compression": codecs, "use_dictionary": constant,

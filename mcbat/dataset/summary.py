@@ -34,7 +34,7 @@ import pyarrow.parquet as pq
 
 from mcbat.core import binned_stats as core
 from mcbat.dataset import storage
-from mcbat.dataset.chunks import checksum, read_manifest
+from mcbat.dataset.chunks import checksum, numpy_to_arrow, read_manifest
 from mcbat.errors import InputError
 
 __all__ = ["MAX_PARTIAL_BYTES", "STATE", "SUMMARY", "SummaryState", "check_summary_size",
@@ -148,20 +148,20 @@ def summary_table(spec, state: SummaryState, metadata: dict) -> pa.Table:
     for axis, grid in zip(spec.by, grids):
         width = (axis.high_given - axis.low_given) / axis.bins
         i = grid.ravel()
-        arrays += [pa.array(axis.low_given + i * width), pa.array(axis.low_given
+        arrays += [numpy_to_arrow(axis.low_given + i * width), numpy_to_arrow(axis.low_given
                                                                  + (i + 1) * width)]
         names += [f"{axis.name}_low", f"{axis.name}_high"]
-    arrays.append(pa.array(np.asarray(total.count, np.int64)))
+    arrays.append(numpy_to_arrow(np.asarray(total.count, np.int64)))
     names.append("count")
     stats = core.finalize(total, np.array(spec.quantiles, np.float64))
     for j, column in enumerate(spec.columns):
-        arrays.append(pa.array(np.asarray(stats.n[:, j], np.int64)))
+        arrays.append(numpy_to_arrow(np.asarray(stats.n[:, j], np.int64)))
         names.append(f"{column}_count")
         for stat in ("mean", "std", "min", "max"):
-            arrays.append(pa.array(getattr(stats, stat)[:, j]))
+            arrays.append(numpy_to_arrow(getattr(stats, stat)[:, j]))
             names.append(f"{column}_{stat}")
         for k, q in enumerate(spec.quantiles):
-            arrays.append(pa.array(stats.quantiles[:, j, k]))
+            arrays.append(numpy_to_arrow(stats.quantiles[:, j, k]))
             names.append(quantile_name(column, q))
     table = pa.Table.from_arrays(arrays, names=names)
     return table.replace_schema_metadata({b"mcbat": json.dumps(metadata, sort_keys=True)})

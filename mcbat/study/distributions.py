@@ -36,7 +36,6 @@ from dataclasses import field as dc_field
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import ndtr, ndtri
 
 from mcbat.errors import InputError
 from mcbat.study import units as u
@@ -199,20 +198,11 @@ class Fixed(Dist):
         """Canonical JSON-ready description, SI values."""
         return {"dist": "fixed", "value": self.value}
 
-    def draw(self, rng, n):
-        """No draws: the fixed value ``n`` times (used inside mixtures)."""
-        return np.full(n, self.value)
-
 
 class RandomDist(Dist):
-    """Drawn from the per-block random stream: :meth:`draw` always consumes the same
-    amount of the stream for a given ``n``."""
+    """Drawn by the counter-based sampler (:mod:`mcbat.study.random_program`)."""
 
     family = "random"
-
-    @abc.abstractmethod
-    def draw(self, rng: np.random.Generator, n: int) -> np.ndarray:
-        """``n`` values from ``rng``, consuming a fixed amount of the stream."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -233,10 +223,6 @@ class Uniform(RandomDist):
         """Canonical JSON-ready description, SI values."""
         return {"dist": "uniform", "low": self.low, "high": self.high}
 
-    def draw(self, rng, n):
-        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
-        return self.low + (self.high - self.low) * rng.random(n)
-
 
 @dataclass(frozen=True, eq=False)
 class Normal(RandomDist):
@@ -255,10 +241,6 @@ class Normal(RandomDist):
     def config(self):
         """Canonical JSON-ready description, SI values."""
         return {"dist": "normal", "mean": self.mean, "std": self.std}
-
-    def draw(self, rng, n):
-        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
-        return self.mean + self.std * rng.standard_normal(n)
 
 
 @dataclass(frozen=True, eq=False)
@@ -281,8 +263,8 @@ class TruncNormal(RandomDist):
         if flip:
             a, b = -b, -a
         object.__setattr__(self, "_flip", flip)
-        object.__setattr__(self, "_pa", float(ndtr(a)))
-        object.__setattr__(self, "_pb", float(ndtr(b)))
+        object.__setattr__(self, "_pa", _normal_cdf(a))
+        object.__setattr__(self, "_pb", _normal_cdf(b))
 
     def points(self):
         """``low`` and ``high``, at the keys they were written at."""
@@ -294,12 +276,18 @@ class TruncNormal(RandomDist):
         return {"dist": "truncnormal", "mean": self.mean, "std": self.std,
                 "low": self.low, "high": self.high}
 
-    def draw(self, rng, n):
-        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
-        x = ndtri(self._pa + (self._pb - self._pa) * rng.random(n))
-        if self._flip:
-            x = -x
-        return np.clip(self.mean + self.std * x, self.low, self.high)
+
+_SQRT_HALF = math.sqrt(0.5)
+
+
+def _normal_cdf(x: float) -> float:
+    """The standard normal CDF, cephes' ndtr (scipy's) formula: ``1/2 + erf(x/sqrt 2)/2``
+    near 0, else from ``erfc``, which keeps the lower tail's relative precision."""
+    z = x * _SQRT_HALF
+    if abs(z) < _SQRT_HALF:
+        return 0.5 + 0.5 * math.erf(z)
+    y = 0.5 * math.erfc(abs(z))
+    return 1.0 - y if z > 0.0 else y
 
 
 def _selector(weights):
@@ -310,20 +298,6 @@ def _selector(weights):
     if not finite:  # huge weights: only their ratios matter
         w = w / w.max()
     return np.cumsum(w), int(np.flatnonzero(w > 0.0)[-1])
-
-
-def _select(cum, last, uniforms):
-    """Indices drawn with probabilities ``diff(cum)/cum[-1]`` from uniforms in [0, 1):
-    the number of cumulative weights ``<= u * total`` (``searchsorted(side="right")``),
-    capped at the last index with a positive weight."""
-    x = uniforms * cum[-1]
-    if cum.size > 8:
-        idx = np.searchsorted(cum, x, side="right")
-    else:  # the same count, faster for a few entries
-        idx = np.zeros(x.shape, np.intp)
-        for c in cum:
-            idx += x >= c
-    return np.minimum(idx, last, out=idx)
 
 
 @dataclass(frozen=True, eq=False)
@@ -349,10 +323,6 @@ class Choice(RandomDist):
     def config(self):
         """Canonical JSON-ready description, SI values."""
         return {"dist": "choice", "values": list(self.values), "weights": list(self.weights)}
-
-    def draw(self, rng, n):
-        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
-        return self._values[_select(self._cum, self._last, rng.random(n))]
 
 
 @dataclass(frozen=True, eq=False)
@@ -385,21 +355,6 @@ class Mixture(RandomDist):
         """Canonical JSON-ready description, SI values."""
         return {"dist": "mixture", "components": [c.config() for c in self.components],
                 "weights": list(self.weights)}
-
-    def draw(self, rng, n):
-        """``n`` values from ``rng`` (a fixed amount of the stream for a given ``n``)."""
-        which = _select(self._cum, self._last, rng.random(n))
-        out = None
-        for j, component in enumerate(self.components):
-            if isinstance(component, Fixed):
-                values = component.value  # draws nothing
-            else:
-                values = component.draw(rng, n)
-            if out is None:
-                out = np.full(n, values) if np.ndim(values) == 0 else values
-            else:
-                np.copyto(out, values, where=which == j)
-        return out
 
 
 @dataclass(frozen=True, eq=False)

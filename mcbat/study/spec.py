@@ -112,7 +112,6 @@ from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
-from scipy.stats import qmc
 
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.core.batch import INPUT_FIELDS
@@ -634,7 +633,7 @@ class Study:
                                  f"asked for sample {stop - 1}")
             rng = np.random.default_rng(np.random.SeedSequence(seed,
                                                                spawn_key=(SOBOL_SPAWN_KEY,)))
-            engine = _qmc(qmc.Sobol, len(fam["sobol"]), rng, scramble=True, bits=SOBOL_BITS)
+            engine = _qmc("Sobol", len(fam["sobol"]), rng, scramble=True, bits=SOBOL_BITS)
             with warnings.catch_warnings():
                 warnings.filterwarnings("ignore", message=".*balance properties.*")
                 if start:  # (scipy's fast_forward(0) on a fresh engine fails)
@@ -648,7 +647,7 @@ class Study:
             for k in range(start // B, (stop - 1) // B + 1):
                 rng = np.random.default_rng(np.random.SeedSequence(
                     seed, spawn_key=(LHS_SPAWN_KEY, k)))
-                design = _qmc(qmc.LatinHypercube, len(fam["lhs"]), rng).random(B)
+                design = _qmc("LatinHypercube", len(fam["lhs"]), rng).random(B)
                 lo, hi = max(start, k * B), min(stop, (k + 1) * B)
                 for j, (name, dist) in enumerate(fam["lhs"]):
                     table[rows[name], lo - start:hi - start] = dist.from_unit(
@@ -787,8 +786,13 @@ def _fill_defaults(cols, drawn) -> None:
         cols["e_x"][:] = 0.0
 
 
-def _qmc(engine, d, rng, **kwargs):
-    """A scipy.stats.qmc engine seeded with a Generator (``rng=`` from scipy 1.15 on)."""
+def _qmc(name, d, rng, **kwargs):
+    """The scipy.stats.qmc engine ``name`` seeded with a Generator (``rng=`` from scipy
+    1.15 on). Imported here, not with the module: scipy.stats costs ~0.3 s of start-up,
+    and only studies with sobol or lhs inputs need it."""
+    from scipy.stats import qmc
+
+    engine = getattr(qmc, name)
     try:
         return engine(d, rng=rng, **kwargs)
     except TypeError:  # scipy < 1.15

@@ -330,14 +330,34 @@ def test_loader_bad_density_names_file(tmp_path):
         load_profile_tsv(path, density=0.0)
 
 
-def test_parallel_surfaces_are_bit_identical_to_the_scipy_spline():
-    """BatProfile.surfaces (the jitted evaluation used to sample studies) returns exactly
-    PchipInterpolator's values: at the nodes, between them, at the ends and off them."""
+def test_surfaces_are_bit_identical_to_scipys_pchip():
+    """The profile's own PCHIP (coefficients in numpy, evaluation jitted and parallel, no
+    scipy at start-up) gives exactly scipy's PchipInterpolator values: at the nodes,
+    between them, at the ends and off them (NaN)."""
+    from scipy.interpolate import PchipInterpolator
+
     p = r161_profile()
+    spline = PchipInterpolator(p.z, p.r, extrapolate=False)
     z = np.concatenate([np.linspace(p.knob_end - 0.01, p.barrel_end + 0.01, 20_001), p.z,
                         np.nextafter(p.z, np.inf), np.nextafter(p.z, -np.inf)])
     radius, slope = p.surfaces(z)
-    assert np.array_equal(radius, p.radius(z), equal_nan=True)
-    assert np.array_equal(slope, p.slope(z), equal_nan=True)
+    assert np.array_equal(radius, spline(z), equal_nan=True)
+    assert np.array_equal(slope, spline.derivative()(z), equal_nan=True)
+    assert np.array_equal(p.radius(z), radius, equal_nan=True)
+    assert p.radius(float(p.z[3])) == float(spline(p.z[3]))
     inside = (z >= p.knob_end) & (z <= p.barrel_end)
     assert not np.isnan(radius[inside]).any() and np.isnan(radius[~inside]).all()
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_pchip_coefficients_are_scipys(seed):
+    """Random node sets, with flat stretches, turns and two-node tables."""
+    from scipy.interpolate import PchipInterpolator
+
+    from mcbat.bodies.profile import pchip_coefficients
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 25))
+    z = np.sort(rng.random(n)) + np.arange(n)
+    r = np.where(rng.random(n) < 0.3, 0.5, rng.random(n))
+    assert np.array_equal(pchip_coefficients(z, r), PchipInterpolator(z, r).c)

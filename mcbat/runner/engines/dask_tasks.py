@@ -127,7 +127,7 @@ def warm_up(threads: int) -> dict:
     set_run_allocation()  # a worker runs chunk after chunk: keep their buffers
     with _KERNEL_LOCK:
         warm_kernel()
-    chunks.package_versions()  # imports pandas and scipy
+    chunks.package_versions()
     return {"threads": budget, "numba_num_threads": numba.config.NUMBA_NUM_THREADS,
             "threading_layer": numba.threading_layer()}
 
