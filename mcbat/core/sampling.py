@@ -264,8 +264,8 @@ def draw_random_inputs(program, seed, start, out):
     key0 = seed & _MASK32
     key1 = seed >> _SHIFT32
     n = out.shape[1]
-    selector = np.empty(n)         # u_select of the current input (mixtures only)
-    which = np.empty(n, np.int64)  # its component
+    selector = np.empty(n)         # u_select of the current input (read by mixtures)
+    which = np.empty(n, np.int64)  # the component it picks
     for block in numba.prange((n + _BLOCK - 1) // _BLOCK):
         lo, hi = block * _BLOCK, min(n, (block + 1) * _BLOCK)
         for k in range(program.row.shape[0]):

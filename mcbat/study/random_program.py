@@ -39,22 +39,24 @@ def stream_id(name: str) -> int:
     return zlib.crc32(name.encode("utf-8"))
 
 
-def _component_row(dist, choices) -> tuple[int, list]:
-    """``(kind, params)`` of one component; a choice's tables are appended to ``choices``
-    and its params hold ``(first, count, last)`` there."""
+def _component_row(dist, choices) -> tuple[int, list, list]:
+    """``(kind, params, choice slot)`` of one component; a choice's values and running
+    weight sums are appended to ``choices``, and its slot is ``(first, count, last)``
+    there (``(0, 0, 0)`` for the other kinds)."""
+    none = [0, 0, 0]
     if isinstance(dist, Fixed):
-        return FIXED, [dist.value]
+        return FIXED, [dist.value], none
     if isinstance(dist, Uniform):
-        return UNIFORM, [dist.low, dist.high]
+        return UNIFORM, [dist.low, dist.high], none
     if isinstance(dist, Normal):
-        return NORMAL, [dist.mean, dist.std]
+        return NORMAL, [dist.mean, dist.std], none
     if isinstance(dist, TruncNormal):
         return TRUNCNORMAL, [dist.mean, dist.std, dist.low, dist.high, dist._pa, dist._pb,
-                             float(dist._flip)]
+                             float(dist._flip)], none
     if isinstance(dist, Choice):
         first = sum(len(values) for values, _ in choices)
         choices.append((dist._values, dist._cum))
-        return CHOICE, [first, len(dist._values), dist._last]
+        return CHOICE, [], [first, len(dist._values), dist._last]
     raise TypeError(f"{type(dist).__name__} is not drawn by the random sampler")
 
 
@@ -83,10 +85,10 @@ def compile_program(inputs, rows) -> DrawProgram:
             last.append(0)
             cum.append(1.0)
         for component in components:
-            k, p = _component_row(component, choices)
+            k, p, slot = _component_row(component, choices)
             kind.append(k)
             param.append(p + [0.0] * (PARAMS - len(p)))
-            choice_slot.append(p if k == CHOICE else [0, 0, 0])
+            choice_slot.append(slot)
     if len(set(stream)) != len(stream):  # (CRC-32 of a handful of names: never in practice)
         raise ValueError(f"two random inputs share a stream: {[n for n, _ in inputs]}")
     slots = np.asarray(choice_slot, np.int64).reshape(-1, 3)
