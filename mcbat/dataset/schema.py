@@ -49,7 +49,9 @@ __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
 #: 3: game datasets (:data:`GAME_COLUMNS`); the bat-frame columns are those of version 2.
 #: 4: ``from_barrel_end`` in every dataset (after ``axial``); ``[output]`` column selection
 #: and float32 outputs; ``[summary]`` tables; float columns stored uncompressed by default.
-SCHEMA_VERSION = 4
+#: 5: the same columns; the random inputs come from the counter-based sampler (study format
+#: 2: Philox4x32-10, see :mod:`mcbat.core.sampling`), so a seed gives other rows than in 4.
+SCHEMA_VERSION = 5
 
 _LINEAR = {"v": "m/s", "w": "rad/s"}
 UNITS = {
