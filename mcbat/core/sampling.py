@@ -3,10 +3,11 @@
 Every random number of a study is a pure function of ``(seed, sample index, stream)``:
 the Philox4x32-10 block cipher of Salmon, Moraes, Dror & Shaw ("Parallel random numbers:
 as easy as 1, 2, 3", SC '11) maps the 128-bit counter ``(index low, index high, stream,
-0)`` under the 64-bit key ``(seed low, seed high)`` to 128 random bits. There is no
-generator state to carry from one sample to the next, so any range of samples is drawn in
-parallel, in any order, by any number of threads, and gives the same bits: the sample
-index alone fixes the draw.
+domain)`` under the 64-bit key ``(seed low, seed high)`` to 128 random bits (the domain
+keeps families of draws apart: 0 for a study's inputs, 1 for simulated measurement
+noise). There is no generator state to carry from one sample to the next, so any range of
+samples is drawn in parallel, in any order, by any number of threads, and gives the same
+bits: the sample index alone fixes the draw.
 
 One block per sample and input gives two uniforms on (0, 1) of 52 bits each (never 0 or
 1): ``u_select`` picks a mixture component and ``u_value`` draws its value. Normal values
@@ -46,13 +47,13 @@ _PHILOX_M0 = np.uint64(0xD2511F53)
 _PHILOX_M1 = np.uint64(0xCD9E8D57)
 _PHILOX_W0 = np.uint64(0x9E3779B9)
 _PHILOX_W1 = np.uint64(0xBB67AE85)
-_ZERO = np.uint64(0)
 
 
 class DrawProgram(NamedTuple):
     """A study's random inputs as tables for :func:`draw_random_inputs`.
 
-    Input ``k`` is drawn into row ``row[k]`` of ``out`` from Philox stream ``stream[k]``.
+    Input ``k`` is drawn into row ``row[k]`` of ``out`` from Philox stream ``stream[k]``
+    of ``domain``.
     Its components are ``first[k] .. first[k] + count[k] - 1``; with more than one,
     ``u_select`` picks component ``j`` with probability proportional to the weights whose
     running sums are ``cum[first[k]:first[k] + count[k]]`` (``last[k]``: the last component
@@ -75,6 +76,7 @@ class DrawProgram(NamedTuple):
     choice_last: np.ndarray   # int64[c]
     choice_value: np.ndarray  # float64[v]
     choice_cum: np.ndarray    # float64[v]
+    domain: np.uint64         # the counter's last word
 
 
 @njit(inline="always")
@@ -275,7 +277,7 @@ def draw_random_inputs(program, seed, start, out):
             for i in range(lo, hi):
                 index = np.uint64(start + i)
                 w0, w1, w2, w3 = philox4x32_10(index & _MASK32, index >> _SHIFT32, stream,
-                                               _ZERO, key0, key1)
+                                               program.domain, key0, key1)
                 selector[i] = unit_uniform(w0, w1)
                 values[i] = unit_uniform(w2, w3)
             first, count = program.first[k], program.count[k]

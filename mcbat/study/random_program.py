@@ -30,7 +30,7 @@ from mcbat.study.distributions import (
     Uniform,
 )
 
-__all__ = ["compile_program", "draw", "stream_id"]
+__all__ = ["INPUTS", "NOISE", "compile_program", "draw", "stream_id"]
 
 
 def stream_id(name: str) -> int:
@@ -60,7 +60,11 @@ def _component_row(dist, choices) -> tuple[int, list, list]:
     raise TypeError(f"{type(dist).__name__} is not drawn by the random sampler")
 
 
-def compile_program(inputs, rows) -> DrawProgram:
+#: Counter domains: a study's random inputs, and its simulated measurement noise.
+INPUTS, NOISE = 0, 1
+
+
+def compile_program(inputs, rows, domain=INPUTS) -> DrawProgram:
     """The :class:`~mcbat.core.sampling.DrawProgram` of random ``inputs``.
 
     Parameters
@@ -69,6 +73,8 @@ def compile_program(inputs, rows) -> DrawProgram:
         Random inputs (``family == "random"``) by dotted name.
     rows : dict of str -> int
         The row of the output table each input is drawn into.
+    domain : int
+        :data:`INPUTS` or :data:`NOISE` (the counter's last word).
     """
     row, stream, first, count, last, cum = [], [], [], [], [], []
     kind, param, choice_slot, choices = [], [], [], []
@@ -103,7 +109,7 @@ def compile_program(inputs, rows) -> DrawProgram:
         choice_first=slots[:, 0].copy(), choice_count=slots[:, 1].copy(),
         choice_last=slots[:, 2].copy(),
         choice_value=np.concatenate(values) if values else np.zeros(0),
-        choice_cum=np.concatenate(cums) if cums else np.zeros(0))
+        choice_cum=np.concatenate(cums) if cums else np.zeros(0), domain=np.uint64(domain))
 
 
 def draw(program: DrawProgram, seed: int, start: int, out: np.ndarray) -> None:

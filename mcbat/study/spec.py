@@ -128,7 +128,7 @@ from mcbat.study.distributions import (
     parse,
 )
 from mcbat.study.output import OutputSpec, parse_columns, parse_output, parse_summary
-from mcbat.study.random_program import compile_program, draw
+from mcbat.study.random_program import NOISE, compile_program, draw
 
 __all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS",
            "LHS_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
@@ -141,7 +141,7 @@ SOBOL_SPAWN_KEY = 2**31
 #: First element of the ``spawn_key`` of the per-block LHS designs.
 LHS_SPAWN_KEY = 2**31 + 1
 # Measurement noise (section [noise]) of output <name> is drawn like a random input
-# named "noise.<name>" (its own Philox stream).
+# named "noise.<name>", in the counter domain of noise (never an input's stream).
 # Outputs that can get simulated measurement noise, and their quantities. The noisy copy
 # goes to a separate column "<name>_measured"; the model value is never altered.
 NOISE_OUTPUTS = {"exit_speed": "speed", "scattering_angle": "angle",
@@ -664,8 +664,8 @@ class Study:
             draws = [(f"noise.{name}", Normal(f"noise.{name}", "noise", None, mean=0.0,
                                               std=self.noise[name]))
                      for name in names]
-            draw(compile_program(draws, {f"noise.{name}": i for i, name in enumerate(names)}),
-                 seed, start, table)
+            rows = {f"noise.{name}": i for i, name in enumerate(names)}
+            draw(compile_program(draws, rows, NOISE), seed, start, table)
         return {name: table[i] for i, name in enumerate(names)}
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:

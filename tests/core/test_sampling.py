@@ -176,3 +176,16 @@ def test_the_truncated_normal_cdf_matches_scipy_ndtr():
     scipys = special.ndtr(x)
     assert np.all(np.abs(ours - scipys) <= 1e-13 * scipys + 1e-300)
     assert np.all(np.diff(ours[:20_001]) >= 0.0)
+
+
+def test_noise_draws_are_a_domain_apart_from_the_inputs():
+    """The same stream number in the noise domain gives other values: simulated
+    measurement noise can never repeat an input's draws."""
+    from mcbat.study.random_program import INPUTS, NOISE
+
+    dist = parse({"dist": "normal", "mean": 0.0, "std": 1.0}, "g.x", "dimensionless")
+    out = np.empty((2, 50_000))
+    for row, domain in enumerate((INPUTS, NOISE)):
+        draw(compile_program([("g.x", dist)], {"g.x": row}, domain), 5, 0, out)
+    assert abs(np.corrcoef(out)[0, 1]) < 5 / np.sqrt(50_000)
+    assert stats.kstest(out[1], "norm").pvalue > 1e-4
