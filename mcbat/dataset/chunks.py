@@ -127,12 +127,11 @@ def _arrow_array(name, values, sample_id_start, chunk, n, float32):
     if name in _INT8_COLUMNS:
         return numpy_to_arrow(values, np.int8)
     if name == "rk4_steps":
-        return numpy_to_arrow(np.nan_to_num(values).astype(np.int32), np.int32)
+        return numpy_to_arrow(np.nan_to_num(values).astype(np.int32))
     if name == "sample_id":
-        return numpy_to_arrow(np.arange(sample_id_start, sample_id_start + n, dtype=np.int64),
-                          np.int64)
+        return numpy_to_arrow(np.arange(sample_id_start, sample_id_start + n, dtype=np.int64))
     if name == "chunk":
-        return numpy_to_arrow(np.full(n, chunk, np.int32), np.int32)
+        return numpy_to_arrow(np.full(n, chunk, np.int32))
     if float32 and name not in _FULL_PRECISION:
         return numpy_to_arrow(values, np.float32)
     return numpy_to_arrow(values, np.float64)
