@@ -12,6 +12,10 @@ on spin):
   b  as a, with 2 mm of error on b (the table has b + noise and impact_parameter_err)
   c  as a, with 5 mm of error on b
   d  e*, mu, e_x free, tables made with e_x = 0.16 (Cross & Nathan's tangential restitution)
+  g  a game (studies/game_fastball.toml, 100 rows): e* (at the reference speed) and e_x free,
+     truth 0.5 and 0.3; Statcast-like rows (launch speed 1 %, launch and spray angle 1 deg,
+     spin rate 10 %) with each row's pitch speed, bat speed, attack angle and an undercut
+     measured to 2 mm
 
 Table k of every setting is `synthesize(..., seed=1000 + k)` and its fit uses `seed=k`.
 Each fit (mcbat.stats.fit.fit, profile-likelihood intervals) appends one JSON line to
@@ -39,15 +43,19 @@ SETTINGS = {
     "b": {"truth": {"e": 0.6, "mu": 0.15}, "synth": {"impact_parameter_noise": 0.002}},
     "c": {"truth": {"e": 0.6, "mu": 0.15}, "synth": {"impact_parameter_noise": 0.005}},
     "d": {"truth": {"e": 0.6, "mu": 0.15, "e_x": 0.16}, "synth": {}},
+    "g": {"truth": {"e": 0.5, "e_x": 0.3}, "synth": {"input_noise": {"undercut": 0.002}},
+          "study": "game_fastball.toml", "rows": 100},
 }
 
 
-def one(setting, k, study):
+def one(setting, k, studies):
     from mcbat.stats.fit import fit
     from mcbat.stats.measurements import synthesize
 
     spec = SETTINGS[setting]
-    table = synthesize(study, 60, seed=1000 + k, **spec["truth"], **spec["synth"])
+    study = studies[spec.get("study", "cross_nathan_2006.toml")]
+    table = synthesize(study, spec.get("rows", 60), seed=1000 + k, **spec["truth"],
+                       **spec["synth"])
     t0 = time.perf_counter()
     r = fit(study, table, tuple(spec["truth"]), seed=k)
     return {"setting": setting, "table": k, "seconds": time.perf_counter() - t0,
@@ -59,7 +67,8 @@ def worker(args):
     index, workers, tables, settings, out = args
     from mcbat.study import load_study
 
-    study = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
+    studies = {name: load_study(ROOT / "studies" / name)
+               for name in ("cross_nathan_2006.toml", "game_fastball.toml")}
     done = set()
     for path in Path(out).glob("*.jsonl"):
         for line in path.read_text().splitlines():
@@ -69,7 +78,7 @@ def worker(args):
         for setting in settings:
             if (setting, k) in done:
                 continue
-            rec = one(setting, k, study)
+            rec = one(setting, k, studies)
             with open(Path(out) / f"{setting}.{index}.jsonl", "a") as handle:
                 handle.write(json.dumps(rec) + "\n")
 
@@ -122,7 +131,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=400)
     parser.add_argument("--workers", type=int, default=1)
-    parser.add_argument("--settings", default="abcd")
+    parser.add_argument("--settings", default="abcdg")
     parser.add_argument("--out", default="coverage-results")
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
     args = parser.parse_args()

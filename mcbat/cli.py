@@ -250,7 +250,7 @@ def _check_output(path, flag, suffixes):
 
 
 SYNTH_PARAMETERS = ("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_noise",
-                    "spin_noise", "impact_parameter_noise", "spin_in_noise")
+                    "spin_noise", "impact_parameter_noise", "spin_in_noise", "input_noise")
 
 
 def cmd_synth(args) -> int:
@@ -260,12 +260,21 @@ def cmd_synth(args) -> int:
     if args.out:
         _check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
     study = load_study(args.study)
+    input_noise = {}
+    for item in args.input_noise:
+        name, sep, value = item.partition("=")
+        try:
+            input_noise[name.strip()] = float(value) if sep else None
+        except ValueError:
+            input_noise[name.strip()] = None
+        if input_noise[name.strip()] is None:
+            raise InputError("--input-noise", f"expected NAME=SIGMA, got {item!r}")
     with _flags(*SYNTH_PARAMETERS):
         table = synthesize(study, args.rows, args.seed, e=args.e, mu=args.mu, e_x=args.e_x,
                            speed_noise=args.speed_noise, angle_noise=args.angle_noise,
                            spin_noise=args.spin_noise,
                            impact_parameter_noise=args.impact_parameter_noise,
-                           spin_in_noise=args.spin_in_noise)
+                           spin_in_noise=args.spin_in_noise, input_noise=input_noise)
     if args.out:
         write_table_atomic(table, args.out)
         print(f"{len(table)} rows written to {args.out}")
@@ -293,7 +302,7 @@ def cmd_fit(args) -> int:
     if args.residuals:
         _check_output(args.residuals, "--residuals", RESIDUAL_FORMATS)
     study = load_study(args.study)
-    table = read_measurements(args.data, required=("impact_parameter",))
+    table = read_measurements(args.data)
     with _flags("free", "bootstrap", "draws", "seed", "intervals"):
         result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
                      seed=args.seed, intervals=args.intervals)
@@ -450,10 +459,12 @@ def build_parser() -> argparse.ArgumentParser:
     syn.add_argument("--e-x", type=float, default=None, dest="e_x",
                      help="tangential restitution e_x (Cross & Nathan 2006; default: the "
                           "study's, 0 if unset = rigid)")
-    syn.add_argument("--speed-noise", type=float, default=0.05,
-                     help="relative 1-sigma error of the exit speed (default 0.05)")
-    syn.add_argument("--angle-noise", type=float, default=3.0,
-                     help="1-sigma error of the scattering angle, deg (default 3)")
+    syn.add_argument("--speed-noise", type=float, default=None,
+                     help="relative 1-sigma error of the exit (launch) speed (default 0.05; "
+                          "a game study: 0.01)")
+    syn.add_argument("--angle-noise", type=float, default=None,
+                     help="1-sigma error of the scattering angle (a game's launch and spray "
+                          "angles), deg (default 3; a game study: 1)")
     syn.add_argument("--spin-noise", type=float, default=0.10,
                      help="relative 1-sigma error of the outgoing spin (default 0.10)")
     syn.add_argument("--impact-parameter-noise", type=float, default=0.0, metavar="M",
@@ -462,6 +473,10 @@ def build_parser() -> argparse.ArgumentParser:
     syn.add_argument("--spin-in-noise", type=float, default=0.0, metavar="RAD_S",
                      help="1-sigma error of the written incoming spin, rad/s (default 0); "
                           "adds a spin_in_err column")
+    syn.add_argument("--input-noise", action="append", default=[], metavar="NAME=SIGMA",
+                     help="1-sigma error of a written measured input, in the table's unit "
+                          "(a game: pitch_speed, bat_speed in mph, attack_angle in deg, "
+                          "undercut in m); adds a NAME_err column; repeatable")
     syn.add_argument("--out", metavar="M.csv", help="output file, .csv or .parquet "
                      "(default: stdout)")
     syn.set_defaults(func=cmd_synth)

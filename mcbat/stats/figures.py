@@ -8,22 +8,28 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from mcbat.stats.measurements import OBSERVABLES
+from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
 
 __all__ = ["fig_fit_residuals"]
 
 
 def fig_fit_residuals(path, table, result) -> Path:
-    """Normalised residuals of a fit (``mcbat fit --residuals``) against impact parameter."""
+    """Normalised residuals of a fit (``mcbat fit --residuals``) against the measured impact
+    parameter (a drop test), the undercut (a game) or the row number."""
     fig = Figure(figsize=(7.2, 4.6), layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     r = np.asarray(result.residuals)
-    b = table["impact_parameter"].to_numpy(float) / 0.0254
-    names = [c for c in OBSERVABLES if c in table.columns]
+    columns = {**BAT_FRAME_COLUMNS, **GAME_TABLE_COLUMNS}
+    names = [c for c, (_, role) in columns.items() if role == "observable" and c in table]
+    along = next((c for c in ("impact_parameter", "undercut") if c in table), None)
+    if along is None:
+        x, label = np.arange(1, len(table) + 1), "row"
+    else:
+        x, label = table[along].to_numpy(float) / 0.0254, f"{along.replace('_', ' ')} (inches)"
     markers = ("o", "s", "^")
     for j, name in enumerate(names):
-        ax.scatter(b, r[:, j], s=18, marker=markers[j % 3], label=name.replace("_", " "))
+        ax.scatter(x, r[:, j], s=18, marker=markers[j % 3], label=name.replace("_", " "))
     ax.axhline(0.0, color="0.3", lw=1)
     for level in (-2, 2):
         ax.axhline(level, color="0.6", lw=0.8, ls="--")
@@ -31,7 +37,7 @@ def fig_fit_residuals(path, table, result) -> Path:
                        for k, v in result.params.items())
     ax.set_title(f"fit residuals: {params}\nchi2/dof = {result.chi2:.1f}/{result.dof}, "
                  f"p = {result.p_value:.3f}", fontsize=10)
-    ax.set_xlabel("impact parameter (inches)")
+    ax.set_xlabel(label)
     ax.set_ylabel("(measured − model) / sigma")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)

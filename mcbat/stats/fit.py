@@ -1,34 +1,37 @@
 """Fit model parameters to a measurement table, marginalising nuisance scatter and the
 errors of the measured inputs.
 
-Likelihood. Row ``i`` of the table has a measured impact parameter ``b_i`` and possibly an
-incoming spin ``w_i``, and measured observables ``y_ij`` (exit speed, scattering angle,
-outgoing spin) with 1-sigma errors ``s_ij``. For each row, ``M`` draws are solved with the
-fast kernel at parameters ``theta``:
+Likelihood. Row ``i`` of the table has measured inputs (a drop test's impact parameter
+``b_i`` and incoming spin; a game's bat speed, attack angle, undercut, ...) and measured
+observables ``y_i`` (exit speed, scattering angle, outgoing spin; or launch speed, launch
+angle, spin rate, ...) with 1-sigma errors ``s_i``. For each row, ``M`` draws are solved
+with the fast kernel at parameters ``theta`` (:mod:`mcbat.stats.models` builds them):
 
-* the study's nuisance scatter (the axial impact point, the spread of the incoming spin
-  when the table has no ``spin_in``, ...) is drawn from the study;
-* a measured input with an ``_err`` column (``impact_parameter_err``, ``spin_in_err``) is
-  drawn from its posterior given the measurement: a normal of that width about the
-  measured value, truncated to the range the study allows for that input (a flat prior
-  there; for the drop-test study, ``|b| <= 1 in``), stratified over the ``M`` draws
-  (one draw in each of ``M`` equal-probability slices, shuffled) so that the smear is
-  represented with little Monte Carlo noise; without an ``_err`` column the input is exact.
+* the study's nuisance scatter (the impact point, the spread of the incoming spin when
+  the table has no ``spin_in``, ...) is drawn from the study;
+* a measured input with an ``_err`` column is drawn from its posterior given the
+  measurement: a normal of that width about the measured value, truncated to the range
+  the study allows for that input (a flat prior there; for the drop-test study,
+  ``|b| <= 1 in``), stratified over the ``M`` draws (one draw in each of ``M``
+  equal-probability slices) so that the smear is represented with little Monte Carlo
+  noise; without an ``_err`` column the input is exact.
 
 Draws whose impact fails (status not ``ok``, e.g. a nuisance geometry in which the ball does
-not reach the bat) are dropped: the measured rows are impacts. The draws give the model's
-mean ``m_ij(theta)`` and spread ``v_ij(theta)`` over the ``n_i`` good draws, and
+not reach the bat) are dropped: the measured rows are impacts. The ``n_i`` good draws give
+the model's mean ``m_i(theta)`` and covariance ``C_i(theta)`` (the observables of a row are
+correlated: a smeared impact parameter moves speed, angle and spin together), including
+the Monte Carlo error of the mean, measured from the draws (:func:`draw_moments`), and
 
-    -2 ln L = sum_ij (y_ij - m_ij)^2 / t_ij + ln(2 pi t_ij),  t_ij = s_ij^2 + v_ij (1 + 1/n_i)
+    -2 ln L = sum_i r_i^T T_i^-1 r_i + ln det(2 pi T_i),  r_i = y_i - m_i,
+    T_i = diag(s_i^2) + C_i.
 
-(the ``1/n_i`` term is the Monte Carlo error of the mean). The draws are held fixed (common
-random numbers), so ``L`` is smooth in ``theta``. A coarse grid and Nelder-Mead find the
-maximum. Intervals are profile-likelihood intervals (``-ln L`` rises by 1/2 when the other
-parameters are re-optimised; asymmetric in general); where the likelihood stays flat up to
-the end of a parameter's range on one side, a one-sided 95 % limit (a rise of 1.353) is
-reported instead, and a parameter flat on both sides is reported as not identified. The
-curvature error (finite-difference Hessian) is kept as ``stderr``; a parametric bootstrap is
-optional. ``chi^2`` is the sum of squared normalised residuals at the best fit, with
+The draws are held fixed (common random numbers), so ``L`` is smooth in ``theta``. A coarse
+grid and Nelder-Mead find the maximum. Intervals are profile-likelihood intervals (``-ln L``
+rises by 1/2 when the other parameters are re-optimised; asymmetric in general); where the
+likelihood stays flat up to the end of a parameter's range on one side, a one-sided 95 %
+limit (a rise of 1.353) is reported instead, and a parameter flat on both sides is reported
+as not identified. The curvature error (finite-difference Hessian) is kept as ``stderr``; a
+parametric bootstrap is optional. ``chi^2 = sum_i r_i^T T_i^-1 r_i`` at the best fit, with
 ``dof = rows x observables - free parameters`` and its ``scipy.stats.chi2`` p-value.
 """
 
@@ -40,12 +43,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, stats
 
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
+from mcbat.bodies.game import GAME_RESTITUTION
 from mcbat.core.status import OK, STATUS_NAMES
-from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
-from mcbat.stats.measurements import MEASURED_INPUTS, OBSERVABLES, UNITS_HINT
+from mcbat.stats.measurements import DEFAULT_ERRORS
+from mcbat.stats.models import OUTLIER_SIGMA, UNITS_HINT, draw_model, rows_text
 
 __all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "Likelihood", "ModelComparison", "SEARCH",
            "compare_models", "fit"]
@@ -71,18 +73,10 @@ ONE_SIGMA = 0.5
 """Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
 LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
 """Rise of ``-ln L`` (1.353) that sets a one-sided 95 % limit."""
-OUTLIER_SIGMA = 8.0
-"""A measured value further than this many sigma beyond every model prediction over the
-search ranges is refused (a typo or a wrong unit), not fitted."""
-GRAZING = 0.999
-"""A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
-above 87.4 deg) is refused: the ball grazes the bat."""
 UNIT_SIGMA = 3.0
 """When half the rows of an observable or more lie this many sigma beyond every model
 prediction over the search ranges, the column is refused with a hint about its unit (a
 correct table has ~0.3 % of its rows that far from the true model)."""
-_INDEX = {name: i for i, name in enumerate(INPUT_FIELDS)}
-_OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
 _BAD = 1e30
 
 
@@ -215,135 +209,65 @@ class Likelihood:
 
     Parameters
     ----------
-    study : mcbat.study.Study
-        Fixed setup and nuisance scatter; it must place the contact by
+    study : mcbat.study.Study or mcbat.study.game.GameStudy
+        Fixed setup and nuisance scatter. A bat-frame study must place the contact by
         ``contact.impact_parameter`` (the ball's line offset from the bat axis).
     table : pandas.DataFrame
-        Measurement table: ``impact_parameter`` (m), optionally ``spin_in`` (rad/s), the
-        observables (m/s, deg, rad/s) and ``_err`` columns (1 sigma, same units).
+        Measurement table (:mod:`mcbat.stats.models` lists the columns of each kind of
+        study, with their units): measured inputs, observables and ``_err`` columns
+        (1 sigma, same units).
     free : sequence of str
-        Parameters to fit, from :data:`FREE`.
+        Parameters to fit, from :data:`FREE` (the game model has ``e``, ``mu``, ``e_x``).
     draws : int
         Draws per row (at least 4).
     seed : int
         Seed of the draws.
     fixed : dict, optional
-        Solver inputs held at given values (``{"e_x": 0.0}``: the rigid model).
+        Parameters held at given values (``{"e_x": 0.0}``: the rigid model).
     """
 
     def __init__(self, study, table, free, draws=48, seed=0, fixed=None):
-        source = table.attrs.get("source")
         self.free = check_free(free)
         draws = _check_count(draws, "draws", 4)
         seed = _check_count(seed, "seed", 0)
-        if "contact.impact_parameter" not in study.inputs:
-            raise InputError("impact_parameter", f"study {study.name!r} places the contact by "
-                             f"contact.angle, not contact.impact_parameter: a measured impact "
-                             f"parameter needs a study of a ball moving across the bat onto "
-                             f"its axis (as studies/cross_nathan_2006.toml)", source)
-        if "impact_parameter" not in table.columns:
-            raise InputError("impact_parameter", "missing required column", source)
-        self.observables = [c for c in OBSERVABLES if c in table.columns]
-        if not self.observables:
-            raise InputError(None, f"the table has none of the observables "
-                             f"{', '.join(OBSERVABLES)}", source)
-        for col in table.columns:
-            base = col[:-4] if col.endswith("_err") else None
-            if base is not None and base not in OBSERVABLES and base not in MEASURED_INPUTS:
-                raise InputError(col, f"the model cannot use an uncertainty of {base!r} (only "
-                                 f"of {', '.join(OBSERVABLES + MEASURED_INPUTS)})", source)
-        for name in fixed or {}:
-            if name not in _INDEX:
-                raise InputError("fixed", f"unknown solver input {name!r}")
-        self.source = source
+        self.model = draw_model(study, table, draws, seed, fixed)
+        for name in self.free:
+            if name not in self.model.PARAMETERS:
+                raise InputError("free", f"{name!r} is not a parameter of a "
+                                 f"{self.model.KIND} study (choose from "
+                                 f"{', '.join(self.model.PARAMETERS)})")
+        self.source = self.model.source
         self.study = study
-        rows = len(table)
-        self.rows = rows
-        self.draws = draws
-        cols = study.sample(0, rows * draws, seed)
-        inputs = np.stack([np.asarray(cols[n], np.float64) for n in INPUT_FIELDS])
-        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 13,)))
-        b_meas = table["impact_parameter"].to_numpy(float)
-        b = self._input_draws("impact_parameter", table, rng,
-                              study.inputs["contact.impact_parameter"].support())
-        # The study's approach azimuth of each draw, then the contact angle of the row's b.
-        n = rows * draws
-        ball_r = inputs[_INDEX["ball_radius"]]
-        radius, slope = inputs[_INDEX["bat_radius"]], inputs[_INDEX["bat_slope"]]
-        angle0 = np.empty(n)
-        angles_from_impact_parameters(np.asarray(cols["impact_parameter"], float), ball_r,
-                                      radius, slope, np.zeros(n), angle0)
-        azimuth = inputs[_INDEX["angle"]] - angle0
-        angles_from_impact_parameters(b, ball_r, radius, slope, azimuth,
-                                      inputs[_INDEX["angle"]])
-        reach = np.array([ball_centre_radial_distance(*v) for v in zip(ball_r, radius, slope)])
-        grazing = (np.abs(b_meas) >= GRAZING * reach.reshape(rows, draws).min(axis=1))
-        if grazing.any():
-            raise InputError("impact_parameter", f"{_rows(grazing, b_meas)}: at the reach of "
-                             f"ball and bat ({reach.min():.5g} m): a grazing contact, not a "
-                             f"measurable impact", source)
-        missed = np.isnan(inputs[_INDEX["angle"]]).reshape(rows, draws).all(axis=1)
-        if missed.any():
-            raise InputError("impact_parameter", f"{_rows(missed, b_meas)}: beyond the reach of "
-                             f"ball and bat (the ball would miss)", source)
-        if "spin_in" in table.columns:
-            inputs[_INDEX["ball_wz_in"]] = self._input_draws("spin_in", table, rng,
-                                                             (-math.inf, math.inf))
-        for name, value in (fixed or {}).items():  # e.g. e_x = 0: the rigid model
-            inputs[_INDEX[name]] = value
-        self.inputs = inputs
-        self.base = {p: inputs[_INDEX[p]].copy() for p in self.free}
+        self.rows, self.draws = self.model.rows, draws
+        self.observables = self.model.observables
+        self.units = {c: self.model.COLUMNS[c][0] for c in self.observables}
+        self.search = {**SEARCH, **self.model.SEARCH}
+        """The coarse grid's ranges for this study's model (:data:`SEARCH`, narrowed by
+        the model's own)."""
         self.y = np.stack([table[c].to_numpy(float) for c in self.observables], axis=1)
         self.s2 = np.stack([table[f"{c}_err"].to_numpy(float) ** 2 if f"{c}_err" in table
-                            else np.full(rows, _default_err(c, self.y[:, j])) ** 2
+                            else default_errors(c, self.y[:, j]) ** 2
                             for j, c in enumerate(self.observables)], axis=1)
-        self.out = allocate_outputs(n)
         self.calls = 0
         self.failure = None
         self.envelope = None
 
-    def _input_draws(self, name, table, rng, support):
-        """Per-draw values of measured input ``name``: exact, or smeared by its ``_err``."""
-        value = table[name].to_numpy(float)
-        if f"{name}_err" not in table.columns:
-            return np.repeat(value, self.draws)
-        sigma = table[f"{name}_err"].to_numpy(float)
-        # Stratified: one uniform in each of M equal slices, the slices shuffled per row.
-        slices = rng.permuted(np.tile(np.arange(self.draws), (self.rows, 1)), axis=1)
-        u = (slices + rng.uniform(size=slices.shape)) / self.draws
-        lo, hi = support
-        a = ((lo - value) / sigma)[:, None]
-        b = ((hi - value) / sigma)[:, None]
-        far = (a > OUTLIER_SIGMA).ravel() | (b < -OUTLIER_SIGMA).ravel()
-        if far.any():
-            raise InputError(name, f"{_rows(far, value)}: more than {OUTLIER_SIGMA:g} of its "
-                             f"errors outside the study's range {lo:g}..{hi:g}", self.source)
-        if math.isinf(lo) and math.isinf(hi):
-            z = stats.norm.ppf(u)
-        else:
-            z = stats.truncnorm.ppf(u, a, b)
-        return (value[:, None] + sigma[:, None] * z).ravel()
-
     def predict(self, theta):
-        """Model mean and spread per row and observable at ``theta``, or None (and the reason
-        in :attr:`failure`) when some row has fewer than two good draws.
+        """Model mean and covariance per row at ``theta``, or None (and the reason in
+        :attr:`failure`) when some row has fewer than two good draws.
 
         Returns
         -------
-        mean, var, n_ok : ndarray
-            ``(rows, observables)`` mean and variance (units of the observables) over the
-            good draws, and ``(rows,)`` the number of good draws.
+        mean : ndarray, (rows, observables)
+            Mean over the good draws (units of the observables).
+        cov : ndarray, (rows, observables, observables)
+            The draws' covariance plus the Monte Carlo error of their mean
+            (:func:`draw_moments`).
+        n_ok : ndarray, (rows,)
+            Number of good draws.
         """
-        x = self.inputs
-        for name, value in zip(self.free, theta):
-            if name == "axial":  # a shift of the impact point, keeping its scatter
-                x[_INDEX["axial"]] = self.base["axial"] + value
-            else:
-                x[_INDEX[name]] = value
-        solver = self.study.solver
-        out, status, end = self.out
-        solve_batch(x, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
-                    end)
+        self.model.set_parameters(dict(zip(self.free, map(float, theta))))
+        values, status = self.model.solve()
         self.calls += 1
         ok = (status == OK).reshape(self.rows, self.draws)
         n_ok = ok.sum(axis=1)
@@ -354,22 +278,26 @@ class Likelihood:
             name = STATUS_NAMES[int(np.argmax(worst))]
             self.failure = (bad, name, dict(zip(self.free, map(float, theta))))
             return None
-        derived = derive([out[_OUT[f"ball_v{c}"]] for c in "xyz"],
-                         [out[_OUT[f"ball_w{c}"]] for c in "xyz"])
-        values = {"exit_speed": derived["exit_speed"],
-                  "scattering_angle": derived["scattering_angle"],
-                  "spin_out": derived["spin_axial"]}
         sims = np.stack([values[c].reshape(self.rows, self.draws) for c in self.observables],
                         axis=2)
-        if ok.all():
-            return sims.mean(axis=1), sims.var(axis=1, ddof=1), n_ok
-        sims = np.where(ok[:, :, None], sims, 0.0)
-        mean = sims.sum(axis=1) / n_ok[:, None]
-        dev = np.where(ok[:, :, None], sims - mean[:, None, :], 0.0)
-        return mean, (dev * dev).sum(axis=1) / (n_ok[:, None] - 1), n_ok
+        mean, cov = draw_moments(sims, ok)
+        return mean, cov, n_ok
 
-    def _total(self, var, n_ok):
-        return self.s2 + var * (1.0 + 1.0 / n_ok[:, None])
+    def _evaluate(self, theta):
+        """``(-ln L, Mahalanobis distance squared per row, total covariance, mean)`` or
+        None."""
+        pred = self.predict(theta)
+        if pred is None:
+            return None
+        mean, cov, _ = pred
+        total = cov + self.s2[:, :, None] * np.eye(len(self.observables))
+        sign, logdet = np.linalg.slogdet(total)
+        if not (sign > 0).all():
+            return None
+        resid = self.y - mean
+        quad = np.einsum("ri,ri->r", resid, np.linalg.solve(total, resid[:, :, None])[..., 0])
+        nll = 0.5 * (quad.sum() + logdet.sum() + resid.size * math.log(2 * math.pi))
+        return float(nll), quad, total, mean
 
     def __call__(self, theta):
         """``-ln L`` at the free parameters ``theta`` (1e30 outside their ranges or where
@@ -378,40 +306,52 @@ class Likelihood:
             lo, hi = FREE[name]
             if not lo <= value <= hi:
                 return _BAD
-        pred = self.predict(theta)
-        if pred is None:
+        got = self._evaluate(theta)
+        if got is None:
             return _BAD
-        mean, var, n_ok = pred
-        total = self._total(var, n_ok)
+        nll, _, total, mean = got
         if self.envelope is not None:  # the range of predictions over the search grid
             lo, hi, sd = self.envelope
             np.minimum(lo, mean, out=lo)
             np.maximum(hi, mean, out=hi)
-            np.maximum(sd, np.sqrt(total), out=sd)
-        nll = 0.5 * np.sum((self.y - mean) ** 2 / total + np.log(2 * np.pi * total))
-        return float(nll) if np.isfinite(nll) else _BAD
+            np.maximum(sd, np.sqrt(np.diagonal(total, axis1=1, axis2=2)), out=sd)
+        return nll if math.isfinite(nll) else _BAD
+
+    def chi2(self, theta):
+        """``sum_i r_i^T T_i^-1 r_i`` at ``theta`` (``r_i`` the residuals of row ``i``, ``T_i``
+        its total covariance): chi-squared with ``rows x observables`` terms."""
+        got = self._evaluate(theta)
+        if got is None:
+            raise self.failure_error()
+        return float(got[1].sum())
 
     def residuals(self, theta):
         """Normalised residuals ``(measured - model mean) / sigma`` at ``theta``, one row per
-        measurement and one column per observable."""
-        pred = self.predict(theta)
-        if pred is None:
+        measurement and one column per observable (``sigma``: the square root of the
+        diagonal of the total covariance)."""
+        got = self._evaluate(theta)
+        if got is None:
             raise self.failure_error()
-        mean, var, n_ok = pred
-        return (self.y - mean) / np.sqrt(self._total(var, n_ok))
+        _, _, total, mean = got
+        return (self.y - mean) / np.sqrt(np.diagonal(total, axis1=1, axis2=2))
+
+    def simulate(self, theta, rng):
+        """A table of observables drawn from the model at ``theta`` (the bootstrap's)."""
+        _, _, total, mean = self._evaluate(theta)
+        z = rng.standard_normal(mean.shape)
+        return mean + np.einsum("rij,rj->ri", np.linalg.cholesky(total), z)
 
     def failure_error(self):
         """An :class:`InputError` saying which rows could not be evaluated, and why."""
         bad, status, theta = self.failure
         where = ", ".join(f"{k} = {v:.4g}" for k, v in theta.items())
-        hint = {"not_approaching": " (the ball does not approach the bat at the contact: "
-                                   "an impact parameter at the reach of ball and bat?)",
-                "max_steps": " (the solver's step budget: raise [solver] max_steps)"}
-        return InputError("impact_parameter" if status == "not_approaching" else None,
-                          f"the likelihood cannot be evaluated: {_rows(bad)} "
+        hints = {"max_steps": (None, " (the solver's step budget: raise [solver] max_steps)"),
+                 **self.model.FAILURE_HINTS}
+        column, hint = hints.get(status, (None, ""))
+        return InputError(column, f"the likelihood cannot be evaluated: {rows_text(bad)} "
                           f"({int(bad.sum())} of {self.rows}) have no good impact among their "
-                          f"{self.draws} draws (status {status}{hint.get(status, '')}) at "
-                          f"{where}", self.source)
+                          f"{self.draws} draws (status {status}{hint}) at {where}",
+                          self.source)
 
     def check_envelope(self):
         """Refuse rows far outside anything the model predicted over the search grid."""
@@ -421,35 +361,67 @@ class Likelihood:
             beyond = np.maximum(lo[:, j] - y, y - hi[:, j]) / sd[:, j]
             far = beyond > OUTLIER_SIGMA
             many = beyond > UNIT_SIGMA
-            span = f"{np.min(lo[:, j]):.3g}..{np.max(hi[:, j]):.3g} {UNITS_HINT[col][0]}"
+            span = f"{np.min(lo[:, j]):.3g}..{np.max(hi[:, j]):.3g} {self.units[col]}"
             if many.sum() >= 0.5 * self.rows:
                 raise InputError(col, f"{int(many.sum())} of {self.rows} rows lie far outside "
                                  f"anything the model gives for this study (model "
                                  f"{span}, measured median {np.median(y):.3g}): "
-                                 f"{UNITS_HINT[col][1]}", self.source)
+                                 f"{UNITS_HINT[col]}", self.source)
             if not far.any():
                 continue
-            raise InputError(col, f"{_rows(far, y)}: more than {OUTLIER_SIGMA:g} sigma beyond "
-                             f"anything the model gives for this study (model {span}): a typo "
-                             f"or another unit? Fix or remove the row", self.source)
+            raise InputError(col, f"{rows_text(far, y)}: more than {OUTLIER_SIGMA:g} sigma "
+                             f"beyond anything the model gives for this study (model {span}): "
+                             f"a typo or another unit? Fix or remove the row", self.source)
 
 
-def _rows(mask, values=None, limit=5):
-    """``"rows 3, 7 (value ...)"``: the 1-based rows where ``mask`` holds."""
-    idx = np.flatnonzero(mask)
-    shown = ", ".join(str(i + 1) + (f" ({values[i]:.6g})" if values is not None else "")
-                      for i in idx[:limit])
-    more = f" and {len(idx) - limit} more" if len(idx) > limit else ""
-    return f"row{'s' if len(idx) > 1 else ''} {shown}{more}"
+def draw_moments(sims, ok):
+    """Mean and covariance of the predicted observables of each row, from its draws.
+
+    Parameters
+    ----------
+    sims : ndarray, (rows, draws, observables)
+        The draws' observables (anything where ``ok`` is False).
+    ok : ndarray of bool, (rows, draws)
+        Draws whose impact was solved.
+
+    Returns
+    -------
+    mean : ndarray, (rows, observables)
+    cov : ndarray, (rows, observables, observables)
+        ``C + 2 V``: ``C`` the draws' covariance about their mean (divided by the number
+        ``n`` of good draws) and ``V`` the Monte Carlo covariance of that mean, measured by
+        pairing neighbouring draws ``(0, 1), (2, 3), ...`` (the collapsed-strata estimate
+        ``sum (d d^T) / (2 n P)`` over the ``P`` pairs of good draws, ``d`` the pair's
+        difference). Draws of a row are stratified in a smeared measured input
+        (:mod:`mcbat.stats.models`), so neighbours lie in neighbouring slices and ``V`` is
+        small where that input dominates; with independent draws ``E[V] = Sigma / n`` and
+        ``E[C + 2 V] = Sigma (1 + 1/n)``, the textbook variance of ``y - mean``. In general
+        ``E[C] = Sigma - V``: ``C + V`` estimates the spread and the second ``V`` the error
+        of the mean, so neither counts twice.
+    """
+    rows, draws, _ = sims.shape
+    w = ok.astype(float)
+    n = w.sum(axis=1)
+    x = np.where(ok[:, :, None], sims, 0.0)
+    mean = x.sum(axis=1) / n[:, None]
+    dev = (x - mean[:, None, :]) * w[:, :, None]
+    cov = np.einsum("rkd,rke->rde", dev, dev) / n[:, None, None]
+    even = draws - draws % 2
+    both = w[:, 0:even:2] * w[:, 1:even:2]
+    diff = (x[:, 0:even:2] - x[:, 1:even:2]) * both[:, :, None]
+    pairs = both.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        paired = np.einsum("rkd,rke->rde", diff, diff) / (2.0 * pairs * n)[:, None, None]
+        independent = cov / (n - 1.0)[:, None, None]  # a row without a pair of good draws
+    error_of_mean = np.where((pairs > 0)[:, None, None], paired, independent)
+    return mean, cov + 2.0 * error_of_mean
 
 
-def _default_err(column, values):
-    """Without an _err column: 5 % speed, 3 deg angle, 10 % spin (with a 1 rad/s floor)."""
-    if column == "exit_speed":
-        return 0.05 * np.abs(values)
-    if column == "scattering_angle":
-        return np.full(len(values), 3.0)
-    return np.maximum(0.10 * np.abs(values), 1.0)
+def default_errors(column, values):
+    """1-sigma errors of an observable without an ``_err`` column: ``max(relative |y|,
+    floor)`` with :data:`DEFAULT_ERRORS`."""
+    relative, floor = DEFAULT_ERRORS[column]
+    return np.maximum(relative * np.abs(values), floor)
 
 
 def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=None,
@@ -495,8 +467,8 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
         # before the local search. The grid also gives the range of the model's predictions,
         # against which values in a wrong unit are refused.
         points = max(6, round(GRID_EVALUATIONS ** (1.0 / len(like.free))))
-        axes = [np.geomspace(*SEARCH[p], points) if p == "mu"
-                else np.linspace(*SEARCH[p], points) for p in like.free]
+        axes = [np.geomspace(*like.search[p], points) if p == "mu"
+                else np.linspace(*like.search[p], points) for p in like.free]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
         shape = like.y.shape
         like.envelope = (np.full(shape, np.inf), np.full(shape, -np.inf), np.zeros(shape))
@@ -511,7 +483,7 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
         if not like(starts[0]) < _BAD:
             raise like.failure_error() if like.failure else InputError(
                 "start", f"outside the parameter ranges: {list(starts[0])}")
-    scale = np.array([0.05 * (SEARCH[p][1] - SEARCH[p][0]) for p in like.free])
+    scale = np.array([0.05 * (like.search[p][1] - like.search[p][0]) for p in like.free])
     # Local searches from the best grid points: the likelihood can have a second basin
     # (e.g. every drop stuck at large mu, with e_x = 0) that one start would settle in.
     res = min((_minimize(like, x0, scale) for x0 in starts), key=lambda r: r.fun)
@@ -531,7 +503,7 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
     for name in unconstrained:
         err[like.free.index(name)] = math.inf
     r = like.residuals(best)
-    chi2 = float(np.sum(r * r))
+    chi2 = like.chi2(best)
     dof = int(r.size - len(best))
     result = FitResult(params=dict(zip(like.free, map(float, best))),
                        stderr=dict(zip(like.free, map(float, err))), chi2=chi2, dof=dof,
@@ -571,7 +543,7 @@ def _flat_to_edge(like, best, nll_min):
     """Parameters whose likelihood stays within 2 of the minimum up to a search edge."""
     flat = []
     for i, name in enumerate(like.free):
-        for edge in SEARCH[name]:
+        for edge in like.search[name]:
             if edge in FREE[name]:
                 continue  # a physical bound (e_x = 0), not the end of the search
             probe = best.copy()
@@ -589,7 +561,8 @@ def _profile(like, best, nll_min, err, cov):
     the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
     """
     n = len(best)
-    scale = np.array([e if np.isfinite(e) and e > 0 else 0.05 * (SEARCH[p][1] - SEARCH[p][0])
+    scale = np.array([e if np.isfinite(e) and e > 0
+                      else 0.05 * (like.search[p][1] - like.search[p][0])
                       for p, e in zip(like.free, err)])
     found = {"x": None, "nll": nll_min - 1e-3}
 
@@ -837,7 +810,7 @@ def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=N
     """
     base = [p for p in free if p != "e_x"]
     like_kwargs = dict(draws=draws, seed=seed)
-    rigid_study = "restitution.e_x" not in study.inputs  # the study's own e_x is 0
+    rigid_study = _rigid(study)
     if fitted is not None and "e_x" not in fitted.params and rigid_study:
         rigid = fitted
     elif base:
@@ -847,7 +820,7 @@ def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=N
         like = Likelihood(study, table, ["e_x"], **like_kwargs)
         nll = like([0.0])
         r = like.residuals([0.0])
-        chi2 = float(np.sum(r * r))
+        chi2 = like.chi2([0.0])
         rigid = FitResult(params={}, stderr={}, chi2=chi2, dof=int(r.size),
                           p_value=float(stats.chi2.sf(chi2, r.size)),
                           neg_log_likelihood=float(nll), residuals=r)
@@ -857,12 +830,22 @@ def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=N
         # Nested: start from the rigid optimum, e_x from a scan along its axis.
         like = Likelihood(study, table, base + ["e_x"], **like_kwargs)
         x_rigid = [rigid.params[p] for p in base]
-        scan = np.linspace(*SEARCH["e_x"], 13)
+        scan = np.linspace(*like.search["e_x"], 13)
         e_x0 = scan[int(np.argmin([like([*x_rigid, v]) for v in scan]))]
         compliant = fit(study, table, base + ["e_x"], start=[*x_rigid, e_x0],
                         intervals="curvature", **like_kwargs)
     n_points = int(rigid.residuals.size)
     return ModelComparison(rigid=rigid, compliant=compliant, n_points=n_points)
+
+
+def _rigid(study):
+    """True when the study's own ``e_x`` is 0 (the rigid model)."""
+    dist = study.inputs.get("restitution.e_x")
+    if dist is not None:
+        return dist.family == "fixed" and dist.value == 0.0
+    if getattr(study, "kind", None) == "game":  # without [restitution]: the game preset
+        return GAME_RESTITUTION.e_x == 0.0
+    return True
 
 
 def _hessian(f, x, bounds, rel=1e-3):
@@ -899,13 +882,12 @@ def _hessian(f, x, bounds, rel=1e-3):
 
 def _bootstrap(like, best, n, seed):
     """Parametric bootstrap: refit tables simulated at the best fit; std of the refits."""
-    mean, var = like.predict(best)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 11,)))
     y_saved = like.y
     fits = []
     try:
         for _ in range(n):
-            like.y = mean + np.sqrt(like.s2 + var) * rng.standard_normal(mean.shape)
+            like.y = like.simulate(best, rng)
             res = optimize.minimize(like, best, method="Nelder-Mead",
                                     options={"xatol": 1e-5, "fatol": 1e-6, "maxiter": 1000})
             fits.append(res.x)

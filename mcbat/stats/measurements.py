@@ -1,6 +1,7 @@
 """Measurement tables: the format, validation, and synthetic tables drawn from the model.
 
-Format (CSV with a header line, ``#`` comment lines allowed, or Parquet); any subset of:
+Format (CSV with a header line, ``#`` comment lines allowed, or Parquet). A bat-frame study
+(a drop test) takes any subset of:
 
 ========================  ========  ==============================================
 column                    unit      meaning
@@ -13,9 +14,31 @@ column                    unit      meaning
 ``<column>_err``          as above  optional 1-sigma uncertainty of that column
 ========================  ========  ==============================================
 
-The fixed setup (bat, ball, incoming speed) comes from a study TOML. Every value must be a
-finite number; uncertainties must be > 0; an ``_err`` column needs its value column.
-Errors name the file, the column and the data row (1-based) with the offending value.
+A game study (a pitch and a swing) takes Statcast's names and units where Statcast has the
+quantity (``docs/batting.md`` defines them):
+
+========================  ========  ==============================================
+column                    unit      meaning
+========================  ========  ==============================================
+``launch_speed``          mph       batted-ball speed
+``launch_angle``          deg       its elevation
+``spray_angle``           deg       its direction, positive towards right field
+``spin_rate``             rpm       its spin; ``backspin``, ``sidespin`` (rpm) its parts
+``pitch_speed``           mph       measured input: the pitch's speed (the study's
+                                    ``pitch.speed``)
+``bat_speed``             mph       measured input: the swing's bat speed
+``attack_angle``          deg       measured input: the swing's attack angle
+``undercut``              m         measured input: how far under the ball's centre it
+                                    was hit (high-speed video, a lab)
+``from_barrel_end``       m         measured input: the contact's distance from the
+                                    barrel end
+``<column>_err``          as above  optional 1-sigma uncertainty of that column
+========================  ========  ==============================================
+
+The fixed setup (bat, ball, and for a drop test the incoming speed) comes from a study TOML.
+Every value must be a finite number; uncertainties must be > 0; an ``_err`` column needs its
+value column. Errors name the file, the column and the data row (1-based) with the offending
+value. Observables without an ``_err`` column get :data:`DEFAULT_ERRORS`.
 """
 
 from __future__ import annotations
@@ -27,29 +50,32 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.dataset.schema import derive
+from mcbat.core.swing import (
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    allocate_game_outputs,
+    solve_game_batch,
+)
+from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
+from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GameModel
 
-__all__ = ["COLUMNS", "MEASURED_INPUTS", "OBSERVABLES", "UNITS_HINT", "read_measurements",
-           "synthesize", "write_table_atomic"]
+__all__ = ["COLUMNS", "DEFAULT_ERRORS", "read_measurements", "synthesize",
+           "write_table_atomic"]
 
-COLUMNS = {"impact_parameter": "m", "spin_in": "rad/s", "exit_speed": "m/s",
-           "scattering_angle": "deg", "spin_out": "rad/s"}
-"""Measured quantities and their units."""
-OBSERVABLES = ("exit_speed", "scattering_angle", "spin_out")
-"""The columns a fit compares with the model."""
-MEASURED_INPUTS = ("impact_parameter", "spin_in")
-"""Measured inputs: a fit uses their values, and marginalises their ``_err`` (1 sigma)."""
-UNITS_HINT = {
-    "exit_speed": ("m/s", "wrong unit? exit_speed is in m/s (mph would be 2.24 times "
-                          "larger, km/h 3.6 times)"),
-    "scattering_angle": ("deg", "wrong unit? scattering_angle is in degrees (radians would "
-                                "be 57 times smaller)"),
-    "spin_out": ("rad/s", "wrong unit or sign convention? spin_out is in rad/s about the bat "
-                          "axis (rpm would be 9.55 times larger)"),
+COLUMNS = {**{c: u for c, (u, _) in BAT_FRAME_COLUMNS.items()},
+           **{c: u for c, (u, _) in GAME_TABLE_COLUMNS.items()}}
+"""Measured quantities and their units (bat-frame and game tables)."""
+DEFAULT_ERRORS = {
+    "exit_speed": (0.05, 0.0), "scattering_angle": (0.0, 3.0), "spin_out": (0.10, 1.0),
+    "launch_speed": (0.0, 1.0), "launch_angle": (0.0, 1.0), "spray_angle": (0.0, 1.0),
+    "spin_rate": (0.10, 50.0), "backspin": (0.10, 50.0), "sidespin": (0.10, 50.0),
 }
-"""Units of the observables, and the hint given when a table's values are far outside the
-model's range."""
+"""1-sigma error of an observable without an ``_err`` column, as ``(relative, floor)``:
+``max(relative |y|, floor)`` in the column's unit (5 % of a drop test's exit speed, 3 deg,
+10 % of its spin with a 1 rad/s floor; 1 mph of launch speed, 1 deg of launch and spray
+angle, 10 % of the spin with a 50 rpm floor: assumed typical, not from a published
+calibration of a tracking system)."""
 
 
 def read_measurements(path, required=()):
@@ -163,94 +189,149 @@ def _numbers(name, values, source):
     return numbers
 
 
-def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=0.05,
-               angle_noise=3.0, spin_noise=0.10, spin_floor=1.0, impact_parameter_noise=0.0,
-               spin_in_noise=0.0):
+def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=None,
+               angle_noise=None, spin_noise=0.10, spin_floor=None, impact_parameter_noise=0.0,
+               spin_in_noise=0.0, input_noise=None):
     """A noisy synthetic measurement table drawn from the model (what an experiment yields).
 
     Parameters
     ----------
-    study : mcbat.study.Study
+    study : mcbat.study.Study or mcbat.study.game.GameStudy
         The setup and the nuisance scatter (impact point, incoming spin, ...).
     rows : int
         Number of rows (impacts); rows the solver cannot finish are dropped.
     seed : int
         Seed of the draws and of the noise (deterministic in it).
     e, mu, e_x : float, optional
-        ``e*``, the friction coefficient and the tangential restitution (Cross & Nathan
-        2006), overriding the study's values.
-    speed_noise : float
-        Relative 1-sigma error of the exit speed.
-    angle_noise : float
-        1-sigma error of the scattering angle, deg.
+        ``e*`` (a game's ``e*`` at its reference speed), the friction coefficient and the
+        tangential restitution (Cross & Nathan 2006), overriding the study's values.
+    speed_noise : float, optional
+        Relative 1-sigma error of the exit (launch) speed; default 0.05 for a drop test,
+        0.01 (about 1 mph) for a game.
+    angle_noise : float, optional
+        1-sigma error of the scattering angle (a game's launch and spray angles), deg;
+        default 3 for a drop test, 1 for a game.
     spin_noise, spin_floor : float
-        Relative 1-sigma error of the outgoing spin, with a floor of ``spin_floor`` rad/s
-        (so spins near zero keep an error).
-    impact_parameter_noise : float
-        1-sigma error (m) of the written impact parameter: the impact is solved at the true
-        value, the table gets the true value plus noise and an ``impact_parameter_err``
-        column (none when 0, the default: exact).
-    spin_in_noise : float
-        Likewise for the incoming spin (rad/s) and ``spin_in_err``.
+        Relative 1-sigma error of the outgoing spin, with a floor (so spins near zero keep
+        an error): default 1 rad/s for a drop test, 50 rpm for a game's spin rate.
+    impact_parameter_noise, spin_in_noise : float
+        A drop test's ``input_noise`` for ``impact_parameter`` (m) and ``spin_in`` (rad/s).
+    input_noise : dict, optional
+        1-sigma error of written measured inputs, in the table's units (``{"undercut":
+        0.005}``): the impact is solved at the true value, the table gets the true value
+        plus noise and an ``<input>_err`` column (none for an input without noise: exact).
+        A drop test writes ``impact_parameter`` and ``spin_in``; a game ``pitch_speed``,
+        ``bat_speed``, ``attack_angle`` and ``undercut``.
 
     Returns
     -------
     pandas.DataFrame
-        Columns ``impact_parameter``, ``spin_in``, the observables and their ``_err``
-        columns (the sigmas used), plus the input ``_err`` columns when noise was added.
+        The measured inputs, the observables (a drop test: ``exit_speed``,
+        ``scattering_angle``, ``spin_out``; a game: ``launch_speed``, ``launch_angle``,
+        ``spray_angle``, ``spin_rate``) with their ``_err`` columns (the sigmas used), and
+        the inputs' ``_err`` columns where noise was added.
     """
     import pandas as pd
 
+    game = getattr(study, "kind", None) == "game"
     rows = _count(rows, "rows", 1)
     seed = _count(seed, "seed", 0)
+    noise = dict(input_noise or {})
+    for name, value in (("impact_parameter", impact_parameter_noise),
+                        ("spin_in", spin_in_noise)):
+        if value:
+            noise[name] = value
+    written = GAME_WRITTEN if game else ("impact_parameter", "spin_in")
+    for name in noise:
+        if name not in written:
+            raise InputError("input_noise", f"{name!r} is not a measured input a "
+                             f"{'game' if game else 'drop-test'} table carries (one of "
+                             f"{', '.join(written)})")
+    speed_noise = (0.01 if game else 0.05) if speed_noise is None else speed_noise
+    angle_noise = (1.0 if game else 3.0) if angle_noise is None else angle_noise
+    spin_floor = (50.0 if game else 1.0) if spin_floor is None else spin_floor
     limits = {"e": (e, 0.0, 1.0), "mu": (mu, 0.0, math.inf), "e_x": (e_x, 0.0, 1.0),
               "speed_noise": (speed_noise, 0.0, math.inf),
               "angle_noise": (angle_noise, 0.0, math.inf),
               "spin_noise": (spin_noise, 0.0, math.inf),
+              "spin_floor": (spin_floor, 0.0, math.inf),
               "impact_parameter_noise": (impact_parameter_noise, 0.0, 0.05),
               "spin_in_noise": (spin_in_noise, 0.0, math.inf)}
+    limits.update({("input_noise", k): (v, 0.0, math.inf) for k, v in (input_noise or {}).items()})
     for name, (value, low, high) in limits.items():
         if value is not None and not (isinstance(value, (int, float, np.floating))
-                                      and low <= value <= high):
-            raise InputError(name, f"must be in [{low:g}, {high:g}], got {value!r}")
+                                      and not isinstance(value, bool) and low <= value <= high):
+            field, what = (name[0], f"{name[1]}: ") if isinstance(name, tuple) else (name, "")
+            raise InputError(field, f"{what}must be in [{low:g}, {high:g}], got {value!r}")
+    params = {"e": e, "mu": mu, "e_x": e_x}
+    if game:
+        inputs, observed, ok = _solve_game(study, rows, seed, params)
+    else:
+        inputs, observed, ok = _solve_drop_test(study, rows, seed, params)
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
+    errors = {}
+    for name, value in observed.items():
+        if name in ("exit_speed", "launch_speed"):
+            errors[name] = speed_noise * value
+        elif name in ("scattering_angle", "launch_angle", "spray_angle"):
+            errors[name] = np.full(rows, float(angle_noise))
+        else:
+            errors[name] = np.maximum(spin_noise * np.abs(value), spin_floor)
+    # Input noise from its own stream: the tables with and without it share every draw.
+    in_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 9,)))
+    columns = {}
+    for name, value in inputs.items():
+        columns[name] = value + noise.get(name, 0.0) * in_rng.standard_normal(rows)
+        if noise.get(name, 0.0) > 0:
+            columns[f"{name}_err"] = np.full(rows, float(noise[name]))
+    for name, value in observed.items():
+        columns[name] = value + errors[name] * rng.standard_normal(rows)
+        columns[f"{name}_err"] = errors[name]
+    return pd.DataFrame(columns)[ok].reset_index(drop=True)
+
+
+GAME_WRITTEN = ("pitch_speed", "bat_speed", "attack_angle", "undercut")
+"""The measured inputs :func:`synthesize` writes into a game table."""
+
+
+def _solve_drop_test(study, rows, seed, params):
+    """A drop test's true inputs (table units), observables and good rows."""
     cols = study.sample(0, rows, seed)
-    for name, value in (("e", e), ("mu", mu), ("e_x", e_x)):
+    for name, value in params.items():
         if value is not None:
             cols[name] = np.full(rows, float(value))
     inputs = np.stack([np.asarray(cols[name], np.float64) for name in INPUT_FIELDS])
-    out, status, _ = allocate_outputs(rows)
+    out, status, end = allocate_outputs(rows)
     solver = study.solver
     solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
-                _)
+                end)
     o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
-    ok = status == 0
     derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
-    speed, angle = derived["exit_speed"], derived["scattering_angle"]
-    spin = derived["spin_axial"]
-    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
-    speed_err = speed_noise * speed
-    angle_err = np.full(rows, float(angle_noise))
-    spin_err = np.maximum(spin_noise * np.abs(spin), spin_floor)
-    # Input noise from its own stream: the tables with and without it share every draw.
-    in_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 9,)))
-    b_noise = impact_parameter_noise * in_rng.standard_normal(rows)
-    w_noise = spin_in_noise * in_rng.standard_normal(rows)
-    table = pd.DataFrame({
-        "impact_parameter": cols["impact_parameter"] + b_noise,
-        "spin_in": cols["ball_wz_in"] + w_noise,
-        "exit_speed": speed + speed_err * rng.standard_normal(rows),
-        "exit_speed_err": speed_err,
-        "scattering_angle": angle + angle_err * rng.standard_normal(rows),
-        "scattering_angle_err": angle_err,
-        "spin_out": spin + spin_err * rng.standard_normal(rows),
-        "spin_out_err": spin_err,
-    })
-    if impact_parameter_noise > 0:
-        table.insert(1, "impact_parameter_err", np.full(rows, float(impact_parameter_noise)))
-    if spin_in_noise > 0:
-        table.insert(table.columns.get_loc("spin_in") + 1, "spin_in_err",
-                     np.full(rows, float(spin_in_noise)))
-    return table[ok].reset_index(drop=True)
+    measured = {"impact_parameter": cols["impact_parameter"], "spin_in": cols["ball_wz_in"]}
+    observed = {"exit_speed": derived["exit_speed"],
+                "scattering_angle": derived["scattering_angle"],
+                "spin_out": derived["spin_axial"]}
+    return measured, observed, status == 0
+
+
+def _solve_game(study, rows, seed, params):
+    """A game's true measured inputs (table units), batted balls and good rows."""
+    inputs = study.sample_inputs(0, rows, seed)
+    cols = {name: inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
+    for name, value in params.items():
+        if value is not None:
+            inputs[GameModel.PARAMETERS[name]] = value
+    frame, out, game_out, status, end = allocate_game_outputs(rows)
+    solver = study.solver
+    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
+                     out, game_out, status, end)
+    g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
+    batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
+                         [g[f"field_ball_w{c}"] for c in "xyz"])
+    measured = {name: cols[name].copy() / GameModel.MEASURED[name][1] for name in GAME_WRITTEN}
+    observed = {name: batted[name] for name in ("launch_speed", "launch_angle", "spray_angle",
+                                                "spin_rate")}
+    return measured, observed, status == 0
 
 
 def _count(value, name, minimum):

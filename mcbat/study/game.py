@@ -273,9 +273,19 @@ class GameStudy(Study):
         cols["bat_length"][:] = bat.length
         cols["bat_cm_from_knob"][:] = bat.length - bat.cm_from_barrel_end
         cols["handedness"][:] = HANDEDNESS[self.handedness]
+        self.fill_contact(cols)
+        return table
+
+    def fill_contact(self, cols):
+        """Write the columns that follow from the contact's place on the bat: the barrel's
+        ``bat_radius`` and ``bat_slope`` there and the restitution's ``e_location_factor``,
+        from ``cols["from_barrel_end"]`` (``cols``: column name -> float64 array, as the
+        rows of :meth:`sample_inputs`; a fit that measures ``from_barrel_end`` per row
+        calls it after setting that column)."""
+        bat = self.bat
         axial = bat.clip_axial(bat.axial_from_barrel_end(cols["from_barrel_end"]))
         cols["bat_radius"][:], cols["bat_slope"][:] = bat.surface(axial)
-        location = (self.restitution.location if rest is None else rest.location)
+        own = any(k.startswith("restitution.") for k in self.inputs)
+        location = (self.restitution if own else GAME_RESTITUTION).location
         cols["e_location_factor"][:] = Restitution(location=location).location_factor(
             cols["from_barrel_end"])
-        return table

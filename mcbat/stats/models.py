@@ -1,0 +1,331 @@
+"""What a fit solves: the model's draws for every row of a measurement table.
+
+A fit compares each measured row with ``M`` draws of the model for that row. A *draw
+model* builds those ``rows x M`` cases once (the study's nuisance scatter, the row's
+measured inputs, their errors) and solves them at any value of the free parameters, so that
+:class:`mcbat.stats.fit.Likelihood` never needs to know which kernel it is fitting:
+
+* :class:`BatFrameModel`: a ball moving across a bat onto its axis, in the bat frame (a
+  drop test: ``studies/cross_nathan_2006.toml``); the table gives each row's impact
+  parameter (and incoming spin), the observables are ``exit_speed`` (m/s),
+  ``scattering_angle`` (deg) and ``spin_out`` (rad/s, about the bat axis).
+* :class:`GameModel`: a game study (a pitch and a swing in the field frame); the table
+  gives what a tracking system reports, in Statcast's names and units: ``launch_speed``
+  (mph), ``launch_angle`` and ``spray_angle`` (deg), ``spin_rate``, ``backspin`` and
+  ``sidespin`` (rpm); optionally each row's measured swing and pitch (``bat_speed`` and
+  ``pitch_speed`` in mph, ``attack_angle`` in deg, ``undercut`` and ``from_barrel_end``
+  in m). Inputs the table does not give are drawn from the study.
+
+Measured inputs with an ``_err`` column are drawn from their posterior given the
+measurement: a normal of that width about the measured value, truncated to the study's
+range for the input (a flat prior there), *stratified*: draw ``k`` of a row lies in the
+``k``-th of ``M`` equal-probability slices of that normal for the first such input (the
+slices of any further one are shuffled, as in a Latin hypercube). The order matters:
+:func:`mcbat.stats.fit.draw_moments` pairs neighbouring slices to measure the Monte Carlo
+error of the mean.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import stats
+
+from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
+from mcbat.core.swing import (
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    allocate_game_outputs,
+    solve_game_batch,
+)
+from mcbat.dataset.schema import derive, derive_game
+from mcbat.errors import InputError
+
+__all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "GAME_TABLE_COLUMNS", "GameModel",
+           "OUTLIER_SIGMA", "draw_model", "table_columns"]
+
+OUTLIER_SIGMA = 8.0
+"""A measured value further than this many sigma beyond every model prediction over the
+search ranges is refused (a typo or a wrong unit), not fitted; likewise a measured input
+this many of its errors outside the study's range."""
+GRAZING = 0.999
+"""A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
+above 87.4 deg) is refused: the ball grazes the bat."""
+_MPH = 0.44704
+_DEG = math.pi / 180.0
+
+BAT_FRAME_COLUMNS = {
+    # name: (unit, role); role "input" columns are measured inputs, "observable" are fitted
+    "impact_parameter": ("m", "input"),
+    "spin_in": ("rad/s", "input"),
+    "exit_speed": ("m/s", "observable"),
+    "scattering_angle": ("deg", "observable"),
+    "spin_out": ("rad/s", "observable"),
+}
+"""Columns of a bat-frame measurement table (a drop test), with their units."""
+GAME_TABLE_COLUMNS = {
+    "pitch_speed": ("mph", "input"),
+    "bat_speed": ("mph", "input"),
+    "attack_angle": ("deg", "input"),
+    "undercut": ("m", "input"),
+    "from_barrel_end": ("m", "input"),
+    "launch_speed": ("mph", "observable"),
+    "launch_angle": ("deg", "observable"),
+    "spray_angle": ("deg", "observable"),
+    "spin_rate": ("rpm", "observable"),
+    "backspin": ("rpm", "observable"),
+    "sidespin": ("rpm", "observable"),
+}
+"""Columns of a game measurement table (Statcast's names and units where it has them)."""
+
+UNITS_HINT = {
+    "exit_speed": "wrong unit? exit_speed is in m/s (mph would be 2.24 times larger, km/h "
+                  "3.6 times)",
+    "scattering_angle": "wrong unit? scattering_angle is in degrees (radians would be 57 "
+                        "times smaller)",
+    "spin_out": "wrong unit or sign convention? spin_out is in rad/s about the bat axis (rpm "
+                "would be 9.55 times larger)",
+    "launch_speed": "wrong unit? launch_speed is in mph (m/s would be 2.24 times smaller, "
+                    "km/h 1.6 times larger)",
+    "launch_angle": "wrong unit or convention? launch_angle is the elevation in degrees",
+    "spray_angle": "wrong unit or convention? spray_angle is in degrees, positive towards "
+                   "right field (docs/batting.md)",
+    "spin_rate": "wrong unit? spin_rate is in rpm (rad/s would be 9.55 times smaller)",
+    "backspin": "wrong unit or sign? backspin is in rpm, positive for backspin",
+    "sidespin": "wrong unit or sign? sidespin is in rpm (docs/batting.md)",
+}
+"""What to check when a column lies far outside anything the model gives."""
+
+
+def table_columns(game: bool) -> dict:
+    """The measurement columns of a game (True) or a bat-frame (False) study."""
+    return GAME_TABLE_COLUMNS if game else BAT_FRAME_COLUMNS
+
+
+def draw_model(study, table, draws, seed, fixed=None):
+    """The draw model of ``study`` (:class:`GameModel` or :class:`BatFrameModel`)."""
+    cls = GameModel if getattr(study, "kind", None) == "game" else BatFrameModel
+    return cls(study, table, draws, seed, fixed)
+
+
+def rows_text(mask, values=None, limit=5):
+    """``"rows 3, 7 (value ...)"``: the 1-based rows where ``mask`` holds."""
+    idx = np.flatnonzero(mask)
+    shown = ", ".join(str(i + 1) + (f" ({values[i]:.6g})" if values is not None else "")
+                      for i in idx[:limit])
+    more = f" and {len(idx) - limit} more" if len(idx) > limit else ""
+    return f"row{'s' if len(idx) > 1 else ''} {shown}{more}"
+
+
+class _DrawModel:
+    """Shared bookkeeping: the table's columns checked against the model's, the measured
+    inputs drawn, the free parameters written into the input array."""
+
+    COLUMNS: dict = {}
+    PARAMETERS: dict = {}
+    """Fit parameter -> row of the input array it sets."""
+    KIND = ""
+    FAILURE_HINTS: dict = {}
+    SEARCH: dict = {}
+    """Search ranges of the fit's coarse grid that differ from the default
+    (:data:`mcbat.stats.fit.SEARCH`)."""
+
+    def __init__(self, study, table, draws, seed, fixed):
+        self.source = table.attrs.get("source")
+        self.study = study
+        self.rows = len(table)
+        self.draws = draws
+        self._stratified = False
+        known = {c for c in self.COLUMNS} | {f"{c}_err" for c in self.COLUMNS}
+        for col in table.columns:
+            if col not in known:
+                base = col[:-4] if col.endswith("_err") else col
+                what = "an uncertainty of " if col.endswith("_err") else ""
+                raise InputError(col, f"a {self.KIND} study's model cannot use {what}"
+                                 f"{base!r} (its columns: {', '.join(self.COLUMNS)}, each "
+                                 f"optionally with an _err column)", self.source)
+        self.observables = [c for c, (_, role) in self.COLUMNS.items()
+                            if role == "observable" and c in table.columns]
+        if not self.observables:
+            names = [c for c, (_, role) in self.COLUMNS.items() if role == "observable"]
+            raise InputError(None, f"the table has none of the observables of a "
+                             f"{self.KIND} study: {', '.join(names)}", self.source)
+        for name in fixed or {}:
+            if name not in self.PARAMETERS:
+                raise InputError("fixed", f"unknown parameter {name!r} for a {self.KIND} "
+                                 f"study (choose from {', '.join(self.PARAMETERS)})")
+        self.rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 13,)))
+
+    def measured_draws(self, name, table, support, scale=1.0):
+        """Per-draw values (SI: the table's value times ``scale``) of measured input
+        ``name``: its value repeated, or smeared by its ``_err`` (module docstring)."""
+        value = table[name].to_numpy(float) * scale
+        if f"{name}_err" not in table.columns:
+            return np.repeat(value, self.draws)
+        sigma = table[f"{name}_err"].to_numpy(float) * scale
+        slices = np.tile(np.arange(self.draws), (self.rows, 1))
+        if self._stratified:  # a further smeared input: its slices shuffled per row
+            slices = self.rng.permuted(slices, axis=1)
+        self._stratified = True
+        u = (slices + self.rng.uniform(size=slices.shape)) / self.draws
+        lo, hi = support
+        a = ((lo - value) / sigma)[:, None]
+        b = ((hi - value) / sigma)[:, None]
+        far = (a > OUTLIER_SIGMA).ravel() | (b < -OUTLIER_SIGMA).ravel()
+        if far.any():
+            raise InputError(name, f"{rows_text(far, value / scale)}: more than "
+                             f"{OUTLIER_SIGMA:g} of its errors outside the study's range "
+                             f"{lo / scale:g}..{hi / scale:g}", self.source)
+        if math.isinf(lo) and math.isinf(hi):
+            z = stats.norm.ppf(u)
+        else:
+            z = stats.truncnorm.ppf(u, a, b)
+        return (value[:, None] + sigma[:, None] * z).ravel()
+
+    def support(self, key):
+        """The study's range of input ``key`` (unbounded when it is not drawn)."""
+        dist = self.study.inputs.get(key)
+        if dist is None or getattr(dist, "family", None) == "fixed":
+            return -math.inf, math.inf
+        return dist.support()
+
+    def set_parameters(self, values):
+        """Write ``{parameter: value}`` into every draw."""
+        for name, value in values.items():
+            self.inputs[self.PARAMETERS[name]] = value
+
+
+class BatFrameModel(_DrawModel):
+    """The bat-frame kernel (:func:`mcbat.core.batch.solve_batch`) on a drop-test table.
+
+    The study must place the contact by ``contact.impact_parameter``; each row's measured
+    impact parameter sets the contact angle of its draws (about the study's approach
+    azimuth of each draw), a measured ``spin_in`` the incoming spin about the bat axis.
+    """
+
+    COLUMNS = BAT_FRAME_COLUMNS
+    KIND = "bat-frame"
+    PARAMETERS = {name: INPUT_FIELDS.index(name)
+                  for name in ("e", "mu", "ball_inertia_factor", "axial", "e_x")}
+    FAILURE_HINTS = {"not_approaching": ("impact_parameter", " (the ball does not approach "
+                                         "the bat at the contact: an impact parameter at the "
+                                         "reach of ball and bat?)")}
+
+    def __init__(self, study, table, draws, seed, fixed=None):
+        super().__init__(study, table, draws, seed, fixed)
+        source, rows = self.source, self.rows
+        if "contact.impact_parameter" not in study.inputs:
+            raise InputError("impact_parameter", f"study {study.name!r} places the contact by "
+                             f"contact.angle, not contact.impact_parameter: a measured impact "
+                             f"parameter needs a study of a ball moving across the bat onto "
+                             f"its axis (as studies/cross_nathan_2006.toml)", source)
+        if "impact_parameter" not in table.columns:
+            raise InputError("impact_parameter", "missing required column", source)
+        index = {name: i for i, name in enumerate(INPUT_FIELDS)}
+        cols = study.sample(0, rows * draws, seed)
+        inputs = np.stack([np.asarray(cols[n], np.float64) for n in INPUT_FIELDS])
+        b_meas = table["impact_parameter"].to_numpy(float)
+        b = self.measured_draws("impact_parameter", table,
+                                study.inputs["contact.impact_parameter"].support())
+        # The study's approach azimuth of each draw, then the contact angle of the row's b.
+        n = rows * draws
+        ball_r = inputs[index["ball_radius"]]
+        radius, slope = inputs[index["bat_radius"]], inputs[index["bat_slope"]]
+        angle0 = np.empty(n)
+        angles_from_impact_parameters(np.asarray(cols["impact_parameter"], float), ball_r,
+                                      radius, slope, np.zeros(n), angle0)
+        azimuth = inputs[index["angle"]] - angle0
+        angles_from_impact_parameters(b, ball_r, radius, slope, azimuth,
+                                      inputs[index["angle"]])
+        reach = np.array([ball_centre_radial_distance(*v) for v in zip(ball_r, radius, slope)])
+        grazing = (np.abs(b_meas) >= GRAZING * reach.reshape(rows, draws).min(axis=1))
+        if grazing.any():
+            raise InputError("impact_parameter", f"{rows_text(grazing, b_meas)}: at the reach "
+                             f"of ball and bat ({reach.min():.5g} m): a grazing contact, not a "
+                             f"measurable impact", source)
+        missed = np.isnan(inputs[index["angle"]]).reshape(rows, draws).all(axis=1)
+        if missed.any():
+            raise InputError("impact_parameter", f"{rows_text(missed, b_meas)}: beyond the "
+                             f"reach of ball and bat (the ball would miss)", source)
+        if "spin_in" in table.columns:
+            inputs[index["ball_wz_in"]] = self.measured_draws("spin_in", table,
+                                                              (-math.inf, math.inf))
+        self.inputs = inputs
+        self.set_parameters(fixed or {})  # e.g. e_x = 0: the rigid model
+        self._axial = inputs[index["axial"]].copy()
+        self._out = allocate_outputs(n)
+
+    def set_parameters(self, values):
+        """As the base class; ``axial`` shifts the study's impact points (keeping their
+        scatter) instead of replacing them."""
+        for name, value in values.items():
+            if name == "axial":
+                self.inputs[self.PARAMETERS[name]] = self._axial + value
+            else:
+                self.inputs[self.PARAMETERS[name]] = value
+
+    def solve(self):
+        """Solve every draw: ``{observable: float64[rows * draws]}`` and the status."""
+        solver = self.study.solver
+        out, status, end = self._out
+        solve_batch(self.inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
+                    out, status, end)
+        o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
+        derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
+        values = {"exit_speed": derived["exit_speed"],
+                  "scattering_angle": derived["scattering_angle"],
+                  "spin_out": derived["spin_axial"]}
+        return {c: values[c] for c in self.observables}, status
+
+
+class GameModel(_DrawModel):
+    """The game kernel (:func:`mcbat.core.swing.solve_game_batch`) on a tracking table.
+
+    Each row's measured pitch and swing (any of ``pitch_speed``, ``bat_speed``,
+    ``attack_angle``, ``undercut``, ``from_barrel_end``) replace the study's draws of
+    them; the rest of the study's scatter is nuisance. Parameters: ``e`` (the game
+    restitution's ``e*`` at its reference speed, ``e_ref``), ``mu`` and ``e_x``.
+    """
+
+    COLUMNS = GAME_TABLE_COLUMNS
+    KIND = "game"
+    PARAMETERS = {"e": GAME_INPUT_FIELDS.index("e_ref"), "mu": GAME_INPUT_FIELDS.index("mu"),
+                  "e_x": GAME_INPUT_FIELDS.index("e_x")}
+    MEASURED = {"pitch_speed": ("pitch.speed", _MPH), "bat_speed": ("swing.bat_speed", _MPH),
+                "attack_angle": ("swing.attack_angle", _DEG),
+                "undercut": ("contact.undercut", 1.0),
+                "from_barrel_end": ("contact.from_barrel_end", 1.0)}
+    SEARCH = {"e": (0.2, 0.8)}
+    """A baseball's e* at game speeds lies well within 0.2-0.8 (0.55 at 85 ft/s, BATTING.md):
+    the coarse grid covers that range, so launch speeds in another unit (which would need
+    e* near 0.07 for m/s or 0.96 for km/h) are refused with a hint instead of fitted."""
+    FAILURE_HINTS = {"not_approaching": ("undercut", " (the ball misses or does not meet the "
+                                         "bat: an undercut beyond the reach of ball and "
+                                         "barrel?)")}
+
+    def __init__(self, study, table, draws, seed, fixed=None):
+        super().__init__(study, table, draws, seed, fixed)
+        inputs = study.sample_inputs(0, self.rows * draws, seed)
+        cols = {name: inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
+        for name, (key, scale) in self.MEASURED.items():
+            if name in table.columns:
+                cols[name][:] = self.measured_draws(name, table, self.support(key), scale)
+        if "from_barrel_end" in table.columns:
+            study.fill_contact(cols)
+        self.inputs = inputs
+        self.set_parameters(fixed or {})
+        self._out = allocate_game_outputs(self.rows * draws)
+
+    def solve(self):
+        """Solve every draw: ``{observable: float64[rows * draws]}`` (table units) and the
+        status."""
+        solver = self.study.solver
+        frame, out, game_out, status, end = self._out
+        solve_game_batch(self.inputs, solver["steps"], solver["tolerance"],
+                         solver["max_steps"], frame, out, game_out, status, end)
+        g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
+        batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
+                             [g[f"field_ball_w{c}"] for c in "xyz"])
+        return {c: batted[c] for c in self.observables}, status
