@@ -222,11 +222,34 @@ def cmd_calibrate(args) -> int:
     from mcbat.papers.cabo2012 import sec5
     from mcbat.papers.cabo2012.calibration import calibrate_restitution
 
+    if args.study is not None:
+        return _calibrate_study(args)
+    for flag in ("column", "samples"):
+        if getattr(args, flag) is not None:
+            raise InputError(f"--{flag}", "needs --study (without it, calibrate runs the "
+                             "paper's Sec. V calibration)")
+    if args.parameter != "e":
+        raise InputError("--parameter", "needs --study (the paper's calibration is of e*)")
     if args.target is not None and not (math.isfinite(args.target) and args.target > 0):
         raise InputError("--target", f"must be a finite speed > 0 (m/s), got {args.target!r}")
     with _flags("target"):
         result = calibrate_restitution(sec5.TARGET_SPEED if args.target is None
                                        else args.target)
+    json.dump(_json_value(result.to_dict()), sys.stdout, indent=2, allow_nan=False)
+    sys.stdout.write("\n")
+    return EXIT_OK
+
+
+def _calibrate_study(args) -> int:
+    from mcbat.stats.calibrate import calibrate
+    from mcbat.study import load_study
+
+    if args.target is None:
+        raise InputError("--target", "required with --study: the measured mean")
+    study = load_study(args.study)
+    column = args.column or ("launch_speed" if study.kind == "game" else "exit_speed")
+    with _flags("target", "column", "parameter", "samples"):
+        result = calibrate(study, column, args.target, args.parameter, samples=args.samples)
     json.dump(_json_value(result.to_dict()), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
     return EXIT_OK
@@ -438,12 +461,26 @@ def build_parser() -> argparse.ArgumentParser:
     rep.set_defaults(func=cmd_reproduce)
 
     cal = sub.add_parser(
-        "calibrate", help="find e* so that the Sec. V exit speed matches a target",
-        description="Solve for the energetic coefficient e* (scipy brentq) such that the "
-                    "exit speed at theta = pi/400 with no spin equals TARGET (m/s); prints "
-                    "e* and the paper's e^2 = 1 - e*^2 as JSON.")
+        "calibrate", help="find the e* (or mu, e_x) at which a study's mean matches a "
+                          "measured number",
+        description="With --study: solve (scipy brentq, common random numbers) for the "
+                    "parameter at which the mean COLUMN of the study's first --samples rows "
+                    "equals TARGET (in the column's unit: a drop test's exit_speed m/s, "
+                    "scattering_angle deg, spin_out rad/s; a game's launch_speed mph, "
+                    "launch_angle, spray_angle deg, spin_rate rpm). Without --study: the "
+                    "paper's calibration (Cabo et al. Sec. V): e* such that the exit speed "
+                    "at theta = pi/400 with no spin equals TARGET (m/s), with e^2 = 1 - e*^2. "
+                    "Prints JSON.")
     cal.add_argument("--target", type=float, default=None, metavar="TARGET",
-                     help="target exit speed, m/s (default: the paper's 1.44629)")
+                     help="the measured mean (without --study: the exit speed, m/s; default "
+                          "the paper's 1.44629)")
+    cal.add_argument("--study", metavar="STUDY.toml", help="the study to calibrate")
+    cal.add_argument("--column", default=None,
+                     help="the observable whose mean is matched (default: exit_speed, or "
+                          "launch_speed for a game study)")
+    cal.add_argument("--parameter", default="e", help="e (default), mu or e_x")
+    cal.add_argument("--samples", type=int, default=None,
+                     help="rows averaged (default: the study's samples, at most 20000)")
     cal.set_defaults(func=cmd_calibrate)
 
     syn = sub.add_parser(

@@ -49,16 +49,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.swing import (
-    GAME_INPUT_FIELDS,
-    GAME_OUTPUT_FIELDS,
-    allocate_game_outputs,
-    solve_game_batch,
-)
-from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
-from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GameModel
+from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GAME_WRITTEN, solve_study
 
 __all__ = ["COLUMNS", "DEFAULT_ERRORS", "read_measurements", "synthesize",
            "write_table_atomic"]
@@ -264,10 +256,7 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
             field, what = (name[0], f"{name[1]}: ") if isinstance(name, tuple) else (name, "")
             raise InputError(field, f"{what}must be in [{low:g}, {high:g}], got {value!r}")
     params = {"e": e, "mu": mu, "e_x": e_x}
-    if game:
-        inputs, observed, ok = _solve_game(study, rows, seed, params)
-    else:
-        inputs, observed, ok = _solve_drop_test(study, rows, seed, params)
+    inputs, observed, ok = solve_study(study, rows, seed, params)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
     errors = {}
     for name, value in observed.items():
@@ -288,50 +277,6 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
         columns[name] = value + errors[name] * rng.standard_normal(rows)
         columns[f"{name}_err"] = errors[name]
     return pd.DataFrame(columns)[ok].reset_index(drop=True)
-
-
-GAME_WRITTEN = ("pitch_speed", "bat_speed", "attack_angle", "undercut")
-"""The measured inputs :func:`synthesize` writes into a game table."""
-
-
-def _solve_drop_test(study, rows, seed, params):
-    """A drop test's true inputs (table units), observables and good rows."""
-    cols = study.sample(0, rows, seed)
-    for name, value in params.items():
-        if value is not None:
-            cols[name] = np.full(rows, float(value))
-    inputs = np.stack([np.asarray(cols[name], np.float64) for name in INPUT_FIELDS])
-    out, status, end = allocate_outputs(rows)
-    solver = study.solver
-    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
-                end)
-    o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
-    derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
-    measured = {"impact_parameter": cols["impact_parameter"], "spin_in": cols["ball_wz_in"]}
-    observed = {"exit_speed": derived["exit_speed"],
-                "scattering_angle": derived["scattering_angle"],
-                "spin_out": derived["spin_axial"]}
-    return measured, observed, status == 0
-
-
-def _solve_game(study, rows, seed, params):
-    """A game's true measured inputs (table units), batted balls and good rows."""
-    inputs = study.sample_inputs(0, rows, seed)
-    cols = {name: inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
-    for name, value in params.items():
-        if value is not None:
-            inputs[GameModel.PARAMETERS[name]] = value
-    frame, out, game_out, status, end = allocate_game_outputs(rows)
-    solver = study.solver
-    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
-                     out, game_out, status, end)
-    g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
-    batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
-                         [g[f"field_ball_w{c}"] for c in "xyz"])
-    measured = {name: cols[name].copy() / GameModel.MEASURED[name][1] for name in GAME_WRITTEN}
-    observed = {name: batted[name] for name in ("launch_speed", "launch_angle", "spray_angle",
-                                                "spin_rate")}
-    return measured, observed, status == 0
 
 
 def _count(value, name, minimum):
