@@ -278,7 +278,10 @@ def _encode(table: pa.Table, options: dict):
     capacity = _capacity(table)
     buffer = getattr(_buffers, "buffer", None)
     if buffer is None or buffer.size < capacity:
-        buffer = _buffers.buffer = pa.allocate_buffer(capacity)
+        # Page-aligned, so that the file can be written from it directly (storage).
+        raw = np.empty(capacity + storage.DIRECT_ALIGNMENT, np.uint8)
+        start = -raw.ctypes.data % storage.DIRECT_ALIGNMENT
+        buffer = _buffers.buffer = pa.py_buffer(raw[start:start + capacity])
     sink = pa.FixedSizeBufferWriter(buffer)
     try:
         pq.write_table(table, sink, **options)

@@ -180,11 +180,69 @@ def write_atomic(path, write) -> None:
         raise
 
 
+DIRECT_ALIGNMENT = 4096
+"""Alignment (bytes) of the memory, offsets and sizes of a direct write."""
+DIRECT_MINIMUM = 1 << 20
+"""Files smaller than this are written through the page cache."""
+
+
+def direct_io_enabled() -> bool:
+    """Whether large local files may bypass the page cache (``O_DIRECT``): where the OS has
+    it and the environment variable ``MCBAT_DIRECT_IO`` is not ``0``."""
+    return hasattr(os, "O_DIRECT") and os.environ.get("MCBAT_DIRECT_IO", "1") != "0"
+
+
+def _write_direct(data, path) -> bool:
+    """Write ``data`` (a buffer at a :data:`DIRECT_ALIGNMENT`-aligned address) to the new
+    file ``path`` bypassing the page cache; False, with nothing written, where the file
+    system refuses (tmpfs, some network file systems), and the caller writes normally.
+
+    Why: on Linux a buffered write copies every byte into freshly allocated page-cache
+    pages, and on a virtual machine that allocation is most of the cost (a 90 MB chunk: 0.26
+    s of system time, against 0.01 s direct), time taken from the kernel's threads. The
+    aligned head is written from ``data`` itself; the tail (less than one block) from a
+    zero-padded block, and the file is then cut to its size.
+    """
+    view = memoryview(data).cast("B")
+    size = len(view)
+    address = pa.py_buffer(view).address
+    if size < DIRECT_MINIMUM or address % DIRECT_ALIGNMENT or not direct_io_enabled():
+        return False
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_DIRECT, 0o644)
+    except OSError:
+        return False
+    try:
+        head = size - size % DIRECT_ALIGNMENT
+        done = 0
+        while done < head:
+            done += os.write(fd, view[done:head])
+        if head < size:
+            block = memoryview(bytearray(2 * DIRECT_ALIGNMENT))
+            start = -pa.py_buffer(block).address % DIRECT_ALIGNMENT
+            tail = block[start:start + DIRECT_ALIGNMENT]
+            tail[:size - head] = view[head:]
+            os.write(fd, tail)
+            os.ftruncate(fd, size)
+    except OSError:
+        os.close(fd)
+        os.unlink(path)
+        return False
+    os.close(fd)
+    return True
+
+
 def write_bytes_atomic(data, path) -> None:
-    """Write the bytes-like ``data`` to ``path`` (a local path or a URL), atomically."""
+    """Write the bytes-like ``data`` to ``path`` (a local path or a URL), atomically.
+
+    A large local file whose bytes sit at an aligned address (the chunk encoder's buffer)
+    is written bypassing the page cache (:func:`_write_direct`; ``MCBAT_DIRECT_IO=0``
+    turns that off)."""
 
     def write(fs, tmp):
         if fs is None:
+            if _write_direct(data, tmp):
+                return
             with open(tmp, "wb") as handle:
                 handle.write(data)
         else:
