@@ -318,7 +318,7 @@ def cmd_fit(args) -> int:
     with _flags("free", "bootstrap", "draws", "seed"):
         free = tuple(check_free(args.free))
         check_bootstrap(args.bootstrap)
-        if args.draws < 4:
+        if args.draws is not None and args.draws < 4:
             raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
         if args.seed < 0:
             raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
@@ -538,9 +538,9 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--intervals", choices=("profile", "curvature"), default="profile",
                      help="profile: profile-likelihood intervals and one-sided limits "
                           "(default); curvature: Hessian errors only (faster)")
-    fit.add_argument("--draws", type=_int_arg("--draws"), default=48, metavar="M",
+    fit.add_argument("--draws", type=_int_arg("--draws"), default=None, metavar="M",
                      help="model draws per row for the nuisance scatter and the input errors "
-                          "(default 48)")
+                          "(default 48; 128 for a game study)")
     fit.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S",
                      help="seed of the draws (default 0)")
     fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure "

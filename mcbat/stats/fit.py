@@ -218,17 +218,18 @@ class Likelihood:
         (1 sigma, same units).
     free : sequence of str
         Parameters to fit, from :data:`FREE` (the game model has ``e``, ``mu``, ``e_x``).
-    draws : int
-        Draws per row (at least 4).
+    draws : int, optional
+        Draws per row (at least 4; default 48 for a drop test, 128 for a game:
+        :attr:`mcbat.stats.models.GameModel.DEFAULT_DRAWS` says why).
     seed : int
         Seed of the draws.
     fixed : dict, optional
         Parameters held at given values (``{"e_x": 0.0}``: the rigid model).
     """
 
-    def __init__(self, study, table, free, draws=48, seed=0, fixed=None):
+    def __init__(self, study, table, free, draws=None, seed=0, fixed=None):
         self.free = check_free(free)
-        draws = _check_count(draws, "draws", 4)
+        draws = None if draws is None else _check_count(draws, "draws", 4)
         seed = _check_count(seed, "seed", 0)
         self.model = draw_model(study, table, draws, seed, fixed)
         for name in self.free:
@@ -238,7 +239,7 @@ class Likelihood:
                                  f"{', '.join(self.model.PARAMETERS)})")
         self.source = self.model.source
         self.study = study
-        self.rows, self.draws = self.model.rows, draws
+        self.rows, self.draws = self.model.rows, self.model.draws
         self.observables = self.model.observables
         self.units = {c: self.model.COLUMNS[c][0] for c in self.observables}
         self.search = {**SEARCH, **self.model.SEARCH}
@@ -424,7 +425,7 @@ def default_errors(column, values):
     return np.maximum(relative * np.abs(values), floor)
 
 
-def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=None,
+def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, start=None,
         fixed=None, intervals="profile"):
     """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc).
 
@@ -436,8 +437,9 @@ def fit(study, table, free=("e", "mu"), *, draws=48, seed=0, bootstrap=0, start=
         A measurement table (:func:`mcbat.stats.measurements.read_measurements`).
     free : sequence of str
         Parameters to fit, from :data:`FREE` (distinct).
-    draws : int
-        Draws per row (nuisance scatter and measured-input errors).
+    draws : int, optional
+        Draws per row (nuisance scatter and measured-input errors; default: the model's,
+        48 for a drop test, 128 for a game).
     seed : int
         Seed of the draws (and of the bootstrap).
     bootstrap : int
@@ -792,7 +794,7 @@ class ModelComparison:
                 f"p = {self.lr_p_value:.3g}"]
 
 
-def compare_models(study, table, free=("e", "mu"), *, draws=48, seed=0, fitted=None):
+def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted=None):
     """Fit the rigid model (``e_x = 0``) and the compliant one (``e_x`` free) and compare.
 
     Parameters
