@@ -161,7 +161,7 @@ def test_flat_on_both_sides_is_reported_unidentified_with_null_errors():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("setting", ["a", "c"])
+@pytest.mark.parametrize("setting", ["a", "c", "g"])
 def test_interval_coverage_small(tmp_path, setting):
     """A small run of benchmarks/interval_coverage.py (the full one: >= 400 tables per
     setting, docs/fitting.md). With 60 tables the binomial spread of a coverage is 6 %, so
