@@ -2,11 +2,12 @@
 `mcbat run` (issue 15).
 
 Run:  .venv/bin/python benchmarks/bench_flight.py [--n N] [--repeats K] [--runs R]
+                                                   [--run-samples S]
 
 1. ``fly_batch`` on N random launches (60-120 mph, -10..60 deg, spray +-45 deg, 0-4000 rpm
    of backspin and +-2000 rpm of sidespin), default settings, all numba threads: flights/s
    (median of K).
-2. ``mcbat run studies/game_fastball.toml`` (which has a [flight] section), N samples:
+2. ``mcbat run studies/game_fastball.toml`` (which has a [flight] section), S samples:
    rows/s as the run reports it (median of R runs).
 """
 
@@ -83,10 +84,12 @@ def main(argv=None):
     parser.add_argument("--n", type=int, default=1_000_000)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--run-samples", type=int, default=400_000,
+                        help="samples of each mcbat run (default 400,000)")
     args = parser.parse_args(argv)
     kernel(args.n, args.repeats)
     if args.runs:
-        runs(min(args.n, 400_000), args.runs)
+        runs(args.run_samples, args.runs)
 
 
 if __name__ == "__main__":
