@@ -308,9 +308,10 @@ class GameModel(_DrawModel):
     ~10 % too sharp. 128 draws leave ~4 %. (A drop test's spread is dominated by its
     stratified impact parameter or by the measurement errors: chi2/dof 0.98-1.01 at 48.)"""
     SEARCH = {"e": (0.2, 0.8)}
-    """A baseball's e* at game speeds lies well within 0.2-0.8 (0.55 at 85 ft/s, BATTING.md):
-    the coarse grid covers that range, so launch speeds in another unit (which would need
-    e* near 0.07 for m/s or 0.96 for km/h) are refused with a hint instead of fitted."""
+    """A baseball's e* at game speeds lies well within 0.2-0.8 (the game preset: 0.555 at
+    85 ft/s, docs/batting.md): the coarse grid covers that range, so launch speeds in another
+    unit (which would need e* near 0.07 for m/s or 0.96 for km/h) are refused with a hint
+    instead of fitted."""
     FAILURE_HINTS = {"not_approaching": ("undercut", " (the ball misses or does not meet the "
                                          "bat: an undercut beyond the reach of ball and "
                                          "barrel?)")}
