@@ -1,6 +1,7 @@
 """Issue 18's figures: `mcbat run` against the kernel alone, in one session.
 
 Run:  .venv/bin/python benchmarks/bench_pipeline.py [--samples 2000000] [--repeats 5]
+                                                   [--modes all,12,summary]
       .venv/bin/python benchmarks/bench_pipeline.py --scan 1000000000   # the big summary scan
 
 Measured on ``studies/throughput.toml`` (2 threads), each run a fresh process into an empty
@@ -103,6 +104,9 @@ def main():
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--scan", type=int, default=None, metavar="N")
     parser.add_argument("--memory", action="store_true")
+    parser.add_argument("--modes", default="all,12,summary",
+                        help="which runs, comma-separated: all (every column), 12 (the "
+                             "12 columns), summary (summary-only); default all three")
     args = parser.parse_args()
     work = Path(tempfile.mkdtemp(prefix="mcbat-pipeline-"))
     try:
@@ -121,6 +125,8 @@ def main():
         modes = {"all columns": (THROUGHPUT, []),
                  "12 columns": (THROUGHPUT, ["--columns", TWELVE]),
                  "summary only": (summary_study, ["--summary-only"])}
+        chosen = {"all": "all columns", "12": "12 columns", "summary": "summary only"}
+        modes = {chosen[key]: modes[chosen[key]] for key in args.modes.split(",")}
         results = {name: [] for name in modes}
         kernels = []
         for study, extra in modes.values():

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mcbat.core.geometry import profile_surfaces
+from mcbat.core.geometry import profile_surfaces, profile_table
 
 __all__ = ["BatProfile", "mass_properties", "pchip_coefficients"]
 
@@ -240,6 +240,7 @@ class BatProfile:
     axial_inertia: float = field(init=False)
     _radius_coeffs: np.ndarray = field(init=False, repr=False)
     _slope_coeffs: np.ndarray = field(init=False, repr=False)
+    _table: object = field(init=False, repr=False)  # the kernel's ProfileTable
 
     def __post_init__(self):
         z, r = _check_profile(self.z, self.r)
@@ -262,6 +263,7 @@ class BatProfile:
         set_(self, "_radius_coeffs", _readonly(radius_coeffs))
         set_(self, "_slope_coeffs", _readonly(radius_coeffs[:-1] * np.array([[3.0], [2.0],
                                                                             [1.0]])))
+        set_(self, "_table", profile_table(self.z, self._radius_coeffs, self._slope_coeffs))
 
     @classmethod
     def from_knob_table(cls, distance_from_knob_m, diameter_m, density):
@@ -345,7 +347,7 @@ class BatProfile:
         z = np.asarray(z, dtype=np.float64)
         flat = np.ascontiguousarray(z.ravel())
         radius, slope = np.empty_like(flat), np.empty_like(flat)
-        profile_surfaces(self.z, self._radius_coeffs, self._slope_coeffs, flat, radius, slope)
+        profile_surfaces(self._table, flat, radius, slope)
         return radius.reshape(z.shape), slope.reshape(z.shape)
 
     def _evaluate(self, which, z):

@@ -10,14 +10,16 @@ surface of radius ``radius`` = r(axial) with slope ``slope`` = r'(axial) (0 for 
 """
 
 import math
+from typing import NamedTuple
 
 import numba
+import numpy as np
 
 from mcbat.core.jit import njit
 
-__all__ = ["profile_surfaces", "angle_from_impact_parameter", "angles_from_impact_parameters",
+__all__ = ["ProfileTable", "angle_from_impact_parameter", "angles_from_impact_parameters",
            "ball_centre_radial_distance", "contact_frame", "impact_parameter_from_angle",
-           "impact_parameters_from_angles"]
+           "impact_parameters_from_angles", "profile_surfaces", "profile_table"]
 
 
 @njit
@@ -84,68 +86,92 @@ def impact_parameter_from_angle(angle, ball_radius, radius, slope, approach_azim
     )
 
 
-@njit
+@njit(parallel=True)
 def angles_from_impact_parameters(impact_parameter, ball_radius, radius, slope,
                                   approach_azimuth, out):
     """:func:`angle_from_impact_parameter` over arrays (all of length ``n``); writes ``out``."""
-    for i in range(out.shape[0]):
+    for i in numba.prange(out.shape[0]):
         out[i] = angle_from_impact_parameter(impact_parameter[i], ball_radius[i], radius[i],
                                              slope[i], approach_azimuth[i])
 
 
-@njit
+@njit(parallel=True)
 def impact_parameters_from_angles(angle, ball_radius, radius, slope, approach_azimuth, out):
     """:func:`impact_parameter_from_angle` over arrays (all of length ``n``); writes ``out``."""
-    for i in range(out.shape[0]):
+    for i in numba.prange(out.shape[0]):
         out[i] = impact_parameter_from_angle(angle[i], ball_radius[i], radius[i], slope[i],
                                              approach_azimuth[i])
 
 
-@njit
-def _piecewise_polynomial(breaks, coeffs, interval, s):
-    """``sum_k coeffs[K-1-k, interval] s**k``, summed from the constant term up with the
-    powers built by repeated products: scipy's ``PPoly`` order of operations, so the
-    value is bit-identical to ``PchipInterpolator``'s."""
-    order = coeffs.shape[0]
-    value = 0.0
-    power = 1.0
-    for k in range(order):
-        value = value + coeffs[order - 1 - k, interval] * power
-        if k < order - 1:
-            power *= s
-    return value
+class ProfileTable(NamedTuple):
+    """A bat profile's piecewise polynomials, for :func:`profile_surfaces`.
+
+    ``breaks`` (float64[m + 1], m from the CM, increasing) are the nodes;
+    ``radius_coeffs`` (float64[4, m]) the PCHIP cubic r(z) and ``slope_coeffs``
+    (float64[3, m]) its derivative r'(z), in scipy's ``PPoly`` layout: ``c[k, i]``
+    multiplies ``(z - breaks[i])**(order - 1 - k)``. ``cell_start`` (int64[c]) is the
+    interval at the left edge of each of ``c`` equal cells of ``[breaks[0], breaks[m]]``
+    and ``cell_scale`` the cells per metre: the interval of ``z`` is found from its cell in
+    a step or two, with no binary search (whose unpredictable branches were most of the
+    evaluation's time).
+    """
+
+    breaks: np.ndarray
+    radius_coeffs: np.ndarray
+    slope_coeffs: np.ndarray
+    cell_start: np.ndarray
+    cell_scale: float
+
+
+def profile_table(breaks, radius_coeffs, slope_coeffs, cells_per_interval=4) -> ProfileTable:
+    """The :class:`ProfileTable` of a piecewise cubic and its derivative."""
+    m = breaks.shape[0] - 1
+    cells = cells_per_interval * m
+    scale = cells / (breaks[m] - breaks[0])
+    edges = breaks[0] + np.arange(cells) / scale
+    start = np.clip(np.searchsorted(breaks, edges, side="right") - 1, 0, m - 1)
+    return ProfileTable(breaks, radius_coeffs, slope_coeffs, start.astype(np.int64),
+                        float(scale))
 
 
 @njit(parallel=True)
-def profile_surfaces(breaks, radius_coeffs, slope_coeffs, axial, radius, slope):
+def profile_surfaces(table, axial, radius, slope):
     """A bat profile's radius and slope at many axial positions (in parallel).
 
     Parameters
     ----------
-    breaks : float64[m + 1]
-        The profile's nodes (m from the CM, increasing).
-    radius_coeffs, slope_coeffs : float64[4, m], float64[3, m]
-        The piecewise cubic r(z) (PCHIP) and its derivative r'(z) in scipy's ``PPoly``
-        layout: ``c[k, i]`` multiplies ``(z - breaks[i])**(order - 1 - k)``.
+    table : ProfileTable
+        The profile's polynomials (:func:`profile_table`).
     axial : float64[n]
         Axial positions, m from the CM.
     radius, slope : float64[n]
         Written: r (m) and r' (dimensionless); NaN off the profile's ends.
+
+    Notes
+    -----
+    Each polynomial is summed from its constant term up with the powers built by
+    repeated products: scipy's ``PPoly`` order of operations, so the values are
+    bit-identical to ``PchipInterpolator``'s.
     """
+    breaks, rc, sc = table.breaks, table.radius_coeffs, table.slope_coeffs
     m = breaks.shape[0] - 1
+    cells = table.cell_start.shape[0]
     for i in numba.prange(axial.shape[0]):
         z = axial[i]
         if not breaks[0] <= z <= breaks[m]:
             radius[i] = math.nan
             slope[i] = math.nan
             continue
-        lo, hi = 0, m  # the interval with breaks[lo] <= z < breaks[lo + 1] (the last: <=)
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if z < breaks[mid]:
-                hi = mid
-            else:
-                lo = mid
+        # The interval with breaks[lo] <= z < breaks[lo + 1] (the last: <=), from the cell
+        # of z; the steps back and forth make it exact whatever the cell's rounding.
+        lo = table.cell_start[min(int((z - breaks[0]) * table.cell_scale), cells - 1)]
+        while lo > 0 and z < breaks[lo]:
+            lo -= 1
+        while lo < m - 1 and z >= breaks[lo + 1]:
+            lo += 1
         s = z - breaks[lo]
-        radius[i] = _piecewise_polynomial(breaks, radius_coeffs, lo, s)
-        slope[i] = _piecewise_polynomial(breaks, slope_coeffs, lo, s)
+        s2 = s * s
+        # (0.0 + c: PPoly's sum starts from 0.0, which turns a -0.0 term into +0.0)
+        radius[i] = (((0.0 + rc[3, lo]) + rc[2, lo] * s) + rc[1, lo] * s2
+                     + rc[0, lo] * (s2 * s))
+        slope[i] = ((0.0 + sc[2, lo]) + sc[1, lo] * s) + sc[0, lo] * s2

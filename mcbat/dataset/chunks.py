@@ -137,7 +137,7 @@ def _arrow_array(name, values, sample_id_start, chunk, n, float32):
     return numpy_to_arrow(values, np.float64)
 
 
-def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None):
+def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, derived=None):
     """Every column of an impact chunk as arrays, from the kernel's struct-of-arrays.
 
     Parameters
@@ -152,6 +152,9 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None):
     noise : dict of str -> float64[n], optional
         Simulated measurement errors: column ``<name>_measured`` = ``<name>`` + error,
         after the contract columns (the model value stays untouched).
+    derived : collection of str, optional
+        Compute only these derived columns (:func:`~mcbat.dataset.schema.derive`; a
+        summary-only run, which writes no file, needs only the ones it summarises).
 
     Returns
     -------
@@ -165,8 +168,10 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None):
     cols["from_barrel_end"] = np.full(n, np.nan)
     cols.update(extra_inputs)
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
+    if derived is not None:
+        derived = {*derived, *(noise or {})}  # (a measured column needs its model value)
     cols.update(derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),
-                       (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"])))
+                       (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"]), derived))
     cols.update(status=status, end_state=end_state)
     names = list(COLUMNS)
     for name, error in (noise or {}).items():
@@ -178,17 +183,19 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None):
 _FT = 0.3048  # m per ft (Statcast reports distances in ft)
 
 
-def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None):
+def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None,
+                 derived=None):
     """Every column of a game chunk as arrays (:data:`~mcbat.dataset.schema.GAME_COLUMNS`,
     plus :data:`~mcbat.dataset.schema.FLIGHT_COLUMNS` with ``flight``), from the arrays of
     :func:`mcbat.core.swing.solve_game_batch`; returns ``(names, cols)`` as
-    :func:`impact_columns`."""
+    :func:`impact_columns` (``derived``: the bat-frame derived columns to compute, as
+    there; the field-frame ones are always computed)."""
     cols = {name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
     cols.update(bat_frame_columns(game_inputs, frame))
     cols.update({name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)})
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
     cols.update(derive((cols["ball_vx"], cols["ball_vy"], cols["ball_vz"]),
-                       (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"])))
+                       (cols["ball_wx"], cols["ball_wy"], cols["ball_wz"]), derived))
     cols.update(derive_game(
         (cols["field_ball_vx"], cols["field_ball_vy"], cols["field_ball_vz"]),
         (cols["field_ball_wx"], cols["field_ball_wy"], cols["field_ball_wz"])))

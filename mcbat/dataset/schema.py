@@ -121,13 +121,16 @@ _MPH = 0.44704
 _RPM = 60.0 / (2.0 * np.pi)
 
 
-def derive(ball_velocity, ball_spin) -> dict:
+def derive(ball_velocity, ball_spin, names=None) -> dict:
     """The derived columns from the outgoing ball's velocity and spin (lab frame).
 
     Parameters
     ----------
     ball_velocity, ball_spin : sequence of 3 floats or 3 arrays
         ``(v_x, v_y, v_z)`` in m/s and ``(w_x, w_y, w_z)`` in rad/s.
+    names : collection of str, optional
+        Compute only these of :data:`DERIVED_COLUMNS` (a summary-only run needs only the
+        columns it summarises); default all.
 
     Returns
     -------
@@ -136,14 +139,16 @@ def derive(ball_velocity, ball_spin) -> dict:
         straight back along ``+x``), ``spin_axial`` (rad/s, about the bat axis ``z``) and
         ``spin`` (rad/s, the magnitude); floats for float inputs, else arrays.
     """
+    names = DERIVED_COLUMNS if names is None else names
     vx, vy, vz = (np.asarray(c, np.float64) for c in ball_velocity)
     wx, wy, wz = (np.asarray(c, np.float64) for c in ball_spin)
-    out = {
-        "exit_speed": np.sqrt(vx * vx + vy * vy + vz * vz),
-        "scattering_angle": np.degrees(np.arctan2(vy, vx)),
-        "spin_axial": wz,
-        "spin": np.sqrt(wx * wx + wy * wy + wz * wz),
+    formulas = {
+        "exit_speed": lambda: np.sqrt(vx * vx + vy * vy + vz * vz),
+        "scattering_angle": lambda: np.degrees(np.arctan2(vy, vx)),
+        "spin_axial": lambda: wz,
+        "spin": lambda: np.sqrt(wx * wx + wy * wy + wz * wz),
     }
+    out = {name: formula() for name, formula in formulas.items() if name in names}
     if np.ndim(vx) == 0:
         return {name: float(value) for name, value in out.items()}
     return out

