@@ -341,13 +341,16 @@ class BatProfile:
         """``(mass, transverse_inertia, axial_inertia)`` in kg, kg m^2, kg m^2 (about the CM)."""
         return self.mass, self.transverse_inertia, self.axial_inertia
 
-    def surfaces(self, z):
+    def surfaces(self, z, out=None):
         """``(radius, slope)`` at the axial positions ``z`` (float64 arrays, m from the
-        CM; computed in parallel), NaN off the ends."""
+        CM; computed in parallel), NaN off the ends; written into ``out`` (two contiguous
+        float64 arrays of ``z``'s size) if given."""
         z = np.asarray(z, dtype=np.float64)
         flat = np.ascontiguousarray(z.ravel())
-        radius, slope = np.empty_like(flat), np.empty_like(flat)
-        profile_surfaces(self._table, flat, radius, slope)
+        if out is None:
+            out = np.empty_like(flat), np.empty_like(flat)
+        radius, slope = out
+        profile_surfaces(self._table, flat, radius.reshape(-1), slope.reshape(-1))
         return radius.reshape(z.shape), slope.reshape(z.shape)
 
     def _evaluate(self, which, z):

@@ -165,8 +165,9 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, der
     """
     n = inputs.shape[1]
     cols = {name: inputs[i] for i, name in enumerate(INPUT_FIELDS)}
-    cols["from_barrel_end"] = np.full(n, np.nan)
     cols.update(extra_inputs)
+    if "from_barrel_end" not in cols:
+        cols["from_barrel_end"] = np.full(n, np.nan)
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})
     if derived is not None:
         derived = {*derived, *(noise or {})}  # (a measured column needs its model value)

@@ -715,16 +715,16 @@ class Study:
             cols["bat_slope"][:] = 0.0
         else:
             np.clip(axial, *bat.axial_bounds(), out=axial)  # rounding in unit conversions
-            cols["bat_radius"][:], cols["bat_slope"][:] = bat.surface(axial)
+            bat.profile.surfaces(axial, out=(cols["bat_radius"], cols["bat_slope"]))
 
         azimuth = (table[rows["contact.approach_azimuth"]]
                    if "contact.approach_azimuth" in rows else np.zeros(n))
         if self._angle_key == "angle":
-            impact_parameters_from_angles(cols["angle"], np.full(n, ball.radius),
+            impact_parameters_from_angles(cols["angle"], cols["ball_radius"],
                                           cols["bat_radius"], cols["bat_slope"], azimuth,
                                           cols["impact_parameter"])
         else:
-            angles_from_impact_parameters(cols["impact_parameter"], np.full(n, ball.radius),
+            angles_from_impact_parameters(cols["impact_parameter"], cols["ball_radius"],
                                           cols["bat_radius"], cols["bat_slope"], azimuth,
                                           cols["angle"])
         return cols
