@@ -19,7 +19,8 @@ from mcbat.core.jit import njit
 
 __all__ = ["ProfileTable", "angle_from_impact_parameter", "angles_from_impact_parameters",
            "ball_centre_radial_distance", "contact_frame", "impact_parameter_from_angle",
-           "impact_parameters_from_angles", "profile_surfaces", "profile_table"]
+           "impact_parameters_from_angles", "profile_surfaces", "profile_surfaces_serial",
+           "profile_table"]
 
 
 @njit
@@ -86,19 +87,19 @@ def impact_parameter_from_angle(angle, ball_radius, radius, slope, approach_azim
     )
 
 
-@njit(parallel=True)
+@njit
 def angles_from_impact_parameters(impact_parameter, ball_radius, radius, slope,
                                   approach_azimuth, out):
     """:func:`angle_from_impact_parameter` over arrays (all of length ``n``); writes ``out``."""
-    for i in numba.prange(out.shape[0]):
+    for i in range(out.shape[0]):
         out[i] = angle_from_impact_parameter(impact_parameter[i], ball_radius[i], radius[i],
                                              slope[i], approach_azimuth[i])
 
 
-@njit(parallel=True)
+@njit
 def impact_parameters_from_angles(angle, ball_radius, radius, slope, approach_azimuth, out):
     """:func:`impact_parameter_from_angle` over arrays (all of length ``n``); writes ``out``."""
-    for i in numba.prange(out.shape[0]):
+    for i in range(out.shape[0]):
         out[i] = impact_parameter_from_angle(angle[i], ball_radius[i], radius[i], slope[i],
                                              approach_azimuth[i])
 
@@ -134,6 +135,29 @@ def profile_table(breaks, radius_coeffs, slope_coeffs, cells_per_interval=4) -> 
                         float(scale))
 
 
+@njit(inline="always")
+def _surface(table, z):
+    """``(r, r')`` of the profile at ``z`` (NaN off its ends)."""
+    breaks, rc, sc = table.breaks, table.radius_coeffs, table.slope_coeffs
+    m = breaks.shape[0] - 1
+    if not breaks[0] <= z <= breaks[m]:
+        return math.nan, math.nan
+    # The interval with breaks[lo] <= z < breaks[lo + 1] (the last: <=), from the cell of
+    # z; the steps back and forth make it exact whatever the cell's rounding.
+    lo = table.cell_start[min(int((z - breaks[0]) * table.cell_scale),
+                              table.cell_start.shape[0] - 1)]
+    while lo > 0 and z < breaks[lo]:
+        lo -= 1
+    while lo < m - 1 and z >= breaks[lo + 1]:
+        lo += 1
+    s = z - breaks[lo]
+    s2 = s * s
+    # (0.0 + c: PPoly's sum starts from 0.0, which turns a -0.0 term into +0.0)
+    radius = ((0.0 + rc[3, lo]) + rc[2, lo] * s) + rc[1, lo] * s2 + rc[0, lo] * (s2 * s)
+    slope = ((0.0 + sc[2, lo]) + sc[1, lo] * s) + sc[0, lo] * s2
+    return radius, slope
+
+
 @njit(parallel=True)
 def profile_surfaces(table, axial, radius, slope):
     """A bat profile's radius and slope at many axial positions (in parallel).
@@ -153,25 +177,13 @@ def profile_surfaces(table, axial, radius, slope):
     repeated products: scipy's ``PPoly`` order of operations, so the values are
     bit-identical to ``PchipInterpolator``'s.
     """
-    breaks, rc, sc = table.breaks, table.radius_coeffs, table.slope_coeffs
-    m = breaks.shape[0] - 1
-    cells = table.cell_start.shape[0]
     for i in numba.prange(axial.shape[0]):
-        z = axial[i]
-        if not breaks[0] <= z <= breaks[m]:
-            radius[i] = math.nan
-            slope[i] = math.nan
-            continue
-        # The interval with breaks[lo] <= z < breaks[lo + 1] (the last: <=), from the cell
-        # of z; the steps back and forth make it exact whatever the cell's rounding.
-        lo = table.cell_start[min(int((z - breaks[0]) * table.cell_scale), cells - 1)]
-        while lo > 0 and z < breaks[lo]:
-            lo -= 1
-        while lo < m - 1 and z >= breaks[lo + 1]:
-            lo += 1
-        s = z - breaks[lo]
-        s2 = s * s
-        # (0.0 + c: PPoly's sum starts from 0.0, which turns a -0.0 term into +0.0)
-        radius[i] = (((0.0 + rc[3, lo]) + rc[2, lo] * s) + rc[1, lo] * s2
-                     + rc[0, lo] * (s2 * s))
-        slope[i] = ((0.0 + sc[2, lo]) + sc[1, lo] * s) + sc[0, lo] * s2
+        radius[i], slope[i] = _surface(table, axial[i])
+
+
+@njit
+def profile_surfaces_serial(table, axial, radius, slope):
+    """:func:`profile_surfaces` on one thread, for a few positions: starting the parallel
+    loop costs more than it saves there (milliseconds when the other core is busy)."""
+    for i in range(axial.shape[0]):
+        radius[i], slope[i] = _surface(table, axial[i])
