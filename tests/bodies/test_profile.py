@@ -381,4 +381,5 @@ def test_surfaces_on_uneven_nodes_are_scipys(seed):
     assert np.array_equal(radius, spline(z), equal_nan=True)
     assert np.array_equal(slope, spline.derivative()(z), equal_nan=True)
     few = p.surfaces(z[-500:])  # (a few positions: the one-thread loop)
-    assert np.array_equal(few[0], radius[-500:]) and np.array_equal(few[1], slope[-500:])
+    assert np.array_equal(few[0], radius[-500:], equal_nan=True)
+    assert np.array_equal(few[1], slope[-500:], equal_nan=True)
