@@ -143,9 +143,13 @@ class ImpactCase:
         return math.sqrt(1.0 - _real(loss_fraction, "loss_fraction", minimum=0.0, maximum=1.0))
 
     def contact_surface(self) -> tuple[float, float]:
-        """Bat radius and slope at the contact point."""
+        """Bat radius and slope at the contact point (which must lie on the bat, and where
+        the touching ball must not reach into a tapered bat elsewhere)."""
         try:
-            return self.bat.surface_at(self.contact.axial)
+            surface = self.bat.surface_at(self.contact.axial)
+            self.bat.check_no_overlap(self.ball.radius, self.contact.axial,
+                                      self.contact.axial)
+            return surface
         except InputError as err:
             raise err.within("contact") from None
 

@@ -107,3 +107,29 @@ def test_reprs_are_short():
     bat = Bat.from_profile(r161_profile())
     assert len(repr(bat)) < 120 and "profile" in repr(bat)
     assert len(repr(Ball(mass=0.145, radius=0.036))) < 80
+
+
+def test_contact_where_the_ball_overlaps_a_tapered_bat_is_refused():
+    """R161's knob flare: a ball touching 80-81.5 cm from the barrel end reaches 1-6 mm
+    into the bat elsewhere; the API refuses it, naming contact.axial. Along the barrel
+    and handle (0-79.5 cm) nothing overlaps."""
+    from mcbat.api import Contact, ImpactCase, solve
+    from mcbat.bodies import Ball, bat_preset
+    from mcbat.errors import InputError
+
+    bat = bat_preset("r161")
+    ball = Ball(mass=0.145, radius=0.0366, inertia_factor=0.4)
+
+    def case(distance):
+        axial = bat.axial_from_barrel_end(distance)
+        return ImpactCase(ball=ball, bat=bat, contact=Contact(axial=axial, angle=0.0),
+                          ball_velocity=(-20.0, 0.0, 0.0), mu=0.3, e=0.5)
+
+    for distance in (0.805, 0.81, 0.815):
+        with pytest.raises(InputError) as info:
+            solve(case(distance))
+        assert info.value.field == "contact.axial" and "overlap" in info.value.message
+    assert bat.overlap(ball.radius, bat.axial_from_barrel_end(0.81)) > 1e-3
+    for distance in (0.0, 0.15, 0.4, 0.6, 0.79):
+        assert bat.overlap(ball.radius, bat.axial_from_barrel_end(distance)) == 0.0
+        assert solve(case(distance)).status == "ok"

@@ -120,6 +120,7 @@ from mcbat.core.geometry import angles_from_impact_parameters, impact_parameters
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import (
+    Choice,
     Normal,
     check_keys,
     check_range,
@@ -456,6 +457,23 @@ class Study:
                            else integer(study["chunk_size"], "study.chunk_size", minimum=1,
                                         maximum=MAX_SAMPLES))
 
+    def _check_overlap(self, axial_low, axial_high):
+        """No contact the study can draw puts the ball into a tapered bat elsewhere: every
+        value of a ``choice``, else the whole range."""
+        key = f"contact.{self._axial_key}"
+        dist = self.inputs[key]
+        if isinstance(dist, Choice):
+            values = [p.si for p in dist.points()]
+            if self._axial_key != "axial":
+                values = [self.bat.axial_from_barrel_end(v) for v in values]
+            spans = [(v, v) for v in values]
+        elif math.isfinite(axial_low) and math.isfinite(axial_high):
+            spans = [(axial_low, axial_high)]
+        else:
+            spans = []
+        for low, high in spans:
+            self.bat.check_no_overlap(self.ball.radius, low, high, name=key)
+
     def _check_ranges(self):
         inputs = self.inputs
         check_range(inputs["friction.mu"], minimum=0.0, what="mu")
@@ -483,6 +501,7 @@ class Study:
             axial_low = self.bat.axial_from_barrel_end(d_high)
             axial_high = self.bat.axial_from_barrel_end(d_low)
 
+        self._check_overlap(axial_low, axial_high)
         if self._angle_key == "impact_parameter":
             if not (math.isfinite(axial_low) and math.isfinite(axial_high)):
                 axial_low = axial_high = 0.0  # unbounded: only for a cylinder (checked)

@@ -392,3 +392,27 @@ def test_landing_under_extreme_anisotropy_leaves_no_residual_slip():
     assert r[3] == pytest.approx(tight[3], rel=1e-4)  # tangential impulse p2
     # W_fr is good to ~1e-5 of the energy scale v.K^-1.v/2 (~1 J here), like elsewhere.
     assert r[9] == pytest.approx(tight[9], abs=1e-4)
+
+
+@pytest.mark.parametrize("override", [
+    dict(ball_mass=1e-200), dict(ball_mass=1e200), dict(bat_mass=1e-30),
+    dict(ball_radius=1e-160), dict(radius=1e9), dict(bat_transverse_inertia=1e-300),
+    dict(ball_v=(-1e-200, 0.0, 0.0)), dict(ball_v=(-1e154, 0.0, 0.0)),
+    dict(ball_w=(0.0, 0.0, 1e12)), dict(axial=1e6), dict(mu=1e9),
+], ids=lambda o: next(iter(o)) + "=" + str(next(iter(o.values()))))
+def test_absurd_scales_are_invalid_input(override):
+    """Issue 13: a ball of 1e-200 kg or an approach of 1e-200 m/s used to come back ok
+    with a wrong answer (at 1e-200 m/s the ball left still moving into the bat). Outside
+    the documented ranges the kernel says invalid_input; at their edges it solves."""
+    r = kernel(**override)
+    assert r["status"] == st.INVALID_INPUT
+    assert math.isnan(r["ball_vx"])
+
+
+def test_edges_of_the_valid_ranges_solve():
+    for override in (dict(ball_mass=1e-5, ball_radius=1e-4, bat_mass=1e6,
+                          bat_transverse_inertia=1e6, bat_axial_inertia=1e6),
+                     dict(ball_v=(-1e-9, 0.0, 0.0)), dict(ball_v=(-1e4, 0.0, 0.0))):
+        r = kernel(**override)
+        assert r["status"] == st.OK, override
+        assert r["ball_vx"] > -1e-9 * abs(override.get("ball_v", (-4.0,))[0])

@@ -642,3 +642,21 @@ def test_shipped_studies_parse_as_plain_toml():
         with open(STUDIES / name, "rb") as f:
             data = tomllib.load(f)
         assert Study.from_dict(data).config_hash() == load_study(STUDIES / name).config_hash()
+
+
+def test_contact_range_reaching_the_knob_flare_is_refused():
+    """A study whose contacts reach R161's knob flare (ball overlapping the bat) fails
+    validation, naming the contact key; the throughput study's 0-70 cm passes."""
+    from mcbat.errors import InputError
+
+    data = {"study": {"name": "flare", "samples": 10}, "ball": {"preset": "baseball"},
+            "bat": {"preset": "r161"},
+            "contact": {"from_barrel_end": {"dist": "uniform", "low": 60, "high": 81,
+                                            "unit": "cm"}, "angle": 0.0},
+            "ball_velocity": {"x": -20.0, "y": 0.0, "z": 0.0}, "friction": {"mu": 0.3},
+            "restitution": {"e": 0.5}}
+    with pytest.raises(InputError) as info:
+        Study.from_dict(data, source="flare.toml")
+    assert info.value.field == "contact.from_barrel_end" and "overlap" in info.value.message
+    data["contact"]["from_barrel_end"]["high"] = 70
+    Study.from_dict(data, source="flare.toml")

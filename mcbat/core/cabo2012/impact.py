@@ -57,6 +57,59 @@ components along ``t1`` and ``t2``.
 """
 
 
+@njit(inline="always")
+def failed_impact(code, energy_in, rk4_steps=0):
+    """The one place a failed result is built: status ``code``, every physical output NaN
+    (``energy_in`` kept where it was computed)."""
+    nan = math.nan
+    return (code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+            nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, rk4_steps)
+
+
+# Valid ranges of the inputs (SI; docs/physics.md, "Valid inputs"). Outside them the
+# arithmetic loses its meaning (under- or overflow of energies and impulses, an approach
+# speed below the rounding of the contact velocity): status invalid_input.
+MASS_RANGE = (1e-6, 1e7)  # kg, ball and bat
+LENGTH_RANGE = (1e-5, 10.0)  # m, ball radius and bat radius at the contact
+MAX_AXIAL = 100.0  # m, |axial|
+INERTIA_RANGE = (1e-16, 1e10)  # kg m^2, bat inertias
+MAX_SPEED = 1e5  # m/s, every velocity component
+MAX_SPIN = 1e7  # rad/s, every spin component
+MIN_APPROACH_SPEED = 1e-12  # m/s, |v_n| at the contact
+MAX_MU = 1e3
+
+
+@njit(inline="always")
+def _within(x, low, high):
+    return low <= x <= high
+
+
+@njit(inline="always")
+def _valid_bodies(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
+                  bat_transverse_inertia, bat_axial_inertia, axial, angle, radius, slope):
+    """Bodies and contact within the valid ranges (NaN fails every comparison)."""
+    m_lo, m_hi = MASS_RANGE
+    l_lo, l_hi = LENGTH_RANGE
+    i_lo, i_hi = INERTIA_RANGE
+    return (_within(ball_mass, m_lo, m_hi) and _within(bat_mass, m_lo, m_hi)
+            and _within(ball_radius, l_lo, l_hi) and _within(radius, l_lo, l_hi)
+            and 0.0 < ball_inertia_factor <= 1.0
+            and _within(bat_transverse_inertia, i_lo, i_hi)
+            and _within(bat_axial_inertia, i_lo, i_hi)
+            and abs(axial) <= MAX_AXIAL and math.isfinite(angle) and abs(slope) <= 1e3)
+
+
+@njit(inline="always")
+def _valid_motion(bvx, bvy, bvz, bwx, bwy, bwz, tvx, tvy, tvz, twx, twy, twz):
+    """Velocities and spins within the valid ranges (NaN fails every comparison)."""
+    speed = max(abs(bvx), abs(bvy), abs(bvz), abs(tvx), abs(tvy), abs(tvz))
+    spin = max(abs(bwx), abs(bwy), abs(bwz), abs(twx), abs(twy), abs(twz))
+    finite = True
+    for x in (bvx, bvy, bvz, bwx, bwy, bwz, tvx, tvy, tvz, twx, twy, twz):
+        finite = finite and math.isfinite(x)
+    return finite and speed <= MAX_SPEED and spin <= MAX_SPIN
+
+
 @njit
 def solve_impact(
     ball_mass, ball_radius, ball_inertia_factor,
@@ -77,8 +130,10 @@ def solve_impact(
     bat_mass, bat_transverse_inertia, bat_axial_inertia : float
         kg and kg m^2 about the bat CM.
     axial, angle, radius, slope : float
-        Contact point: axial position from the bat CM (m), azimuth (rad), bat radius
-        there (m), profile slope dr/dz (0 for a cylinder).
+        Contact point: axial position of the *contact point* on the bat surface, from
+        the bat CM along the axis (m; on a tapered bat the ball's centre sits at
+        ``axial - R r'/sqrt(1 + r'^2)``), azimuth (rad), bat radius there (m), profile
+        slope dr/dz (0 for a cylinder).
     ball_v*, ball_w*, bat_v*, bat_w* : float
         Initial velocities (m/s) and spins (rad/s) of ball and bat.
     mu, e : float
@@ -93,21 +148,20 @@ def solve_impact(
     Returns
     -------
     tuple
-        Values named by :data:`IMPACT_FIELDS`. On a non-OK status the velocities are NaN.
+        Values named by :data:`IMPACT_FIELDS`. On a non-OK status the velocities are NaN
+        (:func:`failed_impact`). Inputs outside the valid ranges (``MASS_RANGE``,
+        ``LENGTH_RANGE``, ... above; ``docs/physics.md``) give ``invalid_input``; whether a
+        tapered bat's surface lets the ball touch only at the contact is checked by the
+        callers that know the profile (``Bat.overlap``).
     """
     nan = math.nan
-    ok_bodies = (
-        ball_mass > 0.0 and ball_radius > 0.0 and ball_inertia_factor > 0.0
-        and bat_mass > 0.0 and bat_transverse_inertia > 0.0 and bat_axial_inertia > 0.0
-        and radius > 0.0 and math.isfinite(ball_mass) and math.isfinite(ball_radius)
-        and math.isfinite(ball_inertia_factor) and math.isfinite(bat_mass)
-        and math.isfinite(bat_transverse_inertia) and math.isfinite(bat_axial_inertia)
-        and math.isfinite(axial) and math.isfinite(angle) and math.isfinite(radius)
-        and math.isfinite(slope) and 0.0 <= e_x <= 1.0
-    )
-    if not ok_bodies:
-        return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-                nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
+    if not (_valid_bodies(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
+                          bat_transverse_inertia, bat_axial_inertia, axial, angle, radius,
+                          slope)
+            and _valid_motion(ball_vx, ball_vy, ball_vz, ball_wx, ball_wy, ball_wz, bat_vx,
+                              bat_vy, bat_vz, bat_wx, bat_wy, bat_wz)
+            and 0.0 <= e_x <= 1.0 and mu <= MAX_MU):
+        return failed_impact(st.INVALID_INPUT, nan)
     t1, t2, t3, r_c = contact_frame(axial, angle, radius, slope)
     ball_v = (ball_vx, ball_vy, ball_vz)
     ball_w = (ball_wx, ball_wy, ball_wz)
@@ -117,6 +171,8 @@ def solve_impact(
         ball_mass, ball_radius, ball_inertia_factor,
         bat_mass, bat_transverse_inertia, bat_axial_inertia, t1, t2, t3, r_c)
     v0 = relative_contact_velocity(ball_radius, t3, r_c, ball_v, ball_w, bat_v, bat_w)
+    if -MIN_APPROACH_SPEED < dot(v0, t3) < 0.0:  # approaching, too slowly to mean anything
+        return failed_impact(st.INVALID_INPUT, nan)
     energy_in = kinetic_energy(
         ball_mass, ball_radius, ball_inertia_factor,
         bat_mass, bat_transverse_inertia, bat_axial_inertia, ball_v, ball_w, bat_v, bat_w)
@@ -125,8 +181,7 @@ def solve_impact(
         k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3), mu, e,
         steps, tolerance, max_steps)
     if code != st.OK:
-        return (code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-                nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, 0)
+        return failed_impact(code, energy_in)
     if e_x > 0.0 and end_state == st.STUCK:
         # Tangential compliance gives back part of the friction loss as reversed slip;
         # friction_work becomes the net work of the tangential force (still <= 0).
@@ -149,9 +204,7 @@ def solve_impact(
     if not (is_finite3(ball_v) and is_finite3(ball_w) and is_finite3(bat_v)
             and is_finite3(bat_w) and math.isfinite(i_f) and math.isfinite(energy_out)
             and math.isfinite(energy_in)):
-        return (st.INVALID_INPUT, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-                nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan,
-                n_rk4)
+        return failed_impact(st.INVALID_INPUT, energy_in, n_rk4)
     return (
         code, end_state,
         ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
