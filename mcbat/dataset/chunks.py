@@ -235,7 +235,12 @@ def to_table(names, cols, sample_id_start, chunk, output=None, metadata=None) ->
         names = [name for name in names if name in keep]
     arrays = [_arrow_array(name, cols.get(name), sample_id_start, chunk, n, float32)
               for name in names]
-    table = pa.Table.from_arrays(arrays, names=list(names))
+    # Every field is declared non-nullable (Parquet REQUIRED): no column ever holds a null
+    # (a failed row's outputs are NaN, a value), and a REQUIRED column is written without
+    # definition levels, which took ~30 % of the encoding time (schema version 6).
+    table = pa.Table.from_arrays(arrays, schema=pa.schema(
+        [pa.field(name, array.type, nullable=False)
+         for name, array in zip(names, arrays, strict=True)]))
     if metadata is None:
         return table
     return table.replace_schema_metadata(

@@ -51,7 +51,10 @@ __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
 #: and float32 outputs; ``[summary]`` tables; float columns stored uncompressed by default.
 #: 5: the same columns; the random inputs come from the counter-based sampler (study format
 #: 2: Philox4x32-10, see :mod:`mcbat.core.sampling`), so a seed gives other rows than in 4.
-SCHEMA_VERSION = 5
+#: 6: the same columns and rows; every Parquet column is REQUIRED (non-nullable: no column
+#: holds nulls, NaN marks a failed row), which encodes faster. Version-5 files are
+#: OPTIONAL, and pyarrow does not concatenate the two: a version-5 dataset is not resumed.
+SCHEMA_VERSION = 6
 
 _LINEAR = {"v": "m/s", "w": "rad/s"}
 UNITS = {

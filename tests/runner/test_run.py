@@ -65,6 +65,14 @@ def test_dataset_columns_and_metadata(baseline, study):
     assert {"mcbat", "numba", "numpy", "pyarrow"} <= set(meta["versions"])
     assert meta["study"] == study.config()
     assert "[study]" in meta["study_toml"]
+    assert meta["schema"] == schema.SCHEMA_VERSION
+    # Every column is REQUIRED in the Parquet file (schema 6): no nulls anywhere, and a
+    # failed row's outputs are NaN values.
+    arrow_schema = pq.read_schema(directory / ds.chunk_name(0))
+    assert not [field.name for field in arrow_schema if field.nullable]
+    parquet_schema = pq.ParquetFile(directory / ds.chunk_name(0)).schema
+    assert {parquet_schema.column(i).max_definition_level
+            for i in range(len(parquet_schema))} == {0}
     # Derived columns agree with the outputs they come from.
     ok = baseline[baseline["status"] == 0]
     speed = np.sqrt(ok["ball_vx"] ** 2 + ok["ball_vy"] ** 2 + ok["ball_vz"] ** 2)
