@@ -281,7 +281,10 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
         same = existing.get("config_hash") == manifest["config_hash"]
         if not same or existing.get("chunk_size") != chunk_size:
             if not overwrite:
-                what = ("a different study config, seed or sample count" if not same else
+                what = (f"dataset schema version {existing.get('schema')} (this version "
+                        f"of mcbat writes version {manifest['schema']})"
+                        if existing.get("schema") != manifest["schema"] else
+                        "a different study config, seed or sample count" if not same else
                         f"chunk size {existing.get('chunk_size')}")
                 raise InputError("out", f"holds a dataset written with {what}; "
                                  "pass overwrite=True to replace it, or choose another "

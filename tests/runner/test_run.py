@@ -158,6 +158,25 @@ def test_rerun_changes_nothing_and_other_config_is_refused(study, tmp_path):
     assert mcbat.load(out).attrs["mcbat"]["seed"] == 4
 
 
+def test_a_dataset_of_an_older_schema_is_refused_by_name(study, tmp_path):
+    """A dataset written by an older mcbat (schema 5: OPTIONAL Parquet columns, which
+    pyarrow does not concatenate with this version's REQUIRED ones) is not resumed, and
+    the error says why."""
+    out = tmp_path / "ds"
+    run_study(study, out, samples=3_000, seed=3, chunk_size=2_000, progress=False)
+    manifest = json.loads((out / ds.MANIFEST).read_text())
+    manifest["schema"] = schema.SCHEMA_VERSION - 1
+    manifest["config_hash"] = "0" * len(manifest["config_hash"])  # as an old run's would
+    (out / ds.MANIFEST).write_text(json.dumps(manifest))
+    stamps = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    proc = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 3_000, "--seed", 3,
+                     "--chunk-size", 2_000, "--quiet")
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert f"schema version {schema.SCHEMA_VERSION - 1}" in proc.stderr
+    assert "--overwrite" in proc.stderr
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == stamps
+
+
 def test_foreign_directory_is_never_overwritten(study, tmp_path):
     out = tmp_path / "mine"
     out.mkdir()
