@@ -69,10 +69,10 @@ def failed_impact(code, energy_in, rk4_steps=0):
 # Valid ranges of the inputs (SI; docs/physics.md, "Valid inputs"). Outside them the
 # arithmetic loses its meaning (under- or overflow of energies and impulses, an approach
 # speed below the rounding of the contact velocity): status invalid_input.
-MASS_RANGE = (1e-6, 1e7)  # kg, ball and bat
+MASS_RANGE = (1e-6, 1e15)  # kg, ball and bat (1e12: an immovable bat)
 LENGTH_RANGE = (1e-5, 10.0)  # m, ball radius and bat radius at the contact
 MAX_AXIAL = 100.0  # m, |axial|
-INERTIA_RANGE = (1e-16, 1e10)  # kg m^2, bat inertias
+INERTIA_RANGE = (1e-16, 1e15)  # kg m^2, bat inertias
 MAX_SPEED = 1e5  # m/s, every velocity component
 MAX_SPIN = 1e7  # rad/s, every spin component
 MIN_APPROACH_SPEED = 1e-12  # m/s, |v_n| at the contact
