@@ -426,19 +426,6 @@ def _derived_needed(job: ChunkJob):
     return {*job.summary.columns, *(axis.name for axis in job.summary.by)}
 
 
-#: Rows per work item of the kernels' parallel loop. Numba's default splits the loop
-#: statically, one equal share per thread: when the writer thread (or another process)
-#: takes one core for a while, the other thread finishes its share and waits. Work items
-#: of this size are handed out as threads become free. Each row is solved on its own, so
-#: the rows do not depend on the schedule.
-KERNEL_CHUNK = 256
-
-
-def _kernel_schedule():
-    """Dynamic scheduling of the next parallel loops of this thread (:data:`KERNEL_CHUNK`)."""
-    return numba.parallel_chunksize(KERNEL_CHUNK)
-
-
 def _solve_chunk(study, start, stop, seed, derived=None):
     """Sample and solve an impact chunk; ``(names, cols)`` of
     :func:`mcbat.dataset.chunks.impact_columns` (``derived``: as there)."""
@@ -446,9 +433,8 @@ def _solve_chunk(study, start, stop, seed, derived=None):
     columns = study.sample(start, stop, seed)
     inputs = study_inputs(columns)
     out_arr, status, end_state = allocate_outputs(stop - start)
-    with _kernel_schedule():
-        solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
-                    out_arr, status, end_state)
+    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out_arr,
+                status, end_state)
     barrel = study.bat.cm_from_barrel_end
     extra = {"impact_parameter": columns["impact_parameter"],
              "from_barrel_end": (np.full(stop - start, np.nan) if barrel is None
@@ -477,10 +463,9 @@ def _solve_game_chunk(study, start, stop, seed, derived=None):
     solver = study.solver
     game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
     frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
-    with _kernel_schedule():
-        solve_game_batch(game_inputs, solver["steps"], solver["tolerance"],
-                         solver["max_steps"], frame, out_arr, game_out, status, end_state)
-        flight = None if study.flight is None else _fly(study, game_out)
+    solve_game_batch(game_inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
+                     frame, out_arr, game_out, status, end_state)
+    flight = None if study.flight is None else _fly(study, game_out)
     return chunks.game_columns(game_inputs, frame, out_arr, game_out, status, end_state,
                                flight, derived)
 
