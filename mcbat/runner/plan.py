@@ -270,8 +270,10 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
     kind = storage.entry_type(out)
     if kind == "file":
         raise InputError("out", "exists and is not a directory", str(out))
+    # The lock, and the temporary files of a run killed before its first manifest was in
+    # place (they are removed below), do not make a directory a foreign one.
     names = [name for name in (storage.list_names(out) if kind == "dir" else [])
-             if name != LOCK_NAME]
+             if name != LOCK_NAME and not _leftover(name)]
     existing = None
     if names:
         existing = chunks.read_manifest(out)
@@ -323,7 +325,12 @@ def _ours(name: str) -> bool:
         return True
     return chunks.is_temporary_chunk_name(name) or any(
         name.startswith(f".{ours}.") and storage.is_temporary_name(name)
-        for ours in (SUMMARY, STATE))
+        for ours in (chunks.MANIFEST, SUMMARY, STATE))
+
+
+def _leftover(name: str) -> bool:
+    """A temporary file a killed run of ours left behind (never trusted, removed)."""
+    return storage.is_temporary_name(name) and _ours(name)
 
 
 def chunks_to_compute(out, job: ChunkJob, records: dict) -> tuple[list, list, list]:
@@ -359,7 +366,7 @@ def remove_temporary_files(out) -> int:
     Only safe when no writer of this dataset is running."""
     removed = 0
     for name in storage.list_names(out):
-        if storage.is_temporary_name(name) and _ours(name):
+        if _leftover(name):
             storage.remove(out, name, missing_ok=True)
             removed += 1
     return removed

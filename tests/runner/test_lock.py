@@ -77,6 +77,37 @@ def test_the_lock_of_a_killed_run_is_not_stale(tmp_path):
     assert len(mcbat.load(out)) == int(SAMPLES)
 
 
+@pytest.mark.parametrize("leftover", [
+    "._mcbat.json.4242-0123abcd.tmp",          # killed while writing its first manifest
+    ".chunk-000000.parquet.4242-0123abcd.tmp",  # (and with a chunk in flight)
+])
+def test_a_run_killed_before_its_first_manifest_leaves_a_resumable_directory(tmp_path,
+                                                                             leftover):
+    """Found by CI under load: a run killed between writing its manifest's temporary file
+    and renaming it left a directory that the rerun refused as "not an mcbat dataset"
+    (the temporary manifest was not recognised as ours). The leftovers of a killed run
+    are removed, and the rerun proceeds; a foreign file still stops it."""
+    out = tmp_path / "ds"
+    out.mkdir()
+    (out / LOCK_NAME).write_text("pid 4242 on a host that is gone\n")
+    (out / leftover).write_bytes(b'{"half a manif')
+    resumed = subprocess.run(
+        [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(out), "--samples",
+         "3000", "--quiet"], capture_output=True, text=True, cwd=ROOT)
+    assert resumed.returncode == 0, resumed.stderr
+    assert not (out / leftover).exists()
+    assert len(mcbat.load(out)) == 3000
+    foreign = tmp_path / "foreign"
+    foreign.mkdir()
+    (foreign / leftover).write_bytes(b"{")
+    (foreign / "notes.txt").write_text("mine")
+    refused = subprocess.run(
+        [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(foreign),
+         "--samples", "3000", "--quiet"], capture_output=True, text=True, cwd=ROOT)
+    assert refused.returncode == 2 and "not an mcbat dataset" in refused.stderr
+    assert (foreign / "notes.txt").read_text() == "mine"
+
+
 def test_the_lock_in_process(tmp_path):
     out = tmp_path / "d"
     with dataset_lock(out):
