@@ -4,8 +4,10 @@ errors of the measured inputs.
 Likelihood. Row ``i`` of the table has measured inputs (a drop test's impact parameter
 ``b_i`` and incoming spin; a game's bat speed, attack angle, undercut, ...) and measured
 observables ``y_i`` (exit speed, scattering angle, outgoing spin; or launch speed, launch
-angle, spin rate, ...) with 1-sigma errors ``s_i``. For each row, ``M`` draws are solved
-with the fast kernel at parameters ``theta`` (:mod:`mcbat.stats.models` builds them):
+angle, spin rate, ...) with 1-sigma errors ``s_i`` (the ``_err`` columns; an observable
+without one gets one error for all rows, :func:`default_errors`). For each row, ``M`` draws
+are solved with the fast kernel at parameters ``theta`` (:mod:`mcbat.stats.models` builds
+them):
 
 * the study's nuisance scatter (the impact point, the spread of the incoming spin when
   the table has no ``spin_in``, ...) is drawn from the study;
@@ -46,7 +48,7 @@ from scipy import optimize, stats
 from mcbat.bodies.game import GAME_RESTITUTION
 from mcbat.core.status import OK, STATUS_NAMES
 from mcbat.errors import InputError
-from mcbat.stats.measurements import DEFAULT_ERRORS
+from mcbat.stats.measurements import DEFAULT_ERRORS, table_error
 from mcbat.stats.models import OUTLIER_SIGMA, UNITS_HINT, draw_model, rows_text
 
 __all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "Likelihood", "ModelComparison", "SEARCH",
@@ -215,7 +217,7 @@ class Likelihood:
     table : pandas.DataFrame
         Measurement table (:mod:`mcbat.stats.models` lists the columns of each kind of
         study, with their units): measured inputs, observables and ``_err`` columns
-        (1 sigma, same units).
+        (1 sigma, same units; an observable without one gets :func:`default_errors`).
     free : sequence of str
         Parameters to fit, from :data:`FREE` (the game model has ``e``, ``mu``, ``e_x``).
     draws : int, optional
@@ -419,10 +421,15 @@ def draw_moments(sims, ok):
 
 
 def default_errors(column, values):
-    """1-sigma errors of an observable without an ``_err`` column: ``max(relative |y|,
-    floor)`` with :data:`DEFAULT_ERRORS`."""
+    """1-sigma errors of an observable without an ``_err`` column, one per row of
+    ``values`` (the column's measured values), all equal: ``max(relative x mean |y|,
+    floor)`` with :data:`DEFAULT_ERRORS` (:func:`mcbat.stats.measurements.table_error`; the
+    mean over the finite values). Not ``relative |y|`` row by row: a row's error would then
+    grow with its measured value and tell the fit which rows lie above the model's mean,
+    biasing the estimates (docs/fitting.md)."""
     relative, floor = DEFAULT_ERRORS[column]
-    return np.maximum(relative * np.abs(values), floor)
+    values = np.asarray(values, dtype=float)
+    return np.full(values.shape, table_error(values, relative, floor))
 
 
 def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, start=None,

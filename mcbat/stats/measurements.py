@@ -38,7 +38,8 @@ column                    unit      meaning
 The fixed setup (bat, ball, and for a drop test the incoming speed) comes from a study TOML.
 Every value must be a finite number; uncertainties must be > 0; an ``_err`` column needs its
 value column. Errors name the file, the column and the data row (1-based) with the offending
-value. Observables without an ``_err`` column get :data:`DEFAULT_ERRORS`.
+value. Observables without an ``_err`` column get :data:`DEFAULT_ERRORS`: one error per
+column, from the table's mean magnitude (:func:`table_error`).
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GAME_WRITTEN, solve_study
 
-__all__ = ["COLUMNS", "DEFAULT_ERRORS", "read_measurements", "synthesize",
+__all__ = ["COLUMNS", "DEFAULT_ERRORS", "read_measurements", "synthesize", "table_error",
            "write_table_atomic"]
 
 COLUMNS = {**{c: u for c, (u, _) in BAT_FRAME_COLUMNS.items()},
@@ -63,11 +64,30 @@ DEFAULT_ERRORS = {
     "launch_speed": (0.0, 1.0), "launch_angle": (0.0, 1.0), "spray_angle": (0.0, 1.0),
     "spin_rate": (0.10, 50.0), "backspin": (0.10, 50.0), "sidespin": (0.10, 50.0),
 }
-"""1-sigma error of an observable without an ``_err`` column, as ``(relative, floor)``:
-``max(relative |y|, floor)`` in the column's unit (5 % of a drop test's exit speed, 3 deg,
-10 % of its spin with a 1 rad/s floor; 1 mph of launch speed, 1 deg of launch and spray
-angle, 10 % of the spin with a 50 rpm floor: assumed typical, not from a published
-calibration of a tracking system)."""
+"""1-sigma error of an observable without an ``_err`` column, as ``(relative, floor)``: one
+error for every row of the table, :func:`table_error` (``max(relative x mean |y|, floor)``,
+the mean over the table's rows, in the column's unit): 5 % of a drop test's mean exit speed,
+3 deg, 10 % of its mean spin with a 1 rad/s floor; 1 mph of launch speed, 1 deg of launch
+and spray angle, 10 % of the mean spin with a 50 rpm floor (assumed typical, not from a
+published calibration of a tracking system). Not a fraction of each row's own value: that
+would tell the fit which rows lie above the model's mean (docs/fitting.md)."""
+
+
+def table_error(values, relative, floor):
+    """One 1-sigma error for a whole column: ``max(relative * mean |y|, floor)``, the mean
+    over the finite values (0 if there are none).
+
+    The rule of the errors a table does not state (:data:`DEFAULT_ERRORS`) and of the errors
+    :func:`synthesize` states. The same error for every row, on purpose: an error computed
+    from each row's own value (true or measured) tells the fit which rows lie above the
+    model's mean (they get larger errors, less weight), which its likelihood, taking the
+    errors as given, does not model: game fits came out low by a third of their error and
+    more (docs/fitting.md).
+    """
+    magnitude = np.abs(np.asarray(values, dtype=float))
+    magnitude = magnitude[np.isfinite(magnitude)]
+    typical = float(magnitude.mean()) if magnitude.size else 0.0
+    return max(relative * typical, floor)
 
 
 def read_measurements(path, required=()):
@@ -262,18 +282,15 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
     errors = {}
     for name, value in observed.items():
-        # Relative errors of the table's mean magnitude, the same for every row: an error
-        # computed from each row's own (true or measured) value would tell the fit which
-        # rows lie above the model's mean (they get larger errors, less weight), which its
-        # likelihood, taking the errors as given, does not model: a game's fit came out
-        # low by a third of its error at 100 rows, and by more with more rows.
-        typical = float(np.mean(np.abs(value[ok]))) if ok.any() else 0.0
+        # One error per table (table_error: relative to the mean over the impacts, the same
+        # for every row), never a fraction of each row's true value.
         if name in ("exit_speed", "launch_speed"):
-            errors[name] = np.full(rows, speed_noise * typical)
+            rule = (speed_noise, 0.0)
         elif name in ("scattering_angle", "launch_angle", "spray_angle"):
-            errors[name] = np.full(rows, float(angle_noise))
+            rule = (0.0, float(angle_noise))
         else:
-            errors[name] = np.full(rows, max(spin_noise * typical, spin_floor))
+            rule = (spin_noise, spin_floor)
+        errors[name] = np.full(rows, table_error(value[ok], *rule))
     # Input noise from its own stream: the tables with and without it share every draw.
     in_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 9,)))
     columns = {}
