@@ -52,7 +52,7 @@ def run(study, out, **options):
         The dataset directory (or a URL).
     **options
         ``samples``, ``seed``, ``threads``, ``chunk_size``, ``overwrite``, ``progress``,
-        ``engine``, ``scheduler``, ``workers``, ``summary_only``: see
+        ``engine``, ``scheduler``, ``workers``, ``summary_only``, ``tolerance``: see
         :func:`mcbat.runner.run_study`; ``columns`` (a list of column names) overrides the
         study's ``[output] columns``.
     """

@@ -56,7 +56,7 @@ from mcbat.study.distributions import parse
 from mcbat.study.flight import FLIGHT_KEYS, FlightSettings, launch_vectors, parse_flight
 from mcbat.study.game import KEYS as GAME_KEYS
 from mcbat.study.game import check_swing_angles, is_game, parse_handedness
-from mcbat.study.spec import parse_ball
+from mcbat.study.spec import check_tolerance, parse_ball
 
 __all__ = ["Ball", "Bat", "Contact", "FlightCase", "FlightResult", "GameCase", "GameResult",
            "ImpactCase", "ImpactResult", "Restitution", "SolverSettings", "case_from_dict",
@@ -101,11 +101,20 @@ class Contact:
 
 @dataclass(frozen=True)
 class SolverSettings:
-    """Accuracy settings of the kernel (see ``mcbat.core.cabo2012.contact``)."""
+    """Accuracy settings of the kernel (see ``mcbat.core.cabo2012.contact``).
+
+    ``tolerance`` is the impulse error allowed per slip step, relative to ``I_scale``
+    (default 5e-9); it must be finite with ``0 < tolerance < 1``, as a study's
+    ``[solver] tolerance``: :class:`~mcbat.errors.InputError` names ``tolerance`` otherwise.
+    """
 
     steps: int = DEFAULT_STEPS
     tolerance: float = DEFAULT_TOLERANCE
     max_steps: int = DEFAULT_MAX_STEPS
+
+    def __post_init__(self):
+        object.__setattr__(self, "tolerance",
+                           check_tolerance(_real(self.tolerance, "tolerance"), "tolerance"))
 
 
 @dataclass(frozen=True)

@@ -114,8 +114,11 @@ def _json_value(value):
 
 
 def cmd_impact(args) -> int:
-    from mcbat.api import case_from_dict, solve_any
+    from mcbat.api import SolverSettings, case_from_dict, solve_any
 
+    with _flags("tolerance"):  # checked before the input is read
+        settings = SolverSettings() if args.tolerance is None else \
+            SolverSettings(tolerance=args.tolerance)
     source, raw_cases, single = _read_cases(args.file)
     cases = []
     for index, raw in enumerate(raw_cases):
@@ -126,7 +129,7 @@ def cmd_impact(args) -> int:
     results = []
     for index, case in enumerate(cases):
         try:
-            result = solve_any(case, json_keys=True).to_dict()
+            result = solve_any(case, settings, json_keys=True).to_dict()
         except InputError as err:
             raise InputError(err.field, err.message, f"{source}: case {index}") from None
         results.append({k: _json_value(v) for k, v in result.items()})
@@ -164,7 +167,7 @@ def cmd_flight(args) -> int:
 
 
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
-                  "workers", "overwrite", "summary_only", "columns")
+                  "workers", "overwrite", "summary_only", "columns", "tolerance")
 
 
 def cmd_run(args) -> int:
@@ -185,7 +188,8 @@ def cmd_run(args) -> int:
                             threads=args.threads, chunk_size=args.chunk_size,
                             overwrite=args.overwrite, progress=not args.quiet,
                             engine=args.engine, scheduler=args.scheduler,
-                            workers=args.workers, summary_only=args.summary_only)
+                            workers=args.workers, summary_only=args.summary_only,
+                            tolerance=args.tolerance)
     for line in summary.lines():
         print(line)
     return EXIT_OK
@@ -368,6 +372,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "stdin) and print the results as JSON in the same order. SI units, lab "
                     "frame (bat CM at the origin, z along the bat axis).")
     impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
+    impact.add_argument("--tolerance", type=float, default=None, metavar="T",
+                        help="the kernel's tolerance: the impulse error allowed per slip "
+                             "step, relative to the impact's impulse scale, 0 < T < 1 "
+                             "(default 5e-9)")
     impact.set_defaults(func=cmd_impact)
 
     flight = sub.add_parser(
@@ -421,6 +429,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "_summary.parquet) without storing the rows")
     run.add_argument("--overwrite", action="store_true",
                      help="replace an existing dataset written with another config")
+    run.add_argument("--tolerance", type=float, default=None, metavar="T",
+                     help="the kernel's tolerance: the impulse error allowed per slip step, "
+                          "relative to the impact's impulse scale, 0 < T < 1 (default: the "
+                          "study's [solver] tolerance, else 5e-9); part of the dataset's "
+                          "config")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=cmd_run)
 

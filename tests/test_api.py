@@ -97,6 +97,17 @@ def test_solver_failure_is_an_input_error_naming_the_status():
         solve(_case(ball_spin=(0.0, 200.0, 300.0)), SolverSettings(max_steps=2))
 
 
+def test_solver_settings_check_the_tolerance():
+    assert SolverSettings(tolerance=1e-11).tolerance == 1e-11
+    assert type(SolverSettings(tolerance=np.float32(1e-6)).tolerance) is float
+    for bad, words in ((0.0, "> 0 and < 1"), (1.0, "> 0 and < 1"), (-5e-9, "> 0 and < 1"),
+                       (math.nan, "finite"), (math.inf, "finite"), ("5e-9", "number"),
+                       (True, "number")):
+        with pytest.raises(InputError, match=words) as info:
+            SolverSettings(tolerance=bad)
+        assert info.value.field == "tolerance"
+
+
 def test_reprs_are_short():
     import mcbat
 

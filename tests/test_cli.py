@@ -5,6 +5,7 @@ import json
 import math
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -237,3 +238,88 @@ def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys
                  "--samples", "60", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "--out: holds a dataset written with" in err and "pass --overwrite to" in err
+
+
+# ---------------------------------------------------------------- --tolerance
+
+
+def test_impact_tolerance_flag_reaches_the_kernel(capsys, monkeypatch):
+    """``--tolerance`` is the kernel's: a tighter one takes more RK4 steps and moves the
+    answer only in its last digits (the default is good to a few 1e-9)."""
+    from mcbat.api import SolverSettings
+
+    code, out, err = run_cli(capsys, monkeypatch, GOOD)
+    assert code == 0, err
+    default = json.loads(out)
+    code, out, err = run_cli(capsys, monkeypatch, GOOD, "--tolerance", "1e-11")
+    assert code == 0 and err == "", err
+    tight = json.loads(out)
+    expected = solve(ImpactCase.from_dict(GOOD), SolverSettings(tolerance=1e-11)).to_dict()
+    assert tight["ball_velocity"] == expected["ball_velocity"]
+    assert tight["rk4_steps"] == expected["rk4_steps"] > default["rk4_steps"]
+    assert tight["ball_velocity"] != default["ball_velocity"]  # not the default's answer
+    speed = math.hypot(*default["ball_velocity"])
+    for key in ("ball_velocity", "bat_velocity"):
+        assert tight[key] == pytest.approx(default[key], rel=0, abs=1e-8 * speed), key
+    assert tight["exit_speed"] == pytest.approx(default["exit_speed"], rel=1e-8)
+    assert tight["ball_spin"] == pytest.approx(default["ball_spin"], rel=1e-8)
+
+
+@pytest.mark.parametrize("value", ["0", "nan", "2", "-1e-9", "inf", "1"])
+def test_impact_bad_tolerance_one_line_exit_2(capsys, monkeypatch, value):
+    # (argparse reads "-1e-9" after a space as a flag: a negative value needs "=")
+    code, out, err = run_cli(capsys, monkeypatch, GOOD, f"--tolerance={value}")
+    if not value.startswith("-"):
+        assert (code, out, err) == run_cli(capsys, monkeypatch, GOOD, "--tolerance", value)
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert lines[0].startswith("mcbat: error: --tolerance: must be"), err
+    assert ("finite" if value in ("nan", "inf") else "> 0 and < 1") in lines[0]
+
+
+def _with_solver_tolerance(tmp_path, tolerance):
+    """studies/example.toml with ``[solver] tolerance`` written in."""
+    path = tmp_path / f"example_{tolerance}.toml"
+    text = (ROOT / "studies" / "example.toml").read_text()
+    assert "solver" not in tomllib.loads(text)
+    path.write_text(f"{text}\n[solver]\ntolerance = {tolerance}\n")
+    return path
+
+
+def test_run_tolerance_flag_is_the_studys_solver_tolerance(tmp_path, capsys):
+    """``mcbat run --tolerance T`` writes the rows of the study with ``[solver] tolerance =
+    T``, records T in the dataset's config, and is part of it: resuming with another
+    tolerance (or none) is refused, with the same one it resumes."""
+    import pandas as pd
+
+    import mcbat
+
+    study = str(ROOT / "studies" / "example.toml")
+    common = ["--samples", "60", "--quiet"]
+    flagged, in_toml, default = tmp_path / "flag", tmp_path / "toml", tmp_path / "default"
+    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
+    assert main(["run", str(_with_solver_tolerance(tmp_path, 1e-11)), "--out", str(in_toml),
+                 *common]) == 0
+    assert main(["run", study, "--out", str(default), *common]) == 0
+    capsys.readouterr()
+
+    manifest = json.loads((flagged / "_mcbat.json").read_text())
+    assert manifest["study"]["solver"]["tolerance"] == 1e-11
+    reference = json.loads((in_toml / "_mcbat.json").read_text())
+    assert manifest["config_hash"] == reference["config_hash"]
+    rows = mcbat.load(flagged)
+    pd.testing.assert_frame_equal(rows, mcbat.load(in_toml))
+    steps, default_steps = rows["rk4_steps"], mcbat.load(default)["rk4_steps"]
+    assert (steps >= default_steps).all() and (steps > default_steps).any()  # T was used
+
+    for again in (["--tolerance", "1e-10"], []):
+        assert main(["run", study, "--out", str(flagged), *again, *common]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "Traceback" not in err
+        assert "--out: holds a dataset written with a different study config" in err, err
+    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
+    assert "0 computed, 1 kept from before" in capsys.readouterr().out
+    assert main(["run", study, "--out", str(tmp_path / "bad"), "--tolerance", "1", *common]) == 2
+    assert "mcbat: error: --tolerance: must be > 0 and < 1, got 1.0" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()

@@ -146,7 +146,7 @@ def make_engine(engine="local", threads=None, scheduler=None, workers=None):
 
 def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
               overwrite=False, progress=True, engine="local", scheduler=None,
-              workers=None, summary_only=False) -> RunSummary:
+              workers=None, summary_only=False, tolerance=None) -> RunSummary:
     """Run ``study`` into the dataset directory ``out`` (resuming if possible).
 
     Parameters
@@ -157,6 +157,11 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         Dataset directory: a local path, or a URL (see :mod:`mcbat.dataset.storage`).
     samples, seed, chunk_size : int, optional
         Override the study's defaults.
+    tolerance : float, optional
+        Override the study's ``[solver] tolerance`` (the kernel's impulse error allowed per
+        slip step, relative to ``I_scale``; ``0 < tolerance < 1``). It is part of the
+        dataset's config: the manifest records it, and resuming a dataset with another
+        tolerance is refused like any other change of config.
     threads : int, optional
         Numba threads for the batch kernel: of this process (``local``; default: all), or
         of each Dask worker (``dask``; see :class:`mcbat.runner.engines.dask.DaskEngine`).
@@ -185,6 +190,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         A bad option or output location, named by its parameter; before anything is
         written.
     """
+    if tolerance is not None:
+        study = study.with_overrides(tolerance=tolerance)
     samples = positive_int(study.samples if samples is None else samples, "samples")
     seed = study.seed if seed is None else seed
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:

@@ -133,7 +133,8 @@ from mcbat.study.random_program import NOISE, compile_program, draw
 
 __all__ = ["COLUMNS", "FORMAT_VERSION", "LHS_SPAWN_KEY", "NOISE_OUTPUTS",
            "LHS_BLOCK", "SOBOL_BITS", "SOBOL_SPAWN_KEY", "Study", "check_solver",
-           "check_string", "fill_bodies", "load_study", "parse_ball", "parse_bat"]
+           "check_string", "check_tolerance", "fill_bodies", "load_study", "parse_ball",
+           "parse_bat"]
 
 #: Samples per LHS design (the stratification holds within each full block).
 LHS_BLOCK = 65536
@@ -295,10 +296,18 @@ def check_solver(table):
                     maximum=10**4)
     max_steps = integer(table.get("max_steps", DEFAULT_MAX_STEPS), "solver.max_steps",
                         minimum=1, maximum=10**6)
-    tolerance = number(table.get("tolerance", DEFAULT_TOLERANCE), "solver.tolerance")
-    if not 0.0 < tolerance < 1.0:
-        raise InputError("solver.tolerance", f"must be > 0 and < 1, got {tolerance!r}")
+    tolerance = check_tolerance(table.get("tolerance", DEFAULT_TOLERANCE), "solver.tolerance")
     return {"steps": steps, "tolerance": tolerance, "max_steps": max_steps}
+
+
+def check_tolerance(value, field):
+    """The kernel's ``tolerance`` (the impulse error allowed per slip step, relative to
+    ``I_scale``; :data:`~mcbat.core.cabo2012.contact.DEFAULT_TOLERANCE`) as a finite float
+    with ``0 < tolerance < 1``, or :class:`InputError` naming ``field``."""
+    tolerance = number(value, field)
+    if not 0.0 < tolerance < 1.0:
+        raise InputError(field, f"must be > 0 and < 1, got {tolerance!r}")
+    return tolerance
 
 
 def _exactly_one(table, section, a, b):
@@ -531,15 +540,17 @@ class Study:
     # ------------------------------------------------------------ overrides and config
 
     def with_overrides(self, *, samples=None, seed=None, chunk_size=None,
-                       columns=None) -> Study:
-        """A copy with the run's sample count, seed, chunk size or stored columns
-        (``[output] columns``) replacing the defaults (``None`` keeps the study's),
-        validated like the file's values."""
+                       columns=None, tolerance=None) -> Study:
+        """A copy with the run's sample count, seed, chunk size, stored columns
+        (``[output] columns``) or solver tolerance (``[solver] tolerance``) replacing the
+        defaults (``None`` keeps the study's), validated like the file's values."""
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         if columns is not None:
             new.output = replace(self.output, columns=parse_columns(columns, "columns"))
             new.output_field = "columns"
+        if tolerance is not None:
+            new._solver = {**self._solver, "tolerance": check_tolerance(tolerance, "tolerance")}
         if samples is not None:
             new.samples = integer(samples, "samples", minimum=1, maximum=MAX_SAMPLES)
         if seed is not None:
@@ -566,11 +577,14 @@ class Study:
 
         It is what a remote worker needs to rebuild the study (``mcbat.engines.dask``):
         a deep copy of the validated input with the current sample count, seed and chunk
-        size (:meth:`with_overrides`) written into its ``[study]`` table.
+        size (:meth:`with_overrides`) written into its ``[study]`` table, and an overridden
+        solver tolerance into its ``[solver]`` table.
         """
         data = copy.deepcopy(self._data)
         if self.output != OutputSpec():  # (a --columns override travels with the study)
             data["output"] = {k: v for k, v in self.output.config().items() if v is not None}
+        if self._solver != check_solver(data.get("solver", {})):  # (so does a --tolerance)
+            data["solver"] = dict(self._solver)
         table = data["study"]
         table["samples"], table["seed"] = self.samples, self.seed
         if self.chunk_size is None:

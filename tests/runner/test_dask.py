@@ -386,6 +386,24 @@ def test_a_rerun_chunk_task_is_idempotent(dask_installed, tmp_path, tmp_path_fac
             (reference / ds.chunk_name(6)).read_bytes()
 
 
+def test_a_tolerance_override_reaches_the_worker(dask_installed, tmp_path):
+    # run_study(tolerance=...) (mcbat run --tolerance): the worker rebuilds the study from
+    # its definition with the overridden tolerance and writes the local engine's bytes.
+    from mcbat.runner.engines.dask_tasks import chunk_task
+
+    local = tmp_path / "local"
+    run_study(load_study(EXAMPLE), local, samples=600, seed=5, chunk_size=300,
+              tolerance=1e-11, progress=False)
+    study = load_study(EXAMPLE).with_overrides(tolerance=1e-11)
+    out = tmp_path / "ds"
+    job, manifest = plan_run(study, out, 600, 5, 300)
+    assert manifest["study"]["solver"]["tolerance"] == 1e-11
+    prepare_directory(out, manifest, 300, False)
+    summary = chunk_task(1, study.definition(), job, 1)
+    assert summary.rows == 300
+    assert (out / ds.chunk_name(1)).read_bytes() == (local / ds.chunk_name(1)).read_bytes()
+
+
 def test_a_worker_with_another_environment_refuses(dask_installed, tmp_path):
     from mcbat.runner.engines.dask_tasks import WorkerSetupError, chunk_task
 

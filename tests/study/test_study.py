@@ -454,6 +454,27 @@ def test_definition_rebuilds_an_equal_study(path):
     assert original.definition()["study"]["samples"] == original.samples
 
 
+def test_a_tolerance_override_is_the_solver_tolerance_and_travels_with_the_study():
+    original = load_study(STUDIES / "example.toml")
+    tight = original.with_overrides(tolerance=1e-11)
+    assert tight.solver == {**original.solver, "tolerance": 1e-11}
+    assert original.solver["tolerance"] == DEFAULT_TOLERANCE  # the original is unchanged
+    assert tight.config()["solver"]["tolerance"] == 1e-11
+    assert tight.config_hash() != original.config_hash()
+    # What a Dask worker rebuilds has the override (not the file's default tolerance).
+    rebuilt = Study.from_dict(tight.definition())
+    assert rebuilt.solver == tight.solver and rebuilt.config() == tight.config()
+    assert "solver" not in original.definition()  # without an override: the file as it is
+    data = tomllib.loads((STUDIES / "example.toml").read_text())
+    data["solver"] = {"tolerance": 1e-11}
+    assert Study.from_dict(data).config() == tight.config()
+    for bad, words in ((0, "> 0 and < 1"), (1.0, "> 0 and < 1"), (-1e-9, "> 0 and < 1"),
+                       (math.nan, "finite"), (math.inf, "finite"), ("1e-9", "number")):
+        with pytest.raises(InputError, match=words) as info:
+            original.with_overrides(tolerance=bad)
+        assert info.value.field == "tolerance"
+
+
 # ---------------------------------------------------------------- bad files
 
 
