@@ -1,6 +1,7 @@
 """Kernel throughput against the baseline kernel of commit 39f1cf7, interleaved.
 
 Run:  .venv/bin/python benchmarks/kernel_vs_baseline.py [--n 400000] [--rounds 5]
+      [--baseline COMMIT]
 
 The machine is shared, so absolute impacts/s drift with the load. This script samples the
 ``studies/throughput.toml`` mix once, then times ``solve_batch`` of this tree and of the
@@ -60,6 +61,8 @@ def main():
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--tolerance", type=float, default=None)
+    p.add_argument("--baseline", default=BASELINE,
+                   help=f"commit whose kernel is the baseline (default {BASELINE})")
     args = p.parse_args()
     from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
 
@@ -68,7 +71,7 @@ def main():
         tmp = Path(tmp)
         base = tmp / "base"
         base.mkdir()
-        subprocess.run(f"git -C {ROOT} archive {BASELINE} mcbat | tar -x -C {base}",
+        subprocess.run(f"git -C {ROOT} archive {args.baseline} mcbat | tar -x -C {base}",
                        shell=True, check=True)
         data = str(tmp / "mix.npy")
         sample(args.n, data)

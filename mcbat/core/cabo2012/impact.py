@@ -1,11 +1,12 @@
 """One ball-bat impact in the lab frame: geometry -> Delassus matrix -> contact solve.
 
 :func:`solve_impact` is the scalar kernel that the Python API and the batch kernels call.
-It takes plain floats and returns a flat tuple whose fields are named by
-:data:`IMPACT_FIELDS`, so callers can scatter it into struct-of-arrays outputs.
+It takes plain floats and returns an :class:`Impact`, a named tuple whose fields
+(:data:`IMPACT_FIELDS`) callers scatter into struct-of-arrays outputs.
 """
 
 import math
+from collections import namedtuple
 
 from mcbat.core import status as st
 from mcbat.core.cabo2012.contact import (
@@ -26,9 +27,9 @@ from mcbat.core.rigid_bodies import (
 )
 from mcbat.core.vec3 import combine, dot
 
-__all__ = ["IMPACT_FIELDS", "solve_impact"]
+__all__ = ["IMPACT_FIELDS", "Impact", "failed_impact", "solve_impact"]
 
-IMPACT_FIELDS = (
+Impact = namedtuple("Impact", [
     "status",
     "end_state",
     "ball_vx", "ball_vy", "ball_vz",
@@ -47,8 +48,10 @@ IMPACT_FIELDS = (
     "energy_in",
     "energy_out",
     "rk4_steps",
-)
-"""Names of the entries of the tuple returned by :func:`solve_impact`, in order.
+])
+Impact.__doc__ = """The result of :func:`solve_impact` (fields named by :data:`IMPACT_FIELDS`)."""
+IMPACT_FIELDS = Impact._fields
+"""Names of the fields of :class:`Impact`, the result of :func:`solve_impact`, in order.
 
 Units: velocities m/s, spins rad/s, impulses kg m/s, works and energies J. ``status`` and
 ``end_state`` are codes from :mod:`mcbat.core.status`; ``stick_criterion`` is the paper's
@@ -62,8 +65,8 @@ def failed_impact(code, energy_in, rk4_steps=0):
     """The one place a failed result is built: status ``code``, every physical output NaN
     (``energy_in`` kept where it was computed)."""
     nan = math.nan
-    return (code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-            nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, rk4_steps)
+    return Impact(code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+                  nan, nan, nan, nan, nan, nan, nan, nan, nan, energy_in, nan, rk4_steps)
 
 
 # Valid ranges of the inputs (SI; docs/physics.md, "Valid inputs"). Outside them the
@@ -147,8 +150,8 @@ def solve_impact(
 
     Returns
     -------
-    tuple
-        Values named by :data:`IMPACT_FIELDS`. On a non-OK status the velocities are NaN
+    Impact
+        A named tuple (fields :data:`IMPACT_FIELDS`). On a non-OK status the velocities are NaN
         (:func:`failed_impact`). Inputs outside the valid ranges (``MASS_RANGE``,
         ``LENGTH_RANGE``, ... above; ``docs/physics.md``) give ``invalid_input``; whether a
         tapered bat's surface lets the ball touch only at the contact is checked by the
@@ -176,12 +179,12 @@ def solve_impact(
     energy_in = kinetic_energy(
         ball_mass, ball_radius, ball_inertia_factor,
         bat_mass, bat_transverse_inertia, bat_axial_inertia, ball_v, ball_w, bat_v, bat_w)
-    (code, end_state, p1, p2, i_f, i_s, i_c, w_c, w_n, w_fr, w_n_stick,
-     n_rk4) = solve_contact(
-        k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3), mu, e,
-        steps, tolerance, max_steps)
-    if code != st.OK:
-        return failed_impact(code, energy_in)
+    r = solve_contact(k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3),
+                      mu, e, steps, tolerance, max_steps)
+    if r.status != st.OK:
+        return failed_impact(r.status, energy_in)
+    code, end_state, n_rk4 = r.status, r.end_state, r.rk4_steps
+    p1, p2, i_f, w_fr = r.p1, r.p2, r.i_f, r.w_fr
     if e_x > 0.0 and end_state == st.STUCK:
         # Tangential compliance gives back part of the friction loss as reversed slip;
         # friction_work becomes the net work of the tangential force (still <= 0).
@@ -205,9 +208,10 @@ def solve_impact(
             and is_finite3(bat_w) and math.isfinite(i_f) and math.isfinite(energy_out)
             and math.isfinite(energy_in)):
         return failed_impact(st.INVALID_INPUT, energy_in, n_rk4)
-    return (
+    return Impact(
         code, end_state,
         ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
         bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2],
-        i_f, i_s, i_c, p1, p2, w_c, w_n, w_fr, -w_n_stick, energy_in, energy_out, n_rk4,
+        i_f, r.i_s, r.i_c, p1, p2, r.w_c, r.w_n, w_fr, -r.w_n_stick, energy_in, energy_out,
+        n_rk4,
     )
