@@ -169,7 +169,8 @@ def _reslip_direction(k, mu):
 
 def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                      bat_transverse_inertia, bat_axial_inertia, axial, angle, radius, slope,
-                     ball_v, ball_w, bat_v, bat_w, mu, e, e_x=0.0, rtol=1e-12, atol=1e-15):
+                     ball_v, ball_w, bat_v, bat_w, mu, e, e_x=0.0, rtol=1e-12, atol=1e-15,
+                     slip_stop_fraction=None):
     """Solve one rigid ball-bat impact by adaptive integration of the body velocities.
 
     Parameters
@@ -192,6 +193,11 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         :func:`_tangential_rebound` (see ``mcbat/core/cross_nathan2006/README.md``).
     rtol, atol : float
         Tolerances of ``solve_ivp`` (DOP853).
+    slip_stop_fraction : float, optional
+        Slip speed, relative to ``|v(0)|``, at which slip is declared over (the last
+        stretch is extrapolated linearly); default :data:`SLIP_STOP_FRACTION`. Varying it
+        shows how much the extrapolation contributes to ``I_s`` (~1e-10 relative at the
+        default, where the slip direction still turns).
 
     Returns
     -------
@@ -201,7 +207,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         ``normal_impulse`` ``I_f`` (kg m/s), ``stick_impulse`` (kg m/s, 0.0 when the impact
         starts with no slip, None if slip never stops), ``compression_impulse`` ``I_c``
         (kg m/s), ``compression_work`` ``W_c``, ``normal_work`` ``W_n(I_f)``,
-        ``friction_work`` ``W_fr(I_f)``, ``energy_in``, ``energy_out`` (J), and ``phases``
+        ``friction_work`` ``W_fr(I_f)``, ``normal_work_at_stick`` ``W_n(I_s)`` (NaN when
+        slip never stops; the paper's stick criterion is ``C = -W_n(I_s)``), ``energy_in``,
+        ``energy_out`` (J), and ``phases``
         (list of "slip", "stick", "reslip", "frictionless", in order); for diagnostics,
         ``slip_near_misses`` lists ``(I, |v_t|)`` at minima of the slip speed that stay
         above the stick threshold.
@@ -229,13 +237,15 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                     ball_w=y0[3:6].copy(), bat_v=y0[6:9].copy(), bat_w=y0[9:12].copy(),
                     normal_impulse=0.0, stick_impulse=None, compression_impulse=0.0,
                     compression_work=0.0, normal_work=0.0, friction_work=0.0,
-                    energy_in=energy_in, energy_out=energy_in, phases=[],
-                    slip_near_misses=[])
+                    normal_work_at_stick=math.nan, energy_in=energy_in,
+                    energy_out=energy_in, phases=[], slip_near_misses=[])
 
     k = _numerical_k(bodies, basis)
     # Generous bound on the impulse of one segment; segments are chained until separation.
     span = 1e3 * speed0 / np.linalg.eigvalsh(0.5 * (k + k.T))[0]
-    slip_stop = SLIP_STOP_FRACTION * speed0
+    if slip_stop_fraction is None:
+        slip_stop_fraction = SLIP_STOP_FRACTION
+    slip_stop = slip_stop_fraction * speed0
     atol_all = np.full(16, atol)
     atol_all[14:16] = min(atol, 1e-3 * slip_stop)
 
@@ -280,10 +290,11 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     # Initial phase.
     _, vt0 = tangential(y0)
     stick_impulse = None
+    work_at_stick = math.nan  # W_n (J) where slip stops
     if mu == 0.0:
         phase, rate = "frictionless", constant_rate(np.zeros(3))
     elif np.linalg.norm(vt0) <= slip_stop:
-        stick_impulse = 0.0
+        stick_impulse, work_at_stick = 0.0, 0.0
         phase, q = stick_or_reslip()
         rate = constant_rate(q)
     else:
@@ -358,7 +369,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                 max_rate = np.linalg.norm(k, 2) * math.hypot(1.0, mu)
                 push_until = imp + 0.5 * speed_t / max_rate
                 continue
-            stick_impulse = imp  # |v_t| went through zero inside a step
+            stick_impulse, work_at_stick = imp, y[12]  # |v_t| went through zero in a step
             phase, q = stick_or_reslip()
             rate = constant_rate(q)
             phases.append(phase)
@@ -369,19 +380,29 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
             dv = velocity_change(t3 - mu * u)
             d_speed = u @ dv  # d|v_t|/dI (u is tangential)
             if d_speed < 0.0:
-                # Linear extrapolation over the last, negligible stretch of slip.
+                # Linear extrapolation over the last stretch of slip: the impulse rate is
+                # constant there, so the velocities are linear in I.
                 d_imp = speed_t / -d_speed
                 rhs = make_rhs(slip_rate)(imp, y)
                 rhs[13] *= 0.5  # |v_t| falls linearly to zero: the mean of -mu |v_t|
-                y = y + d_imp * rhs
+                y_end = y + d_imp * rhs
+                # v_n is linear too: W_n gains the mean of its two ends. (Its value at the
+                # start alone is off by ~K_33 d_imp^2 / 2, which reached 1e-8 E_in when slip
+                # creeps to a stop: d_imp = 1e-10 |v(0)| / |d|v_t|/dI| is then not small.)
+                vn_start, vn_end = v @ t3, bodies.relative_velocity(y_end) @ t3
+                y_end[12] = y[12] + 0.5 * d_imp * (vn_start + vn_end)
+                ends_compression = not compressed and vn_end >= 0.0
+                if ends_compression:
+                    # Compression ended inside the extrapolated stretch, where v_n = 0.
+                    d_c = (d_imp * -vn_start / (vn_end - vn_start) if vn_end > vn_start
+                           else 0.0)
+                    compressed, i_c, w_c = True, imp + d_c, y[12] + 0.5 * d_c * vn_start
+                y = y_end
                 imp += d_imp
-                if not compressed and bodies.relative_velocity(y) @ t3 >= 0.0:
-                    # Compression ended inside the extrapolated stretch (~1e-10 of I).
-                    compressed, i_c, w_c = True, imp, y[12]
-                    if e == 0.0:
-                        stick_impulse = imp
-                        break
-            stick_impulse = imp
+                if ends_compression and e == 0.0:
+                    stick_impulse, work_at_stick = imp, y[12]
+                    break
+            stick_impulse, work_at_stick = imp, y[12]
             phase, q = stick_or_reslip()
             rate = constant_rate(q)
             phases.append(phase)
@@ -399,6 +420,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         normal_impulse=float(imp), stick_impulse=stick_impulse,
         compression_impulse=float(i_c), compression_work=float(w_c),
         normal_work=float(y[12]), friction_work=float(y[13]),
+        normal_work_at_stick=float(work_at_stick),
         energy_in=float(energy_in), energy_out=float(bodies.energy(y)),
         phases=phases, slip_near_misses=near_misses,
     )

@@ -1,4 +1,4 @@
-"""The contact problem in the normal impulse ``I``: slip, stick, re-slip and separation.
+"""The contact problem along the normal impulse ``I``: slip, stick, re-slip and separation.
 
 Everything here works in the contact basis ``(t1, t2, t3)``. The state is the impulse
 ``P = (P1, P2, I)`` delivered to the ball; the relative contact velocity is linear in it,
@@ -7,63 +7,55 @@ Everything here works in the contact basis ``(t1, t2, t3)``. The state is the im
 Phases
 ------
 slip
-    ``dP_t/dI = -mu u``, ``u = v_t/|v_t|``, integrated by classical RK4 in ``I`` (plus the
-    works ``W_n``, ``W_fr``). The right-hand side depends only on the slip direction ``u``,
-    so RK4 is exact while ``u`` is constant; the only nonlinearity is the turning of ``u``.
-    The step is ``h = min(I_scale / steps, 0.8 d, 0.8 |v_t| / (mu lambda_max(K_tt)),
-    (eps d^3 / (mu omega))^(1/5))`` (the third term keeps RK4 stable: the slip direction
-    relaxes at the rate ``mu K_tt / |v_t|``) with
-    ``d`` the predicted impulse left until ``v_t = 0``, ``omega = |du/dI|`` and ``eps`` the
-    impulse error allowed per step (``tolerance * I_scale``): a model of the RK4 local
-    error ``~ mu omega h^5 / d^3``. Far from stick and with a steady direction this is the
-    fixed step ``I_scale / steps``.
-zero-slip detection
-    No RK4 stage may pass the singular point ``v_t = 0`` (``h <= 0.8 d``), so the steps
-    shrink geometrically towards it; once the direction has settled
-    (``mu omega d^2 <= LANDING_FRACTION eps``) the last stretch is exact linear
-    extrapolation. This locates the stick impulse ``I_s`` at 4th order in the step count
-    (a naive RK4 through the stick point converges at first order: see
-    ``tests/core/test_convergence.py``).
+    ``dP_t/dI = -mu u``, ``u = v_t/|v_t|``, integrated in the slip-scaled time ``tau``
+    (``dI = |v_t| dtau``) by Lawson RK4 (:mod:`mcbat.core.cabo2012.slip_time`): smooth up
+    to the stick point, which ``tau`` reaches only exponentially, and exact while the slip
+    direction is constant. The step is controlled a posteriori by the embedded error
+    estimate: per step, ``tolerance`` times ``|v0|`` in the slip velocity, times ``I_scale``
+    in the impulse and times ``|v0| I_scale`` in the friction work, and at most
+    ``I_scale / steps`` of impulse. ``W_n`` and ``P_t`` follow from ``I``, ``v_t`` and
+    ``W_fr`` algebraically.
+landing on ``v_t = 0``
+    Once the error of taking the rest as linear in ``I`` is below
+    ``LANDING_FRACTION * tolerance * I_scale`` (the impulse left, ``|v_t| / (-d|v_t|/dI)``,
+    times the relative change of ``d|v_t|/dI`` over the turn the direction has left), the
+    rest is linear (closed form, events included) and the tangential impulse is set so
+    that ``v_t = 0`` exactly. The step also stays within RK4's stability limit
+    (``STABLE_STEP``), which the error estimate stops enforcing once the direction settles.
 stick, re-slip and ``mu = 0``
     ``dP_t/dI`` is constant (``f = -K_tt^-1 K_tn``, ``-mu u*``, or 0): closed forms.
 
 Compression ends at ``v_n = 0`` (``I_c``, ``W_c``); separation is the energetic rule
-``W_n(I_f) = (1 - e*^2) W_c``. Events inside a step are located on the RK4 solution itself.
-Every loop is bounded; failures return a status code and nothing raises.
+``W_n(I_f) = (1 - e*^2) W_c``. Events inside a step are located on the step's own solution
+(partial steps). Every loop is bounded; failures return a status code and nothing raises.
 """
 
 import math
 from collections import namedtuple
 
 from mcbat.core import status as st
+from mcbat.core.cabo2012.slip_time import tau_point, tau_step
 from mcbat.core.jit import njit
 
-__all__ = ["Accuracy", "Contact", "ContactResult", "SlipState",
-           "after_slip", "failed_contact", "remove_residual_slip", "reslip_direction",
-           "rk4_step", "slip_point", "slip_step_size", "slip_velocity", "velocity",
-           "APPROACH_FACTOR", "APPROACH_MARGIN", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS",
-           "DEFAULT_TOLERANCE", "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION",
-           "MAX_SLIP_FRACTION", "RESLIP_SAMPLES", "ROBUST_STICK", "STICK_TOLERANCE",
-           "inverse_slip_stiffness", "solve_contact", "stick_impulse_rate"]
+__all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "SlipState",
+           "after_slip", "failed_contact", "impulse_step_cap", "locate_in_step",
+           "remove_residual_slip", "reslip_direction", "slip_point", "slip_state",
+           "slip_velocity", "solve_contact", "stick_impulse_rate", "velocity",
+           "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE", "EVENT_MAX_ITER",
+           "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "STABLE_STEP",
+           "STICK_TOLERANCE"]
 
 # Slip speed (relative to the initial relative speed) treated as exactly zero.
 STICK_TOLERANCE = 1e-13
-# Largest fraction of the predicted remaining slip length taken in one step: no RK4 stage
-# may evaluate the direction past v_t = 0.
-MAX_SLIP_FRACTION = 0.8
-# Land on the stick point by linear extrapolation once the impulse error of doing so,
-# ~ mu * omega * d^2, is below this fraction of the per-step budget.
+# Land on v_t = 0 by linear extrapolation once the error of doing so (the impulse left,
+# times the relative change of d|v_t|/dI over the turn the direction has left) is below
+# this fraction of tolerance * I_scale.
 LANDING_FRACTION = 0.3
-# When sliding is predicted to stop before APPROACH_MARGIN of the impulse left until
-# separation, the per-step budget grows by APPROACH_FACTOR: after stick, v_t = 0 fixes the
-# tangential impulse from I alone, so errors made on the way in barely reach the outgoing
-# velocities (measured on a 3000-impact mix against a converged run: the velocity error
-# stays below the tolerance while the steps drop from 45 to 16 per impact at tolerance
-# 1e-8). The works W_n, W_fr do keep
-# those errors: they are good to ~1e-5 E_in at the default tolerance.
-APPROACH_FACTOR = 3000.0
-APPROACH_MARGIN = 0.5
-ROBUST_STICK = 0.5  # |f| <= ROBUST_STICK * mu for the relaxed budget
+# Largest step in tau times the spectral radius of the Jacobian of the Lawson equation: RK4
+# is stable to ~2.8 on the real and imaginary axes. Once the direction has settled the
+# error estimate no longer limits the step, and beyond this the settled direction would
+# oscillate instead of relaxing.
+STABLE_STEP = 2.5
 # Events (end of compression, separation) are located to this fraction of I_scale.
 EVENT_TOLERANCE = 1e-14
 # Root finding for events inside a step.
@@ -72,13 +64,13 @@ EVENT_MAX_ITER = 60
 RESLIP_SAMPLES = 72
 
 DEFAULT_STEPS = 8
-"""Steps per ``I_scale = 2 |v_n0| / K_33`` (the frictionless elastic impulse), at most."""
+"""Steps per ``I_scale = 2 |v_n0| / K_33`` (the frictionless elastic impulse), at least."""
 DEFAULT_TOLERANCE = 5e-9
-"""Impulse error allowed per slip step, relative to ``I_scale``. Gives outgoing velocities
-within ~3e-9 of |v0| on random 3D impacts (``benchmarks/bench_kernel.py``,
-``tests/core/test_reference_crosscheck.py``)."""
+"""Local error allowed per slip step, relative to ``|v0|`` (slip velocity), ``I_scale``
+(impulse) and ``|v0| I_scale`` (friction work)."""
 DEFAULT_MAX_STEPS = 20_000
-"""Bound on RK4 steps per impact; reaching it returns ``status.MAX_STEPS``."""
+"""Bound on slip steps per impact (rejected ones included); reaching it returns
+``status.MAX_STEPS``."""
 
 
 Contact = namedtuple("Contact", ["k11", "k12", "k13", "k22", "k23", "k33",
@@ -94,7 +86,7 @@ tangential impulses ``p1, p2`` delivered to the ball (kg m/s), the normal and fr
 
 SlipPoint = namedtuple("SlipPoint", ["vn", "s", "u1", "u2", "g1", "g2", "dvn", "sigma",
                                      "omega"])
-SlipPoint.__doc__ = """What the slip step rule needs at one state: normal velocity ``vn`` and
+SlipPoint.__doc__ = """The slip at one state, in ``I``: normal velocity ``vn`` and
 slip speed ``s`` (m/s), slip direction ``u``, the slip acceleration ``g = dv_t/dI`` and
 ``dvn = dv_n/dI`` (1/kg), ``sigma = d|v_t|/dI`` and ``omega = |du/dI|`` (1/(kg m/s))."""
 
@@ -128,15 +120,6 @@ def slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
 
 
 @njit(inline="always")
-def slip_rates(c, p1, p2, imp):
-    """Slip rates ``d(P1, P2, W_n, W_fr)/dI``."""
-    v1, v2, vn = velocity(c, p1, p2, imp)
-    s = math.sqrt(v1 * v1 + v2 * v2)
-    k = c.mu / s
-    return -k * v1, -k * v2, vn, -c.mu * s
-
-
-@njit(inline="always")
 def slip_point(c, state):
     """The slip direction, its rates and the slip speed at ``state`` (:class:`SlipPoint`)."""
     v1, v2, vn = velocity(c, state.p1, state.p2, state.imp)
@@ -153,93 +136,58 @@ def slip_point(c, state):
 
 
 @njit(inline="always")
-def rk4_step(c, state, h, rates):
-    """One classical RK4 step of the slip ODE from ``state.imp`` to ``state.imp + h``.
-
-    ``rates`` are the rates at the start (the first stage), which the caller already has.
-    """
-    a1, a2, a3, a4 = rates
-    imp, p1, p2, wn, wfr = state
-    hh = 0.5 * h
-    b1, b2, b3, b4 = slip_rates(c, p1 + hh * a1, p2 + hh * a2, imp + hh)
-    c1, c2, c3, c4 = slip_rates(c, p1 + hh * b1, p2 + hh * b2, imp + hh)
-    d1, d2, d3, d4 = slip_rates(c, p1 + h * c1, p2 + h * c2, imp + h)
-    w = h / 6.0
-    return SlipState(
-        imp + h,
-        p1 + w * (a1 + 2.0 * (b1 + c1) + d1),
-        p2 + w * (a2 + 2.0 * (b2 + c2) + d2),
-        wn + w * (a3 + 2.0 * (b3 + c3) + d3),
-        wfr + w * (a4 + 2.0 * (b4 + c4) + d4),
-    )
-
-
-@njit(inline="always")
-def _point_rates(c, pt):
-    """The slip rates at a :class:`SlipPoint`, without recomputing the direction."""
-    return -c.mu * pt.u1, -c.mu * pt.u2, pt.vn, -c.mu * pt.s
-
-
-@njit(inline="always")
-def _remaining_impulse(vn, dvn, wn, compression, retained):
-    """Impulse left until separation if ``v_n`` kept growing at the rate ``dvn`` (kg m/s)."""
-    if not (dvn > 0.0):
-        return math.inf
-    target = compression.target
-    if not compression.done:
-        w_c = wn - 0.5 * vn * vn / dvn
-        target = retained * w_c
-    gap = max(target - wn, 0.0)
-    return (-vn + math.sqrt(max(vn * vn + 2.0 * dvn * gap, 0.0))) / dvn
-
-
-@njit(inline="always")
-def slip_step_size(c, pt, h_max, budget, landing_budget, inv_mu_ktt, s_stop):
-    """The slip step rule, shared by :func:`solve_contact` and ``contact_history``.
-
-    Returns ``(h, land)``: the next step in ``I`` (kg m/s) and whether it lands on
-    ``v_t = 0`` by linear extrapolation. ``budget`` is the impulse error allowed in the
-    step, ``landing_budget`` the one the landing must meet (kg m/s).
-    """
-    h = h_max
-    if pt.sigma < 0.0:
-        dist = pt.s / (-pt.sigma)  # predicted impulse left until v_t = 0
-        length = dist
-        if pt.s <= s_stop or c.mu * pt.omega * dist * dist <= LANDING_FRACTION * landing_budget:
-            # The direction has settled: v_t falls linearly to zero. Assuming so costs
-            # about mu * (turn left ~ omega * dist) * dist of impulse.
-            return dist, True
-        h = min(h, MAX_SLIP_FRACTION * dist)  # no RK4 stage may pass v_t = 0
-    else:
-        length = pt.s / math.sqrt(pt.g1 * pt.g1 + pt.g2 * pt.g2)  # I over which v_t doubles
-    # The slip direction relaxes at the rate ~ mu K_tt / |v_t| (the Jacobian of the slip
-    # ODE): a longer step is unstable and can freeze a spurious sliding mode near v_t = 0.
-    h = min(h, MAX_SLIP_FRACTION * pt.s * inv_mu_ktt)
-    if pt.omega > 0.0:
-        # RK4 local error ~ mu * omega * h^5 / length^3 (the turning slip direction is the
-        # only nonlinearity); keep it below the budget.
-        h = min(h, (budget * length ** 3 / (c.mu * pt.omega)) ** 0.2)
-    return h, False
-
-
-@njit(inline="always")
 def _linear_slip(c, state, pt, h):
-    """Slip at the constant rates of ``pt`` over ``h``: exact while ``v_t`` falls linearly
-    to zero (the landing), with the friction work of that linear fall."""
+    """Slip at the constant rates of ``pt`` for the impulse ``h`` (kg m/s): exact while
+    ``v_t`` falls linearly to zero (the landing)."""
     return SlipState(state.imp + h, state.p1 - c.mu * pt.u1 * h, state.p2 - c.mu * pt.u2 * h,
                      state.wn + h * (pt.vn + 0.5 * pt.dvn * h),
                      state.wfr - c.mu * h * (pt.s - 0.5 * (-pt.sigma) * h))
 
 
 @njit(inline="always")
-def _advance(c, state, pt, h, land):
-    """The step of length ``h`` chosen by :func:`slip_step_size`."""
-    if land:
-        return SlipState(state.imp + h, state.p1 - c.mu * pt.u1 * h,
-                         state.p2 - c.mu * pt.u2 * h,
-                         state.wn + h * (pt.vn + 0.5 * pt.dvn * h),
-                         state.wfr - 0.5 * c.mu * pt.s * h)
-    return rk4_step(c, state, h, _point_rates(c, pt))
+def remove_residual_slip(c, state):
+    """After a landing: the tangential impulse that makes ``v_t = 0`` exactly at ``I_s``.
+
+    The landing bounds the impulse error; ``K_tt`` turns it into a residual slip that the
+    stick phase would carry to the end (and let friction work on it).
+    """
+    r1, r2, _ = velocity(c, state.p1, state.p2, state.imp)
+    det = c.k11 * c.k22 - c.k12 * c.k12
+    if not det > 0.0:
+        return state
+    q1 = (c.k22 * r1 - c.k12 * r2) / det
+    q2 = (c.k11 * r2 - c.k12 * r1) / det
+    return SlipState(state.imp, state.p1 - q1, state.p2 - q2, state.wn,
+                     state.wfr - 0.5 * (r1 * q1 + r2 * q2))  # the kinetic energy it takes out
+
+
+@njit(inline="always")
+def slip_state(c, w1, w2, imp, wfr):
+    """The :class:`SlipState` with slip velocity ``(w1, w2)`` (m/s) at the normal impulse
+    ``imp``, friction work ``wfr`` so far: ``P_t`` from ``v_t = v_t0 + K_tt P_t + K_tn I``,
+    ``W_n`` from the work of the contact impulse, ``W_n + W_fr = v0 . P + P K P / 2``."""
+    r1 = w1 - c.v01 - c.k13 * imp
+    r2 = w2 - c.v02 - c.k23 * imp
+    det = c.k11 * c.k22 - c.k12 * c.k12
+    p1 = (c.k22 * r1 - c.k12 * r2) / det
+    p2 = (c.k11 * r2 - c.k12 * r1) / det
+    work = (c.v01 * p1 + c.v02 * p2 + c.v0n * imp
+            + 0.5 * (c.k11 * p1 * p1 + c.k22 * p2 * p2 + c.k33 * imp * imp)
+            + c.k12 * p1 * p2 + c.k13 * p1 * imp + c.k23 * p2 * imp)
+    return SlipState(imp, p1, p2, work - wfr, wfr)
+
+
+@njit(inline="always")
+def _event_value(c, w1, w2, state, kind, target):
+    """``g`` and ``dg/dtau`` of the event ``kind`` at ``state`` (slip velocity ``w``):
+    ``v_n`` (kind 0), ``W_n - target`` (1) or ``I - target`` (2)."""
+    s = math.sqrt(w1 * w1 + w2 * w2)  # dI/dtau
+    if kind == 0:
+        dvn = c.k33 - c.mu * (c.k13 * w1 + c.k23 * w2) / s
+        return velocity(c, state.p1, state.p2, state.imp)[2], dvn * s
+    if kind == 1:
+        return state.wn - target, velocity(c, state.p1, state.p2, state.imp)[2] * s
+    return state.imp - target, s
 
 
 @njit(inline="always")
@@ -270,146 +218,159 @@ def _hermite_root(g0, g1, m0, m1):
 
 
 @njit
-def _locate_event(c, state, h, kind, target, g0, g1, d0, d1, tol_imp):
-    """Locate an event inside the RK4 step ``[imp, imp + h]`` from ``state``.
+def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, end, tol_imp):
+    """The point inside the ``tau`` step ``h`` from ``(w, imp, wfr)`` to ``end`` (a
+    :class:`~mcbat.core.cabo2012.slip_time.TauStep`) where the event ``kind`` (see
+    :func:`_event_value`) goes from ``g < 0`` to ``g >= 0``.
 
-    ``kind`` 0: end of compression, ``g = v_n``; 1: separation, ``g = W_n - target``.
-    ``g0 < 0 <= g1`` at the ends, ``d0, d1`` their derivatives in ``I``. The cubic Hermite
-    interpolant of ``g`` (4th-order accurate, like the step) gives the first guess; Newton's
-    method on the RK4 solution itself (partial steps from ``imp``) then polishes it to
-    ``tol_imp`` in impulse, safeguarded by bisection. Returns the state at the event.
+    The cubic Hermite interpolant of ``g`` over the step gives the first guess; Newton's
+    method on partial Lawson steps (each as accurate as a whole one), safeguarded by the
+    bracket, polishes it to ``tol_imp`` in impulse. Returns ``(step, state)`` there.
     """
+    start = slip_state(c, w1, w2, imp, wfr)
+    g0, d0 = _event_value(c, w1, w2, start, kind, target)
+    stop = slip_state(c, end.w1, end.w2, end.imp, end.wfr)
+    g1, d1 = _event_value(c, end.w1, end.w2, stop, kind, target)
     lo = 0.0
     hi = 1.0
     theta = _hermite_root(g0, g1, d0 * h, d1 * h)
-    rates = slip_rates(c, state.p1, state.p2, state.imp)
-    out = SlipState(state.imp + h, state.p1, state.p2, state.wn, state.wfr)
+    trial, state = end, stop
     for _ in range(EVENT_MAX_ITER):
-        out = rk4_step(c, state, theta * h, rates)
-        v1, v2, vn = velocity(c, out.p1, out.p2, out.imp)
-        if kind == 0:
-            q1, q2, q3, q4 = slip_rates(c, out.p1, out.p2, out.imp)
-            g = vn
-            dg = (c.k13 * q1 + c.k23 * q2 + c.k33) * h
-        else:
-            g = out.wn - target
-            dg = vn * h
+        trial = tau_step(c, w1, w2, imp, wfr, lam, theta * h)
+        state = slip_state(c, trial.w1, trial.w2, trial.imp, trial.wfr)
+        g, dg = _event_value(c, trial.w1, trial.w2, state, kind, target)
         if g == 0.0:
             break
         if g < 0.0:
             lo = theta
         else:
             hi = theta
-        new = theta - g / dg if dg != 0.0 else -1.0
+        new = theta - g / (dg * h) if dg != 0.0 else -1.0
         if not (lo < new < hi):
             new = 0.5 * (lo + hi)
-        done = abs(new - theta) * h <= tol_imp or (hi - lo) * h <= tol_imp
+        # Impulse moved by the update: dI/dtau = |v_t| at the trial.
+        moved = abs(new - theta) * h * math.sqrt(trial.w1 * trial.w1 + trial.w2 * trial.w2)
         theta = new
-        if done:
-            out = rk4_step(c, state, theta * h, rates)
+        if moved <= tol_imp:
             break
-    return out
+    return trial, state
 
 
 @njit(inline="always")
-def _end_of_compression(c, state, pt, h, land, new, n_vn, tol_imp):
-    """The state at ``v_n = 0`` inside the step ``h`` from ``state`` to ``new`` (where
-    ``v_n = n_vn >= 0``)."""
-    if land:
-        # Linear in I on this step: the crossing is explicit.
-        return _linear_slip(c, state, pt, (-pt.vn / (n_vn - pt.vn)) * h)
-    e1, e2, _, _ = slip_rates(c, new.p1, new.p2, new.imp)
-    return _locate_event(c, state, h, 0, 0.0, pt.vn, n_vn, pt.dvn,
-                         c.k13 * e1 + c.k23 * e2 + c.k33, tol_imp)
+def impulse_step_cap(s, lam, impulse):
+    """The ``tau`` step over which the normal impulse grows by ``impulse`` (kg m/s) at the
+    slip speed ``s e^(-lam tau)`` (inf if it never does)."""
+    x = lam * impulse / s
+    if x >= 1.0:
+        return math.inf
+    if abs(x) < 1e-8:
+        return impulse / s
+    return -math.log1p(-x) / lam
 
 
 @njit(inline="always")
-def _separation(c, state, pt, h, land, new, n_vn, target, tol_imp):
-    """The state at ``W_n = target`` inside the step ``h`` from ``state`` to ``new``."""
-    if land:
-        # W_n is quadratic in I on this step.
-        a = 0.5 * pt.dvn
-        gap = state.wn - target
-        disc = pt.vn * pt.vn - 4.0 * a * gap
-        root = math.sqrt(max(disc, 0.0))
-        h = (2.0 * (-gap)) / (pt.vn + root) if pt.vn + root > 0.0 else h
-        return _linear_slip(c, state, pt, h)
-    return _locate_event(c, state, h, 1, target, state.wn - target, new.wn - target, pt.vn,
-                         n_vn, tol_imp)
+def _landing_error(pt):
+    """The impulse error (kg m/s) of landing from ``pt`` (``rate < 0``): linear in ``I``,
+    the rest ``d = |v_t| / (-rate)`` is right but for the change of ``rate`` with the turn
+    the direction has left, ``|turn| / relax`` (linearised), at most ``d``."""
+    d = pt.s / (-pt.rate)
+    if not pt.relax > 0.0:
+        return d
+    return d * min(1.0, abs(pt.rate_slope * pt.turn / pt.relax / pt.rate))
 
 
 @njit(inline="always")
-def remove_residual_slip(c, state):
-    """After a landing: the tangential impulse that makes ``v_t = 0`` exactly at ``I_s``.
+def _land(c, state, comp, retained):
+    """The last sliver of slip, ``v_t`` falling linearly to zero, with the events in it in
+    closed form (``v_n`` is linear and ``W_n`` quadratic in ``I`` there).
 
-    The landing bounds the impulse error; ``K_tt`` turns it into a residual slip that the
-    stick phase would carry to the end (and let friction work on it).
+    Returns ``(state, compression, separated)``.
     """
-    r1, r2, _ = velocity(c, state.p1, state.p2, state.imp)
-    det = c.k11 * c.k22 - c.k12 * c.k12
-    if not det > 0.0:
-        return state
-    q1 = (c.k22 * r1 - c.k12 * r2) / det
-    q2 = (c.k11 * r2 - c.k12 * r1) / det
-    return SlipState(state.imp, state.p1 - q1, state.p2 - q2, state.wn,
-                     state.wfr - 0.5 * (r1 * q1 + r2 * q2))  # the kinetic energy it takes out
+    pt = slip_point(c, state)
+    h = pt.s / (-pt.sigma)  # impulse left until v_t = 0
+    if not comp.done and pt.vn + pt.dvn * h >= 0.0:
+        state = _linear_slip(c, state, pt, -pt.vn / pt.dvn)
+        comp = Compression(True, state.imp, state.wn, retained * state.wn)
+        if retained == 1.0:
+            return state, comp, True  # e* = 0: separation at once
+        pt = slip_point(c, state)
+        h = pt.s / (-pt.sigma)
+    if comp.done and state.wn + h * (pt.vn + 0.5 * pt.dvn * h) >= comp.target:
+        gap = state.wn - comp.target  # <= 0; solve wn + vn x + dvn x^2 / 2 = target
+        root = math.sqrt(max(pt.vn * pt.vn - 2.0 * pt.dvn * gap, 0.0))
+        x = (2.0 * (-gap)) / (pt.vn + root) if pt.vn + root > 0.0 else h
+        return _linear_slip(c, state, pt, x), comp, True
+    return remove_residual_slip(c, _linear_slip(c, state, pt, h)), comp, False
 
 
 @njit
 def _slip_phase(c, acc, retained):
-    """Slip from incidence until ``v_t = 0`` or separation: RK4 in ``I`` with zero-slip
-    detection and the compression and separation events.
+    """Slip from incidence until ``v_t = 0`` or separation: Lawson RK4 in ``tau``
+    (:mod:`mcbat.core.cabo2012.slip_time`) with a-posteriori step control, the compression
+    and separation events, and the landing on ``v_t = 0``.
 
-    Returns ``(status, state, compression, separated, rk4_steps)``.
+    Returns ``(status, state, compression, separated, steps)``; ``steps`` counts every
+    step tried, rejected ones included.
     """
     v_scale = math.sqrt(c.v01 * c.v01 + c.v02 * c.v02 + c.v0n * c.v0n)
     s_stop = STICK_TOLERANCE * v_scale
     i_scale = 2.0 * (-c.v0n) / c.k33  # frictionless, fully elastic impact impulse
-    h_max = i_scale / acc.steps
-    error_per_step = acc.tolerance * i_scale  # impulse error allowed per slip step, kg m/s
+    impulse_max = i_scale / acc.steps
+    # Errors allowed per step: slip velocity (m/s), impulse (kg m/s), friction work (J).
+    tol_v = acc.tolerance * v_scale
+    tol_w = tol_v * i_scale
     event_tolerance = EVENT_TOLERANCE * i_scale
-    inv_mu_ktt = inverse_slip_stiffness(c.k11, c.k12, c.k22, c.mu)
-    # The relaxed budget on the way into a stick needs a stick that holds with margin: near
-    # |f| = mu the outcome (stick or re-slip) depends on exactly how slip dies out.
-    f1, f2 = stick_impulse_rate(c.k11, c.k12, c.k13, c.k22, c.k23)
-    robust_stick = f1 * f1 + f2 * f2 <= (ROBUST_STICK * c.mu) ** 2
-    approach = False  # set once sliding is predicted to stop well before separation
+    w1, w2, imp, wfr = c.v01, c.v02, 0.0, 0.0
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     comp = Compression(False, math.nan, math.nan, math.nan)
-    n_rk4 = 0
-    n_iter = 0  # every pass, RK4 or not: the loop is bounded whatever happens
-    while True:
-        n_iter += 1
-        if n_rk4 >= acc.max_steps or n_iter > acc.max_steps + 8:
-            return st.MAX_STEPS, state, comp, True, n_rk4
-        pt = slip_point(c, state)
-        budget = error_per_step
-        if pt.sigma < 0.0:
-            if not approach and robust_stick:
-                approach = pt.s / (-pt.sigma) < APPROACH_MARGIN * _remaining_impulse(
-                    pt.vn, pt.dvn, state.wn, comp, retained)
-            if approach:
-                # Sliding will stop well before separation. After stick the constraint
-                # v_t = 0 fixes the tangential impulse from I alone, so errors made on the way
-                # in are mostly forgotten: a looser budget costs no accuracy in the result.
-                budget = APPROACH_FACTOR * error_per_step
-        h, land = slip_step_size(c, pt, h_max, budget, error_per_step, inv_mu_ktt, s_stop)
-        new = _advance(c, state, pt, h, land)
-        if not land:
-            n_rk4 += 1
+    h = math.inf
+    steps = 0
+    while steps < acc.max_steps:
+        pt = tau_point(c, w1, w2)
+        lam = -pt.rate
+        if pt.s <= s_stop:
+            return st.OK, remove_residual_slip(c, state), comp, False, steps
+        # Impulse errors are relative to I_scale, or to the stick impulse where sliding is
+        # predicted to stop before it (I_s is reported to a relative accuracy).
+        stick_rate = max(lam, pt.s / i_scale)  # 1/kg: the rate a slip error moves I_s by
+        tol_i = acc.tolerance * min(i_scale, imp + pt.s / stick_rate)
+        if lam > 0.0 and _landing_error(pt) <= LANDING_FRACTION * tol_i:
+            end, comp, separated = _land(c, state, comp, retained)
+            return st.OK, end, comp, separated, steps
+        if steps == 0:
+            # A first guess from the rates the step must follow: the speed's (lam) and the
+            # direction's turn (|g x u|); the error control corrects it from there.
+            h = 2.0 / max(abs(lam), abs(pt.turn), 1e-300)
+        h = min(h, STABLE_STEP / pt.stiffness)
+        if not (lam >= 0.0 and pt.s * h <= impulse_max):  # else the cap cannot bind
+            h = min(h, impulse_step_cap(pt.s, lam, impulse_max))
+        step = tau_step(c, w1, w2, imp, wfr, lam, h)
+        steps += 1
+        # A slip velocity error also moves the stick point, by itself over the rate at which
+        # the slip speed falls: the dominant error of I_s when that rate is small (creep).
+        stick_shift = step.error_v / stick_rate
+        ratio = max(step.error_v / tol_v, step.error_i / tol_i, step.error_w / tol_w,
+                    stick_shift / tol_i)
+        if ratio > 1.0:  # rejected: retry shorter
+            h *= max(0.2, 0.9 / math.sqrt(math.sqrt(ratio)))
+            continue
+        new = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
         n_vn = velocity(c, new.p1, new.p2, new.imp)[2]
         if not comp.done and n_vn >= 0.0:
-            state = _end_of_compression(c, state, pt, h, land, new, n_vn, event_tolerance)
-            comp = Compression(True, state.imp, state.wn, retained * state.wn)
+            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 0, 0.0, step,
+                                       event_tolerance)
+            comp = Compression(True, new.imp, new.wn, retained * new.wn)
             if retained == 1.0:
-                return st.OK, state, comp, True, n_rk4  # e* = 0: separation at once
-            continue
-        if comp.done and new.wn >= comp.target:
-            end = _separation(c, state, pt, h, land, new, n_vn, comp.target, event_tolerance)
-            return st.OK, end, comp, True, n_rk4
+                return st.OK, new, comp, True, steps  # e* = 0: separation at once
+        elif comp.done and new.wn >= comp.target:
+            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 1, comp.target, step,
+                                       event_tolerance)
+            return st.OK, new, comp, True, steps
+        else:
+            h *= min(5.0, 0.9 / math.sqrt(math.sqrt(ratio))) if ratio > 0.0 else 5.0
         state = new
-        if land:
-            return st.OK, remove_residual_slip(c, state), comp, False, n_rk4
+        w1, w2, imp, wfr = step.w1, step.w2, step.imp, step.wfr
+    return st.MAX_STEPS, state, comp, True, steps
 
 
 @njit
@@ -464,16 +425,6 @@ def reslip_direction(k11, k12, k13, k22, k23, mu):
     if best_lam <= 0.0:
         return math.nan, math.nan, -1.0
     return best_u1, best_u2, best_lam
-
-
-@njit(inline="always")
-def inverse_slip_stiffness(k11, k12, k22, mu):
-    """``1 / (mu lambda_max(K_tt))`` (kg): the slip direction relaxes at the rate
-    ``mu K_tt / |v_t|``, so an RK4 step must stay below ~``|v_t|`` times this (inf if
-    ``mu = 0``)."""
-    if not mu > 0.0:
-        return math.inf
-    return 1.0 / (mu * (0.5 * (k11 + k22) + math.sqrt(0.25 * (k11 - k22) ** 2 + k12 * k12)))
 
 
 @njit
@@ -573,12 +524,13 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     e : float
         Energetic coefficient of restitution ``e*`` in [0, 1].
     steps : int
-        At least this many RK4 steps per ``I_scale = 2 |v0n| / K_33`` (the step cap).
+        Slip steps take at most ``I_scale / steps`` of impulse, ``I_scale = 2 |v0n| / K_33``.
     tolerance : float
-        Impulse error allowed per slip step, relative to ``I_scale``; in (0, 1). The
-        accuracy knob: errors scale with it, the step count with its -1/5 power.
+        Local error allowed per slip step, relative to ``|v0|`` (slip velocity),
+        ``I_scale`` (impulse) and ``|v0| I_scale`` (friction work); in (0, 1). The accuracy
+        knob: errors scale with it, the step count with its -1/4 power.
     max_steps : int
-        Bound on RK4 steps; exceeding it returns ``MAX_STEPS``.
+        Bound on slip steps (rejected ones included); reaching it returns ``MAX_STEPS``.
 
     Returns
     -------
@@ -588,8 +540,8 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         separation; the stick impulse ``I_s`` (NaN if sliding never stopped; 0 for
         incidence with ``v_t = 0``); the end of compression ``I_c`` and ``W_c = W_n(I_c)``;
         the normal and friction work at separation (J); ``W_n(I_s)`` (the paper's
-        ``C = -W_n(I_s)``); and the number of RK4 steps taken. On a failure status every
-        physical output is NaN (:func:`failed_contact`).
+        ``C = -W_n(I_s)``); and the number of slip steps tried (Lawson RK4 steps). On a
+        failure status every physical output is NaN (:func:`failed_contact`).
     """
     c = Contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu)
     acc = Accuracy(steps, tolerance, max_steps)

@@ -2,8 +2,8 @@
 
 :func:`contact_history` evaluates the relative contact velocity and the works at given
 impulses, following the same phases as :func:`mcbat.core.cabo2012.contact.solve_contact`
-(RK4 slip with the same step rule, :func:`~mcbat.core.cabo2012.contact.slip_step_size`,
-on a finer step cap; then the stick or re-slip closed form). It does not stop
+(Lawson RK4 slip in ``tau`` with the same error control, on a finer step cap, the points
+located inside the steps; then the stick or re-slip closed form). It does not stop
 at separation: the curves continue past ``I_f`` so that plots can show where the
 separation rules cut them.
 """
@@ -15,17 +15,19 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
+    LANDING_FRACTION,
     STICK_TOLERANCE,
     Contact,
     SlipState,
     after_slip,
-    inverse_slip_stiffness,
+    impulse_step_cap,
+    locate_in_step,
     remove_residual_slip,
-    rk4_step,
     slip_point,
-    slip_step_size,
+    slip_state,
     velocity,
 )
+from mcbat.core.cabo2012.slip_time import tau_point, tau_step
 from mcbat.core.jit import njit
 
 __all__ = ["MAX_HISTORY_STEPS", "RESLIP", "SLIP", "STICK", "contact_history"]
@@ -63,50 +65,68 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     c = Contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu)
     n = impulses.shape[0]
     out = np.full((n, 6), np.nan)
-    s_stop = STICK_TOLERANCE * math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
+    v_scale = math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
+    s_stop = STICK_TOLERANCE * v_scale
     i_scale = 2.0 * abs(v0n) / k33
-    budget = tolerance * i_scale
-    # Fine steps, also relative to the span plotted: the curves are evaluated inside steps
-    # by partial steps, which must not span a large part of the plot.
-    h_max = i_scale / 256.0
+    tol_v = tolerance * v_scale
+    tol_i = tolerance * i_scale
+    land_below = LANDING_FRACTION * tol_i
+    # Fine steps, also relative to the span plotted, so that the curves are smooth.
+    impulse_max = i_scale / 256.0
     if n and impulses[n - 1] > 0.0:
-        h_max = min(h_max, impulses[n - 1] / 512.0)
+        impulse_max = min(impulse_max, impulses[n - 1] / 512.0)
+    w1, w2, imp, wfr = v01, v02, 0.0, 0.0
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     i_s = math.nan
     j = 0
-    inv_mu_ktt = inverse_slip_stiffness(k11, k12, k22, mu)
-    # ---- slip, recorded at the requested impulses by partial steps ----
+    h = math.inf
+    # ---- slip, recorded at the requested impulses inside the steps ----
     passes = 0
     while j < n and mu > 0.0:
         passes += 1
         if passes > MAX_HISTORY_STEPS:
             return out, i_s  # bounded: the remaining points stay NaN
-        pt = slip_point(c, state)
+        pt = tau_point(c, w1, w2)
+        lam = -pt.rate
         if pt.s <= s_stop:
+            state = remove_residual_slip(c, state)
             break
-        h, land = slip_step_size(c, pt, h_max, budget, budget, inv_mu_ktt, s_stop)
-        rates = (-mu * pt.u1, -mu * pt.u2, pt.vn, -mu * pt.s)
-        while j < n and impulses[j] <= state.imp + h:
-            d = impulses[j] - state.imp
-            if land:  # v_t falls linearly to zero over the last sliver of slip
-                part = SlipState(state.imp + d, state.p1 - mu * pt.u1 * d,
-                                 state.p2 - mu * pt.u2 * d,
-                                 state.wn + d * (pt.vn + 0.5 * pt.dvn * d),
-                                 state.wfr - mu * d * (pt.s - 0.5 * (-pt.sigma) * d))
+        if lam > 0.0 and pt.s <= lam * land_below:
+            # Land: v_t falls linearly to zero over the last sliver of slip, as the solver.
+            sp = slip_point(c, state)
+            dist = sp.s / (-sp.sigma)
+            while j < n and impulses[j] <= imp + dist:
+                d = impulses[j] - imp
+                part = SlipState(imp + d, state.p1 - mu * sp.u1 * d, state.p2 - mu * sp.u2 * d,
+                                 state.wn + d * (sp.vn + 0.5 * sp.dvn * d),
+                                 state.wfr - mu * d * (sp.s - 0.5 * (-sp.sigma) * d))
+                _record(out, j, c, part, SLIP)
+                j += 1
+            state = remove_residual_slip(c, SlipState(
+                imp + dist, state.p1 - mu * sp.u1 * dist, state.p2 - mu * sp.u2 * dist,
+                state.wn + dist * (sp.vn + 0.5 * sp.dvn * dist),
+                state.wfr - 0.5 * mu * sp.s * dist))
+            break
+        h = min(h, 2.0 / max(abs(lam), 1e-300), impulse_step_cap(pt.s, lam, impulse_max))
+        step = tau_step(c, w1, w2, imp, wfr, lam, h)
+        ratio = max(step.error_v / tol_v, step.error_i / tol_i)
+        if ratio > 1.0:
+            h *= max(0.2, 0.9 * ratio ** -0.25)
+            continue
+        while j < n and impulses[j] <= step.imp:
+            if impulses[j] <= imp:
+                _record(out, j, c, state, SLIP)
             else:
-                part = rk4_step(c, state, d, rates)
-            _record(out, j, c, part, SLIP)
+                _, part = locate_in_step(c, w1, w2, imp, wfr, lam, h, 2, impulses[j], step,
+                                         1e-15 * i_scale)
+                _record(out, j, c, part, SLIP)
             j += 1
-        if land:
-            state = SlipState(state.imp + h, state.p1 - mu * pt.u1 * h,
-                              state.p2 - mu * pt.u2 * h,
-                              state.wn + h * (pt.vn + 0.5 * pt.dvn * h),
-                              state.wfr - 0.5 * mu * pt.s * h)
-            state = remove_residual_slip(c, state)  # as the solver does
-            break
-        state = rk4_step(c, state, h, rates)
+        state = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
+        w1, w2, imp, wfr = step.w1, step.w2, step.imp, step.wfr
+        h *= min(5.0, 0.9 * ratio ** -0.25) if ratio > 0.0 else 5.0
     if j >= n:
         return out, i_s
+    imp = state.imp
     # ---- slip has stopped: stick or re-slip, linear in I ----
     phase = SLIP
     if mu > 0.0:
@@ -119,7 +139,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     c2 = k12 * d1 + k22 * d2 + k23
     slope = k13 * d1 + k23 * d2 + k33
     while j < n:
-        d = impulses[j] - state.imp
+        d = impulses[j] - imp
         out[j, 0] = v1 + c1 * d
         out[j, 1] = v2 + c2 * d
         out[j, 2] = vn + slope * d
