@@ -287,6 +287,8 @@ def _land(c, state, comp, retained):
     Returns ``(state, compression, separated)``.
     """
     pt = slip_point(c, state)
+    if not (pt.s > 0.0 and pt.sigma < 0.0):  # stopped exactly (or too little to tell)
+        return remove_residual_slip(c, state), comp, False
     h = pt.s / (-pt.sigma)  # impulse left until v_t = 0
     if not comp.done and pt.vn + pt.dvn * h >= 0.0:
         state = _linear_slip(c, state, pt, -pt.vn / pt.dvn)
@@ -328,13 +330,14 @@ def _slip_phase(c, acc, retained):
     while steps < acc.max_steps:
         pt = tau_point(c, w1, w2)
         lam = -pt.rate
-        if pt.s <= s_stop:
+        if pt.s <= s_stop and not lam > 0.0:
+            # Slip has stopped and would grow again (re-slip): nothing left to land.
             return st.OK, remove_residual_slip(c, state), comp, False, steps
         # Impulse errors are relative to I_scale, or to the stick impulse where sliding is
         # predicted to stop before it (I_s is reported to a relative accuracy).
         stick_rate = max(lam, pt.s / i_scale)  # 1/kg: the rate a slip error moves I_s by
         tol_i = acc.tolerance * min(i_scale, imp + pt.s / stick_rate)
-        if lam > 0.0 and _landing_error(pt) <= LANDING_FRACTION * tol_i:
+        if lam > 0.0 and (pt.s <= s_stop or _landing_error(pt) <= LANDING_FRACTION * tol_i):
             end, comp, separated = _land(c, state, comp, retained)
             return st.OK, end, comp, separated, steps
         if steps == 0:
