@@ -189,8 +189,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     e : float
         Energetic coefficient of restitution ``e*`` in [0, 1].
     e_x : float
-        Tangential restitution (Cross & Nathan 2006) in [0, 1]; applied to a stuck end by
-        :func:`_tangential_rebound` (see ``mcbat/core/cross_nathan2006/README.md``).
+        Tangential restitution (Cross & Nathan 2006) in [0, 1]; applied within the stick
+        phase of a contact that ends stuck by :func:`_tangential_rebound` (see
+        ``mcbat/core/cross_nathan2006/README.md``).
     rtol, atol : float
         Tolerances of ``solve_ivp`` (DOP853).
     slip_stop_fraction : float, optional
@@ -291,10 +292,11 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     _, vt0 = tangential(y0)
     stick_impulse = None
     work_at_stick = math.nan  # W_n (J) where slip stops
+    y_stick = None  # the state where slip stops (the start of the stick phase)
     if mu == 0.0:
         phase, rate = "frictionless", constant_rate(np.zeros(3))
     elif np.linalg.norm(vt0) <= slip_stop:
-        stick_impulse, work_at_stick = 0.0, 0.0
+        stick_impulse, work_at_stick, y_stick = 0.0, 0.0, y0
         phase, q = stick_or_reslip()
         rate = constant_rate(q)
     else:
@@ -369,7 +371,8 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                 max_rate = np.linalg.norm(k, 2) * math.hypot(1.0, mu)
                 push_until = imp + 0.5 * speed_t / max_rate
                 continue
-            stick_impulse, work_at_stick = imp, y[12]  # |v_t| went through zero in a step
+            # |v_t| went through zero in a step
+            stick_impulse, work_at_stick, y_stick = imp, y[12], y
             phase, q = stick_or_reslip()
             rate = constant_rate(q)
             phases.append(phase)
@@ -400,9 +403,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                 y = y_end
                 imp += d_imp
                 if ends_compression and e == 0.0:
-                    stick_impulse, work_at_stick = imp, y[12]
+                    stick_impulse, work_at_stick, y_stick = imp, y[12], y
                     break
-            stick_impulse, work_at_stick = imp, y[12]
+            stick_impulse, work_at_stick, y_stick = imp, y[12], y
             phase, q = stick_or_reslip()
             rate = constant_rate(q)
             phases.append(phase)
@@ -411,7 +414,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
 
     end_state = "stuck" if phase == "stick" else "sliding"
     if e_x > 0.0 and end_state == "stuck":
-        y = _tangential_rebound(bodies, basis, y0, y, mu, e_x)
+        y = _tangential_rebound(bodies, basis, y0, y_stick, y, mu, e_x)
     return dict(
         status="ok",
         end_state=end_state,
@@ -426,14 +429,17 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     )
 
 
-def _tangential_rebound(bodies, basis, y0, y, mu, e_x):
-    """Reverse the incoming slip by ``e_x`` with a tangential impulse (stuck end only).
+def _tangential_rebound(bodies, basis, y0, y_stick, y, mu, e_x):
+    """Reverse the incoming slip by ``e_x`` with a tangential impulse of the stick phase.
 
-    Independent of the kernel's closed forms: the impulse comes from a 2x2 solve with the
-    numerical ``K``, and its scale ``s`` from root finding on the constraints evaluated on
-    the bodies themselves: friction cone on the ball's total tangential impulse, net
-    friction work (integrated ``W_fr`` plus the energy given back) not positive, kinetic
-    energy not above the initial, normal relative velocity not negative.
+    ``y0``, ``y_stick`` and ``y`` are the states at incidence, where slip stopped (``I_s``)
+    and at separation (``I_f``). Independent of the kernel's closed forms: the impulse comes
+    from a 2x2 solve with the numerical ``K``, the stick phase's impulse from the ball's
+    momentum change between ``y_stick`` and ``y``, and the scale ``s`` from root finding on
+    the constraints evaluated on the bodies themselves: the rebound within the friction the
+    stick phase leaves unused (``|P_stick,t| + s |dP| <= mu P_stick,n``), net friction work
+    (integrated ``W_fr`` plus the energy given back) not positive, kinetic energy not above
+    the initial, normal relative velocity not negative.
     """
     t1, t2, t3 = basis
     v_in = bodies.relative_velocity(y0)
@@ -449,13 +455,13 @@ def _tangential_rebound(bodies, basis, y0, y, mu, e_x):
         out[13] += bodies.energy(out) - bodies.energy(y)
         return out
 
-    impulse = bodies.m_p * (y[0:3] - y0[0:3])  # total impulse on the ball so far
-    normal_impulse = impulse @ t3
+    stick = bodies.m_p * (y[0:3] - y_stick[0:3])  # impulse on the ball while stuck
+    stick_normal = stick @ t3
+    stick_tangential = np.linalg.norm(stick - stick_normal * t3)
     energy_in = bodies.energy(y0)
 
-    def cone(s):
-        p = impulse + s * dp_lab
-        return np.linalg.norm(p - (p @ t3) * t3) - mu * normal_impulse
+    def spare_friction(s):
+        return stick_tangential + s * np.linalg.norm(dp_lab) - mu * stick_normal
 
     def friction(s):
         return moved(s)[13]
@@ -467,7 +473,7 @@ def _tangential_rebound(bodies, basis, y0, y, mu, e_x):
         return -(bodies.relative_velocity(moved(s)) @ t3)
 
     s = 1.0
-    for g in (cone, friction, energy, receding):
+    for g in (spare_friction, friction, energy, receding):
         if g(s) > 0.0:
             s = brentq(g, 0.0, s, xtol=1e-15) if g(0.0) < 0.0 else 0.0
     return moved(s)

@@ -143,8 +143,10 @@ def solve_impact(
         Friction coefficient and energetic restitution ``e*`` in [0, 1].
     e_x : float
         Tangential restitution in [0, 1] (Cross & Nathan 2006): a contact that ends stuck
-        leaves with its incoming slip reversed and scaled by ``e_x``
-        (:mod:`mcbat.core.cross_nathan2006`). The default 0 is the rigid model, exactly.
+        leaves with its incoming slip reversed and scaled by ``e_x``, within the friction
+        its stick phase leaves unused, so the rebound vanishes continuously at the
+        stick/slide boundary (:mod:`mcbat.core.cross_nathan2006`). The default 0 is the
+        rigid model, exactly.
     steps, tolerance, max_steps
         Accuracy settings of :func:`mcbat.core.cabo2012.contact.solve_contact`.
 
@@ -186,11 +188,12 @@ def solve_impact(
     code, end_state, n_rk4 = r.status, r.end_state, r.rk4_steps
     p1, p2, i_f, w_fr = r.p1, r.p2, r.i_f, r.w_fr
     if e_x > 0.0 and end_state == st.STUCK:
-        # Tangential compliance gives back part of the friction loss as reversed slip;
-        # friction_work becomes the net work of the tangential force (still <= 0).
+        # Tangential compliance gives back part of the friction loss as reversed slip,
+        # within the friction the stick phase [I_s, I_f] leaves unused; friction_work
+        # becomes the net work of the tangential force (still <= 0).
         dp1, dp2, returned = tangential_rebound(
             k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3),
-            p1, p2, i_f, w_fr, mu, e_x)
+            p1, p2, i_f, r.i_s, w_fr, mu, e_x)
         p1 += dp1
         p2 += dp2
         w_fr += returned
