@@ -86,7 +86,8 @@ def kernel_throughput(n, repeats):
 def accuracy_and_speedup(inputs, out, n_cases, seed=7):
     """Kernel against the scipy reference on a random subset of the mix."""
     from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-    from mcbat.core.cabo2012.impact import solve_impact
+    from mcbat.core.cabo2012.contact import DEFAULT_ACCURACY
+    from mcbat.core.cabo2012.impact import ImpactInputs, solve_impact
     from mcbat.core.geometry import contact_frame
     from mcbat.core.rigid_bodies import relative_contact_velocity
     from mcbat.testing.cabo2012_reference import reference_impact
@@ -111,7 +112,7 @@ def accuracy_and_speedup(inputs, out, n_cases, seed=7):
             bat_v=vec("bat_v"), bat_w=vec("bat_w"), mu=x[f["mu"]], e=x[f["e"]])
         t_ref += time.perf_counter() - t0
         t0 = time.perf_counter()
-        solve_impact(*[float(v) for v in x])
+        solve_impact(ImpactInputs(*[float(v) for v in x]), DEFAULT_ACCURACY)
         t_kernel += time.perf_counter() - t0
         t1, t2, t3, r_c = contact_frame(x[f["axial"]], x[f["angle"]], x[f["bat_radius"]],
                                         x[f["bat_slope"]])

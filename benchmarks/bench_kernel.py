@@ -17,18 +17,25 @@ import numba
 import numpy as np
 
 from mcbat.core.cabo2012 import solve_impact
+from mcbat.core.cabo2012.contact import (
+    DEFAULT_MAX_STEPS,
+    DEFAULT_STEPS,
+    DEFAULT_TOLERANCE,
+    Accuracy,
+)
+from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.jit import njit
 
 
 @njit
 def _solve_all(axial, angle, speed, v_side, w, vb, wb, mu, e, out_status, out_steps):
     for i in range(axial.shape[0]):
-        r = solve_impact(0.145, 0.036, 0.4, 0.989, 0.046, 4.39e-4,
-                         axial[i], angle[i], 0.03335, 0.0,
-                         -speed[i] * np.cos(angle[i]), -speed[i] * np.sin(angle[i]) + v_side[i, 0],
-                         v_side[i, 1], w[i, 0], w[i, 1], w[i, 2],
-                         vb[i, 0], vb[i, 1], vb[i, 2], wb[i, 0], wb[i, 1], wb[i, 2],
-                         mu[i], e[i])
+        r = solve_impact(ImpactInputs(
+            0.145, 0.036, 0.4, 0.989, 0.046, 4.39e-4, axial[i], angle[i], 0.03335, 0.0,
+            -speed[i] * np.cos(angle[i]), -speed[i] * np.sin(angle[i]) + v_side[i, 0],
+            v_side[i, 1], w[i, 0], w[i, 1], w[i, 2],
+            vb[i, 0], vb[i, 1], vb[i, 2], wb[i, 0], wb[i, 1], wb[i, 2], mu[i], e[i], 0.0),
+            Accuracy(DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS))
         out_status[i] = r[0]
         out_steps[i] = r[-1]
 

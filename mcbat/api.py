@@ -29,7 +29,13 @@ from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
 from mcbat.core import status as st
 from mcbat.core.batch import OUTPUT_FIELDS
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.cabo2012.contact import (
+    DEFAULT_MAX_STEPS,
+    DEFAULT_STEPS,
+    DEFAULT_TOLERANCE,
+    Accuracy,
+)
+from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.cabo2012.trajectory import contact_history
 from mcbat.core.flight import fly as flight_kernel
 from mcbat.core.flight.trajectory import integrate as integrate_flight
@@ -290,8 +296,8 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         case.contact.axial, case.contact.angle, radius, slope,
         *case.ball_velocity, *case.ball_spin, *case.bat_velocity, *case.bat_spin,
         case.mu, case.e, case.e_x))
-    out = dict(zip(IMPACT_FIELDS, solve_impact(
-        *physics, int(settings.steps), float(settings.tolerance), int(settings.max_steps))))
+    out = dict(zip(IMPACT_FIELDS, solve_impact(ImpactInputs(*physics), Accuracy(
+        int(settings.steps), float(settings.tolerance), int(settings.max_steps)))))
     code = int(out["status"])
     if code != st.OK:
         raise InputError(None, f"the solver cannot solve this impact (status "

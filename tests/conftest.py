@@ -11,6 +11,8 @@ settings.register_profile("explore", max_examples=2000)
 settings.load_profile("ci")
 
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact  # noqa: E402
+from mcbat.core.cabo2012.contact import DEFAULT_ACCURACY, Accuracy  # noqa: E402
+from mcbat.core.cabo2012.impact import ImpactInputs  # noqa: E402
 from mcbat.papers.cabo2012 import sec5  # noqa: E402
 
 #: The repository's root (studies/, data/, benchmarks/).
@@ -34,11 +36,12 @@ def kernel(ball_v=(-4.0, 0.0, 0.0), ball_w=(0.0, 0.0, 0.0), bat_v=(0.0, 0.0, 0.0
            **overrides):
     """Run ``solve_impact`` on the Sec. V bodies (with overrides); return a dict."""
     p = {**SEC5, **overrides}
-    out = solve_impact(
+    out = solve_impact(ImpactInputs(
         p["ball_mass"], p["ball_radius"], p["ball_inertia_factor"],
         p["bat_mass"], p["bat_transverse_inertia"], p["bat_axial_inertia"],
         p["axial"], angle, p["radius"], p["slope"],
-        *ball_v, *ball_w, *bat_v, *bat_w, mu, e, e_x, *settings)
+        *ball_v, *ball_w, *bat_v, *bat_w, mu, e, e_x),
+        Accuracy(*settings) if settings else DEFAULT_ACCURACY)
     return dict(zip(IMPACT_FIELDS, out))
 
 

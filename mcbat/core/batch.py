@@ -10,20 +10,15 @@ row that cannot be solved gets a non-zero status and NaN outputs.
 import numba
 import numpy as np
 
-from mcbat.core.cabo2012.impact import solve_impact
+from mcbat.core.cabo2012.contact import Accuracy
+from mcbat.core.cabo2012.impact import INPUT_FIELDS as IMPACT_INPUT_FIELDS
+from mcbat.core.cabo2012.impact import ImpactInputs, solve_impact
 from mcbat.core.jit import njit
 
 __all__ = ["INPUT_FIELDS", "OUTPUT_FIELDS", "allocate_outputs", "solve_batch"]
 
-INPUT_FIELDS = (
-    "ball_mass", "ball_radius", "ball_inertia_factor",
-    "bat_mass", "bat_transverse_inertia", "bat_axial_inertia",
-    "axial", "angle", "bat_radius", "bat_slope",
-    "ball_vx_in", "ball_vy_in", "ball_vz_in", "ball_wx_in", "ball_wy_in", "ball_wz_in",
-    "bat_vx_in", "bat_vy_in", "bat_vz_in", "bat_wx_in", "bat_wy_in", "bat_wz_in",
-    "mu", "e", "e_x",
-)
-"""Solver inputs, in the order of :func:`mcbat.core.cabo2012.solve_impact` (SI units)."""
+INPUT_FIELDS = IMPACT_INPUT_FIELDS
+"""Solver inputs: the fields of :class:`mcbat.core.cabo2012.impact.ImpactInputs` (SI units)."""
 
 OUTPUT_FIELDS = (
     "ball_vx", "ball_vy", "ball_vz", "ball_wx", "ball_wy", "ball_wz",
@@ -56,14 +51,15 @@ def solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state):
         Written: codes from :mod:`mcbat.core.status`.
     """
     n = inputs.shape[1]
+    accuracy = Accuracy(steps, tolerance, max_steps)
     for i in numba.prange(n):
-        r = solve_impact(
+        r = solve_impact(ImpactInputs(
             inputs[0, i], inputs[1, i], inputs[2, i], inputs[3, i], inputs[4, i],
             inputs[5, i], inputs[6, i], inputs[7, i], inputs[8, i], inputs[9, i],
             inputs[10, i], inputs[11, i], inputs[12, i], inputs[13, i], inputs[14, i],
             inputs[15, i], inputs[16, i], inputs[17, i], inputs[18, i], inputs[19, i],
-            inputs[20, i], inputs[21, i], inputs[22, i], inputs[23, i], inputs[24, i],
-            steps, tolerance, max_steps)
+            inputs[20, i], inputs[21, i], inputs[22, i], inputs[23, i], inputs[24, i]),
+            accuracy)
         status[i] = r[0]
         end_state[i] = r[1]
         out[0, i] = r[2]

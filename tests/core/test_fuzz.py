@@ -27,7 +27,14 @@ from hypothesis import strategies as hs
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.cabo2012.contact import (
+    DEFAULT_ACCURACY,
+    DEFAULT_MAX_STEPS,
+    DEFAULT_STEPS,
+    DEFAULT_TOLERANCE,
+    Accuracy,
+)
+from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import relative_contact_velocity
 from tests.conftest import SEC5, SEC5_THETA, kernel
@@ -251,7 +258,7 @@ def test_non_finite_or_out_of_range_input_is_invalid_with_nan_outputs(case, data
         row[INPUT_FIELDS.index(name)] = data.draw(hs.sampled_from(OUT_OF_RANGE[name]),
                                                   label="value")
     t0 = time.perf_counter()
-    r = dict(zip(IMPACT_FIELDS, solve_impact(*row, *SOLVER)))
+    r = dict(zip(IMPACT_FIELDS, solve_impact(ImpactInputs(*row), Accuracy(*SOLVER))))
     assert time.perf_counter() - t0 < CALL_BOUND
     assert r["status"] == st.INVALID_INPUT
     for k in IMPACT_FIELDS[2:23]:  # velocities, impulses, works, stick criterion
@@ -271,11 +278,11 @@ MOVING_CASE = dict(SEC5, slope=0.05, angle=0.3, ball_v=(-30.0, 2.0, -1.0),
 def test_nan_or_inf_in_any_field_is_invalid(case, bad):
     """Every field, also where it meets a zero (inf * 0 is NaN: it must still propagate)."""
     base = as_row(case)
-    assert solve_impact(*base, *SOLVER)[0] == st.OK
+    assert solve_impact(ImpactInputs(*base), Accuracy(*SOLVER))[0] == st.OK
     for field, name in enumerate(INPUT_FIELDS):
         row = list(base)
         row[field] = bad
-        r = dict(zip(IMPACT_FIELDS, solve_impact(*row, *SOLVER)))
+        r = dict(zip(IMPACT_FIELDS, solve_impact(ImpactInputs(*row), Accuracy(*SOLVER))))
         assert r["status"] == st.INVALID_INPUT, name
         assert all(math.isnan(r[k]) for k in VELOCITY_OUTPUTS), name
 
@@ -292,7 +299,8 @@ def assert_batch_matches_scalar(x):
     solve_batch(x, *SOLVER, out, status, end_state)
     for i in range(n):
         row = [float(v) for v in x[:, i]]
-        for scalar in (solve_impact(*row, *SOLVER), solve_impact(*row)):
+        for scalar in (solve_impact(ImpactInputs(*row), Accuracy(*SOLVER)),
+                       solve_impact(ImpactInputs(*row), DEFAULT_ACCURACY)):
             assert scalar[0] == status[i] and scalar[1] == end_state[i], i
             diff = [name for name, a, b in zip(OUTPUT_FIELDS, scalar[2:], out[:, i])
                     if not _same(float(a), float(b))]

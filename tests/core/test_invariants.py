@@ -130,6 +130,9 @@ def test_perfectly_inelastic_leaves_zero_normal_velocity(case):
     assert r["normal_impulse"] == r["compression_impulse"]
 
 
+SYMMETRY_SETTINGS = (8, 1e-11, 10**6)  # (steps, tolerance, max_steps)
+
+
 def _rot(beta, x):
     c, s = math.cos(beta), math.sin(beta)
     return (c * x[0] - s * x[1], s * x[0] + c * x[1], x[2])
@@ -138,10 +141,14 @@ def _rot(beta, x):
 @SETTINGS
 @given(impacts(), hs.floats(-math.pi, math.pi))
 def test_solution_rotates_with_problem_about_bat_axis(case, beta):
-    r = kernel(**case)
+    # The rotated problem is the same in the contact frame up to rounding, and rounding can
+    # flip one accept/reject decision of the adaptive step: the two answers then differ by
+    # the integration error, ~1e-9 at the default tolerance. A tolerance of 1e-11 keeps
+    # that far below the 1e-9 this checks the symmetry to.
+    r = kernel(**case, settings=SYMMETRY_SETTINGS)
     rotated = dict(case, angle=case["angle"] + beta,
                    **{k: _rot(beta, case[k]) for k in ("ball_v", "ball_w", "bat_v", "bat_w")})
-    q = kernel(**rotated)
+    q = kernel(**rotated, settings=SYMMETRY_SETTINGS)
     assert q["status"] == r["status"] == 0
     assert q["end_state"] == r["end_state"]
     scale = max(np.linalg.norm(case["ball_v"]), np.linalg.norm(case["bat_v"]), 1.0)

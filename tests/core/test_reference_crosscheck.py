@@ -17,6 +17,8 @@ import pytest
 
 from mcbat.core import status
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
+from mcbat.core.cabo2012.contact import DEFAULT_ACCURACY
+from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.geometry import contact_frame
 from mcbat.testing.cabo2012_reference import reference_impact
 
@@ -99,12 +101,13 @@ def _cases():
 
 
 def _run_kernel(c):
-    out = solve_impact(
+    out = solve_impact(ImpactInputs(
         BODIES["ball_mass"], BODIES["ball_radius"], BODIES["ball_inertia_factor"],
         BODIES["bat_mass"], BODIES["bat_transverse_inertia"], BODIES["bat_axial_inertia"],
         c["axial"], c["angle"], c["radius"], c["slope"],
         *map(float, c["ball_v"]), *map(float, c["ball_w"]),
-        *map(float, c["bat_v"]), *map(float, c["bat_w"]), c["mu"], c["e"])
+        *map(float, c["bat_v"]), *map(float, c["bat_w"]), c["mu"], c["e"], 0.0),
+        DEFAULT_ACCURACY)
     r = dict(zip(IMPACT_FIELDS, out))
     for name in ("ball_v", "ball_w", "bat_v", "bat_w"):
         r[name] = np.array([r[name + "x"], r[name + "y"], r[name + "z"]])

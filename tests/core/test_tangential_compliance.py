@@ -16,6 +16,8 @@ from hypothesis import strategies as hs
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact, stick_impulse_rate
+from mcbat.core.cabo2012.contact import DEFAULT_ACCURACY
+from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import delassus_matrix, relative_contact_velocity
 from mcbat.testing.cabo2012_reference import reference_impact
@@ -84,9 +86,10 @@ def test_zero_e_x_is_the_rigid_model_bitwise_and_sliding_ends_are_untouched():
         c = _random_case(rng)
         if rng.random() < 0.3:  # low friction: the contact slides to the end
             c["mu"] = rng.uniform(0.01, 0.1)
-        default = solve_impact(*(SEC5[k] for k in list(BODIES)), c["axial"], c["angle"],
-                               SEC5["radius"], SEC5["slope"], *c["ball_v"], *c["ball_w"],
-                               0.0, 0.0, 0.0, 0.0, 0.0, 0.0, c["mu"], c["e"])
+        default = solve_impact(ImpactInputs(
+            *(SEC5[k] for k in list(BODIES)), c["axial"], c["angle"], SEC5["radius"],
+            SEC5["slope"], *c["ball_v"], *c["ball_w"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, c["mu"],
+            c["e"], 0.0), DEFAULT_ACCURACY)
         rigid = _solve(c, 0.0)
         np.testing.assert_array_equal([rigid[k] for k in IMPACT_FIELDS], default)  # bitwise
         compliant = _solve(c, c["e_x"])
@@ -294,9 +297,9 @@ def _spare_friction(args, mu, rigid):
 def _compare_with_reference(args, kw):
     """(kernel result, max velocity difference / |v0|, which constraint limited it)."""
     def run(e_x):
-        return dict(zip(IMPACT_FIELDS, solve_impact(
+        return dict(zip(IMPACT_FIELDS, solve_impact(ImpactInputs(
             *args, *kw["ball_v"], *kw["ball_w"], *kw["bat_v"], *kw["bat_w"], kw["mu"],
-            kw["e"], e_x)))
+            kw["e"], e_x), DEFAULT_ACCURACY)))
 
     k = run(kw["e_x"])
     ref = reference_impact(*args, **kw)

@@ -37,12 +37,12 @@ from mcbat.core import status as st
 from mcbat.core.cabo2012.slip_time import tau_point, tau_step
 from mcbat.core.jit import njit
 
-__all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "SlipState",
+__all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSED", "SlipState",
            "after_slip", "failed_contact", "impulse_step_cap", "locate_in_step",
            "remove_residual_slip", "reslip_direction", "slip_point", "slip_state",
            "slip_velocity", "solve_contact", "stick_impulse_rate", "velocity",
-           "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE", "EVENT_MAX_ITER",
-           "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "STABLE_STEP",
+           "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
+           "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "STABLE_STEP",
            "STICK_TOLERANCE"]
 
 # Slip speed (relative to the initial relative speed) treated as exactly zero.
@@ -90,12 +90,26 @@ SlipPoint.__doc__ = """The slip at one state, in ``I``: normal velocity ``vn`` a
 slip speed ``s`` (m/s), slip direction ``u``, the slip acceleration ``g = dv_t/dI`` and
 ``dvn = dv_n/dI`` (1/kg), ``sigma = d|v_t|/dI`` and ``omega = |du/dI|`` (1/(kg m/s))."""
 
-Compression = namedtuple("Compression", ["done", "i_c", "w_c", "target"])
+Compression = namedtuple("Compression", ["done", "i_c", "w_c", "target", "rise", "p1", "p2",
+                                         "wfr"])
 Compression.__doc__ = """The normal phase: whether compression has ended, at which impulse
-``i_c`` and normal work ``w_c``, and the normal work at separation ``target``."""
+``i_c`` and normal work ``w_c``; the normal work at separation ``target`` and how much
+``W_n`` rises from ``w_c`` to it, ``rise = -e*^2 w_c`` (J); the tangential impulses and the
+friction work at ``i_c``, from which the work since compression is computed without
+cancellation (:func:`_separation_gap`)."""
+NOT_COMPRESSED = Compression(False, math.nan, math.nan, math.nan, math.nan, math.nan,
+                             math.nan, math.nan)
+
+
+@njit(inline="always")
+def _compressed(state, e2):
+    """The :class:`Compression` of compression ending at ``state`` (``e2 = e*^2``)."""
+    return Compression(True, state.imp, state.wn, (1.0 - e2) * state.wn, -e2 * state.wn,
+                       state.p1, state.p2, state.wfr)
 
 Accuracy = namedtuple("Accuracy", ["steps", "tolerance", "max_steps"])
 Accuracy.__doc__ = """Accuracy settings of :func:`solve_contact` (see its parameters)."""
+DEFAULT_ACCURACY = Accuracy(DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS)
 
 ContactResult = namedtuple("ContactResult", [
     "status", "end_state", "p1", "p2", "i_f", "i_s", "i_c", "w_c", "w_n", "w_fr",
@@ -178,15 +192,31 @@ def slip_state(c, w1, w2, imp, wfr):
 
 
 @njit(inline="always")
-def _event_value(c, w1, w2, state, kind, target):
+def _separation_gap(c, comp, state):
+    """``W_n - target`` at ``state`` (J; >= 0 once the bodies separate), from the work done
+    since the end of compression, ``v_mid . dP - dW_fr`` with ``v_mid`` the mean contact
+    velocity over ``dP``: no cancellation of the whole works, which matters when ``e*`` is
+    small and the target lies a hair above ``W_c``."""
+    d1 = state.p1 - comp.p1
+    d2 = state.p2 - comp.p2
+    dn = state.imp - comp.i_c
+    m1, m2, mn = velocity(c, 0.5 * (state.p1 + comp.p1), 0.5 * (state.p2 + comp.p2),
+                          0.5 * (state.imp + comp.i_c))
+    return (m1 * d1 + m2 * d2 + mn * dn) - (state.wfr - comp.wfr) - comp.rise
+
+
+@njit(inline="always")
+def _event_value(c, w1, w2, state, kind, target, comp):
     """``g`` and ``dg/dtau`` of the event ``kind`` at ``state`` (slip velocity ``w``):
-    ``v_n`` (kind 0), ``W_n - target`` (1) or ``I - target`` (2)."""
+    ``v_n`` (kind 0), ``W_n - W_n(separation)`` (1, :func:`_separation_gap` of ``comp``) or
+    ``I - target`` (2)."""
     s = math.sqrt(w1 * w1 + w2 * w2)  # dI/dtau
     if kind == 0:
         dvn = c.k33 - c.mu * (c.k13 * w1 + c.k23 * w2) / s
         return velocity(c, state.p1, state.p2, state.imp)[2], dvn * s
     if kind == 1:
-        return state.wn - target, velocity(c, state.p1, state.p2, state.imp)[2] * s
+        return _separation_gap(c, comp, state), velocity(c, state.p1, state.p2,
+                                                         state.imp)[2] * s
     return state.imp - target, s
 
 
@@ -218,7 +248,7 @@ def _hermite_root(g0, g1, m0, m1):
 
 
 @njit
-def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, end, tol_imp):
+def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, comp, end, tol_imp):
     """The point inside the ``tau`` step ``h`` from ``(w, imp, wfr)`` to ``end`` (a
     :class:`~mcbat.core.cabo2012.slip_time.TauStep`) where the event ``kind`` (see
     :func:`_event_value`) goes from ``g < 0`` to ``g >= 0``.
@@ -228,9 +258,9 @@ def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, end, tol_imp):
     bracket, polishes it to ``tol_imp`` in impulse. Returns ``(step, state)`` there.
     """
     start = slip_state(c, w1, w2, imp, wfr)
-    g0, d0 = _event_value(c, w1, w2, start, kind, target)
+    g0, d0 = _event_value(c, w1, w2, start, kind, target, comp)
     stop = slip_state(c, end.w1, end.w2, end.imp, end.wfr)
-    g1, d1 = _event_value(c, end.w1, end.w2, stop, kind, target)
+    g1, d1 = _event_value(c, end.w1, end.w2, stop, kind, target, comp)
     lo = 0.0
     hi = 1.0
     theta = _hermite_root(g0, g1, d0 * h, d1 * h)
@@ -238,7 +268,7 @@ def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, end, tol_imp):
     for _ in range(EVENT_MAX_ITER):
         trial = tau_step(c, w1, w2, imp, wfr, lam, theta * h)
         state = slip_state(c, trial.w1, trial.w2, trial.imp, trial.wfr)
-        g, dg = _event_value(c, trial.w1, trial.w2, state, kind, target)
+        g, dg = _event_value(c, trial.w1, trial.w2, state, kind, target, comp)
         if g == 0.0:
             break
         if g < 0.0:
@@ -280,7 +310,7 @@ def _landing_error(pt):
 
 
 @njit(inline="always")
-def _land(c, state, comp, retained):
+def _land(c, state, comp, e2):
     """The last sliver of slip, ``v_t`` falling linearly to zero, with the events in it in
     closed form (``v_n`` is linear and ``W_n`` quadratic in ``I`` there).
 
@@ -292,13 +322,14 @@ def _land(c, state, comp, retained):
     h = pt.s / (-pt.sigma)  # impulse left until v_t = 0
     if not comp.done and pt.vn + pt.dvn * h >= 0.0:
         state = _linear_slip(c, state, pt, -pt.vn / pt.dvn)
-        comp = Compression(True, state.imp, state.wn, retained * state.wn)
-        if retained == 1.0:
+        comp = _compressed(state, e2)
+        if e2 == 0.0:
             return state, comp, True  # e* = 0: separation at once
         pt = slip_point(c, state)
         h = pt.s / (-pt.sigma)
-    if comp.done and state.wn + h * (pt.vn + 0.5 * pt.dvn * h) >= comp.target:
-        gap = state.wn - comp.target  # <= 0; solve wn + vn x + dvn x^2 / 2 = target
+    gap = _separation_gap(c, comp, state) if comp.done else -math.inf  # <= 0 in contact
+    if gap + h * (pt.vn + 0.5 * pt.dvn * h) >= 0.0:
+        # Solve gap + vn x + dvn x^2 / 2 = 0.
         root = math.sqrt(max(pt.vn * pt.vn - 2.0 * pt.dvn * gap, 0.0))
         x = (2.0 * (-gap)) / (pt.vn + root) if pt.vn + root > 0.0 else h
         return _linear_slip(c, state, pt, x), comp, True
@@ -306,7 +337,7 @@ def _land(c, state, comp, retained):
 
 
 @njit
-def _slip_phase(c, acc, retained):
+def _slip_phase(c, acc, e2):
     """Slip from incidence until ``v_t = 0`` or separation: Lawson RK4 in ``tau``
     (:mod:`mcbat.core.cabo2012.slip_time`) with a-posteriori step control, the compression
     and separation events, and the landing on ``v_t = 0``.
@@ -324,7 +355,7 @@ def _slip_phase(c, acc, retained):
     event_tolerance = EVENT_TOLERANCE * i_scale
     w1, w2, imp, wfr = c.v01, c.v02, 0.0, 0.0
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
-    comp = Compression(False, math.nan, math.nan, math.nan)
+    comp = NOT_COMPRESSED
     h = math.inf
     steps = 0
     while steps < acc.max_steps:
@@ -338,7 +369,7 @@ def _slip_phase(c, acc, retained):
         stick_rate = max(lam, pt.s / i_scale)  # 1/kg: the rate a slip error moves I_s by
         tol_i = acc.tolerance * min(i_scale, imp + pt.s / stick_rate)
         if lam > 0.0 and (pt.s <= s_stop or _landing_error(pt) <= LANDING_FRACTION * tol_i):
-            end, comp, separated = _land(c, state, comp, retained)
+            end, comp, separated = _land(c, state, comp, e2)
             return st.OK, end, comp, separated, steps
         if steps == 0:
             # A first guess from the rates the step must follow: the speed's (lam) and the
@@ -360,13 +391,13 @@ def _slip_phase(c, acc, retained):
         new = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
         n_vn = velocity(c, new.p1, new.p2, new.imp)[2]
         if not comp.done and n_vn >= 0.0:
-            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 0, 0.0, step,
+            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 0, 0.0, comp, step,
                                        event_tolerance)
-            comp = Compression(True, new.imp, new.wn, retained * new.wn)
-            if retained == 1.0:
+            comp = _compressed(new, e2)
+            if e2 == 0.0:
                 return st.OK, new, comp, True, steps  # e* = 0: separation at once
-        elif comp.done and new.wn >= comp.target:
-            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 1, comp.target, step,
+        elif comp.done and _separation_gap(c, comp, new) >= 0.0:
+            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 1, 0.0, comp, step,
                                        event_tolerance)
             return st.OK, new, comp, True, steps
         else:
@@ -475,10 +506,12 @@ def _linear_phase(c, state, comp, d1, d2, e):
         # Compression ends in this phase; W_n = W_c + slope/2 (I - I_c)^2 about the vertex.
         i_c = state.imp - vn / slope
         w_c = state.wn - 0.5 * vn * vn / slope
-        comp = Compression(True, i_c, w_c, (1.0 - e * e) * w_c)
+        comp = Compression(True, i_c, w_c, (1.0 - e * e) * w_c, -(e * e) * w_c,
+                           state.p1 + d1 * (i_c - state.imp), state.p2 + d2 * (i_c - state.imp),
+                           math.nan)  # W_fr at I_c: not needed, the separation is closed
         dh = (i_c - state.imp) + math.sqrt(2.0 * (e * e) * (-w_c) / slope)
     else:
-        gap = comp.target - state.wn  # >= 0 while still in contact
+        gap = -_separation_gap(c, comp, state)  # >= 0 while still in contact
         if gap <= 0.0:
             dh = 0.0
         else:
@@ -552,13 +585,12 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         return failed_contact(st.INVALID_INPUT)
     if not (v0n < 0.0):
         return failed_contact(st.NOT_APPROACHING)
-    retained = 1.0 - e * e  # W_n(I_f) = retained * W_c
     s_stop = STICK_TOLERANCE * math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
-    comp = Compression(False, math.nan, math.nan, math.nan)
+    comp = NOT_COMPRESSED
     n_rk4 = 0
     if mu > 0.0 and math.sqrt(v01 * v01 + v02 * v02) > s_stop:
-        code, state, comp, separated, n_rk4 = _slip_phase(c, acc, retained)
+        code, state, comp, separated, n_rk4 = _slip_phase(c, acc, e * e)
         if code != st.OK:
             return failed_contact(code)
         if separated:

@@ -9,12 +9,7 @@ import math
 from collections import namedtuple
 
 from mcbat.core import status as st
-from mcbat.core.cabo2012.contact import (
-    DEFAULT_MAX_STEPS,
-    DEFAULT_STEPS,
-    DEFAULT_TOLERANCE,
-    solve_contact,
-)
+from mcbat.core.cabo2012.contact import solve_contact
 from mcbat.core.cross_nathan2006.tangential import tangential_rebound
 from mcbat.core.geometry import contact_frame
 from mcbat.core.jit import njit
@@ -27,7 +22,20 @@ from mcbat.core.rigid_bodies import (
 )
 from mcbat.core.vec3 import combine, dot
 
-__all__ = ["IMPACT_FIELDS", "Impact", "failed_impact", "solve_impact"]
+__all__ = ["IMPACT_FIELDS", "INPUT_FIELDS", "Impact", "ImpactInputs", "failed_impact",
+           "solve_impact"]
+
+ImpactInputs = namedtuple("ImpactInputs", [
+    "ball_mass", "ball_radius", "ball_inertia_factor",
+    "bat_mass", "bat_transverse_inertia", "bat_axial_inertia",
+    "axial", "angle", "bat_radius", "bat_slope",
+    "ball_vx_in", "ball_vy_in", "ball_vz_in", "ball_wx_in", "ball_wy_in", "ball_wz_in",
+    "bat_vx_in", "bat_vy_in", "bat_vz_in", "bat_wx_in", "bat_wy_in", "bat_wz_in",
+    "mu", "e", "e_x",
+])
+ImpactInputs.__doc__ = """The inputs of :func:`solve_impact` (SI units; see its parameters)."""
+INPUT_FIELDS = ImpactInputs._fields
+"""Names of the fields of :class:`ImpactInputs`, in order (the rows of a batch's inputs)."""
 
 Impact = namedtuple("Impact", [
     "status",
@@ -114,30 +122,29 @@ def _valid_motion(bvx, bvy, bvz, bwx, bwy, bwz, tvx, tvy, tvz, twx, twy, twz):
 
 
 @njit
-def solve_impact(
-    ball_mass, ball_radius, ball_inertia_factor,
-    bat_mass, bat_transverse_inertia, bat_axial_inertia,
-    axial, angle, radius, slope,
-    ball_vx, ball_vy, ball_vz, ball_wx, ball_wy, ball_wz,
-    bat_vx, bat_vy, bat_vz, bat_wx, bat_wy, bat_wz,
-    mu, e, e_x=0.0,
-    steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
-    max_steps=DEFAULT_MAX_STEPS,
-):
+def solve_impact(inputs, accuracy):
     """Solve one rigid impact of a ball on a bat (lab frame, SI units).
 
     Parameters
     ----------
+    inputs : ImpactInputs
+        The fields below (floats).
+    accuracy : mcbat.core.cabo2012.contact.Accuracy
+        ``(steps, tolerance, max_steps)`` of
+        :func:`mcbat.core.cabo2012.contact.solve_contact` (``DEFAULT_ACCURACY`` there).
+
+    Fields of ``inputs``
+    --------------------
     ball_mass, ball_radius, ball_inertia_factor : float
         kg, m, and ``f`` in ``I_p = f m R^2``.
     bat_mass, bat_transverse_inertia, bat_axial_inertia : float
         kg and kg m^2 about the bat CM.
-    axial, angle, radius, slope : float
+    axial, angle, bat_radius, bat_slope : float
         Contact point: axial position of the *contact point* on the bat surface, from
         the bat CM along the axis (m; on a tapered bat the ball's centre sits at
         ``axial - R r'/sqrt(1 + r'^2)``), azimuth (rad), bat radius there (m), profile
         slope dr/dz (0 for a cylinder).
-    ball_v*, ball_w*, bat_v*, bat_w* : float
+    ball_v*_in, ball_w*_in, bat_v*_in, bat_w*_in : float
         Initial velocities (m/s) and spins (rad/s) of ball and bat.
     mu, e : float
         Friction coefficient and energetic restitution ``e*`` in [0, 1].
@@ -147,8 +154,6 @@ def solve_impact(
         its stick phase leaves unused, so the rebound vanishes continuously at the
         stick/slide boundary (:mod:`mcbat.core.cross_nathan2006`). The default 0 is the
         rigid model, exactly.
-    steps, tolerance, max_steps
-        Accuracy settings of :func:`mcbat.core.cabo2012.contact.solve_contact`.
 
     Returns
     -------
@@ -159,6 +164,9 @@ def solve_impact(
         tapered bat's surface lets the ball touch only at the contact is checked by the
         callers that know the profile (``Bat.overlap``).
     """
+    (ball_mass, ball_radius, ball_inertia_factor, bat_mass, bat_transverse_inertia,
+     bat_axial_inertia, axial, angle, radius, slope, ball_vx, ball_vy, ball_vz, ball_wx,
+     ball_wy, ball_wz, bat_vx, bat_vy, bat_vz, bat_wx, bat_wy, bat_wz, mu, e, e_x) = inputs
     nan = math.nan
     if not (_valid_bodies(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                           bat_transverse_inertia, bat_axial_inertia, axial, angle, radius,
@@ -182,7 +190,7 @@ def solve_impact(
         ball_mass, ball_radius, ball_inertia_factor,
         bat_mass, bat_transverse_inertia, bat_axial_inertia, ball_v, ball_w, bat_v, bat_w)
     r = solve_contact(k11, k12, k13, k22, k23, k33, dot(v0, t1), dot(v0, t2), dot(v0, t3),
-                      mu, e, steps, tolerance, max_steps)
+                      mu, e, accuracy.steps, accuracy.tolerance, accuracy.max_steps)
     if r.status != st.OK:
         return failed_impact(r.status, energy_in)
     code, end_state, n_rk4 = r.status, r.end_state, r.rk4_steps

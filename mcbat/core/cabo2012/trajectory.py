@@ -16,6 +16,7 @@ from mcbat.core import status as st
 from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
     LANDING_FRACTION,
+    NOT_COMPRESSED,
     STICK_TOLERANCE,
     Contact,
     SlipState,
@@ -117,8 +118,8 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
             if impulses[j] <= imp:
                 _record(out, j, c, state, SLIP)
             else:
-                _, part = locate_in_step(c, w1, w2, imp, wfr, lam, h, 2, impulses[j], step,
-                                         1e-15 * i_scale)
+                _, part = locate_in_step(c, w1, w2, imp, wfr, lam, h, 2, impulses[j],
+                                         NOT_COMPRESSED, step, 1e-15 * i_scale)
                 _record(out, j, c, part, SLIP)
             j += 1
         state = slip_state(c, step.w1, step.w2, step.imp, step.wfr)

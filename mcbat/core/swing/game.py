@@ -16,7 +16,8 @@ import numpy as np
 
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-from mcbat.core.cabo2012.impact import solve_impact
+from mcbat.core.cabo2012.contact import Accuracy
+from mcbat.core.cabo2012.impact import ImpactInputs, solve_impact
 from mcbat.core.geometry import ball_centre_radial_distance
 from mcbat.core.jit import njit
 from mcbat.core.restitution.forms import energetic_restitution
@@ -165,11 +166,11 @@ def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, st
     _put3(frame, 11, col, bat_w)
     frame[14, col] = e
 
-    r = solve_impact(
+    r = solve_impact(ImpactInputs(
         ball_mass, ball_radius, ball_f, g[3, col], g[4, col], g[5, col], axial, angle, radius,
         slope, ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
-        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], g[25, col], e, g[30, col],
-        steps, tolerance, max_steps)
+        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], g[25, col], e, g[30, col]),
+        Accuracy(steps, tolerance, max_steps))
     status[col] = r[0]
     end_state[col] = r[1]
     out[0, col] = r[2]
