@@ -37,9 +37,11 @@ from mcbat.core import status as st
 from mcbat.core.cabo2012.slip_time import tau_point, tau_step
 from mcbat.core.jit import njit
 
-__all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSED", "SlipState",
-           "after_slip", "failed_contact", "impulse_step_cap", "locate_in_step",
-           "remove_residual_slip", "reslip_direction", "slip_point", "slip_state",
+__all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSED",
+           "SlipState",
+           "after_slip", "failed_contact", "impulse_step_cap", "linear_slip", "locate_in_step",
+           "error_ratio", "remove_residual_slip", "reslip_direction", "resized_step",
+           "slip_control", "slip_point", "slip_state", "step_plan", "SlipControl",
            "slip_velocity", "solve_contact", "stick_impulse_rate", "velocity",
            "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
            "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "STABLE_STEP",
@@ -150,7 +152,7 @@ def slip_point(c, state):
 
 
 @njit(inline="always")
-def _linear_slip(c, state, pt, h):
+def linear_slip(c, state, pt, h):
     """Slip at the constant rates of ``pt`` for the impulse ``h`` (kg m/s): exact while
     ``v_t`` falls linearly to zero (the landing)."""
     return SlipState(state.imp + h, state.p1 - c.mu * pt.u1 * h, state.p2 - c.mu * pt.u2 * h,
@@ -321,7 +323,7 @@ def _land(c, state, comp, e2):
         return remove_residual_slip(c, state), comp, False
     h = pt.s / (-pt.sigma)  # impulse left until v_t = 0
     if not comp.done and pt.vn + pt.dvn * h >= 0.0:
-        state = _linear_slip(c, state, pt, -pt.vn / pt.dvn)
+        state = linear_slip(c, state, pt, -pt.vn / pt.dvn)
         comp = _compressed(state, e2)
         if e2 == 0.0:
             return state, comp, True  # e* = 0: separation at once
@@ -332,8 +334,73 @@ def _land(c, state, comp, e2):
         # Solve gap + vn x + dvn x^2 / 2 = 0.
         root = math.sqrt(max(pt.vn * pt.vn - 2.0 * pt.dvn * gap, 0.0))
         x = (2.0 * (-gap)) / (pt.vn + root) if pt.vn + root > 0.0 else h
-        return _linear_slip(c, state, pt, x), comp, True
-    return remove_residual_slip(c, _linear_slip(c, state, pt, h)), comp, False
+        return linear_slip(c, state, pt, x), comp, True
+    return remove_residual_slip(c, linear_slip(c, state, pt, h)), comp, False
+
+
+SlipControl = namedtuple("SlipControl", ["tolerance", "v_scale", "i_scale", "impulse_max",
+                                         "s_stop"])
+SlipControl.__doc__ = """The slip step rule's scales: ``tolerance``, ``|v0|`` (m/s), ``I_scale``
+and the largest impulse of one step (kg m/s), the slip speed taken as zero (m/s)."""
+
+
+@njit(inline="always")
+def slip_control(c, tolerance, impulse_max_per_scale):
+    """:class:`SlipControl` of contact ``c``; a step takes at most ``I_scale`` times
+    ``impulse_max_per_scale`` of impulse."""
+    v_scale = math.sqrt(c.v01 * c.v01 + c.v02 * c.v02 + c.v0n * c.v0n)
+    i_scale = 2.0 * (-c.v0n) / c.k33  # frictionless, fully elastic impact impulse
+    return SlipControl(tolerance, v_scale, i_scale, i_scale * impulse_max_per_scale,
+                       STICK_TOLERANCE * v_scale)
+
+
+@njit(inline="always")
+def step_plan(ctl, pt, imp, h, first):
+    """The slip step rule, shared by :func:`solve_contact` and ``contact_history``: at the
+    slip ``pt`` and normal impulse ``imp``, with ``h`` the step the last one proposed.
+
+    Returns ``(action, h, stick_rate, tol_i)``: action 0 step (of ``h``), 1 land, 2 stop
+    (slip has stopped and would grow again: re-slip); the rate (1/kg) at which a slip error
+    moves ``I_s`` and the impulse error allowed (kg m/s), for :func:`error_ratio`.
+    """
+    lam = -pt.rate
+    # Impulse errors are relative to I_scale, or to the stick impulse where sliding is
+    # predicted to stop before it (I_s is reported to a relative accuracy).
+    stick_rate = max(lam, pt.s / ctl.i_scale)
+    tol_i = ctl.tolerance * min(ctl.i_scale, imp + pt.s / stick_rate)
+    if pt.s <= ctl.s_stop and not lam > 0.0:
+        return 2, h, stick_rate, tol_i
+    if lam > 0.0 and (pt.s <= ctl.s_stop or _landing_error(pt) <= LANDING_FRACTION * tol_i):
+        return 1, h, stick_rate, tol_i
+    if first:
+        # A first guess from the rates the step must follow: the speed's (lam) and the
+        # direction's turn; the error control corrects it from there.
+        h = 2.0 / max(abs(lam), abs(pt.turn), 1e-300)
+    h = min(h, STABLE_STEP / pt.stiffness)
+    if not (lam >= 0.0 and pt.s * h <= ctl.impulse_max):  # else the cap cannot bind
+        h = min(h, impulse_step_cap(pt.s, lam, ctl.impulse_max))
+    return 0, h, stick_rate, tol_i
+
+
+@njit(inline="always")
+def error_ratio(ctl, step, stick_rate, tol_i):
+    """The step's measured error over what is allowed (accept if <= 1): in the slip
+    velocity, the impulse, the friction work, and the shift of the stick point (a slip
+    velocity error over the rate the slip speed falls at: the dominant error of ``I_s``
+    in creeping slip)."""
+    tol_v = ctl.tolerance * ctl.v_scale
+    return max(step.error_v / tol_v, step.error_i / tol_i,
+               step.error_w / (tol_v * ctl.i_scale), step.error_v / stick_rate / tol_i)
+
+
+@njit(inline="always")
+def resized_step(h, ratio):
+    """The next step after one with error ``ratio``: ``0.9 ratio^(-1/4)`` (the estimate is
+    of 4th order in ``h``), between a fifth and five times ``h``."""
+    if not ratio > 0.0:
+        return 5.0 * h
+    factor = 0.9 / math.sqrt(math.sqrt(ratio))
+    return h * (max(0.2, factor) if ratio > 1.0 else min(5.0, factor))
 
 
 @njit
@@ -345,14 +412,8 @@ def _slip_phase(c, acc, e2):
     Returns ``(status, state, compression, separated, steps)``; ``steps`` counts every
     step tried, rejected ones included.
     """
-    v_scale = math.sqrt(c.v01 * c.v01 + c.v02 * c.v02 + c.v0n * c.v0n)
-    s_stop = STICK_TOLERANCE * v_scale
-    i_scale = 2.0 * (-c.v0n) / c.k33  # frictionless, fully elastic impact impulse
-    impulse_max = i_scale / acc.steps
-    # Errors allowed per step: slip velocity (m/s), impulse (kg m/s), friction work (J).
-    tol_v = acc.tolerance * v_scale
-    tol_w = tol_v * i_scale
-    event_tolerance = EVENT_TOLERANCE * i_scale
+    ctl = slip_control(c, acc.tolerance, 1.0 / acc.steps)
+    event_tolerance = EVENT_TOLERANCE * ctl.i_scale
     w1, w2, imp, wfr = c.v01, c.v02, 0.0, 0.0
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     comp = NOT_COMPRESSED
@@ -360,37 +421,21 @@ def _slip_phase(c, acc, e2):
     steps = 0
     while steps < acc.max_steps:
         pt = tau_point(c, w1, w2)
-        lam = -pt.rate
-        if pt.s <= s_stop and not lam > 0.0:
-            # Slip has stopped and would grow again (re-slip): nothing left to land.
+        action, h, stick_rate, tol_i = step_plan(ctl, pt, imp, h, steps == 0)
+        if action == 2:
             return st.OK, remove_residual_slip(c, state), comp, False, steps
-        # Impulse errors are relative to I_scale, or to the stick impulse where sliding is
-        # predicted to stop before it (I_s is reported to a relative accuracy).
-        stick_rate = max(lam, pt.s / i_scale)  # 1/kg: the rate a slip error moves I_s by
-        tol_i = acc.tolerance * min(i_scale, imp + pt.s / stick_rate)
-        if lam > 0.0 and (pt.s <= s_stop or _landing_error(pt) <= LANDING_FRACTION * tol_i):
+        if action == 1:
             end, comp, separated = _land(c, state, comp, e2)
             return st.OK, end, comp, separated, steps
-        if steps == 0:
-            # A first guess from the rates the step must follow: the speed's (lam) and the
-            # direction's turn (|g x u|); the error control corrects it from there.
-            h = 2.0 / max(abs(lam), abs(pt.turn), 1e-300)
-        h = min(h, STABLE_STEP / pt.stiffness)
-        if not (lam >= 0.0 and pt.s * h <= impulse_max):  # else the cap cannot bind
-            h = min(h, impulse_step_cap(pt.s, lam, impulse_max))
+        lam = -pt.rate
         step = tau_step(c, w1, w2, imp, wfr, lam, h)
         steps += 1
-        # A slip velocity error also moves the stick point, by itself over the rate at which
-        # the slip speed falls: the dominant error of I_s when that rate is small (creep).
-        stick_shift = step.error_v / stick_rate
-        ratio = max(step.error_v / tol_v, step.error_i / tol_i, step.error_w / tol_w,
-                    stick_shift / tol_i)
+        ratio = error_ratio(ctl, step, stick_rate, tol_i)
         if ratio > 1.0:  # rejected: retry shorter
-            h *= max(0.2, 0.9 / math.sqrt(math.sqrt(ratio)))
+            h = resized_step(h, ratio)
             continue
         new = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
-        n_vn = velocity(c, new.p1, new.p2, new.imp)[2]
-        if not comp.done and n_vn >= 0.0:
+        if not comp.done and velocity(c, new.p1, new.p2, new.imp)[2] >= 0.0:
             step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 0, 0.0, comp, step,
                                        event_tolerance)
             comp = _compressed(new, e2)
@@ -401,7 +446,7 @@ def _slip_phase(c, acc, e2):
                                        event_tolerance)
             return st.OK, new, comp, True, steps
         else:
-            h *= min(5.0, 0.9 / math.sqrt(math.sqrt(ratio))) if ratio > 0.0 else 5.0
+            h = resized_step(h, ratio)
         state = new
         w1, w2, imp, wfr = step.w1, step.w2, step.imp, step.wfr
     return st.MAX_STEPS, state, comp, True, steps

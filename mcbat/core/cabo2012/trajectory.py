@@ -15,17 +15,19 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
-    LANDING_FRACTION,
     NOT_COMPRESSED,
-    STICK_TOLERANCE,
     Contact,
     SlipState,
     after_slip,
-    impulse_step_cap,
+    error_ratio,
+    linear_slip,
     locate_in_step,
     remove_residual_slip,
+    resized_step,
+    slip_control,
     slip_point,
     slip_state,
+    step_plan,
     velocity,
 )
 from mcbat.core.cabo2012.slip_time import tau_point, tau_step
@@ -66,16 +68,12 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     c = Contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu)
     n = impulses.shape[0]
     out = np.full((n, 6), np.nan)
-    v_scale = math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
-    s_stop = STICK_TOLERANCE * v_scale
-    i_scale = 2.0 * abs(v0n) / k33
-    tol_v = tolerance * v_scale
-    tol_i = tolerance * i_scale
-    land_below = LANDING_FRACTION * tol_i
-    # Fine steps, also relative to the span plotted, so that the curves are smooth.
-    impulse_max = i_scale / 256.0
+    # The solver's step rule, on finer steps (also relative to the span plotted), so that
+    # the curves are smooth.
+    per_scale = 1.0 / 256.0
     if n and impulses[n - 1] > 0.0:
-        impulse_max = min(impulse_max, impulses[n - 1] / 512.0)
+        per_scale = min(per_scale, impulses[n - 1] / 512.0 / (2.0 * abs(v0n) / k33))
+    ctl = slip_control(c, tolerance, per_scale)
     w1, w2, imp, wfr = v01, v02, 0.0, 0.0
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     i_s = math.nan
@@ -88,43 +86,33 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         if passes > MAX_HISTORY_STEPS:
             return out, i_s  # bounded: the remaining points stay NaN
         pt = tau_point(c, w1, w2)
-        lam = -pt.rate
-        if pt.s <= s_stop:
+        action, h, stick_rate, tol_i = step_plan(ctl, pt, imp, h, passes == 1)
+        if action == 2:
             state = remove_residual_slip(c, state)
             break
-        if lam > 0.0 and pt.s <= lam * land_below:
-            # Land: v_t falls linearly to zero over the last sliver of slip, as the solver.
+        if action == 1:  # land: v_t falls linearly to zero, as in the solver
             sp = slip_point(c, state)
             dist = sp.s / (-sp.sigma)
             while j < n and impulses[j] <= imp + dist:
-                d = impulses[j] - imp
-                part = SlipState(imp + d, state.p1 - mu * sp.u1 * d, state.p2 - mu * sp.u2 * d,
-                                 state.wn + d * (sp.vn + 0.5 * sp.dvn * d),
-                                 state.wfr - mu * d * (sp.s - 0.5 * (-sp.sigma) * d))
-                _record(out, j, c, part, SLIP)
+                _record(out, j, c, linear_slip(c, state, sp, impulses[j] - imp), SLIP)
                 j += 1
-            state = remove_residual_slip(c, SlipState(
-                imp + dist, state.p1 - mu * sp.u1 * dist, state.p2 - mu * sp.u2 * dist,
-                state.wn + dist * (sp.vn + 0.5 * sp.dvn * dist),
-                state.wfr - 0.5 * mu * sp.s * dist))
+            state = remove_residual_slip(c, linear_slip(c, state, sp, dist))
             break
-        h = min(h, 2.0 / max(abs(lam), 1e-300), impulse_step_cap(pt.s, lam, impulse_max))
-        step = tau_step(c, w1, w2, imp, wfr, lam, h)
-        ratio = max(step.error_v / tol_v, step.error_i / tol_i)
+        step = tau_step(c, w1, w2, imp, wfr, -pt.rate, h)
+        ratio = error_ratio(ctl, step, stick_rate, tol_i)
         if ratio > 1.0:
-            h *= max(0.2, 0.9 * ratio ** -0.25)
+            h = resized_step(h, ratio)
             continue
         while j < n and impulses[j] <= step.imp:
-            if impulses[j] <= imp:
-                _record(out, j, c, state, SLIP)
-            else:
-                _, part = locate_in_step(c, w1, w2, imp, wfr, lam, h, 2, impulses[j],
-                                         NOT_COMPRESSED, step, 1e-15 * i_scale)
-                _record(out, j, c, part, SLIP)
+            part = state
+            if impulses[j] > imp:
+                _, part = locate_in_step(c, w1, w2, imp, wfr, -pt.rate, h, 2, impulses[j],
+                                         NOT_COMPRESSED, step, 1e-15 * ctl.i_scale)
+            _record(out, j, c, part, SLIP)
             j += 1
         state = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
         w1, w2, imp, wfr = step.w1, step.w2, step.imp, step.wfr
-        h *= min(5.0, 0.9 * ratio ** -0.25) if ratio > 0.0 else 5.0
+        h = resized_step(h, ratio)
     if j >= n:
         return out, i_s
     imp = state.imp
