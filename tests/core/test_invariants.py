@@ -87,24 +87,19 @@ def test_momentum_conserved_and_energy_not_gained(case):
 
 @SETTINGS
 @given(impacts())
-def test_work_bookkeeping_closes_and_converges(case):
-    """E_out = E_in + W_n + W_fr.
+def test_work_bookkeeping_closes(case):
+    """E_out = E_in + W_n + W_fr, at any tolerance.
 
-    The works are integrated along the slip path while E_out is exact for the final impulse,
-    so the gap measures the integration error of the works. The default tolerance spends
-    its accuracy on the outgoing velocities: on the way into a stick it relaxes the step
-    budget (errors there barely reach the velocities, see ``contact.APPROACH_FACTOR``), so
-    on the extreme inertias drawn here the works are good to ~1e-5 E_in (measured worst
-    5e-6 over 3000 examples). A 3000x tighter tolerance brings the gap down in proportion:
-    the bookkeeping converges.
+    The kernel integrates W_fr along the slip path and takes W_n from the work of the
+    contact impulse, W_n + W_fr = v0 . P + P K P / 2, and E_out is exact for the final
+    impulse: the bookkeeping closes to rounding whatever the integration error (the works
+    themselves are checked against the reference in test_accuracy_mix.py).
     """
-    gaps = []
-    for settings_ in ((), (8, 1e-12, 10**6)):
+    for settings_ in ((), (8, 1e-6, 10**6), (8, 1e-12, 10**6)):
         r = kernel(settings=settings_, **case)
-        gaps.append(abs(r["energy_in"] + r["normal_work"] + r["friction_work"]
-                        - r["energy_out"]) / r["energy_in"])
-    assert gaps[0] <= 2e-5
-    assert gaps[1] <= 1e-8
+        gap = abs(r["energy_in"] + r["normal_work"] + r["friction_work"]
+                  - r["energy_out"]) / r["energy_in"]
+        assert gap <= 1e-11, (settings_, gap)
 
 
 @SETTINGS
