@@ -109,9 +109,10 @@ class Contact:
 class SolverSettings:
     """Accuracy settings of the kernel (see ``mcbat.core.cabo2012.contact``).
 
-    ``tolerance`` is the impulse error allowed per slip step, relative to ``I_scale``
-    (default 5e-9); it must be finite with ``0 < tolerance < 1``, as a study's
-    ``[solver] tolerance``: :class:`~mcbat.errors.InputError` names ``tolerance`` otherwise.
+    ``tolerance`` is the local error allowed per slip step, relative to ``|v0|`` in the slip
+    velocity and to ``I_scale`` in the impulse (default 5e-9; ``solve_contact``); it must
+    be finite with ``0 < tolerance < 1``, as a study's ``[solver] tolerance``:
+    :class:`~mcbat.errors.InputError` names ``tolerance`` otherwise.
     """
 
     steps: int = DEFAULT_STEPS

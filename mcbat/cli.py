@@ -373,9 +373,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "frame (bat CM at the origin, z along the bat axis).")
     impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
     impact.add_argument("--tolerance", type=float, default=None, metavar="T",
-                        help="the kernel's tolerance: the impulse error allowed per slip "
-                             "step, relative to the impact's impulse scale, 0 < T < 1 "
-                             "(default 5e-9)")
+                        help="the kernel's tolerance: the local error allowed per slip "
+                             "step, relative to the impact's speed and impulse scales, "
+                             "0 < T < 1 (default 5e-9)")
     impact.set_defaults(func=cmd_impact)
 
     flight = sub.add_parser(
@@ -430,8 +430,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--overwrite", action="store_true",
                      help="replace an existing dataset written with another config")
     run.add_argument("--tolerance", type=float, default=None, metavar="T",
-                     help="the kernel's tolerance: the impulse error allowed per slip step, "
-                          "relative to the impact's impulse scale, 0 < T < 1 (default: the "
+                     help="the kernel's tolerance: the local error allowed per slip step, "
+                          "relative to the impact's scales, 0 < T < 1 (default: the "
                           "study's [solver] tolerance, else 5e-9); part of the dataset's "
                           "config")
     run.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -301,8 +301,8 @@ def check_solver(table):
 
 
 def check_tolerance(value, field):
-    """The kernel's ``tolerance`` (the impulse error allowed per slip step, relative to
-    ``I_scale``; :data:`~mcbat.core.cabo2012.contact.DEFAULT_TOLERANCE`) as a finite float
+    """The kernel's ``tolerance`` (the local error allowed per slip step, relative to the
+    impact's scales; :data:`~mcbat.core.cabo2012.contact.DEFAULT_TOLERANCE`) as a finite float
     with ``0 < tolerance < 1``, or :class:`InputError` naming ``field``."""
     tolerance = number(value, field)
     if not 0.0 < tolerance < 1.0:
