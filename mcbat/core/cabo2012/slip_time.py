@@ -50,10 +50,12 @@ from mcbat.core.jit import njit
 
 __all__ = ["TauPoint", "TauStep", "exp_moments", "tau_point", "tau_step"]
 
-# Below this |a| the moments come from their Taylor series: the recurrence from e^-a loses
-# about log10(k! / |a|^k) digits.
+# Below this |a| the moments come from their Taylor series (the recurrence from e^-a loses
+# about log10(k! / |a|^k) digits), with fewer terms below SHORT_SERIES_BELOW and 0.03.
 SERIES_BELOW = 0.5
-SERIES_TERMS = 15
+SERIES_TERMS = 15  # 0.5^15 / 15! = 2e-17
+SHORT_SERIES_BELOW = 0.1
+SHORT_SERIES_TERMS = 10  # 0.1^10 / 10! = 3e-17
 _INVERSES = tuple(1.0 / n for n in range(1, SERIES_TERMS + 5))  # 1/1, 1/2, ...
 
 TauPoint = namedtuple("TauPoint", ["s", "u1", "u2", "g1", "g2", "rate", "turn", "relax",
@@ -75,8 +77,9 @@ step's impulse (kg m/s) and of its friction work (J)."""
 def tau_point(c, w1, w2):
     """:class:`TauPoint` of the slip velocity ``(w1, w2)`` (m/s, > 0) of contact ``c``."""
     s = math.sqrt(w1 * w1 + w2 * w2)
-    u1 = w1 / s
-    u2 = w2 / s
+    inv_s = 1.0 / s
+    u1 = w1 * inv_s
+    u2 = w2 * inv_s
     g1 = c.k13 - c.mu * (c.k11 * u1 + c.k12 * u2)
     g2 = c.k23 - c.mu * (c.k12 * u1 + c.k22 * u2)
     rate = u1 * g1 + u2 * g2
@@ -94,28 +97,46 @@ def tau_point(c, w1, w2):
 @njit(inline="always")
 def _z_rate(c, lam, z1, z2):
     """``F(z) = |z| K_tn - mu K_tt z + lam z`` (m/s per kg)."""
-    s = math.sqrt(z1 * z1 + z2 * z2)
+    return _z_rate_at(c, lam, z1, z2, math.sqrt(z1 * z1 + z2 * z2))
+
+
+@njit(inline="always")
+def _z_rate_at(c, lam, z1, z2, s):
+    """:func:`_z_rate` given ``s = |z|``."""
     f1 = s * c.k13 - c.mu * (c.k11 * z1 + c.k12 * z2) + lam * z1
     f2 = s * c.k23 - c.mu * (c.k12 * z1 + c.k22 * z2) + lam * z2
     return f1, f2
 
 
 @njit(inline="always")
+def _moment_series(a, terms):
+    """``m_k = sum_j (-a)^j / (j! (k + j + 1))`` for ``k = 0..3``, its first ``terms``
+    terms summed from the smallest (Horner); ``terms`` a constant, so the loop unrolls."""
+    m0 = 0.0
+    m1 = 0.0
+    m2 = 0.0
+    m3 = 0.0
+    for j in range(terms - 1, -1, -1):
+        r = a * _INVERSES[j]
+        m0 = _INVERSES[j] - r * m0
+        m1 = _INVERSES[j + 1] - r * m1
+        m2 = _INVERSES[j + 2] - r * m2
+        m3 = _INVERSES[j + 3] - r * m3
+    return m0, m1, m2, m3
+
+
+@njit(inline="always")
 def exp_moments(a, ea):
     """``m_k = int_0^1 e^(-a t) t^k dt`` for ``k = 0..3``, given ``ea = e^-a``."""
-    if abs(a) < SERIES_BELOW:
-        # m_k = sum_j (-a)^j / (j! (k + j + 1)), summed from the smallest term (Horner).
-        m0 = 0.0
-        m1 = 0.0
-        m2 = 0.0
-        m3 = 0.0
-        for j in range(SERIES_TERMS - 1, -1, -1):
-            r = a * _INVERSES[j]
-            m0 = _INVERSES[j] - r * m0
-            m1 = _INVERSES[j + 1] - r * m1
-            m2 = _INVERSES[j + 2] - r * m2
-            m3 = _INVERSES[j + 3] - r * m3
-        return m0, m1, m2, m3
+    x = abs(a)
+    # The fewest terms that keep the series' remainder below 3e-17 (the loops unroll: this
+    # is on the hot path, and most steps of a sliding impact have a small |a|).
+    if x < 0.03:
+        return _moment_series(a, 8)  # 0.03^8 / 8! = 2e-17
+    if x < SHORT_SERIES_BELOW:
+        return _moment_series(a, SHORT_SERIES_TERMS)
+    if x < SERIES_BELOW:
+        return _moment_series(a, SERIES_TERMS)
     m0 = (1.0 - ea) / a
     m1 = (m0 - ea) / a
     m2 = (2.0 * m1 - ea) / a
@@ -136,7 +157,8 @@ def tau_step(c, w1, w2, imp, wfr, lam, h):
     """One Lawson RK4 step of length ``h`` in ``tau`` (kg) from the slip velocity
     ``(w1, w2)``, normal impulse ``imp`` and friction work ``wfr``, with the speed's rate
     frozen at ``-lam`` (1/kg; ``lam = -u . g`` at the start makes ``F(z_0)`` a pure turn)."""
-    a1, a2 = _z_rate(c, lam, w1, w2)
+    s0 = math.sqrt(w1 * w1 + w2 * w2)
+    a1, a2 = _z_rate_at(c, lam, w1, w2, s0)
     hh = 0.5 * h
     b1, b2 = _z_rate(c, lam, w1 + hh * a1, w2 + hh * a2)
     c1, c2 = _z_rate(c, lam, w1 + hh * b1, w2 + hh * b2)
@@ -148,15 +170,12 @@ def tau_step(c, w1, w2, imp, wfr, lam, h):
     ea = math.exp(-lam * h)
     m0, m1, m2, m3 = exp_moments(lam * h, ea)
     n0, n1, n2, n3 = exp_moments(2.0 * lam * h, ea * ea)
-    s0 = math.sqrt(w1 * w1 + w2 * w2)
     s1 = math.sqrt(z1 * z1 + z2 * z2)
     zdot = z1 * e1 + z2 * e2  # z . dz/dtau at the end
-    # |z| and |z|^2 along the step: Hermite with slopes z.F/|z| and 2 z.F (the start's are
-    # those of F(z_0) . z_0, which the choice of lam makes 0 up to rounding).
-    ds0 = (w1 * a1 + w2 * a2) / s0
-    d_imp = _hermite_exp_integral(m0, m1, m2, m3, s0, ds0, s1, zdot / s1, h)
-    d_wfr = -c.mu * _hermite_exp_integral(
-        n0, n1, n2, n3, s0 * s0, 2.0 * s0 * ds0, s1 * s1, 2.0 * zdot, h)
+    # |z| and |z|^2 along the step: Hermite with slopes z.F/|z| and 2 z.F; at the start
+    # F(z_0) . z_0 = |z_0|^2 (u . g + lam) = 0 by the choice of lam.
+    d_imp = _hermite_exp_integral(m0, m1, m2, m3, s0, 0.0, s1, zdot / s1, h)
+    d_wfr = -c.mu * _hermite_exp_integral(n0, n1, n2, n3, s0 * s0, 0.0, s1 * s1, 2.0 * zdot, h)
     # The embedded estimate is the error of z at the end; inside the step it grows from 0,
     # and reaches I and W_fr weighted by the exponentials (taken as growing linearly).
     err = k * math.sqrt((d1 - e1) ** 2 + (d2 - e2) ** 2)
