@@ -184,9 +184,9 @@ def slip_state(c, w1, w2, imp, wfr):
     ``W_n`` from the work of the contact impulse, ``W_n + W_fr = v0 . P + P K P / 2``."""
     r1 = w1 - c.v01 - c.k13 * imp
     r2 = w2 - c.v02 - c.k23 * imp
-    det = c.k11 * c.k22 - c.k12 * c.k12
-    p1 = (c.k22 * r1 - c.k12 * r2) / det
-    p2 = (c.k11 * r2 - c.k12 * r1) / det
+    inv_det = 1.0 / (c.k11 * c.k22 - c.k12 * c.k12)
+    p1 = (c.k22 * r1 - c.k12 * r2) * inv_det
+    p2 = (c.k11 * r2 - c.k12 * r1) * inv_det
     work = (c.v01 * p1 + c.v02 * p2 + c.v0n * imp
             + 0.5 * (c.k11 * p1 * p1 + c.k22 * p2 * p2 + c.k33 * imp * imp)
             + c.k12 * p1 * p2 + c.k13 * p1 * imp + c.k23 * p2 * imp)
@@ -301,14 +301,20 @@ def impulse_step_cap(s, lam, impulse):
 
 
 @njit(inline="always")
-def _landing_error(pt):
-    """The impulse error (kg m/s) of landing from ``pt`` (``rate < 0``): linear in ``I``,
-    the rest ``d = |v_t| / (-rate)`` is right but for the change of ``rate`` with the turn
-    the direction has left, ``|turn| / relax`` (linearised), at most ``d``."""
-    d = pt.s / (-pt.rate)
+def _may_land(pt, allowed):
+    """Whether landing from ``pt`` (``rate < 0``) errs by at most ``allowed`` (kg m/s):
+    linear in ``I``, the rest ``d = |v_t| / (-rate)`` is right but for the change of
+    ``rate`` with the turn the direction has left, ``|turn| / relax`` (linearised), so the
+    error is ``d min(1, |rate_slope turn / (relax rate)|)``. Written without divisions: it
+    is asked at every step."""
+    fall = -pt.rate  # > 0
     if not pt.relax > 0.0:
-        return d
-    return d * min(1.0, abs(pt.rate_slope * pt.turn / pt.relax / pt.rate))
+        return pt.s <= allowed * fall
+    change = abs(pt.rate_slope * pt.turn)
+    spread = pt.relax * fall
+    if change >= spread:
+        return pt.s <= allowed * fall
+    return pt.s * change <= allowed * fall * spread
 
 
 @njit(inline="always")
@@ -370,7 +376,7 @@ def step_plan(ctl, pt, imp, h, first):
     tol_i = ctl.tolerance * min(ctl.i_scale, imp + pt.s / stick_rate)
     if pt.s <= ctl.s_stop and not lam > 0.0:
         return 2, h, stick_rate, tol_i
-    if lam > 0.0 and (pt.s <= ctl.s_stop or _landing_error(pt) <= LANDING_FRACTION * tol_i):
+    if lam > 0.0 and (pt.s <= ctl.s_stop or _may_land(pt, LANDING_FRACTION * tol_i)):
         return 1, h, stick_rate, tol_i
     if first:
         # A first guess from the rates the step must follow: the speed's (lam) and the
