@@ -244,8 +244,9 @@ def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys
 
 
 def test_impact_tolerance_flag_reaches_the_kernel(capsys, monkeypatch):
-    """``--tolerance`` is the kernel's: a tighter one takes more RK4 steps and moves the
-    answer only in its last digits (the default is good to a few 1e-9)."""
+    """``--tolerance`` is the kernel's: a tighter one takes more slip steps (the same as the
+    API's at that tolerance) and moves the answer at most in its last digits (the default
+    is good to a few 1e-9; on this case, whose slip direction is constant, not at all)."""
     from mcbat.api import SolverSettings
 
     code, out, err = run_cli(capsys, monkeypatch, GOOD)
@@ -257,7 +258,6 @@ def test_impact_tolerance_flag_reaches_the_kernel(capsys, monkeypatch):
     expected = solve(ImpactCase.from_dict(GOOD), SolverSettings(tolerance=1e-11)).to_dict()
     assert tight["ball_velocity"] == expected["ball_velocity"]
     assert tight["rk4_steps"] == expected["rk4_steps"] > default["rk4_steps"]
-    assert tight["ball_velocity"] != default["ball_velocity"]  # not the default's answer
     speed = math.hypot(*default["ball_velocity"])
     for key in ("ball_velocity", "bat_velocity"):
         assert tight[key] == pytest.approx(default[key], rel=0, abs=1e-8 * speed), key

@@ -31,7 +31,7 @@ def test_fourth_order_while_sliding():
     ref = kernel(settings=(8, 1e-16, 10**7), **SLIDING_CASE)
     assert ref["end_state"] == 0 and math.isnan(ref["stick_impulse"])
     rows = []
-    for n in (4, 8, 16, 32, 64):
+    for n in (2, 4, 8, 16):  # coarse: the errors must stay above rounding (~1e-15)
         r = kernel(settings=(n, 1e-3, 10**6), **SLIDING_CASE)
         assert r["end_state"] == 0
         err = np.max(np.abs(_ball_velocity(r) - _ball_velocity(ref)))

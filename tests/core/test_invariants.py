@@ -87,19 +87,21 @@ def test_momentum_conserved_and_energy_not_gained(case):
 
 @SETTINGS
 @given(impacts())
-def test_work_bookkeeping_closes(case):
-    """E_out = E_in + W_n + W_fr, at any tolerance.
+def test_work_bookkeeping_closes_and_converges(case):
+    """E_out = E_in + W_n + W_fr, to the works' integration error.
 
-    The kernel integrates W_fr along the slip path and takes W_n from the work of the
-    contact impulse, W_n + W_fr = v0 . P + P K P / 2, and E_out is exact for the final
-    impulse: the bookkeeping closes to rounding whatever the integration error (the works
-    themselves are checked against the reference in test_accuracy_mix.py).
+    W_n and W_fr are integrated along the slip path (each on its own) while E_out is exact
+    for the final impulse, so the gap measures the works' integration error: within issue
+    13's 1e-8 E_in at the default tolerance, and smaller at a tolerance of 1e-12 (the
+    bookkeeping converges).
     """
-    for settings_ in ((), (8, 1e-6, 10**6), (8, 1e-12, 10**6)):
+    gaps = []
+    for settings_ in ((), (8, 1e-12, 10**6)):
         r = kernel(settings=settings_, **case)
-        gap = abs(r["energy_in"] + r["normal_work"] + r["friction_work"]
-                  - r["energy_out"]) / r["energy_in"]
-        assert gap <= 1e-11, (settings_, gap)
+        gaps.append(abs(r["energy_in"] + r["normal_work"] + r["friction_work"]
+                        - r["energy_out"]) / r["energy_in"])
+    assert gaps[0] <= 1e-8
+    assert gaps[1] <= 1e-10
 
 
 @SETTINGS

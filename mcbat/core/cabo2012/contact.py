@@ -13,8 +13,8 @@ slip
     direction is constant. The step is controlled a posteriori by the embedded error
     estimate: per step, ``tolerance`` times ``|v0|`` in the slip velocity, times ``I_scale``
     in the impulse and times ``|v0| I_scale`` in the friction work, and at most
-    ``I_scale / steps`` of impulse. ``W_n`` and ``P_t`` follow from ``I``, ``v_t`` and
-    ``W_fr`` algebraically.
+    ``I_scale / steps`` of impulse. ``P_t`` follows from ``I`` and ``v_t`` algebraically;
+    ``W_n`` is integrated on its own (:func:`normal_work`).
 landing on ``v_t = 0``
     Once the error of taking the rest as linear in ``I`` is below
     ``LANDING_FRACTION * tolerance * I_scale`` (the impulse left, ``|v_t| / (-d|v_t|/dI)``,
@@ -40,6 +40,7 @@ from mcbat.core.jit import njit
 __all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSED",
            "SlipState",
            "after_slip", "failed_contact", "impulse_step_cap", "linear_slip", "locate_in_step",
+           "normal_work",
            "error_ratio", "remove_residual_slip", "reslip_direction", "resized_step",
            "slip_control", "slip_point", "slip_state", "step_plan", "SlipControl",
            "slip_velocity", "solve_contact", "stick_impulse_rate", "velocity",
@@ -92,22 +93,19 @@ SlipPoint.__doc__ = """The slip at one state, in ``I``: normal velocity ``vn`` a
 slip speed ``s`` (m/s), slip direction ``u``, the slip acceleration ``g = dv_t/dI`` and
 ``dvn = dv_n/dI`` (1/kg), ``sigma = d|v_t|/dI`` and ``omega = |du/dI|`` (1/(kg m/s))."""
 
-Compression = namedtuple("Compression", ["done", "i_c", "w_c", "target", "rise", "p1", "p2",
-                                         "wfr"])
+Compression = namedtuple("Compression", ["done", "i_c", "w_c", "target", "rise"])
 Compression.__doc__ = """The normal phase: whether compression has ended, at which impulse
 ``i_c`` and normal work ``w_c``; the normal work at separation ``target`` and how much
-``W_n`` rises from ``w_c`` to it, ``rise = -e*^2 w_c`` (J); the tangential impulses and the
-friction work at ``i_c``, from which the work since compression is computed without
-cancellation (:func:`_separation_gap`)."""
-NOT_COMPRESSED = Compression(False, math.nan, math.nan, math.nan, math.nan, math.nan,
-                             math.nan, math.nan)
+``W_n`` rises from ``w_c`` to it, ``rise = -e*^2 w_c`` (J). The kernel tracks the normal
+work since compression on its own, so that this small rise is not lost to cancellation
+against ``W_c`` when ``e*`` is small."""
+NOT_COMPRESSED = Compression(False, math.nan, math.nan, math.nan, math.nan)
 
 
 @njit(inline="always")
 def _compressed(state, e2):
     """The :class:`Compression` of compression ending at ``state`` (``e2 = e*^2``)."""
-    return Compression(True, state.imp, state.wn, (1.0 - e2) * state.wn, -e2 * state.wn,
-                       state.p1, state.p2, state.wfr)
+    return Compression(True, state.imp, state.wn, (1.0 - e2) * state.wn, -e2 * state.wn)
 
 Accuracy = namedtuple("Accuracy", ["steps", "tolerance", "max_steps"])
 Accuracy.__doc__ = """Accuracy settings of :func:`solve_contact` (see its parameters)."""
@@ -178,47 +176,50 @@ def remove_residual_slip(c, state):
 
 
 @njit(inline="always")
-def slip_state(c, w1, w2, imp, wfr):
+def slip_state(c, w1, w2, imp, wfr, wn):
     """The :class:`SlipState` with slip velocity ``(w1, w2)`` (m/s) at the normal impulse
-    ``imp``, friction work ``wfr`` so far: ``P_t`` from ``v_t = v_t0 + K_tt P_t + K_tn I``,
-    ``W_n`` from the work of the contact impulse, ``W_n + W_fr = v0 . P + P K P / 2``."""
+    ``imp``, with the works ``wfr``, ``wn`` so far (J): ``P_t`` from
+    ``v_t = v_t0 + K_tt P_t + K_tn I``."""
     r1 = w1 - c.v01 - c.k13 * imp
     r2 = w2 - c.v02 - c.k23 * imp
     inv_det = 1.0 / (c.k11 * c.k22 - c.k12 * c.k12)
     p1 = (c.k22 * r1 - c.k12 * r2) * inv_det
     p2 = (c.k11 * r2 - c.k12 * r1) * inv_det
-    work = (c.v01 * p1 + c.v02 * p2 + c.v0n * imp
-            + 0.5 * (c.k11 * p1 * p1 + c.k22 * p2 * p2 + c.k33 * imp * imp)
-            + c.k12 * p1 * p2 + c.k13 * p1 * imp + c.k23 * p2 * imp)
-    return SlipState(imp, p1, p2, work - wfr, wfr)
+    return SlipState(imp, p1, p2, wn, wfr)
 
 
 @njit(inline="always")
-def _separation_gap(c, comp, state):
-    """``W_n - target`` at ``state`` (J; >= 0 once the bodies separate), from the work done
-    since the end of compression, ``v_mid . dP - dW_fr`` with ``v_mid`` the mean contact
-    velocity over ``dP``: no cancellation of the whole works, which matters when ``e*`` is
-    small and the target lies a hair above ``W_c``."""
-    d1 = state.p1 - comp.p1
-    d2 = state.p2 - comp.p2
-    dn = state.imp - comp.i_c
-    m1, m2, mn = velocity(c, 0.5 * (state.p1 + comp.p1), 0.5 * (state.p2 + comp.p2),
-                          0.5 * (state.imp + comp.i_c))
-    return (m1 * d1 + m2 * d2 + mn * dn) - (state.wfr - comp.wfr) - comp.rise
+def normal_work(c, a, b, step):
+    """``W_n(b) - W_n(a)`` over the ``tau`` step ``step`` from the state ``a`` to ``b`` (J).
+
+    ``v_n = v0n + K_nt . P_t + K_33 I`` and ``P_t = K_tt^-1 (v_t - v_t0 - K_tn I)``, so
+    ``int v_n dI`` needs only ``int v_t dI`` (the step's ``q``, an exponential-weighted
+    quadrature like ``W_fr``'s) besides closed forms. ``W_n`` is integrated on its own, not
+    taken from the total work: when the normal work is a tiny part of the friction work
+    (grazing contacts) the latter's integration error would swamp it.
+    """
+    d = b.imp - a.imp
+    mean = 0.5 * (a.imp + b.imp)
+    # int (v_t - v_t0 - K_tn I) dI, then K_tt^-1 of it: int P_t dI.
+    r1 = step.q1 - c.v01 * d - c.k13 * mean * d
+    r2 = step.q2 - c.v02 * d - c.k23 * mean * d
+    inv_det = 1.0 / (c.k11 * c.k22 - c.k12 * c.k12)
+    pi1 = (c.k22 * r1 - c.k12 * r2) * inv_det
+    pi2 = (c.k11 * r2 - c.k12 * r1) * inv_det
+    return (c.v0n + c.k33 * mean) * d + c.k13 * pi1 + c.k23 * pi2
 
 
 @njit(inline="always")
-def _event_value(c, w1, w2, state, kind, target, comp):
+def _event_value(c, w1, w2, state, kind, target, rise_left):
     """``g`` and ``dg/dtau`` of the event ``kind`` at ``state`` (slip velocity ``w``):
-    ``v_n`` (kind 0), ``W_n - W_n(separation)`` (1, :func:`_separation_gap` of ``comp``) or
-    ``I - target`` (2)."""
+    ``v_n`` (kind 0), ``-rise_left``, the normal work since compression less the rise to
+    the separation (kind 1), or ``I - target`` (2)."""
     s = math.sqrt(w1 * w1 + w2 * w2)  # dI/dtau
     if kind == 0:
         dvn = c.k33 - c.mu * (c.k13 * w1 + c.k23 * w2) / s
         return velocity(c, state.p1, state.p2, state.imp)[2], dvn * s
     if kind == 1:
-        return _separation_gap(c, comp, state), velocity(c, state.p1, state.p2,
-                                                         state.imp)[2] * s
+        return -rise_left, velocity(c, state.p1, state.p2, state.imp)[2] * s
     return state.imp - target, s
 
 
@@ -250,27 +251,30 @@ def _hermite_root(g0, g1, m0, m1):
 
 
 @njit
-def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, comp, end, tol_imp):
-    """The point inside the ``tau`` step ``h`` from ``(w, imp, wfr)`` to ``end`` (a
-    :class:`~mcbat.core.cabo2012.slip_time.TauStep`) where the event ``kind`` (see
-    :func:`_event_value`) goes from ``g < 0`` to ``g >= 0``.
+def locate_in_step(c, start, w1, w2, lam, h, kind, target, rise_left, end, tol_imp):
+    """The point inside the ``tau`` step ``h`` from ``start`` (a :class:`SlipState` with
+    slip velocity ``w``) to ``end`` (a :class:`~mcbat.core.cabo2012.slip_time.TauStep`)
+    where the event ``kind`` (see :func:`_event_value`; ``rise_left`` the normal work still
+    to rise to the separation at ``start``) goes from ``g < 0`` to ``g >= 0``.
 
     The cubic Hermite interpolant of ``g`` over the step gives the first guess; Newton's
     method on partial Lawson steps (each as accurate as a whole one), safeguarded by the
-    bracket, polishes it to ``tol_imp`` in impulse. Returns ``(step, state)`` there.
+    bracket, polishes it to ``tol_imp`` in impulse. Returns ``(step, state, dW_n)`` there,
+    ``dW_n`` the normal work from ``start``.
     """
-    start = slip_state(c, w1, w2, imp, wfr)
-    g0, d0 = _event_value(c, w1, w2, start, kind, target, comp)
-    stop = slip_state(c, end.w1, end.w2, end.imp, end.wfr)
-    g1, d1 = _event_value(c, end.w1, end.w2, stop, kind, target, comp)
+    g0, d0 = _event_value(c, w1, w2, start, kind, target, rise_left)
+    stop = slip_state(c, end.w1, end.w2, end.imp, end.wfr, 0.0)
+    dwn = normal_work(c, start, stop, end)
+    g1, d1 = _event_value(c, end.w1, end.w2, stop, kind, target, rise_left - dwn)
     lo = 0.0
     hi = 1.0
     theta = _hermite_root(g0, g1, d0 * h, d1 * h)
     trial, state = end, stop
     for _ in range(EVENT_MAX_ITER):
-        trial = tau_step(c, w1, w2, imp, wfr, lam, theta * h)
-        state = slip_state(c, trial.w1, trial.w2, trial.imp, trial.wfr)
-        g, dg = _event_value(c, trial.w1, trial.w2, state, kind, target, comp)
+        trial = tau_step(c, w1, w2, start.imp, start.wfr, lam, theta * h)
+        state = slip_state(c, trial.w1, trial.w2, trial.imp, trial.wfr, 0.0)
+        dwn = normal_work(c, start, state, trial)
+        g, dg = _event_value(c, trial.w1, trial.w2, state, kind, target, rise_left - dwn)
         if g == 0.0:
             break
         if g < 0.0:
@@ -285,7 +289,7 @@ def locate_in_step(c, w1, w2, imp, wfr, lam, h, kind, target, comp, end, tol_imp
         theta = new
         if moved <= tol_imp:
             break
-    return trial, state
+    return trial, SlipState(state.imp, state.p1, state.p2, start.wn + dwn, state.wfr), dwn
 
 
 @njit(inline="always")
@@ -318,30 +322,34 @@ def _may_land(pt, allowed):
 
 
 @njit(inline="always")
-def _land(c, state, comp, e2):
+def _land(c, state, comp, e2, rise_left):
     """The last sliver of slip, ``v_t`` falling linearly to zero, with the events in it in
-    closed form (``v_n`` is linear and ``W_n`` quadratic in ``I`` there).
+    closed form (``v_n`` is linear and ``W_n`` quadratic in ``I`` there); ``rise_left`` is
+    the normal work still to rise to the separation (J, after compression).
 
-    Returns ``(state, compression, separated)``.
+    Returns ``(state, compression, separated, rise_left)``.
     """
     pt = slip_point(c, state)
     if not (pt.s > 0.0 and pt.sigma < 0.0):  # stopped exactly (or too little to tell)
-        return remove_residual_slip(c, state), comp, False
+        return remove_residual_slip(c, state), comp, False, rise_left
     h = pt.s / (-pt.sigma)  # impulse left until v_t = 0
     if not comp.done and pt.vn + pt.dvn * h >= 0.0:
         state = linear_slip(c, state, pt, -pt.vn / pt.dvn)
         comp = _compressed(state, e2)
+        rise_left = comp.rise
         if e2 == 0.0:
-            return state, comp, True  # e* = 0: separation at once
+            return state, comp, True, 0.0  # e* = 0: separation at once
         pt = slip_point(c, state)
         h = pt.s / (-pt.sigma)
-    gap = _separation_gap(c, comp, state) if comp.done else -math.inf  # <= 0 in contact
-    if gap + h * (pt.vn + 0.5 * pt.dvn * h) >= 0.0:
-        # Solve gap + vn x + dvn x^2 / 2 = 0.
-        root = math.sqrt(max(pt.vn * pt.vn - 2.0 * pt.dvn * gap, 0.0))
-        x = (2.0 * (-gap)) / (pt.vn + root) if pt.vn + root > 0.0 else h
-        return linear_slip(c, state, pt, x), comp, True
-    return remove_residual_slip(c, linear_slip(c, state, pt, h)), comp, False
+    if comp.done:
+        gain = h * (pt.vn + 0.5 * pt.dvn * h)  # W_n gained over the landing
+        if gain >= rise_left:
+            # Solve vn x + dvn x^2 / 2 = rise_left.
+            root = math.sqrt(max(pt.vn * pt.vn + 2.0 * pt.dvn * rise_left, 0.0))
+            x = (2.0 * rise_left) / (pt.vn + root) if pt.vn + root > 0.0 else h
+            return linear_slip(c, state, pt, x), comp, True, 0.0
+        rise_left -= gain
+    return remove_residual_slip(c, linear_slip(c, state, pt, h)), comp, False, rise_left
 
 
 SlipControl = namedtuple("SlipControl", ["tolerance", "v_scale", "i_scale", "impulse_max",
@@ -415,47 +423,54 @@ def _slip_phase(c, acc, e2):
     (:mod:`mcbat.core.cabo2012.slip_time`) with a-posteriori step control, the compression
     and separation events, and the landing on ``v_t = 0``.
 
-    Returns ``(status, state, compression, separated, steps)``; ``steps`` counts every
-    step tried, rejected ones included.
+    Returns ``(status, state, compression, separated, steps, rise_left)``; ``steps``
+    counts every step tried, rejected ones included; ``rise_left`` is the normal work
+    still to rise to the separation (J, once compression has ended).
     """
     ctl = slip_control(c, acc.tolerance, 1.0 / acc.steps)
     event_tolerance = EVENT_TOLERANCE * ctl.i_scale
-    w1, w2, imp, wfr = c.v01, c.v02, 0.0, 0.0
+    w1, w2 = c.v01, c.v02
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     comp = NOT_COMPRESSED
+    rise_left = math.nan  # after compression: the normal work still to rise to separation
     h = math.inf
     steps = 0
     while steps < acc.max_steps:
         pt = tau_point(c, w1, w2)
-        action, h, stick_rate, tol_i = step_plan(ctl, pt, imp, h, steps == 0)
+        action, h, stick_rate, tol_i = step_plan(ctl, pt, state.imp, h, steps == 0)
         if action == 2:
-            return st.OK, remove_residual_slip(c, state), comp, False, steps
+            return st.OK, remove_residual_slip(c, state), comp, False, steps, rise_left
         if action == 1:
-            end, comp, separated = _land(c, state, comp, e2)
-            return st.OK, end, comp, separated, steps
+            end, comp, separated, rise_left = _land(c, state, comp, e2, rise_left)
+            return st.OK, end, comp, separated, steps, rise_left
         lam = -pt.rate
-        step = tau_step(c, w1, w2, imp, wfr, lam, h)
+        step = tau_step(c, w1, w2, state.imp, state.wfr, lam, h)
         steps += 1
         ratio = error_ratio(ctl, step, stick_rate, tol_i)
         if ratio > 1.0:  # rejected: retry shorter
             h = resized_step(h, ratio)
             continue
-        new = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
+        new = slip_state(c, step.w1, step.w2, step.imp, step.wfr, 0.0)
+        dwn = normal_work(c, state, new, step)
+        new = SlipState(new.imp, new.p1, new.p2, state.wn + dwn, new.wfr)
         if not comp.done and velocity(c, new.p1, new.p2, new.imp)[2] >= 0.0:
-            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 0, 0.0, comp, step,
-                                       event_tolerance)
+            step, new, dwn = locate_in_step(c, state, w1, w2, lam, h, 0, 0.0, 0.0, step,
+                                            event_tolerance)
             comp = _compressed(new, e2)
+            rise_left = comp.rise
             if e2 == 0.0:
-                return st.OK, new, comp, True, steps  # e* = 0: separation at once
-        elif comp.done and _separation_gap(c, comp, new) >= 0.0:
-            step, new = locate_in_step(c, w1, w2, imp, wfr, lam, h, 1, 0.0, comp, step,
-                                       event_tolerance)
-            return st.OK, new, comp, True, steps
+                return st.OK, new, comp, True, steps, 0.0  # e* = 0: separation at once
+        elif comp.done and dwn >= rise_left:
+            step, new, dwn = locate_in_step(c, state, w1, w2, lam, h, 1, 0.0, rise_left, step,
+                                            event_tolerance)
+            return st.OK, new, comp, True, steps, 0.0
         else:
+            if comp.done:
+                rise_left -= dwn
             h = resized_step(h, ratio)
         state = new
-        w1, w2, imp, wfr = step.w1, step.w2, step.imp, step.wfr
-    return st.MAX_STEPS, state, comp, True, steps
+        w1, w2 = step.w1, step.w2
+    return st.MAX_STEPS, state, comp, True, steps, rise_left
 
 
 @njit
@@ -540,7 +555,7 @@ def after_slip(c):
 
 
 @njit(inline="always")
-def _linear_phase(c, state, comp, d1, d2, e):
+def _linear_phase(c, state, comp, d1, d2, e, rise_left):
     """To separation at the constant rates ``dP/dI = (d1, d2, 1)``: ``W_n`` is quadratic
     in ``I``, so the end of compression and the separation are closed forms.
 
@@ -557,12 +572,10 @@ def _linear_phase(c, state, comp, d1, d2, e):
         # Compression ends in this phase; W_n = W_c + slope/2 (I - I_c)^2 about the vertex.
         i_c = state.imp - vn / slope
         w_c = state.wn - 0.5 * vn * vn / slope
-        comp = Compression(True, i_c, w_c, (1.0 - e * e) * w_c, -(e * e) * w_c,
-                           state.p1 + d1 * (i_c - state.imp), state.p2 + d2 * (i_c - state.imp),
-                           math.nan)  # W_fr at I_c: not needed, the separation is closed
+        comp = Compression(True, i_c, w_c, (1.0 - e * e) * w_c, -(e * e) * w_c)
         dh = (i_c - state.imp) + math.sqrt(2.0 * (e * e) * (-w_c) / slope)
     else:
-        gap = -_separation_gap(c, comp, state)  # >= 0 while still in contact
+        gap = rise_left  # >= 0 while still in contact
         if gap <= 0.0:
             dh = 0.0
         else:
@@ -639,9 +652,10 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     s_stop = STICK_TOLERANCE * math.sqrt(v01 * v01 + v02 * v02 + v0n * v0n)
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     comp = NOT_COMPRESSED
+    rise_left = math.nan
     n_rk4 = 0
     if mu > 0.0 and math.sqrt(v01 * v01 + v02 * v02) > s_stop:
-        code, state, comp, separated, n_rk4 = _slip_phase(c, acc, e * e)
+        code, state, comp, separated, n_rk4, rise_left = _slip_phase(c, acc, e * e)
         if code != st.OK:
             return failed_contact(code)
         if separated:
@@ -652,7 +666,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
     code, end_state, d1, d2 = after_slip(c)
     if code != st.OK:
         return failed_contact(code)
-    ok, state, comp, slip = _linear_phase(c, state, comp, d1, d2, e)
+    ok, state, comp, slip = _linear_phase(c, state, comp, d1, d2, e, rise_left)
     if not ok:
         return failed_contact(st.DEGENERATE)
     if mu == 0.0:

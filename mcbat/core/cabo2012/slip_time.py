@@ -30,9 +30,9 @@ Quadratures
 ``I`` and the friction work ``W_fr = -mu int |v_t|^2 dtau`` are integrals of
 ``e^(-lam tau) |z|`` and ``e^(-2 lam tau) |z|^2``. Over a step the smooth factor is its cubic
 Hermite interpolant (values and slopes at both ends, 4th order like the step) and the
-exponential is integrated exactly (moments ``int_0^1 e^(-a t) t^k dt``). The tangential
-impulse and ``W_n`` need no quadrature: ``v_t = v_t0 + K_tt P_t + K_tn I`` gives ``P_t``,
-and ``W_n + W_fr = v0 . P + P K P / 2`` (the work of the contact impulse) gives ``W_n``.
+exponential is integrated exactly (moments ``int_0^1 e^(-a t) t^k dt``); so is
+``int v_t dI = int e^(-2 lam tau) z |z| dtau``, from which the caller integrates ``W_n``.
+The tangential impulse needs no quadrature: ``v_t = v_t0 + K_tt P_t + K_tn I`` gives it.
 
 Error estimate
 --------------
@@ -67,10 +67,11 @@ which it relaxes towards a fixed direction (> 0 if it does); a bound on the spec
 radius of the Jacobian of ``F`` (the step's stability limit); ``rate_slope = d rate/dphi``."""
 
 TauStep = namedtuple("TauStep", ["w1", "w2", "imp", "wfr", "error_v", "error_i",
-                                 "error_w"])
+                                 "error_w", "q1", "q2"])
 TauStep.__doc__ = """The end of one step: slip velocity ``w`` (m/s), normal impulse ``imp``
-(kg m/s), friction work ``wfr`` (J), and the local error estimates of ``w`` (m/s), of the
-step's impulse (kg m/s) and of its friction work (J)."""
+(kg m/s), friction work ``wfr`` (J), the local error estimates of ``w`` (m/s), of the
+step's impulse (kg m/s) and of its friction work (J), and ``q = int v_t dI`` over the step
+(J/(kg m/s) units of velocity times impulse), from which ``W_n`` follows."""
 
 
 @njit(inline="always")
@@ -176,8 +177,14 @@ def tau_step(c, w1, w2, imp, wfr, lam, h):
     # F(z_0) . z_0 = |z_0|^2 (u . g + lam) = 0 by the choice of lam.
     d_imp = _hermite_exp_integral(m0, m1, m2, m3, s0, 0.0, s1, zdot / s1, h)
     d_wfr = -c.mu * _hermite_exp_integral(n0, n1, n2, n3, s0 * s0, 0.0, s1 * s1, 2.0 * zdot, h)
+    # int v_t dI = int e^(-2 lam tau) z |z| dtau: Hermite of z |z|, with the slopes
+    # F |z| + z (z . F) / |z| (the start's second term 0 as above).
+    q1 = _hermite_exp_integral(n0, n1, n2, n3, w1 * s0, a1 * s0, z1 * s1,
+                               e1 * s1 + z1 * zdot / s1, h)
+    q2 = _hermite_exp_integral(n0, n1, n2, n3, w2 * s0, a2 * s0, z2 * s1,
+                               e2 * s1 + z2 * zdot / s1, h)
     # The embedded estimate is the error of z at the end; inside the step it grows from 0,
     # and reaches I and W_fr weighted by the exponentials (taken as growing linearly).
     err = k * math.sqrt((d1 - e1) ** 2 + (d2 - e2) ** 2)
     return TauStep(ea * z1, ea * z2, imp + d_imp, wfr + d_wfr, ea * err, err * h * m1,
-                   2.0 * c.mu * s0 * err * h * n1)
+                   2.0 * c.mu * s0 * err * h * n1, q1, q2)

@@ -15,13 +15,13 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
-    NOT_COMPRESSED,
     Contact,
     SlipState,
     after_slip,
     error_ratio,
     linear_slip,
     locate_in_step,
+    normal_work,
     remove_residual_slip,
     resized_step,
     slip_control,
@@ -74,7 +74,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     if n and impulses[n - 1] > 0.0:
         per_scale = min(per_scale, impulses[n - 1] / 512.0 / (2.0 * abs(v0n) / k33))
     ctl = slip_control(c, tolerance, per_scale)
-    w1, w2, imp, wfr = v01, v02, 0.0, 0.0
+    w1, w2 = v01, v02
     state = SlipState(0.0, 0.0, 0.0, 0.0, 0.0)
     i_s = math.nan
     j = 0
@@ -86,32 +86,35 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         if passes > MAX_HISTORY_STEPS:
             return out, i_s  # bounded: the remaining points stay NaN
         pt = tau_point(c, w1, w2)
-        action, h, stick_rate, tol_i = step_plan(ctl, pt, imp, h, passes == 1)
+        action, h, stick_rate, tol_i = step_plan(ctl, pt, state.imp, h, passes == 1)
         if action == 2:
             state = remove_residual_slip(c, state)
             break
         if action == 1:  # land: v_t falls linearly to zero, as in the solver
             sp = slip_point(c, state)
             dist = sp.s / (-sp.sigma)
-            while j < n and impulses[j] <= imp + dist:
-                _record(out, j, c, linear_slip(c, state, sp, impulses[j] - imp), SLIP)
+            while j < n and impulses[j] <= state.imp + dist:
+                _record(out, j, c, linear_slip(c, state, sp, impulses[j] - state.imp), SLIP)
                 j += 1
             state = remove_residual_slip(c, linear_slip(c, state, sp, dist))
             break
-        step = tau_step(c, w1, w2, imp, wfr, -pt.rate, h)
+        step = tau_step(c, w1, w2, state.imp, state.wfr, -pt.rate, h)
         ratio = error_ratio(ctl, step, stick_rate, tol_i)
         if ratio > 1.0:
             h = resized_step(h, ratio)
             continue
         while j < n and impulses[j] <= step.imp:
             part = state
-            if impulses[j] > imp:
-                _, part = locate_in_step(c, w1, w2, imp, wfr, -pt.rate, h, 2, impulses[j],
-                                         NOT_COMPRESSED, step, 1e-15 * ctl.i_scale)
+            if impulses[j] > state.imp:
+                _, part, _ = locate_in_step(c, state, w1, w2, -pt.rate, h, 2, impulses[j],
+                                            0.0, step, 1e-15 * ctl.i_scale)
             _record(out, j, c, part, SLIP)
             j += 1
-        state = slip_state(c, step.w1, step.w2, step.imp, step.wfr)
-        w1, w2, imp, wfr = step.w1, step.w2, step.imp, step.wfr
+        new = slip_state(c, step.w1, step.w2, step.imp, step.wfr, 0.0)
+        state = SlipState(new.imp, new.p1, new.p2,
+                          state.wn + normal_work(c, state, new, step),
+                          new.wfr)
+        w1, w2 = step.w1, step.w2
         h = resized_step(h, ratio)
     if j >= n:
         return out, i_s
