@@ -43,7 +43,7 @@ __all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSE
            "normal_work",
            "error_ratio", "remove_residual_slip", "reslip_direction", "resized_step",
            "slip_control", "slip_point", "slip_state", "step_plan", "SlipControl",
-           "slip_velocity", "solve_contact", "stick_impulse_rate", "velocity",
+           "solve_contact", "stick_impulse_rate", "velocity",
            "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
            "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "STABLE_STEP",
            "STICK_TOLERANCE"]
@@ -87,11 +87,10 @@ SlipState.__doc__ = """State of the contact along ``I``: the normal impulse ``im
 tangential impulses ``p1, p2`` delivered to the ball (kg m/s), the normal and friction works
 ``wn``, ``wfr`` done so far (J)."""
 
-SlipPoint = namedtuple("SlipPoint", ["vn", "s", "u1", "u2", "g1", "g2", "dvn", "sigma",
-                                     "omega"])
+SlipPoint = namedtuple("SlipPoint", ["vn", "s", "u1", "u2", "g1", "g2", "dvn", "sigma"])
 SlipPoint.__doc__ = """The slip at one state, in ``I``: normal velocity ``vn`` and
 slip speed ``s`` (m/s), slip direction ``u``, the slip acceleration ``g = dv_t/dI`` and
-``dvn = dv_n/dI`` (1/kg), ``sigma = d|v_t|/dI`` and ``omega = |du/dI|`` (1/(kg m/s))."""
+``dvn = dv_n/dI`` (1/kg) and ``sigma = d|v_t|/dI`` (1/kg)."""
 
 Compression = namedtuple("Compression", ["done", "i_c", "w_c", "target", "rise"])
 Compression.__doc__ = """The normal phase: whether compression has ended, at which impulse
@@ -128,12 +127,6 @@ def velocity(c, p1, p2, imp):
 
 
 @njit(inline="always")
-def slip_velocity(k11, k12, k13, k22, k23, k33, v01, v02, v0n, p1, p2, imp):
-    """:func:`velocity` from loose scalars (m/s)."""
-    return velocity(Contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, 0.0), p1, p2, imp)
-
-
-@njit(inline="always")
 def slip_point(c, state):
     """The slip direction, its rates and the slip speed at ``state`` (:class:`SlipPoint`)."""
     v1, v2, vn = velocity(c, state.p1, state.p2, state.imp)
@@ -145,8 +138,7 @@ def slip_point(c, state):
     g2 = c.k23 - c.mu * (c.k12 * u1 + c.k22 * u2)
     dvn = c.k33 - c.mu * (c.k13 * u1 + c.k23 * u2)  # d v_n / dI
     sigma = u1 * g1 + u2 * g2  # d|v_t|/dI
-    omega = abs(u1 * g2 - u2 * g1) * inv_s  # |du/dI|: how fast the slip direction turns
-    return SlipPoint(vn, s, u1, u2, g1, g2, dvn, sigma, omega)
+    return SlipPoint(vn, s, u1, u2, g1, g2, dvn, sigma)
 
 
 @njit(inline="always")
