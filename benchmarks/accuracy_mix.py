@@ -23,8 +23,9 @@ Printed:
   3. per tolerance, the largest error per column, the mean RK4 steps per impact and the
      kernel time;
   4. with --reference-check, how far the references move when re-solved with rtol 1e-13
-     and, separately, with slip extrapolated to its stop from 1e-12 |v(0)| instead of
-     1e-10 |v(0)|, in the same units: the resolution of the instrument itself;
+     and, separately, with its integration in I handing over to the slip-scaled time tau
+     at 1e-12 |v(0)| instead of 1e-10 |v(0)|, in the same units: the resolution of the
+     instrument itself;
   5. wall times (references, kernel compile, kernel runs).
 NaN errors (the column does not apply, e.g. I_s when slip never stops in either solver)
 are skipped; inf means the kernel failed or only one solver has a value.
@@ -67,7 +68,7 @@ DEFAULT_REFERENCE = (1e-12, None)
 """(rtol, slip_stop_fraction) of the references: reference_for's defaults."""
 CHECK_REFERENCES = ((1e-13, None), (1e-12, 1e-12))
 """--reference-check: each knob of the reference tightened in turn (DOP853 tolerance; the
-slip speed, relative to |v(0)|, below which slip is extrapolated to its stop)."""
+slip speed, relative to |v(0)|, at which the integration in I hands over to tau)."""
 SHORT = dict(velocity="velocity", stick_impulse="I_s", normal_work="W_n",
              friction_work="W_fr", stick_criterion="C")
 WORST_SHOWN = 3  # worst cases listed per column

@@ -359,8 +359,9 @@ def reference_for(case, rtol=1e-12, slip_stop_fraction=None):
     rtol : float
         Relative tolerance of the reference's DOP853 integration.
     slip_stop_fraction : float, optional
-        Slip speed (relative to ``|v(0)|``) at which the reference ends slip; None for its
-        default. With ``rtol``, the knob of the reference's own resolution.
+        Slip speed (relative to ``|v(0)|``) at which the reference's integration in ``I``
+        hands over to the slip-scaled time; None for its default. With ``rtol``, the knob
+        of the reference's own resolution.
 
     Returns
     -------

@@ -10,7 +10,8 @@ deliberately different formulation, so that the two can check each other:
 * the stick rate and the re-slip direction use an impulse-to-velocity map ``K`` obtained
   numerically, by applying unit impulses to the bodies;
 * the integration is adaptive (``scipy.integrate.solve_ivp``, DOP853) with event location,
-  in the normal impulse ``I`` (kg m/s).
+  in the normal impulse ``I`` (kg m/s), and in the slip-scaled time ``tau`` only for the
+  last ``1e-10`` of the slip speed before it stops.
 
 It imports nothing from the kernel (``contact``, ``rigid_bodies``, ``geometry``) and uses only
 numpy and scipy. Production code never calls it; it is far too slow for sampling.
@@ -26,12 +27,18 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-__all__ = ["MAX_SEGMENTS", "RESLIP_SAMPLES", "SLIP_STOP_FRACTION", "reference_impact"]
+__all__ = ["MAX_SEGMENTS", "RESLIP_SAMPLES", "SLIP_STOP_FRACTION", "TAU_STOP_RATIO",
+           "reference_impact"]
 
-# Slip speed (relative to |v(0)|) at which slip is declared over. |v_t| falls linearly
+# Slip speed (relative to |v(0)|) at which the integration in I stops. |v_t| falls linearly
 # into the stick point, so a threshold event finds it without touching the singular rate
 # (a second event on minima of |v_t| catches steps that jump over the threshold).
 SLIP_STOP_FRACTION = 1e-10
+# From there the approach to stick goes on in the slip-scaled time tau (dI = |v_t| dtau),
+# where |v_t| decays smoothly (exponentially), down to this fraction of the threshold; only
+# the rest is extrapolated linearly. The slip direction still turns at the threshold, so a
+# linear extrapolation from it alone would err by ~1e-10 of I_s (it did: 3.6e-10).
+TAU_STOP_RATIO = 1e-6
 # Samples of the azimuth scan that brackets the re-slip directions before brentq.
 RESLIP_SAMPLES = 3600
 # Safety cap on the number of chained solve_ivp segments (phase changes + events).
@@ -195,10 +202,11 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     rtol, atol : float
         Tolerances of ``solve_ivp`` (DOP853).
     slip_stop_fraction : float, optional
-        Slip speed, relative to ``|v(0)|``, at which slip is declared over (the last
-        stretch is extrapolated linearly); default :data:`SLIP_STOP_FRACTION`. Varying it
-        shows how much the extrapolation contributes to ``I_s`` (~1e-10 relative at the
-        default, where the slip direction still turns).
+        Slip speed, relative to ``|v(0)|``, at which the integration in ``I`` ends; the
+        approach to stick goes on in ``tau`` (``dI = |v_t| dtau``) down to
+        :data:`TAU_STOP_RATIO` times it, and only the rest is extrapolated linearly;
+        default :data:`SLIP_STOP_FRACTION`. Varying it shows how much the switch
+        contributes to ``I_s``.
 
     Returns
     -------
@@ -309,6 +317,101 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         u = v_t / np.linalg.norm(v_t)
         return u @ velocity_change(t3 - mu * u)
 
+    def approach_in_tau(imp, y, compressed, i_c, w_c):
+        """Slip from the threshold to TAU_STOP_RATIO times it, in tau, where every rate is
+        ``|v_t|`` times its rate in ``I`` and ``I`` itself is a state. Returns
+        ``(I, y, compressed, I_c, W_c, outcome)``, outcome "stop" (at the final speed: the
+        rest is linear), "minimum" (of ``|v_t|``: slip stops there) or "separated".
+
+        The states are the changes since the threshold (of ``I``, the body velocities and
+        the works) plus the slip itself: the error control is then relative to how much
+        each of them moves here, not to its whole size (``I`` and the velocities change by
+        ~1e-10 of themselves in this stretch, less than rtol would resolve).
+        """
+        rate = slip_speed_rate(y)  # d|v_t|/dI = d ln|v_t| / dtau
+        if not rate < 0.0:
+            return imp, y, compressed, i_c, w_c, "minimum"
+        final = TAU_STOP_RATIO * math.hypot(y[14], y[15])
+        slip_rhs = make_rhs(slip_rate)
+        base = y.copy()
+        base[14:16] = 0.0  # the slip is carried whole
+
+        def whole(zz):
+            return base + zz[:16], imp + zz[16]
+
+        def rhs(_, zz):
+            yy, ii = whole(zz)
+            s = math.hypot(zz[14], zz[15])
+            out = np.empty(17)
+            out[:16] = s * slip_rhs(ii, yy)
+            out[16] = s
+            return out
+
+        def ev_stop(_, zz):
+            return math.hypot(zz[14], zz[15]) - final
+        ev_stop.terminal, ev_stop.direction = True, -1.0
+
+        def ev_min(_, zz):
+            return slip_speed_rate(whole(zz)[0])
+        ev_min.terminal, ev_min.direction = True, 1.0
+
+        def ev_compression(_, zz):
+            return bodies.relative_velocity(whole(zz)[0]) @ t3
+        ev_compression.terminal, ev_compression.direction = True, 1.0
+
+        # Error control relative to the changes: atol rtol times a thousandth of what each
+        # state changes by over the stretch (~|v_t| / -rate of impulse at the start's rates),
+        # at least a hundredth of the largest change (states that barely move would
+        # otherwise ask for steps at the rounding level).
+        d_imp = math.hypot(y[14], y[15]) / -rate
+        change = np.abs(np.append(slip_rhs(imp, y), 1.0)) * d_imp
+        atol_tau = 1e-3 * rtol * np.maximum(change, 1e-2 * change.max())
+        atol_tau[14:16] = 1e-3 * final
+        # Exponential decay at about ``rate``: ten times the tau it takes is ample (if the
+        # decay slows down, further segments follow).
+        span = 10.0 * math.log(1.0 / TAU_STOP_RATIO) / -rate
+        zz = np.zeros(17)
+        zz[14:16] = y[14:16]
+        outcome = "stop"
+        for _ in range(MAX_SEGMENTS):
+            # A minimum of |v_t| below the threshold is where slip stops, as in I: in tau
+            # the slip cannot pass through zero, and where stick fails (re-slip) it turns
+            # there into the re-slip direction and grows again.
+            events = [ev_stop, ev_min]
+            if not compressed:
+                events.append(ev_compression)
+            else:
+                target = (1.0 - e * e) * w_c
+
+                def ev_separation(_, zz):
+                    return whole(zz)[0][12] - target
+                ev_separation.terminal, ev_separation.direction = True, 1.0
+                events.append(ev_separation)
+            sol = solve_ivp(rhs, (0.0, span), zz, method="DOP853", events=events,
+                            rtol=rtol, atol=atol_tau)
+            if sol.status == -1:
+                raise RuntimeError(f"solve_ivp failed in tau: {sol.message}")
+            if sol.status == 0:  # not yet at the final speed (the decay slowed): go on
+                zz = sol.y[:, -1]
+                continue
+            fired = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
+            _, j = min(fired)
+            zz = sol.y_events[j][0]
+            name = events[j].__name__
+            if name == "ev_compression":
+                yy, ii = whole(zz)
+                compressed, i_c, w_c = True, ii, yy[12]
+                if e == 0.0:
+                    outcome = "separated"
+                    break
+                continue
+            outcome = dict(ev_stop="stop", ev_min="minimum", ev_separation="separated")[name]
+            break
+        else:
+            raise RuntimeError("too many integration segments in tau")
+        yy, ii = whole(zz)
+        return ii, yy, compressed, i_c, w_c, outcome
+
     imp, y = 0.0, y0
     compressed, i_c, w_c = False, None, None
     near_misses = []  # (I, |v_t|) of slip minima that stay clear of zero
@@ -376,13 +479,17 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
             phase, q = stick_or_reslip()
             rate = constant_rate(q)
             phases.append(phase)
-        else:  # slip stopped at the threshold
+        else:  # slip reached the threshold: the rest of the approach in tau
+            imp, y, compressed, i_c, w_c, outcome = approach_in_tau(
+                imp, y, compressed, i_c, w_c)
+            if outcome == "separated":
+                break
             v, v_t = tangential(y)
             speed_t = np.linalg.norm(v_t)
             u = v_t / speed_t
             dv = velocity_change(t3 - mu * u)
             d_speed = u @ dv  # d|v_t|/dI (u is tangential)
-            if d_speed < 0.0:
+            if outcome == "stop" and d_speed < 0.0:
                 # Linear extrapolation over the last stretch of slip: the impulse rate is
                 # constant there, so the velocities are linear in I.
                 d_imp = speed_t / -d_speed
