@@ -40,7 +40,12 @@ RK4 with the FSAL stage ``F(z_end)`` has an embedded third-order solution
 (weights ``1/6, 1/3, 1/3, 0, 1/6``): the difference ``h (F_4 - F_5) / 6`` estimates the local
 error of ``z``, measured, not modelled. The step controls it in the three quantities it
 reaches: the slip velocity at the end (``e^(-lam h)`` times it), the impulse and the friction
-work of the step (it weighted by the exponentials over the step).
+work of the step (it weighted by the exponentials over the step). The quadratures add their
+own error: the Hermite interpolants of ``|z|`` and ``|z|^2`` are compared at the step's
+middle with the norm of the Hermite interpolant of ``z`` (both 4th order, so their
+difference is of the size of the interpolation error, whose shape is ``t^2 (1 - t)^2``), and
+the difference, integrated with that shape and the exponential weight, is added to the
+impulse's and the friction work's estimates.
 """
 
 import math
@@ -186,5 +191,17 @@ def tau_step(c, w1, w2, imp, wfr, lam, h):
     # The embedded estimate is the error of z at the end; inside the step it grows from 0,
     # and reaches I and W_fr weighted by the exponentials (taken as growing linearly).
     err = k * math.sqrt((d1 - e1) ** 2 + (d2 - e2) ** 2)
-    return TauStep(ea * z1, ea * z2, imp + d_imp, wfr + d_wfr, ea * err, err * h * m1,
-                   2.0 * c.mu * s0 * err * h * n1, q1, q2)
+    # Quadrature errors: |z| and |z|^2 at the step's middle from the Hermite interpolant of
+    # z, against the Hermite interpolants of |z| and |z|^2 integrated above (values at the
+    # middle (q0 + q1)/2 + h (q0' - q1')/8, the start's slopes 0). The interpolation error
+    # is ~16 d t^2 (1 - t)^2 for a difference d at the middle: 16/30 d h integrated, with
+    # the exponential weight taken at the middle.
+    k8 = 0.125 * h
+    zm1 = 0.5 * (w1 + z1) + k8 * (a1 - e1)
+    zm2 = 0.5 * (w2 + z2) + k8 * (a2 - e2)
+    sm2 = zm1 * zm1 + zm2 * zm2
+    shape = h * (16.0 / 30.0)
+    quad_i = shape * math.sqrt(ea) * abs(math.sqrt(sm2) - 0.5 * (s0 + s1) + k8 * zdot / s1)
+    quad_w = shape * ea * c.mu * abs(sm2 - 0.5 * (s0 * s0 + s1 * s1) + 2.0 * k8 * zdot)
+    return TauStep(ea * z1, ea * z2, imp + d_imp, wfr + d_wfr, ea * err, err * h * m1 + quad_i,
+                   2.0 * c.mu * s0 * err * h * n1 + quad_w, q1, q2)
