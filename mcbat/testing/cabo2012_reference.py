@@ -174,6 +174,19 @@ def _reslip_direction(k, mu):
     return best
 
 
+def _integrate(rhs, span, y, events, rtol, atol):
+    """``solve_ivp`` (DOP853) over ``span`` with terminal ``events``: ``(t, y, name)`` at the
+    earliest event that fired, or at the end of the span with ``name`` None."""
+    sol = solve_ivp(rhs, span, y, method="DOP853", events=events, rtol=rtol, atol=atol)
+    if sol.status == -1:
+        raise RuntimeError(f"solve_ivp failed: {sol.message}")
+    if sol.status == 0:
+        return sol.t[-1], sol.y[:, -1], None
+    fired = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
+    t, j = min(fired)
+    return t, sol.y_events[j][0], events[j].__name__
+
+
 def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                      bat_transverse_inertia, bat_axial_inertia, axial, angle, radius, slope,
                      ball_v, ball_w, bat_v, bat_w, mu, e, e_x=0.0, rtol=1e-12, atol=1e-15,
@@ -387,17 +400,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                     return whole(zz)[0][12] - target
                 ev_separation.terminal, ev_separation.direction = True, 1.0
                 events.append(ev_separation)
-            sol = solve_ivp(rhs, (0.0, span), zz, method="DOP853", events=events,
-                            rtol=rtol, atol=atol_tau)
-            if sol.status == -1:
-                raise RuntimeError(f"solve_ivp failed in tau: {sol.message}")
-            if sol.status == 0:  # not yet at the final speed (the decay slowed): go on
-                zz = sol.y[:, -1]
+            _, zz, name = _integrate(rhs, (0.0, span), zz, events, rtol, atol_tau)
+            if name is None:  # not yet at the final speed (the decay slowed): go on
                 continue
-            fired = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
-            _, j = min(fired)
-            zz = sol.y_events[j][0]
-            name = events[j].__name__
             if name == "ev_compression":
                 yy, ii = whole(zz)
                 compressed, i_c, w_c = True, ii, yy[12]
@@ -446,18 +451,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
 
         end = imp + span if push_until is None else push_until
         push_until = None
-        sol = solve_ivp(make_rhs(rate), (imp, end), y, method="DOP853",
-                        events=events, rtol=rtol, atol=atol_all)
-        if sol.status == -1:
-            raise RuntimeError(f"solve_ivp failed: {sol.message}")
-        if sol.status == 0:  # no event inside the span: continue from its end
-            imp, y = sol.t[-1], sol.y[:, -1]
+        imp, y, name = _integrate(make_rhs(rate), (imp, end), y, events, rtol, atol_all)
+        if name is None:  # no event inside the span: continue from its end
             continue
-        # Terminal event: find which one fired (the earliest).
-        fired = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
-        imp, j = min(fired)
-        y = sol.y_events[j][0]
-        name = events[j].__name__
         if name == "ev_compression":
             compressed, i_c, w_c = True, imp, y[12]
             if e == 0.0:  # all stored energy lost: separation at I_c
