@@ -41,7 +41,7 @@ __all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSE
            "SlipState",
            "after_slip", "failed_contact", "impulse_step_cap", "linear_slip", "locate_in_step",
            "normal_work",
-           "error_ratio", "remove_residual_slip", "reslip_direction", "resized_step",
+           "error_ratio", "next_step", "remove_residual_slip", "reslip_direction", "resized_step",
            "slip_control", "slip_point", "slip_state", "step_plan", "SlipControl",
            "solve_contact", "stick_impulse_rate", "velocity",
            "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
@@ -405,6 +405,25 @@ def error_ratio(ctl, step, stick_rate, tol_i):
 
 
 @njit(inline="always")
+def next_step(h, ratio, last_h, last_ratio):
+    """The step after an accepted one of length ``h`` and error ``ratio``, the accepted step
+    before it ``last_h`` with error ``last_ratio`` (``last_h = 0`` if a rejection came in
+    between, or at the start): Gustafsson's predictive controller,
+    ``0.9 (h / last_h) (last_ratio / ratio^2)^(1/4)``, between a fifth and five times ``h``.
+
+    It extrapolates the trend of the error along the slip. Where the slip direction
+    settles, the error per step falls fast and the plain rule (:func:`resized_step`) trails
+    behind it, so that the steps follow their own history more than the error, and the step
+    sequence does not scale uniformly with the tolerance (whence errors that change sign
+    between tolerances). After a rejection the plain rule is used.
+    """
+    if not (last_h > 0.0 and ratio > 0.0 and last_ratio > 0.0):
+        return resized_step(h, ratio)
+    factor = 0.9 * (h / last_h) * math.sqrt(math.sqrt(last_ratio / (ratio * ratio)))
+    return h * min(5.0, max(0.2, factor))
+
+
+@njit(inline="always")
 def resized_step(h, ratio):
     """The next step after one with error ``ratio``: ``0.9 ratio^(-1/4)`` (the estimate is
     of 4th order in ``h``), between a fifth and five times ``h``."""
@@ -431,6 +450,8 @@ def _slip_phase(c, acc, e2):
     comp = NOT_COMPRESSED
     rise_left = math.nan  # after compression: the normal work still to rise to separation
     h = math.inf
+    last_h = 0.0  # the last accepted step and its error ratio (0: none, or a rejection since)
+    last_ratio = 0.0
     steps = 0
     while steps < acc.max_steps:
         pt = tau_point(c, w1, w2)
@@ -446,6 +467,7 @@ def _slip_phase(c, acc, e2):
         ratio = error_ratio(ctl, step, stick_rate, tol_i)
         if ratio > 1.0:  # rejected: retry shorter
             h = resized_step(h, ratio)
+            last_h = 0.0
             continue
         new = slip_state(c, step.w1, step.w2, step.imp, step.wfr, 0.0)
         dwn = normal_work(c, state, new, step)
@@ -464,7 +486,7 @@ def _slip_phase(c, acc, e2):
         else:
             if comp.done:
                 rise_left -= dwn
-            h = resized_step(h, ratio)
+            h, last_h, last_ratio = next_step(h, ratio, last_h, last_ratio), h, ratio
         state = new
         w1, w2 = step.w1, step.w2
     return st.MAX_STEPS, state, comp, True, steps, rise_left

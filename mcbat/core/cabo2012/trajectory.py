@@ -21,6 +21,7 @@ from mcbat.core.cabo2012.contact import (
     error_ratio,
     linear_slip,
     locate_in_step,
+    next_step,
     normal_work,
     remove_residual_slip,
     resized_step,
@@ -80,6 +81,8 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
     j = 0
     h = math.inf
     # ---- slip, recorded at the requested impulses inside the steps ----
+    last_h = 0.0  # the last accepted step and its error ratio, as in the solver
+    last_ratio = 0.0
     passes = 0
     while j < n and mu > 0.0:
         passes += 1
@@ -102,6 +105,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         ratio = error_ratio(ctl, step, stick_rate, tol_i)
         if ratio > 1.0:
             h = resized_step(h, ratio)
+            last_h = 0.0
             continue
         while j < n and impulses[j] <= step.imp:
             part = state
@@ -115,7 +119,7 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
                           state.wn + normal_work(c, state, new, step),
                           new.wfr)
         w1, w2 = step.w1, step.w2
-        h = resized_step(h, ratio)
+        h, last_h, last_ratio = next_step(h, ratio, last_h, last_ratio), h, ratio
     if j >= n:
         return out, i_s
     imp = state.imp
