@@ -256,3 +256,47 @@ def test_reference_resolves_the_stick_impulse(subset):
     assert len(moved) >= 15
     print(f"\nreference I_s, hand-over at 1e-12 against 1e-10: max moved {max(moved):.1e}")
     assert max(moved) <= 1e-11
+
+
+# Case 127 of draw_mix(1560, seed=11): creeping slip (mu = 0.0067) whose speed passes a
+# minimum of ~3.4e-11 |v0| and grows again in the re-slip direction.
+NEAR_MISS_CASE = {
+    "ball_mass": 0.145, "ball_radius": 0.036, "ball_inertia_factor": 0.4,
+    "bat_mass": 0.989, "bat_transverse_inertia": 0.046, "bat_axial_inertia": 0.000439,
+    "axial": 0.2348597368303657, "angle": 0.18798200311530788, "bat_radius": 0.03335,
+    "bat_slope": 0.0,
+    "ball_vx_in": -10.53699181084474, "ball_vy_in": 0.6381025592596408,
+    "ball_vz_in": 0.2771088493509617,
+    "ball_wx_in": -150.98096905829618, "ball_wy_in": -10.663155622396616,
+    "ball_wz_in": -24.52236429993235,
+    "bat_vx_in": -2.071189782862514, "bat_vy_in": 4.0284272431743995,
+    "bat_vz_in": 0.9605439916847816,
+    "bat_wx_in": 6.317615949769417, "bat_wy_in": 3.717791001072209,
+    "bat_wz_in": 22.64115906037865,
+    "mu": 0.006700717066561203, "e": 0.7641144257545389, "e_x": 0.0,
+    "mode": "creep", "slip": "creep",
+}
+
+
+def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
+    """Both solvers define a minimum of the slip speed below ``SLIP_RESOLUTION |v0|`` as a
+    stop (then stick or re-slip). The kernel used to pass through this one (it reported no
+    ``I_s``, the reference one) after 916 steps spent following the direction's turn."""
+    from mcbat.core.cabo2012.contact import SLIP_RESOLUTION
+    from mcbat.testing.cabo2012_reference import SLIP_STOP_FRACTION
+
+    assert SLIP_RESOLUTION == SLIP_STOP_FRACTION  # one definition of "slip has stopped"
+    # With a threshold 1000x lower, the reference passes the minimum as a near miss and
+    # slips on: the minimum lies between the two thresholds.
+    finer = reference_for(NEAR_MISS_CASE, slip_stop_fraction=SLIP_RESOLUTION / 1000.0)
+    assert finer["status"] == "ok"
+    assert finer["near_misses"] >= 1 and finer["phases"] == ["slip"]
+
+    ref = reference_for(NEAR_MISS_CASE)
+    assert ref["phases"] == ["slip", "reslip"] and ref["stick_impulse"] > 0.0
+    out, status, _ = run_kernel([NEAR_MISS_CASE], DEFAULT_TOLERANCE)
+    assert status[0] == 0
+    errors = output_errors([NEAR_MISS_CASE], [ref], out, status)
+    for name in ERROR_COLUMNS:
+        assert errors[name][0] <= TARGETS[name], name
+    assert out[OUT["rk4_steps"], 0] < 100

@@ -45,11 +45,19 @@ __all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSE
            "slip_control", "slip_point", "slip_state", "step_plan", "SlipControl",
            "solve_contact", "stick_impulse_rate", "velocity",
            "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
-           "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "STABLE_STEP",
-           "STICK_TOLERANCE"]
+           "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "SLIP_RESOLUTION",
+           "STABLE_STEP", "STICK_TOLERANCE"]
 
 # Slip speed (relative to the initial relative speed) treated as exactly zero.
 STICK_TOLERANCE = 1e-13
+# Slip speed (relative to the initial relative speed) below which the slip direction is not
+# resolved: slip that starts below it, or whose speed passes a minimum below it, has
+# stopped there (stick, or re-slip in the re-slip direction). A near miss that close is the
+# same impact as a stop and re-slip to ~1e-11 in every velocity, but passing through it
+# means following a direction that turns at the rate mu K_tt / |v_t|: one case of 1560
+# took 900 steps to do so, and reported no I_s where the reference solver, which uses the
+# same definition (mcbat.testing.cabo2012_reference.SLIP_STOP_FRACTION), reports one.
+SLIP_RESOLUTION = 1e-10
 # Land on v_t = 0 by linear extrapolation once the error of doing so (the impulse left,
 # times the relative change of d|v_t|/dI over the turn the direction has left) is below
 # this fraction of the impulse tolerance. Small, because that estimate is the landing's
@@ -351,9 +359,10 @@ def _land(c, state, comp, e2, rise_left):
 
 
 SlipControl = namedtuple("SlipControl", ["tolerance", "v_scale", "i_scale", "impulse_max",
-                                         "s_stop"])
+                                         "s_stop", "s_resolution"])
 SlipControl.__doc__ = """The slip step rule's scales: ``tolerance``, ``|v0|`` (m/s), ``I_scale``
-and the largest impulse of one step (kg m/s), the slip speed taken as zero (m/s)."""
+and the largest impulse of one step (kg m/s), the slip speed taken as zero and the one
+below which a minimum of the slip speed is a stop (m/s)."""
 
 
 @njit(inline="always")
@@ -363,7 +372,7 @@ def slip_control(c, tolerance, impulse_max_per_scale):
     v_scale = math.sqrt(c.v01 * c.v01 + c.v02 * c.v02 + c.v0n * c.v0n)
     i_scale = 2.0 * (-c.v0n) / c.k33  # frictionless, fully elastic impact impulse
     return SlipControl(tolerance, v_scale, i_scale, i_scale * impulse_max_per_scale,
-                       STICK_TOLERANCE * v_scale)
+                       STICK_TOLERANCE * v_scale, SLIP_RESOLUTION * v_scale)
 
 
 @njit(inline="always")
@@ -372,7 +381,8 @@ def step_plan(ctl, pt, imp, h, first):
     slip ``pt`` and normal impulse ``imp``, with ``h`` the step the last one proposed.
 
     Returns ``(action, h, stick_rate, tol_i)``: action 0 step (of ``h``), 1 land, 2 stop
-    (slip has stopped and would grow again: re-slip); the rate (1/kg) at which a slip error
+    (the slip speed is at most ``SLIP_RESOLUTION |v0|`` at incidence, or there and not
+    falling: slip has stopped, or passed a minimum that close to zero); the rate (1/kg) at which a slip error
     moves ``I_s`` and the impulse error allowed (kg m/s), for :func:`error_ratio`.
     """
     lam = -pt.rate
@@ -380,7 +390,7 @@ def step_plan(ctl, pt, imp, h, first):
     # predicted to stop before it (I_s is reported to a relative accuracy).
     stick_rate = max(lam, pt.s / ctl.i_scale)
     tol_i = ctl.tolerance * min(ctl.i_scale, imp + pt.s / stick_rate)
-    if pt.s <= ctl.s_stop and not lam > 0.0:
+    if pt.s <= ctl.s_resolution and (first or not lam > 0.0):  # see SLIP_RESOLUTION
         return 2, h, stick_rate, tol_i
     if lam > 0.0 and (pt.s <= ctl.s_stop or _may_land(pt, LANDING_FRACTION * tol_i)):
         return 1, h, stick_rate, tol_i
@@ -659,7 +669,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         ``(status, end_state, p1, p2, i_f, i_s, i_c, w_c, w_n, w_fr, w_n_stick,
         rk4_steps)``: tangential impulses ``P1, P2`` and normal impulse ``I_f`` (kg m/s) at
         separation; the stick impulse ``I_s`` (NaN if sliding never stopped; 0 for
-        incidence with ``v_t = 0``); the end of compression ``I_c`` and ``W_c = W_n(I_c)``;
+        incidence with ``|v_t| <= SLIP_RESOLUTION |v0|``); the end of compression ``I_c`` and ``W_c = W_n(I_c)``;
         the normal and friction work at separation (J); ``W_n(I_s)`` (the paper's
         ``C = -W_n(I_s)``); and the number of slip steps tried (Lawson RK4 steps). On a
         failure status every physical output is NaN (:func:`failed_contact`).
