@@ -19,7 +19,9 @@ Printed:
   2. monotone convergence: per column, the (case, tolerance pair) violations, i.e.
      err(T/10) > 2 err(T) with err(T/10) > 1e-13, over consecutive tolerances (with
      --reference-check, also how many remain when each error may be off by the reference's
-     own resolution in that case);
+     own resolution in that case), then each violation with its errors over their
+     tolerances relative to the case's median of that ratio (a value far below 1 at T
+     says that the error nearly cancelled at T);
   3. per tolerance, the largest error per column, the mean RK4 steps per impact and the
      kernel time;
   4. with --reference-check, how far the references move when re-solved with rtol 1e-13
@@ -235,9 +237,37 @@ def monotone_table(tolerances, runs, resolution=None):
         lines.append(f"{'beyond ref. res.':<18} "
                      + " ".join(f"{resolved[c]:>{width}}" for c in ERROR_COLUMNS))
     lines.append(f"cases with a violation: {len(violating_cases)}")
+    listed = _violation_list(tolerances, runs)
+    if listed:
+        lines.append("each violation; 'at T' and 'at T/10' are err/tolerance over the median of "
+                     "err/tolerance over the case's tolerances (far below 1 at T: the error "
+                     "nearly cancelled there, i.e. changed sign between tolerances):")
+        lines.extend(f"  case {v['case']:5d} {SHORT[v['column']]:<5} {v['coarse']:.0e} -> "
+                     f"{v['fine']:.0e}  err {v['err_coarse']:.1e} -> {v['err_fine']:.1e}  "
+                     f"at T {v['scaled_coarse']:.3f}  at T/10 {v['scaled_fine']:.2f}"
+                     for v in listed)
     summary = dict(pairs=pairs, totals=totals, violating_cases=sorted(violating_cases),
+                   violations=listed,
                    beyond_reference_resolution=resolved if resolution is not None else None)
     return "\n".join(lines), summary
+
+
+def _violation_list(tolerances, runs):
+    """Every (case, column, tolerance pair) that violates monotone convergence, with each
+    error over its tolerance, relative to the case's median of that ratio."""
+    listed = []
+    tols = np.asarray(tolerances, dtype=float)
+    for col in ERROR_COLUMNS:
+        scaled = np.array([runs[t][col] for t in tolerances]) / tols[:, None]
+        for j, (coarse, fine) in enumerate(zip(tolerances[:-1], tolerances[1:])):
+            for i in np.flatnonzero(monotone_violations(runs[coarse], runs[fine])[col]):
+                median = float(np.nanmedian(scaled[:, i]))
+                listed.append(dict(case=int(i), column=col, coarse=coarse, fine=fine,
+                                   err_coarse=float(runs[coarse][col][i]),
+                                   err_fine=float(runs[fine][col][i]),
+                                   scaled_coarse=float(scaled[j, i]) / median,
+                                   scaled_fine=float(scaled[j + 1, i]) / median))
+    return listed
 
 
 def tolerance_table(tolerances, runs, seconds):

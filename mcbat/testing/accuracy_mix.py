@@ -349,7 +349,7 @@ def draw_mix(n=520, seed=DEFAULT_SEED):
     return [_draw_case(rng, MODES[i % len(MODES)]) for i in range(n)]
 
 
-def reference_for(case, rtol=1e-12, slip_stop_fraction=None):
+def reference_for(case, rtol=1e-12, slip_stop_fraction=None, stop_definition_fraction=None):
     """Solve one case with the independent reference integrator.
 
     Parameters
@@ -362,6 +362,9 @@ def reference_for(case, rtol=1e-12, slip_stop_fraction=None):
         Slip speed (relative to ``|v(0)|``) at which the reference's integration in ``I``
         hands over to the slip-scaled time; None for its default. With ``rtol``, the knob
         of the reference's own resolution.
+    stop_definition_fraction : float, optional
+        Slip speed (relative to ``|v(0)|``) below which a minimum of the slip speed is a
+        stop; None for the definition shared with the kernel.
 
     Returns
     -------
@@ -381,7 +384,8 @@ def reference_for(case, rtol=1e-12, slip_stop_fraction=None):
             case["axial"], case["angle"], case["bat_radius"], case["bat_slope"],
             _vec(case, "ball_v"), _vec(case, "ball_w"), _vec(case, "bat_v"),
             _vec(case, "bat_w"), case["mu"], case["e"], e_x=case["e_x"], rtol=rtol,
-            slip_stop_fraction=slip_stop_fraction)
+            slip_stop_fraction=slip_stop_fraction,
+            stop_definition_fraction=stop_definition_fraction)
     except Exception as exc:  # a failure of the reference is an outcome to report
         nan = math.nan
         return dict(status="failed", message=f"{type(exc).__name__}: {exc}",

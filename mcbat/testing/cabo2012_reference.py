@@ -32,7 +32,9 @@ __all__ = ["MAX_SEGMENTS", "RESLIP_SAMPLES", "SLIP_STOP_FRACTION", "TAU_STOP_RAT
 
 # Slip speed (relative to |v(0)|) at which the integration in I stops. |v_t| falls linearly
 # into the stick point, so a threshold event finds it without touching the singular rate
-# (a second event on minima of |v_t| catches steps that jump over the threshold).
+# (a second event on minima of |v_t| catches steps that jump over the threshold). It is
+# also the definition of a stop shared with the kernel (its SLIP_RESOLUTION): slip that
+# starts below it, or whose speed has a minimum below it, has stopped there.
 SLIP_STOP_FRACTION = 1e-10
 # From there the approach to stick goes on in the slip-scaled time tau (dI = |v_t| dtau),
 # where |v_t| decays smoothly (exponentially), down to this fraction of the threshold; only
@@ -190,7 +192,7 @@ def _integrate(rhs, span, y, events, rtol, atol):
 def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                      bat_transverse_inertia, bat_axial_inertia, axial, angle, radius, slope,
                      ball_v, ball_w, bat_v, bat_w, mu, e, e_x=0.0, rtol=1e-12, atol=1e-15,
-                     slip_stop_fraction=None):
+                     slip_stop_fraction=None, stop_definition_fraction=None):
     """Solve one rigid ball-bat impact by adaptive integration of the body velocities.
 
     Parameters
@@ -219,7 +221,12 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         approach to stick goes on in ``tau`` (``dI = |v_t| dtau``) down to
         :data:`TAU_STOP_RATIO` times it, and only the rest is extrapolated linearly;
         default :data:`SLIP_STOP_FRACTION`. Varying it shows how much the switch
-        contributes to ``I_s``.
+        contributes to ``I_s``. At most ``stop_definition_fraction``.
+    stop_definition_fraction : float, optional
+        Slip speed, relative to ``|v(0)|``, below which slip that starts there, or whose
+        speed passes a minimum there, has stopped (then stick or re-slip); above it a
+        minimum is a near miss and slip goes on. Default :data:`SLIP_STOP_FRACTION`, the
+        kernel's definition (``SLIP_RESOLUTION``).
 
     Returns
     -------
@@ -267,7 +274,13 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     span = 1e3 * speed0 / np.linalg.eigvalsh(0.5 * (k + k.T))[0]
     if slip_stop_fraction is None:
         slip_stop_fraction = SLIP_STOP_FRACTION
-    slip_stop = slip_stop_fraction * speed0
+    if stop_definition_fraction is None:
+        stop_definition_fraction = SLIP_STOP_FRACTION
+    if not slip_stop_fraction <= stop_definition_fraction:
+        raise ValueError("slip_stop_fraction must be at most stop_definition_fraction "
+                         "(minima below the hand-over to tau are stops)")
+    slip_stop = slip_stop_fraction * speed0  # hand-over to tau
+    stopped = stop_definition_fraction * speed0  # the definition of a stop
     atol_all = np.full(16, atol)
     atol_all[14:16] = min(atol, 1e-3 * slip_stop)
 
@@ -316,7 +329,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
     y_stick = None  # the state where slip stops (the start of the stick phase)
     if mu == 0.0:
         phase, rate = "frictionless", constant_rate(np.zeros(3))
-    elif np.linalg.norm(vt0) <= slip_stop:
+    elif np.linalg.norm(vt0) <= stopped:
         stick_impulse, work_at_stick, y_stick = 0.0, 0.0, y0
         phase, q = stick_or_reslip()
         rate = constant_rate(q)
@@ -462,7 +475,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
             break
         elif name == "ev_slip_min":
             speed_t = np.linalg.norm(tangential(y)[1])
-            if speed_t > slip_stop:
+            if speed_t > stopped:
                 # Near miss: slip goes on. Step past the minimum without this event (it
                 # would fire again at once); |v_t| cannot reach zero within
                 # speed_t / max|dv/dI|, and max|dv/dI| <= ||K|| sqrt(1 + mu^2).

@@ -286,14 +286,19 @@ def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
     from mcbat.testing.cabo2012_reference import SLIP_STOP_FRACTION
 
     assert SLIP_RESOLUTION == SLIP_STOP_FRACTION  # one definition of "slip has stopped"
-    # With a threshold 1000x lower, the reference passes the minimum as a near miss and
-    # slips on: the minimum lies between the two thresholds.
-    finer = reference_for(NEAR_MISS_CASE, slip_stop_fraction=SLIP_RESOLUTION / 1000.0)
+    # With a definition 1000x finer, the reference passes the minimum as a near miss and
+    # slips on: the minimum lies between the two.
+    finer = reference_for(NEAR_MISS_CASE, slip_stop_fraction=SLIP_RESOLUTION / 1000.0,
+                          stop_definition_fraction=SLIP_RESOLUTION / 1000.0)
     assert finer["status"] == "ok"
     assert finer["near_misses"] >= 1 and finer["phases"] == ["slip"]
 
     ref = reference_for(NEAR_MISS_CASE)
     assert ref["phases"] == ["slip", "reslip"] and ref["stick_impulse"] > 0.0
+    # The hand-over to tau alone does not change the definition.
+    later = reference_for(NEAR_MISS_CASE, slip_stop_fraction=SLIP_RESOLUTION / 100.0)
+    assert later["phases"] == ["slip", "reslip"]
+    assert abs(later["stick_impulse"] / ref["stick_impulse"] - 1.0) < 1e-9
     out, status, _ = run_kernel([NEAR_MISS_CASE], DEFAULT_TOLERANCE)
     assert status[0] == 0
     errors = output_errors([NEAR_MISS_CASE], [ref], out, status)
