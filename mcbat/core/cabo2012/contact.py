@@ -45,8 +45,8 @@ __all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSE
            "slip_control", "slip_point", "slip_state", "step_plan", "SlipControl",
            "solve_contact", "stick_impulse_rate", "velocity",
            "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
-           "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES", "SLIP_RESOLUTION",
-           "STABLE_STEP", "STICK_TOLERANCE"]
+           "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES",
+           "SLIP_RESOLUTION", "STABLE_STEP", "STICK_TOLERANCE"]
 
 # Slip speed (relative to the initial relative speed) treated as exactly zero.
 STICK_TOLERANCE = 1e-13
@@ -382,8 +382,9 @@ def step_plan(ctl, pt, imp, h, first):
 
     Returns ``(action, h, stick_rate, tol_i)``: action 0 step (of ``h``), 1 land, 2 stop
     (the slip speed is at most ``SLIP_RESOLUTION |v0|`` at incidence, or there and not
-    falling: slip has stopped, or passed a minimum that close to zero); the rate (1/kg) at which a slip error
-    moves ``I_s`` and the impulse error allowed (kg m/s), for :func:`error_ratio`.
+    falling: slip has stopped, or passed a minimum that close to zero); the rate (1/kg)
+    at which a slip error moves ``I_s`` and the impulse error allowed (kg m/s), for
+    :func:`error_ratio`.
     """
     lam = -pt.rate
     # Impulse errors are relative to I_scale, or to the stick impulse where sliding is
@@ -669,10 +670,11 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         ``(status, end_state, p1, p2, i_f, i_s, i_c, w_c, w_n, w_fr, w_n_stick,
         rk4_steps)``: tangential impulses ``P1, P2`` and normal impulse ``I_f`` (kg m/s) at
         separation; the stick impulse ``I_s`` (NaN if sliding never stopped; 0 for
-        incidence with ``|v_t| <= SLIP_RESOLUTION |v0|``); the end of compression ``I_c`` and ``W_c = W_n(I_c)``;
-        the normal and friction work at separation (J); ``W_n(I_s)`` (the paper's
-        ``C = -W_n(I_s)``); and the number of slip steps tried (Lawson RK4 steps). On a
-        failure status every physical output is NaN (:func:`failed_contact`).
+        incidence with ``|v_t| <= SLIP_RESOLUTION |v0|``); the end of compression ``I_c``
+        and ``W_c = W_n(I_c)``; the normal and friction work at separation (J);
+        ``W_n(I_s)`` (the paper's ``C = -W_n(I_s)``); and the number of slip steps tried
+        (Lawson RK4 steps). On a failure status every physical output is NaN
+        (:func:`failed_contact`).
     """
     c = Contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu)
     acc = Accuracy(steps, tolerance, max_steps)
