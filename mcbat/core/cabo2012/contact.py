@@ -55,7 +55,7 @@ STICK_TOLERANCE = 1e-13
 # stopped there (stick, or re-slip in the re-slip direction). A near miss that close is the
 # same impact as a stop and re-slip to ~1e-11 in every velocity, but passing through it
 # means following a direction that turns at the rate mu K_tt / |v_t|: one case of 1560
-# took 900 steps to do so, and reported no I_s where the reference solver, which uses the
+# took 916 steps to do so, and reported no I_s where the reference solver, which uses the
 # same definition (mcbat.testing.cabo2012_reference.SLIP_STOP_FRACTION), reports one.
 SLIP_RESOLUTION = 1e-10
 # Land on v_t = 0 by linear extrapolation once the error of doing so (the impulse left,
