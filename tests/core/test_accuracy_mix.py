@@ -305,3 +305,64 @@ def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
     for name in ERROR_COLUMNS:
         assert errors[name][0] <= TARGETS[name], name
     assert out[OUT["rk4_steps"], 0] < 100
+
+
+# (d) The instrument behind issue 13's blocked item: benchmarks/monotone_uniform_steps.py.
+
+@pytest.fixture(scope="module")
+def uniform_steps():
+    """The benchmark script as a module (it imports its sibling ``accuracy_mix.py``)."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    benchmarks = Path(__file__).resolve().parents[2] / "benchmarks"
+    sys.path.insert(0, str(benchmarks))
+    try:
+        spec = importlib.util.spec_from_file_location(
+            "monotone_uniform_steps", benchmarks / "monotone_uniform_steps.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        sys.path.remove(str(benchmarks))
+    return module
+
+
+def test_uniform_step_sequence_converges_at_fourth_order_to_the_reference(subset,
+                                                                           uniform_steps):
+    """The demonstration's solver is right: on the subset's cases whose slip stops, its
+    ``I_s`` approaches the reference's, and halving the step factor divides the error by
+    ~16 (4th order), the error scaling exactly with the tolerance (``h ~ T^(1/4)``)."""
+    cases, refs = subset
+    index = uniform_steps.measured_cases(refs)
+    assert len(index) >= 15
+    ratios = []
+    tolerance_ratios = []
+    for i in index:
+        ref = refs[i]["stick_impulse"]
+
+        def error(tolerance, factor, case=cases[i], ref=ref):
+            value, steps = uniform_steps.uniform_step_stick_impulse(case, tolerance, factor)
+            assert steps < uniform_steps.MAX_STEPS
+            return abs(value / ref - 1.0)
+
+        fine = error(DEFAULT_TOLERANCE, 0.07)
+        assert fine < TARGETS["stick_impulse"], (i, fine)
+        coarse, half = error(DEFAULT_TOLERANCE, 0.3), error(DEFAULT_TOLERANCE, 0.15)
+        if half > 1e-10:  # well above the reference's resolution
+            ratios.append(coarse / half)
+            tolerance_ratios.append(coarse / error(DEFAULT_TOLERANCE / 16.0, 0.3))
+    assert len(ratios) >= 5
+    assert 10.0 < np.median(ratios) < 25.0, ratios
+    # The same 2x smaller step reached through the tolerance (16x tighter) instead of the
+    # factor: the same error but for the landing, whose threshold also follows the
+    # tolerance (it moves these ratios by up to 1.5 %).
+    np.testing.assert_allclose(tolerance_ratios, ratios, rtol=0.05)
+
+
+def test_uniform_steps_violations_flags_a_case_that_gets_worse(uniform_steps):
+    errors = np.array([[1e-8, 1e-9, 1e-10],    # converging
+                       [1e-8, 1e-12, 1e-10],   # cancelled at the middle tolerance
+                       [1e-13, 5e-14, 9e-14],  # worse, but below the floor
+                       [1e-9, 1.9e-9, 1e-10]])  # worse, but by less than 2x
+    assert list(uniform_steps.violations(errors)) == [1]
