@@ -9,7 +9,10 @@ the scipy reference; ``benchmarks/accuracy_mix.py`` runs it on 520 cases. Here:
 * the error measure can fail (a perturbed kernel output is caught);
 * on the first 40 cases of the benchmark's mix (5 per mode), the kernel meets the issue's
   accuracy targets at the default tolerance and converges monotonically (the benchmark
-  measures the whole mix).
+  measures the whole mix);
+* ``benchmarks/monotone_uniform_steps.py``, the evidence that issue 13's monotone item
+  needs the asymptotic regime, solves the stick impulse correctly and counts violations
+  as the item defines them.
 """
 
 import math
