@@ -332,9 +332,10 @@ def cmd_fit(args) -> int:
     table = read_measurements(args.data)
     with _flags("free", "bootstrap", "draws", "seed", "intervals"):
         result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
-                     seed=args.seed, intervals=args.intervals)
+                     seed=args.seed, intervals=args.intervals, input_prior=args.input_prior)
         comparison = None if args.no_compare else compare_models(
-            study, table, free, draws=args.draws, seed=args.seed, fitted=result)
+            study, table, free, draws=args.draws, seed=args.seed, fitted=result,
+            input_prior=args.input_prior)
     if args.residuals:
         from mcbat.stats.figures import fig_fit_residuals
 
@@ -351,6 +352,8 @@ def cmd_fit(args) -> int:
     for line in result.lines():
         print(line)
     print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
+    for warning in result.warnings:
+        print(f"  note: {warning}")
     if comparison is not None:
         print("\n".join(comparison.lines()))
     return EXIT_OK
@@ -556,6 +559,10 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default 48; 128 for a game study)")
     fit.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S",
                      help="seed of the draws (default 0)")
+    fit.add_argument("--input-prior", choices=("widen", "study"), default="widen",
+                     help="when the measured inputs (columns with _err) reach beyond the "
+                          "study's range of that input: widen: marginalise over the range "
+                          "that fits them, and say so (default); study: refuse the table")
     fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure "
                      "(.png, .pdf or .svg)")
     fit.add_argument("--json", action="store_true", help="print the result as JSON")

@@ -70,7 +70,11 @@ GRID_EVALUATIONS = 121
 """Size of the coarse starting grid (11 x 11 for two parameters; at least 6 points a
 parameter: 6^3 for three, ...)."""
 STARTS = 2
-"""Local searches, from the best points of the grid."""
+"""Local searches from the best points of the grid (plus one from the profile scan in mu,
+:data:`SCAN_POINTS`)."""
+SCAN_POINTS = 48
+"""Values of mu (log-spaced over its search range, 10 % apart) at which the profile is
+scanned for the start of the local search."""
 ONE_SIGMA = 0.5
 """Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
 LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
@@ -79,6 +83,18 @@ UNIT_SIGMA = 3.0
 """When half the rows of an observable or more lie this many sigma beyond every model
 prediction over the search ranges, the column is refused with a hint about its unit (a
 correct table has ~0.3 % of its rows that far from the true model)."""
+MAGNITUDES = ("exit_speed", "launch_speed", "spin_rate")
+"""Observables that are magnitudes: a wrong unit scales them, which the median shows."""
+MEDIAN_FACTOR = 1.25
+"""A magnitude column whose median lies beyond the model's medians over the search grid by
+more than this factor is refused (m/s instead of mph: 2.24; km/h: 1.61; rpm/rad/s: 9.55)."""
+P_VALUE_TOO_GOOD = 0.995
+"""A chi-squared p-value above this is reported: the stated errors are larger than the
+scatter of the data (or a column is in another unit)."""
+PRESET_DEVIATION = 0.4
+"""``e`` further than this fraction from the study's own value is reported (a baseball's
+``e*`` is known to a few per cent; a fit far from it usually means a unit or a column is
+wrong)."""
 _BAD = 1e30
 
 
@@ -90,8 +106,10 @@ class FitResult:
     NaN where the curvature is not positive); ``intervals`` the profile-likelihood result
     per parameter: ``lower_error``, ``upper_error`` (positive, or None on a side the data do
     not bound), ``status`` (``"measured"``, ``"lower_limit"``, ``"upper_limit"`` or
-    ``"unidentified"``), ``limit`` (the one-sided 95 % limit, or None) and ``at_bound``
-    (the physical edge the interval reaches, or None).
+    ``"unidentified"``, or ``"profile_failed"`` when the profile jumps at the best fit and
+    no interval can be given: its ``stderr`` is then still the curvature error, which
+    describes the likelihood only near the best fit), ``limit`` (the one-sided 95 % limit,
+    or None) and ``at_bound`` (the physical edge the interval reaches, or None).
     """
 
     params: dict
@@ -106,6 +124,13 @@ class FitResult:
     """Parameters the data do not bound on at least one side (status other than
     ``"measured"``): their ``stderr`` is inf and their value is not a measurement."""
     intervals: dict = field(default_factory=dict)
+    priors: dict = field(default_factory=dict)
+    """Measured input -> the flat prior its true values were marginalised over
+    (:attr:`mcbat.stats.models._DrawModel.priors`: ``study_range``, ``range``, ``widened``,
+    ``likelihood_ratio``; table units)."""
+    warnings: list = field(default_factory=list)
+    """What a user should check before trusting the fit (a value at a bound or far from the
+    study's, an implausibly good chi-squared, a widened prior), one sentence each."""
 
     @property
     def aic(self) -> float:
@@ -128,7 +153,8 @@ class FitResult:
             params[k] = entry
         return _finite({"params": params, "chi2": self.chi2, "dof": self.dof,
                         "p_value": self.p_value, "aic": self.aic,
-                        "unconstrained": list(self.unconstrained)})
+                        "unconstrained": list(self.unconstrained),
+                        "input_priors": self.priors, "warnings": list(self.warnings)})
 
     def lines(self) -> list[str]:
         """The parameters as printed by ``mcbat fit``, one string per line."""
@@ -150,6 +176,10 @@ class FitResult:
                 else:
                     out.append(f"  {name} = {value:.6g} -{lo:.2g} +{hi:.2g} (68 % profile "
                                f"likelihood{edge}; {curv}{extra})")
+            elif status == "profile_failed":
+                out.append(f"  {name} = {value:.6g}: the profile likelihood could not be "
+                           f"computed (it jumps at the best fit), so no interval is given; "
+                           f"{curv} describes the likelihood only near the best fit{extra}")
             elif status in ("lower_limit", "upper_limit"):
                 sign, side = (">", "above") if status == "lower_limit" else ("<", "below")
                 out.append(f"  {name} {sign} {iv['limit']:.4g} (95 % CL; the data do not "
@@ -227,13 +257,18 @@ class Likelihood:
         Seed of the draws.
     fixed : dict, optional
         Parameters held at given values (``{"e_x": 0.0}``: the rigid model).
+    input_prior : {"widen", "study"}
+        What to do when the measured values of an input with an ``_err`` column reject the
+        study's range of that input (:func:`mcbat.stats.models.prior_range`): marginalise
+        over the widened range and report it, or refuse the table.
     """
 
-    def __init__(self, study, table, free, draws=None, seed=0, fixed=None):
+    def __init__(self, study, table, free, draws=None, seed=0, fixed=None,
+                 input_prior="widen"):
         self.free = check_free(free)
         draws = None if draws is None else _check_count(draws, "draws", 4)
         seed = _check_count(seed, "seed", 0)
-        self.model = draw_model(study, table, draws, seed, fixed)
+        self.model = draw_model(study, table, draws, seed, fixed, input_prior)
         for name in self.free:
             if name not in self.model.PARAMETERS:
                 raise InputError("free", f"{name!r} is not a parameter of a "
@@ -314,10 +349,13 @@ class Likelihood:
             return _BAD
         nll, _, total, mean = got
         if self.envelope is not None:  # the range of predictions over the search grid
-            lo, hi, sd = self.envelope
+            lo, hi, sd, med_lo, med_hi = self.envelope
             np.minimum(lo, mean, out=lo)
             np.maximum(hi, mean, out=hi)
             np.maximum(sd, np.sqrt(np.diagonal(total, axis1=1, axis2=2)), out=sd)
+            med = np.median(mean, axis=0)
+            np.minimum(med_lo, med, out=med_lo)
+            np.maximum(med_hi, med, out=med_hi)
         return nll if math.isfinite(nll) else _BAD
 
     def chi2(self, theta):
@@ -358,9 +396,23 @@ class Likelihood:
 
     def check_envelope(self):
         """Refuse rows far outside anything the model predicted over the search grid."""
-        lo, hi, sd = self.envelope
+        lo, hi, sd, med_lo, med_hi = self.envelope
         for j, col in enumerate(self.observables):
             y = self.y[:, j]
+            if col in MAGNITUDES:
+                # A column in another unit is a scaled copy of the right one: its median
+                # lies outside the span of the model's medians over the whole search grid
+                # by more than the model can stretch. The rows' own spread (nuisance
+                # scatter of a game, ~10 mph) hides that from the row-by-row test below
+                # when the table is small or the unit is close (m/s against mph).
+                median = float(np.median(y))
+                low, high = med_lo[j] / MEDIAN_FACTOR, med_hi[j] * MEDIAN_FACTOR
+                if not low <= median <= high:
+                    raise InputError(col, f"the measured median {median:.3g} "
+                                     f"{self.units[col]} lies outside anything the model "
+                                     f"gives for this study over the search grid (medians "
+                                     f"{med_lo[j]:.3g}..{med_hi[j]:.3g} {self.units[col]}): "
+                                     f"{UNITS_HINT[col]}", self.source)
             beyond = np.maximum(lo[:, j] - y, y - hi[:, j]) / sd[:, j]
             far = beyond > OUTLIER_SIGMA
             many = beyond > UNIT_SIGMA
@@ -433,7 +485,7 @@ def default_errors(column, values):
 
 
 def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, start=None,
-        fixed=None, intervals="profile"):
+        fixed=None, intervals="profile", input_prior="widen"):
     """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc).
 
     Parameters
@@ -458,6 +510,8 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     intervals : {"profile", "curvature"}
         ``"profile"``: profile-likelihood intervals and limits (:attr:`FitResult.intervals`);
         ``"curvature"``: the Hessian errors only (faster).
+    input_prior : {"widen", "study"}
+        See :class:`Likelihood`; the prior used is in :attr:`FitResult.priors`.
 
     Raises
     ------
@@ -469,7 +523,8 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     bootstrap = check_bootstrap(bootstrap)
     if intervals not in ("profile", "curvature"):
         raise InputError("intervals", f"must be 'profile' or 'curvature', got {intervals!r}")
-    like = Likelihood(study, table, free, draws=draws, seed=seed, fixed=fixed)
+    like = Likelihood(study, table, free, draws=draws, seed=seed, fixed=fixed,
+                      input_prior=input_prior)
     if start is None:
         # The likelihood has flat regions (e.g. every impact sticks above some mu, and then
         # mu does not matter): a coarse grid over the search ranges finds the right basin
@@ -480,13 +535,23 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
                 else np.linspace(*like.search[p], points) for p in like.free]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
         shape = like.y.shape
-        like.envelope = (np.full(shape, np.inf), np.full(shape, -np.inf), np.zeros(shape))
+        n_obs = shape[1]
+        like.envelope = (np.full(shape, np.inf), np.full(shape, -np.inf), np.zeros(shape),
+                         np.full(n_obs, np.inf), np.full(n_obs, -np.inf))
         values = np.array([like(x) for x in grid])
         if not (values < _BAD).any():
             raise like.failure_error()
         like.check_envelope()
         like.envelope = None
-        starts = grid[np.argsort(values)[:STARTS]]
+        starts = list(grid[np.argsort(values)[:STARTS]])
+        if "mu" in like.free and _flat(like, starts[0], "mu"):
+            # Where every impact sticks the likelihood is flat in mu, and the best value can
+            # lie in a valley narrower than the coarse grid's spacing just below that
+            # plateau (60 drops with 5 mm input errors: a valley 1.3x wide in mu, 29 units
+            # of -ln L below the plateau, between two grid points). A local search that
+            # starts on the plateau drifts along it to the end of the range; a fine scan of
+            # the profile in mu finds the valley.
+            starts.append(_profile_scan(like, starts[0], "mu"))
     else:
         starts = [np.asarray(start, float)]
         if not like(starts[0]) < _BAD:
@@ -506,7 +571,8 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
             best, nll_min = res.x, float(res.fun)
             err, cov = _curvature_errors(like, best)
             summary, _ = _profile(like, best, nll_min, err, cov)
-        unconstrained = [p for p in like.free if summary[p]["status"] != "measured"]
+        unconstrained = [p for p in like.free
+                         if summary[p]["status"] not in ("measured", "profile_failed")]
     else:
         unconstrained = _flat_to_edge(like, best, nll_min)
     for name in unconstrained:
@@ -518,10 +584,103 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
                        stderr=dict(zip(like.free, map(float, err))), chi2=chi2, dof=dof,
                        p_value=float(stats.chi2.sf(chi2, dof)) if dof > 0 else math.nan,
                        neg_log_likelihood=nll_min, residuals=r,
-                       unconstrained=unconstrained, intervals=summary)
+                       unconstrained=unconstrained, intervals=summary,
+                       priors=dict(like.model.priors))
+    result.warnings = _warnings(like, result)
     if bootstrap:
         result.bootstrap_stderr = _bootstrap(like, best, bootstrap, seed)
     return result
+
+
+def _flat(like, x, name):
+    """True when ``-ln L`` does not change (by 1e-6) with a 10 % larger ``name`` at ``x``."""
+    i = like.free.index(name)
+    probe = np.array(x, float)
+    probe[i] = min(probe[i] * 1.1, FREE[name][1])
+    return abs(like(probe) - like(x)) < 1e-6
+
+
+def _profile_scan(like, x0, name, points=SCAN_POINTS):
+    """The lowest point of the profile of ``name`` over its search range (log-spaced for
+    ``mu``), the other free parameters re-optimised at each value, each search starting
+    from the previous value's optimum (loosely: the point only starts the local search)."""
+    i = like.free.index(name)
+    lo, hi = like.search[name]
+    values = np.geomspace(lo, hi, points) if name == "mu" else np.linspace(lo, hi, points)
+    others = [j for j in range(len(x0)) if j != i]
+    x = np.array(x0, float)
+    best_x, best_nll = x.copy(), like(x)
+    for t in values:
+        x[i] = t
+        if len(others) == 1:
+            j = others[0]
+
+            def sub1(y, j=j):
+                x[j] = y
+                return like(x)
+            step = 0.05 * (like.search[like.free[j]][1] - like.search[like.free[j]][0])
+            lo_j, hi_j = FREE[like.free[j]]
+            y0 = min(max(x[j], lo_j + step), hi_j - step)
+            r = optimize.minimize_scalar(sub1, bracket=(y0 - step, y0 + step), method="brent",
+                                         options={"xtol": 1e-3, "maxiter": 40})
+            x[j] = r.x
+            nll = float(r.fun)
+        elif others:
+            def sub(y):
+                x[others] = y
+                return like(x)
+            y0 = x[others].copy()
+            step = [0.05 * (like.search[like.free[j]][1] - like.search[like.free[j]][0])
+                    for j in others]
+            simplex = np.vstack([y0] + [y0 + np.eye(len(others))[k] * step[k] *
+                                        (1 if y0[k] + step[k] <= FREE[like.free[j]][1] else -1)
+                                        for k, j in enumerate(others)])
+            r = optimize.minimize(sub, y0, method="Nelder-Mead",
+                                  options={"xatol": 1e-3 * min(step), "fatol": 0.05,
+                                           "maxiter": 60 * len(others),
+                                           "initial_simplex": simplex})
+            x[others] = r.x
+            nll = float(r.fun)
+        else:
+            nll = like(x)
+        if nll < best_nll:
+            best_x, best_nll = x.copy(), nll
+    return best_x
+
+
+def _warnings(like, result):
+    """The sentences of :attr:`FitResult.warnings`."""
+    out = []
+    for name, prior in result.priors.items():
+        if prior["widened"]:
+            (slo, shi), (lo, hi) = prior["study_range"], prior["range"]
+            out.append(f"{name}: the measured values reach beyond the study's range "
+                       f"{slo:.4g}..{shi:.4g} (likelihood ratio {prior['likelihood_ratio']:.3g}"
+                       f"); their true values were marginalised over the widened range "
+                       f"{lo:.4g}..{hi:.4g} (a flat prior fitted to them)")
+    for name, value in result.params.items():
+        lo, hi = FREE[name]
+        status = result.intervals.get(name, {}).get("status", "measured")
+        if status == "measured" and ((value - lo < 1e-6 and (name, lo) not in PHYSICAL_EDGES)
+                                     or (hi - value < 1e-6 and (name, hi) not in PHYSICAL_EDGES)):
+            out.append(f"{name} = {value:.4g} sits at the end of its allowed range "
+                       f"{lo:g}..{hi:g}: the data push beyond what the model allows")
+        if name != "e":
+            continue
+        search_lo, search_hi = like.search[name]
+        preset = like.model.study_values.get(name)
+        outside = not search_lo <= value <= search_hi
+        far = preset is not None and abs(value - preset) > PRESET_DEVIATION * preset
+        if outside or far:
+            out.append(f"e = {value:.4g} is far from the study's value {preset:.4g}"
+                       + (f" and outside the range the fit searched ({search_lo:g}.."
+                          f"{search_hi:g})" if outside else "")
+                       + ": check the units of the observables (docs/fitting.md)")
+    if math.isfinite(result.p_value) and result.p_value > P_VALUE_TOO_GOOD:
+        out.append(f"the fit is implausibly good (p-value {result.p_value:.4f}): the stated "
+                   f"errors are larger than the scatter of the data, or a column is in "
+                   f"another unit")
+    return out
 
 
 def _minimize(like, x0, scale):
@@ -570,9 +729,15 @@ def _profile(like, best, nll_min, err, cov):
     the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
     """
     n = len(best)
-    scale = np.array([e if np.isfinite(e) and e > 0
-                      else 0.05 * (like.search[p][1] - like.search[p][0])
-                      for p, e in zip(like.free, err)])
+    # Steps of the profile: the curvature error, but never more than a twentieth of the
+    # search range (in a flat region the curvature error is huge, and an inner search that
+    # starts that far away lands anywhere, which made the profile jump at the best fit).
+    widths = np.array([0.05 * (like.search[p][1] - like.search[p][0]) for p in like.free])
+    finite = np.isfinite(err) & (err > 0)
+    scale = np.where(finite, np.minimum(np.where(finite, err, 0.0), widths), widths)
+    # The covariance's line is a good start for the other parameters only where the
+    # curvature describes the likelihood: every error finite and within its step.
+    on_line = bool(np.all(np.isfinite(cov)) and np.all(finite) and np.all(err <= widths))
     found = {"x": None, "nll": nll_min - 1e-3}
 
     def profile(i, t):
@@ -580,7 +745,7 @@ def _profile(like, best, nll_min, err, cov):
         others = [j for j in range(n) if j != i]
         x = best.copy()
         x[i] = t
-        if others and np.all(np.isfinite(cov)):  # start on the line of the covariance
+        if others and on_line:  # start on the line of the covariance
             x[others] += cov[others, i] / cov[i, i] * (t - best[i])
             for j in others:
                 lo, hi = FREE[like.free[j]]
@@ -636,6 +801,9 @@ def _entry(lower, upper, limit):
     ``limit(sign, side)`` computes a one-sided 95 % limit."""
     entry = {"lower_error": lower["error"], "upper_error": upper["error"],
              "status": "measured", "limit": None, "at_bound": None}
+    if lower.get("failed") or upper.get("failed"):
+        entry.update(lower_error=None, upper_error=None, status="profile_failed")
+        return entry
     for side in (lower, upper):
         if side["physical"]:
             entry["at_bound"] = side["edge"]
@@ -680,6 +848,11 @@ def _side(delta, best, sign, edge, scale, physical):
             result.update(error=room, physical=True)
         return result
     root = _crossing(delta, ONE_SIGMA, (last_t, last_d), (t, d), 0.005 * scale)
+    if abs(root - best) < 1e-3 * scale:
+        # A rise of 1/2 within a thousandth of the step is a jump of the profile, not an
+        # interval: the profile could not be computed there (FitResult: "profile_failed").
+        result["failed"] = True
+        return result
     result["error"] = abs(root - best)
     result["root"] = root
     return result
@@ -801,12 +974,13 @@ class ModelComparison:
                 f"p = {self.lr_p_value:.3g}"]
 
 
-def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted=None):
+def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted=None,
+                   input_prior="widen"):
     """Fit the rigid model (``e_x = 0``) and the compliant one (``e_x`` free) and compare.
 
     Parameters
     ----------
-    study, table, draws, seed
+    study, table, draws, seed, input_prior
         As for :func:`fit`.
     free : sequence of str
         The other free parameters, shared by both models (``e_x`` in it is ignored).
@@ -818,7 +992,7 @@ def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted
     ModelComparison
     """
     base = [p for p in free if p != "e_x"]
-    like_kwargs = dict(draws=draws, seed=seed)
+    like_kwargs = dict(draws=draws, seed=seed, input_prior=input_prior)
     rigid_study = _rigid(study)
     if fitted is not None and "e_x" not in fitted.params and rigid_study:
         rigid = fitted

@@ -17,12 +17,20 @@ measured inputs, their errors) and solves them at any value of the free paramete
   in m). Inputs the table does not give are drawn from the study.
 
 Measured inputs with an ``_err`` column are drawn from their posterior given the
-measurement: a normal of that width about the measured value, truncated to the study's
-range for the input (a flat prior there), *stratified*: draw ``k`` of a row lies in the
+measurement: a normal of that width about the measured value, truncated to the range of a
+flat prior, *stratified*: draw ``k`` of a row lies in the
 ``k``-th of ``M`` equal-probability slices of that normal for the first such input (the
 slices of any further one are shuffled, as in a Latin hypercube). The order matters:
 :func:`mcbat.stats.fit.draw_moments` pairs neighbouring slices to measure the Monte Carlo
 error of the mean.
+
+The prior of a measured input is flat over the study's range of that input, unless the
+measured values reject that range (:func:`prior_range`): then, with ``input_prior =
+"widen"`` (the default), it is flat over the range that best explains the measured values
+(the study's range widened, never narrowed, and never beyond the input's physical range),
+and the fit reports it; with ``input_prior = "study"`` the table is refused. Truncating
+each row's true value to a range the data reach beyond would bias the fit without a word
+(rows measured 2-3 errors beyond the edge forced onto it).
 """
 
 from __future__ import annotations
@@ -30,7 +38,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats
+from scipy import optimize, stats
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
@@ -44,7 +52,8 @@ from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 
 __all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "GAME_TABLE_COLUMNS", "GAME_WRITTEN",
-           "GameModel", "OUTLIER_SIGMA", "draw_model", "solve_study", "table_columns"]
+           "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "WIDEN_STATISTIC", "draw_model",
+           "prior_range", "solve_study", "table_columns"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -53,6 +62,13 @@ this many of its errors outside the study's range."""
 GRAZING = 0.999
 """A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
 above 87.4 deg) is refused: the ball grazes the bat."""
+INPUT_PRIORS = ("widen", "study")
+"""What a fit does when the measured inputs reject the study's range (module docstring)."""
+WIDEN_STATISTIC = float(stats.chi2.ppf(0.999, 2))
+"""Likelihood ratio (13.8) above which the measured values of an input reject the study's
+range: twice the log-likelihood gained by widening the range to fit them. When the true
+values do lie within the study's range the ratio exceeds this in fewer than 0.1 % of
+tables, whatever their size."""
 _MPH = 0.44704
 _DEG = math.pi / 180.0
 
@@ -104,11 +120,66 @@ def table_columns(game: bool) -> dict:
     return GAME_TABLE_COLUMNS if game else BAT_FRAME_COLUMNS
 
 
-def draw_model(study, table, draws, seed, fixed=None):
+def draw_model(study, table, draws, seed, fixed=None, input_prior="widen"):
     """The draw model of ``study`` (:class:`GameModel` or :class:`BatFrameModel`);
     ``draws`` None: the model's :attr:`DEFAULT_DRAWS`."""
+    if input_prior not in INPUT_PRIORS:
+        raise InputError("input_prior", f"must be one of {', '.join(INPUT_PRIORS)}, got "
+                         f"{input_prior!r}")
     cls = GameModel if getattr(study, "kind", None) == "game" else BatFrameModel
-    return cls(study, table, cls.DEFAULT_DRAWS if draws is None else draws, seed, fixed)
+    return cls(study, table, cls.DEFAULT_DRAWS if draws is None else draws, seed, fixed,
+               input_prior)
+
+
+def _range_log_likelihood(value, sigma, lo, hi):
+    """``sum_i ln p(x_i)`` of measured values ``x_i +- sigma_i`` whose true values are
+    uniform over ``[lo, hi]``: ``p(x) = (Phi((hi - x)/s) - Phi((lo - x)/s)) / (hi - lo)``."""
+    mass = stats.norm.cdf((hi - value) / sigma) - stats.norm.cdf((lo - value) / sigma)
+    return float(np.sum(np.log(np.maximum(mass, 1e-300))) - len(value) * math.log(hi - lo))
+
+
+def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
+    """The range of the flat prior of a measured input, and whether the data reject the
+    study's.
+
+    Parameters
+    ----------
+    value, sigma : ndarray
+        The rows' measured values and their 1-sigma errors (SI).
+    study_range : (float, float)
+        The study's range of the input (its distribution's support).
+    physical : (float, float)
+        The input's physical range (``|b|`` below the reach of ball and bat, ...): a widened
+        range never goes beyond it.
+
+    Returns
+    -------
+    (lo, hi) : tuple of float
+        The range that best explains the measured values with ``lo <= study lo`` and
+        ``hi >= study hi`` (maximum likelihood of :func:`_range_log_likelihood`), or the
+        study's range when it is unbounded.
+    statistic : float
+        Twice the log-likelihood gained by that widening (0 when nothing is gained); the
+        data reject the study's range above :data:`WIDEN_STATISTIC`.
+    """
+    lo, hi = study_range
+    if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
+        return (lo, hi), 0.0
+    base = _range_log_likelihood(value, sigma, lo, hi)
+    # The widened edges lie between the study's and the farthest measurement plus ten of
+    # its errors (farther never helps), within the physical range.
+    far_lo = max(physical[0], min(lo, float(np.min(value - 10 * sigma))))
+    far_hi = min(physical[1], max(hi, float(np.max(value + 10 * sigma))))
+    if far_lo >= lo and far_hi <= hi:
+        return (lo, hi), 0.0
+
+    def cost(edges):
+        return -_range_log_likelihood(value, sigma, edges[0], edges[1])
+
+    x0 = [max(far_lo, min(lo, float(np.min(value)))), min(far_hi, max(hi, float(np.max(value))))]
+    res = optimize.minimize(cost, x0, method="L-BFGS-B", bounds=[(far_lo, lo), (hi, far_hi)])
+    statistic = max(2.0 * (-float(res.fun) - base), 0.0)
+    return (float(res.x[0]), float(res.x[1])), statistic
 
 
 def rows_text(mask, values=None, limit=5):
@@ -135,11 +206,15 @@ class _DrawModel:
     """Search ranges of the fit's coarse grid that differ from the default
     (:data:`mcbat.stats.fit.SEARCH`)."""
 
-    def __init__(self, study, table, draws, seed, fixed):
+    def __init__(self, study, table, draws, seed, fixed, input_prior="widen"):
         self.source = table.attrs.get("source")
         self.study = study
         self.rows = len(table)
         self.draws = draws
+        self.input_prior = input_prior
+        self.priors = {}
+        """Measured input -> the flat prior its draws use: ``study_range`` and ``range``
+        (table units), ``widened`` and the ``likelihood_ratio`` of :func:`prior_range`."""
         self._stratified = False
         known = {c for c in self.COLUMNS} | {f"{c}_err" for c in self.COLUMNS}
         for col in table.columns:
@@ -161,31 +236,58 @@ class _DrawModel:
                                  f"study (choose from {', '.join(self.PARAMETERS)})")
         self.rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 13,)))
 
-    def measured_draws(self, name, table, support, scale=1.0):
+    def measured_draws(self, name, table, support, scale=1.0, physical=(-math.inf, math.inf),
+                       key=None):
         """Per-draw values (SI: the table's value times ``scale``) of measured input
-        ``name``: its value repeated, or smeared by its ``_err`` (module docstring)."""
+        ``name``: its value repeated, or smeared by its ``_err`` (module docstring) over
+        the range of :meth:`prior`; ``physical`` is the input's physical range and ``key``
+        the study's name of the input (for messages)."""
         value = table[name].to_numpy(float) * scale
         if f"{name}_err" not in table.columns:
             return np.repeat(value, self.draws)
         sigma = table[f"{name}_err"].to_numpy(float) * scale
+        lo, hi = self.prior(name, value, sigma, support, physical, scale, key)
         slices = np.tile(np.arange(self.draws), (self.rows, 1))
         if self._stratified:  # a further smeared input: its slices shuffled per row
             slices = self.rng.permuted(slices, axis=1)
         self._stratified = True
         u = (slices + self.rng.uniform(size=slices.shape)) / self.draws
-        lo, hi = support
         a = ((lo - value) / sigma)[:, None]
         b = ((hi - value) / sigma)[:, None]
         far = (a > OUTLIER_SIGMA).ravel() | (b < -OUTLIER_SIGMA).ravel()
         if far.any():
+            where = "the study's" if not self.priors[name]["widened"] else "the widened"
             raise InputError(name, f"{rows_text(far, value / scale)}: more than "
-                             f"{OUTLIER_SIGMA:g} of its errors outside the study's range "
-                             f"{lo / scale:g}..{hi / scale:g}", self.source)
+                             f"{OUTLIER_SIGMA:g} of its errors outside {where} range "
+                             f"{lo / scale:g}..{hi / scale:g} (the physical range ends there: "
+                             f"a typo or another unit?)", self.source)
         if math.isinf(lo) and math.isinf(hi):
             z = stats.norm.ppf(u)
         else:
             z = stats.truncnorm.ppf(u, a, b)
         return (value[:, None] + sigma[:, None] * z).ravel()
+
+    def prior(self, name, value, sigma, support, physical, scale, key):
+        """The flat prior's range (SI) of measured input ``name`` (module docstring),
+        recorded in :attr:`priors`; :class:`InputError` when the data reject the study's
+        range and ``input_prior`` is ``"study"``."""
+        (lo, hi), statistic = prior_range(value, sigma, support, physical)
+        widened = statistic > WIDEN_STATISTIC
+        if widened and self.input_prior == "study":
+            beyond = (value < support[0] - 2 * sigma) | (value > support[1] + 2 * sigma)
+            rows = (f"{rows_text(beyond, value / scale)} lie more than 2 of their errors "
+                    if beyond.any() else "the measured values lie ")
+            raise InputError(name, f"{rows}outside the study's range {support[0] / scale:g}.."
+                             f"{support[1] / scale:g}, which the data reject (likelihood ratio "
+                             f"{statistic:.3g} > {WIDEN_STATISTIC:.3g}): widen "
+                             f"{key or name} in the study, or let the fit widen it "
+                             f"(--input-prior widen)", self.source)
+        if not widened:
+            lo, hi = support
+        self.priors[name] = {"study_range": [support[0] / scale, support[1] / scale],
+                             "range": [lo / scale, hi / scale], "widened": bool(widened),
+                             "likelihood_ratio": statistic}
+        return lo, hi
 
     def support(self, key):
         """The study's range of input ``key`` (unbounded when it is not drawn)."""
@@ -193,6 +295,12 @@ class _DrawModel:
         if dist is None or getattr(dist, "family", None) == "fixed":
             return -math.inf, math.inf
         return dist.support()
+
+    def record_study_values(self):
+        """Keep the study's own value of every parameter (the mean over the draws) in
+        :attr:`study_values`, before a fit changes them."""
+        self.study_values = {name: float(np.mean(self.inputs[row]))
+                             for name, row in self.PARAMETERS.items()}
 
     def set_parameters(self, values):
         """Write ``{parameter: value}`` into every draw."""
@@ -216,8 +324,8 @@ class BatFrameModel(_DrawModel):
                                          "the bat at the contact: an impact parameter at the "
                                          "reach of ball and bat?)")}
 
-    def __init__(self, study, table, draws, seed, fixed=None):
-        super().__init__(study, table, draws, seed, fixed)
+    def __init__(self, study, table, draws, seed, fixed=None, input_prior="widen"):
+        super().__init__(study, table, draws, seed, fixed, input_prior)
         source, rows = self.source, self.rows
         if "contact.impact_parameter" not in study.inputs:
             raise InputError("impact_parameter", f"study {study.name!r} places the contact by "
@@ -230,19 +338,21 @@ class BatFrameModel(_DrawModel):
         cols = study.sample(0, rows * draws, seed)
         inputs = np.stack([np.asarray(cols[n], np.float64) for n in INPUT_FIELDS])
         b_meas = table["impact_parameter"].to_numpy(float)
-        b = self.measured_draws("impact_parameter", table,
-                                study.inputs["contact.impact_parameter"].support())
-        # The study's approach azimuth of each draw, then the contact angle of the row's b.
         n = rows * draws
         ball_r = inputs[index["ball_radius"]]
         radius, slope = inputs[index["bat_radius"]], inputs[index["bat_slope"]]
+        reach = np.array([ball_centre_radial_distance(*v) for v in zip(ball_r, radius, slope)])
+        edge = GRAZING * reach.min()
+        b = self.measured_draws("impact_parameter", table,
+                                study.inputs["contact.impact_parameter"].support(),
+                                physical=(-edge, edge), key="contact.impact_parameter")
+        # The study's approach azimuth of each draw, then the contact angle of the row's b.
         angle0 = np.empty(n)
         angles_from_impact_parameters(np.asarray(cols["impact_parameter"], float), ball_r,
                                       radius, slope, np.zeros(n), angle0)
         azimuth = inputs[index["angle"]] - angle0
         angles_from_impact_parameters(b, ball_r, radius, slope, azimuth,
                                       inputs[index["angle"]])
-        reach = np.array([ball_centre_radial_distance(*v) for v in zip(ball_r, radius, slope)])
         grazing = (np.abs(b_meas) >= GRAZING * reach.reshape(rows, draws).min(axis=1))
         if grazing.any():
             raise InputError("impact_parameter", f"{rows_text(grazing, b_meas)}: at the reach "
@@ -256,6 +366,7 @@ class BatFrameModel(_DrawModel):
             inputs[index["ball_wz_in"]] = self.measured_draws("spin_in", table,
                                                               (-math.inf, math.inf))
         self.inputs = inputs
+        self.record_study_values()
         self.set_parameters(fixed or {})  # e.g. e_x = 0: the rigid model
         self._axial = inputs[index["axial"]].copy()
         self._out = allocate_outputs(n)
@@ -316,16 +427,23 @@ class GameModel(_DrawModel):
                                          "bat: an undercut beyond the reach of ball and "
                                          "barrel?)")}
 
-    def __init__(self, study, table, draws, seed, fixed=None):
-        super().__init__(study, table, draws, seed, fixed)
+    def __init__(self, study, table, draws, seed, fixed=None, input_prior="widen"):
+        super().__init__(study, table, draws, seed, fixed, input_prior)
         inputs = study.sample_inputs(0, self.rows * draws, seed)
         cols = {name: inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
+        reach = float(np.max(cols["ball_radius"] + cols["bat_radius"]))
+        physical = {"pitch_speed": (0.0, math.inf), "bat_speed": (0.0, math.inf),
+                    "attack_angle": (-0.5 * math.pi, 0.5 * math.pi),
+                    "undercut": (-reach, reach),
+                    "from_barrel_end": (0.0, float(np.min(cols["bat_length"])))}
         for name, (key, scale) in self.MEASURED.items():
             if name in table.columns:
-                cols[name][:] = self.measured_draws(name, table, self.support(key), scale)
+                cols[name][:] = self.measured_draws(name, table, self.support(key), scale,
+                                                    physical[name], key)
         if "from_barrel_end" in table.columns:
             study.fill_contact(cols)
         self.inputs = inputs
+        self.record_study_values()
         self.set_parameters(fixed or {})
         self._out = allocate_game_outputs(self.rows * draws)
 

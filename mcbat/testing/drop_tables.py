@@ -1,0 +1,155 @@
+"""Drop-test measurement tables simulated by the independent reference solver.
+
+A fit is only checked honestly against tables it did not simulate itself. These tables are
+made without the kernel, the study machinery or :func:`mcbat.stats.measurements.synthesize`:
+the geometry is written out here for the Cross & Nathan (2006) drop test (a ball dropped at
+4 m/s across a cylindrical barrel at rest, onto its axis), every impact is solved by
+:func:`mcbat.testing.cabo2012_reference.reference_impact` (``scipy.integrate.solve_ivp``),
+and the measurement errors are added here. The table has the columns of a drop-test
+measurement table (``docs/fitting.md``): ``impact_parameter`` (m, measured, with
+``impact_parameter_err``), ``spin_in`` (rad/s, the nominal spin, exact), ``exit_speed`` (m/s),
+``scattering_angle`` (deg), ``spin_out`` (rad/s), each observable with its ``_err``.
+"""
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from mcbat.testing.cabo2012_reference import reference_impact
+
+__all__ = ["DROP_TEST", "drop_table", "kernel_solver", "reference_solver"]
+
+DROP_TEST = {
+    # The baseball and the Cross & Nathan (2006) bat of Sec. V of Cabo, Soler & Gonzalez
+    # (docs/physics.md), written out here rather than read from mcbat's presets.
+    "ball_mass": 0.145, "ball_radius": 0.036, "ball_inertia_factor": 0.4,
+    "bat_mass": 0.989, "bat_transverse_inertia": 0.046, "bat_axial_inertia": 4.39e-4,
+    "bat_radius": 0.03335, "cm_from_barrel_end": 0.265,
+    "drop_speed": 4.0, "from_barrel_end": (0.14, 0.16),
+}
+"""The drop test's bodies (kg, m, kg m^2) and setup (m/s; contact range from the barrel
+end, m)."""
+
+
+def reference_solver(b, spin_in, axial, e, mu, e_x, rtol=1e-9):
+    """Exit speed (m/s), scattering angle (deg) and outgoing spin (rad/s about the bat axis)
+    of drops with true impact parameters ``b`` (m), incoming spins ``spin_in`` (rad/s) and
+    contacts ``axial`` (m from the bat CM), each solved by the reference solver.
+
+    Returns
+    -------
+    ndarray, (rows, 3)
+    """
+    d = DROP_TEST
+    reach = d["ball_radius"] + d["bat_radius"]
+    out = np.empty((len(b), 3))
+    for i in range(len(b)):
+        # The ball's centre line, along -x at offset b from the axis, touches the barrel
+        # where the outward normal (cos a, sin a, 0) has sin a = b / (R + r).
+        angle = math.asin(b[i] / reach)
+        r = reference_impact(
+            d["ball_mass"], d["ball_radius"], d["ball_inertia_factor"], d["bat_mass"],
+            d["bat_transverse_inertia"], d["bat_axial_inertia"], axial[i], angle,
+            d["bat_radius"], 0.0, (-d["drop_speed"], 0.0, 0.0), (0.0, 0.0, spin_in[i]),
+            (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), mu, e, e_x, rtol=rtol, atol=1e-12 * rtol)
+        v, w = r["ball_v"], r["ball_w"]
+        out[i] = (math.sqrt(v @ v), math.degrees(math.atan2(v[1], v[0])), w[2])
+    return out
+
+
+def kernel_solver(b, spin_in, axial, e, mu, e_x):
+    """As :func:`reference_solver`, solved by the kernel (the studies' default accuracy,
+    agreeing with the reference to ~1e-9): the same tables thousands of times faster,
+    for validation runs of many tables (``benchmarks/fit_validation.py --crosscheck``
+    shows the two give the same tables)."""
+    from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+
+    d = DROP_TEST
+    n = len(b)
+    values = {"ball_mass": d["ball_mass"], "ball_radius": d["ball_radius"],
+              "ball_inertia_factor": d["ball_inertia_factor"], "bat_mass": d["bat_mass"],
+              "bat_transverse_inertia": d["bat_transverse_inertia"],
+              "bat_axial_inertia": d["bat_axial_inertia"], "axial": axial,
+              "angle": np.arcsin(np.asarray(b) / (d["ball_radius"] + d["bat_radius"])),
+              "bat_radius": d["bat_radius"], "bat_slope": 0.0, "ball_vx_in": -d["drop_speed"],
+              "ball_wz_in": spin_in, "mu": mu, "e": e, "e_x": e_x}
+    inputs = np.zeros((len(INPUT_FIELDS), n))
+    for name, value in values.items():
+        inputs[INPUT_FIELDS.index(name)] = value
+    out, status, end = allocate_outputs(n)
+    solve_batch(inputs, 8, 5e-9, 20000, out, status, end)  # the studies' default accuracy
+    if (status != 0).any():
+        raise RuntimeError(f"the kernel failed on {int((status != 0).sum())} drops")
+    o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
+    v = np.stack([o["ball_vx"], o["ball_vy"], o["ball_vz"]], axis=1)
+    return np.stack([np.linalg.norm(v, axis=1), np.degrees(np.arctan2(v[:, 1], v[:, 0])),
+                     o["ball_wz"]], axis=1)
+
+
+def drop_table(rows, seed, *, e=0.6, mu=0.18, e_x=0.0, impact_parameter=(-0.0254, 0.0254),
+               impact_parameter_err=0.005, spins=(79.0, 0.0, -72.0), speed_err=0.03,
+               angle_err=2.0, spin_err=(0.08, 2.0), edges=None, solver=reference_solver):
+    """A drop-test table of ``rows`` impacts.
+
+    Parameters
+    ----------
+    rows, seed : int
+        Number of rows and the seed of every random number.
+    e, mu, e_x : float
+        The truth: Stronge's ``e*``, the friction coefficient and the tangential
+        restitution.
+    impact_parameter : (float, float)
+        Range (m) of the true impact parameters, drawn uniformly.
+    edges : float, optional
+        If given, the true impact parameters are drawn only within ``edges`` (m) of the
+        ends of ``impact_parameter`` (half the rows at each end): tables at the edges of a
+        study's range.
+    impact_parameter_err : float
+        1-sigma error (m) of the measured impact parameter; 0: exact, no ``_err`` column.
+    spins : sequence of float
+        Nominal incoming spins (rad/s about the bat axis), cycled over the rows.
+    speed_err : float
+        Relative error of the exit speed.
+    angle_err : float
+        Error of the scattering angle (deg).
+    spin_err : (float, float)
+        Relative error of the outgoing spin and its floor (rad/s).
+    solver : callable
+        ``solver(b, spin_in, axial, e, mu, e_x)`` -> observables, (rows, 3):
+        :func:`reference_solver` by default. The random numbers do not depend on it, so two
+        solvers give the same table up to their difference.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The measurement table; ``attrs["truth"]`` holds the truth and the true impact
+        parameters.
+    """
+    d = DROP_TEST
+    rng = np.random.default_rng(seed)
+    b_true = rng.uniform(*impact_parameter, rows)
+    if edges is not None:
+        lo, hi = impact_parameter
+        near = rng.uniform(0.0, edges, rows)
+        b_true = np.where(np.arange(rows) % 2 == 0, lo + near, hi - near)
+    spin_in = np.resize(np.asarray(spins, float), rows)
+    axial = d["cm_from_barrel_end"] - rng.uniform(*d["from_barrel_end"], rows)
+    noise = rng.standard_normal((4, rows))
+    out = solver(b_true, spin_in, axial, e, mu, e_x)
+    speed_sd = speed_err * out[:, 0]
+    spin_sd = np.maximum(spin_err[0] * np.abs(out[:, 2]), spin_err[1])
+    table = pd.DataFrame({"impact_parameter": b_true})
+    if impact_parameter_err > 0:
+        table["impact_parameter"] = b_true + impact_parameter_err * noise[0]
+        table["impact_parameter_err"] = impact_parameter_err
+    table["spin_in"] = spin_in
+    table["exit_speed"] = out[:, 0] + speed_sd * noise[1]
+    table["exit_speed_err"] = speed_sd
+    table["scattering_angle"] = out[:, 1] + angle_err * noise[2]
+    table["scattering_angle_err"] = angle_err
+    table["spin_out"] = out[:, 2] + spin_sd * noise[3]
+    table["spin_out_err"] = spin_sd
+    table.attrs["truth"] = {"e": e, "mu": mu, "e_x": e_x, "impact_parameter": b_true,
+                            "axial": axial}
+    return table

@@ -1,0 +1,160 @@
+"""The fit on tables it did not simulate: a narrow likelihood valley in mu, measured inputs
+beyond the study's range, intervals that cannot be computed, tables in the wrong unit."""
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mcbat.errors import InputError
+from mcbat.stats import fit as fitting
+from mcbat.stats.fit import FitResult, fit
+from mcbat.stats.measurements import read_measurements, synthesize
+from mcbat.stats.models import WIDEN_STATISTIC, prior_range
+from mcbat.study import load_study
+from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
+
+ROOT = Path(__file__).resolve().parents[2]
+DROP = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
+GAME = load_study(ROOT / "studies" / "game_fastball.toml")
+CASE = Path(__file__).parent / "data" / "fit_mu_limit_case.csv"
+
+
+@pytest.fixture(scope="module")
+def case_fit():
+    return fit(DROP, read_measurements(CASE), ("e", "mu"), seed=0)
+
+
+def test_a_valley_narrower_than_the_grid_is_found_and_holds_the_truth(case_fit):
+    r = case_fit
+    for name, truth in (("e", 0.6), ("mu", 0.18)):
+        iv = r.intervals[name]
+        assert iv["status"] == "measured", (name, iv)
+        lo, hi = r.params[name] - iv["lower_error"], r.params[name] + iv["upper_error"]
+        assert iv["lower_error"] > 0 and iv["upper_error"] > 0
+        # 3 sigma: a measurement, not a 95 % limit at 0.218 that excludes the truth
+        assert lo - 2 * iv["lower_error"] <= truth <= hi + 2 * iv["upper_error"], (name, lo, hi)
+    assert 0.01 < r.p_value < 0.99
+
+
+def test_the_best_fit_is_below_the_plateau_where_every_drop_sticks(case_fit):
+    like = fitting.Likelihood(DROP, read_measurements(CASE), ("e", "mu"), seed=0)
+    best = np.array([case_fit.params["e"], case_fit.params["mu"]])
+    plateau = like(np.array([case_fit.params["e"], 2.0]))
+    assert like(best) < plateau - 10  # the old answer, mu = 2, is 29 units of -ln L worse
+
+
+def test_a_jumping_profile_is_reported_as_failed_not_as_a_zero_width_interval():
+    def jump(t):  # the rise of -ln L jumps from 0 to 5 as soon as t leaves the best fit
+        return 0.0 if t == 0.6 else 5.0
+    side = fitting._side(jump, 0.6, 1, 1.0, 0.002, False)
+    assert side.get("failed") and side["error"] is None
+    other = fitting._side(lambda t: 0.5 * ((t - 0.6) / 0.002) ** 2, 0.6, -1, 1e-3, 0.002,
+                          False)
+    assert other["error"] == pytest.approx(0.002, rel=1e-2)
+    entry = fitting._entry(other, side, lambda *a: None)
+    assert entry["status"] == "profile_failed" and entry["lower_error"] is None
+    r = FitResult(params={"e": 0.6}, stderr={"e": 0.002}, chi2=1.0, dof=1, p_value=0.3,
+                  neg_log_likelihood=0.0, intervals={"e": entry})
+    assert "could not be computed" in r.lines()[0]
+    assert json.loads(json.dumps(r.to_dict()))["params"]["e"]["status"] == "profile_failed"
+
+
+def test_the_prior_range_stays_the_studys_when_the_data_fit_it():
+    rng = np.random.default_rng(5)
+    sigma = np.full(3000, 0.005)
+    inside = rng.uniform(-0.0254, 0.0254, 3000) + sigma * rng.standard_normal(3000)
+    (lo, hi), stat = prior_range(inside, sigma, (-0.0254, 0.0254), (-0.069, 0.069))
+    assert stat < WIDEN_STATISTIC
+    wide = rng.uniform(-0.04, 0.04, 60) + sigma[:60] * rng.standard_normal(60)
+    (lo, hi), stat = prior_range(wide, sigma[:60], (-0.0254, 0.0254), (-0.069, 0.069))
+    assert stat > WIDEN_STATISTIC
+    assert -0.05 < lo < -0.033 and 0.033 < hi < 0.05  # around the true +-4 cm
+
+
+@pytest.fixture(scope="module")
+def wide_table():
+    return drop_table(60, 1004, impact_parameter=(-0.04, 0.04), solver=kernel_solver)
+
+
+def test_inputs_beyond_the_studys_range_widen_the_prior_and_say_so(wide_table, capsys):
+    r = fit(DROP, wide_table, ("e", "mu"), seed=1, intervals="curvature")
+    prior = r.priors["impact_parameter"]
+    assert prior["widened"] and prior["range"][0] < -0.03 and prior["range"][1] > 0.03
+    assert prior["study_range"] == pytest.approx([-0.0254, 0.0254])
+    assert any("beyond the study's range" in w for w in r.warnings)
+    assert abs(r.params["mu"] - 0.18) < 4 * r.stderr["mu"]
+
+
+def test_inputs_beyond_the_studys_range_are_refused_when_asked(wide_table):
+    with pytest.raises(InputError) as err:
+        fit(DROP, wide_table, ("e", "mu"), seed=1, intervals="curvature",
+            input_prior="study")
+    text = str(err.value)
+    assert err.value.field == "impact_parameter"
+    assert "rows" in text and "-0.0254..0.0254" in text
+    assert "contact.impact_parameter" in text and "--input-prior widen" in text
+
+
+def test_the_cli_refuses_with_one_line_and_exit_2(tmp_path, wide_table):
+    path = tmp_path / "wide.csv"
+    wide_table.to_csv(path, index=False)
+    proc = subprocess.run([sys.executable, "-m", "mcbat", "fit", "--study",
+                           str(ROOT / "studies" / "cross_nathan_2006.toml"), "--data",
+                           str(path), "--input-prior", "study", "--no-compare"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "impact_parameter" in proc.stderr
+
+
+def test_reference_and_kernel_make_the_same_table():
+    ref = drop_table(4, 7, solver=reference_solver)
+    ker = drop_table(4, 7, solver=kernel_solver)
+    for col in ("exit_speed", "scattering_angle", "spin_out"):
+        assert np.max(np.abs(ref[col] - ker[col]) / ref[f"{col}_err"]) < 1e-5
+
+
+def _game_table(rows, columns):
+    table = synthesize(GAME, rows, seed=11, e=0.5, e_x=0.3)
+    table = table[[c for c in table.columns if c.split("_err")[0] in columns]].copy()
+    return table
+
+
+@pytest.mark.parametrize("columns", [("launch_speed", "launch_angle"),
+                                     ("launch_speed", "launch_angle", "pitch_speed",
+                                      "bat_speed"),
+                                     ("launch_speed", "launch_angle", "spray_angle",
+                                      "spin_rate", "pitch_speed", "bat_speed",
+                                      "attack_angle", "undercut")])
+def test_launch_speeds_in_metres_per_second_are_refused_whatever_the_table_holds(columns):
+    table = _game_table(60, columns)
+    table["launch_speed"] *= 0.44704
+    if "launch_speed_err" in table:
+        table["launch_speed_err"] *= 0.44704
+    with pytest.raises(InputError) as err:
+        fit(GAME, table, ("e",), seed=2, intervals="curvature")
+    assert err.value.field == "launch_speed" and "m/s" in str(err.value)
+
+
+def test_an_implausibly_good_fit_says_so():
+    table = drop_table(60, 21, impact_parameter_err=0.0, solver=kernel_solver)
+    plain = fit(DROP, table, ("e", "mu"), seed=2, intervals="curvature")
+    assert not any("implausibly good" in w for w in plain.warnings)
+    for col in ("exit_speed", "scattering_angle", "spin_out"):
+        table[f"{col}_err"] *= 3  # stated errors three times the real ones
+    r = fit(DROP, table, ("e", "mu"), seed=2, intervals="curvature")
+    assert r.p_value > 0.995
+    assert any("implausibly good" in w for w in r.warnings)
+
+
+def test_e_far_from_the_studys_value_is_reported():
+    table = _game_table(40, ("launch_speed", "launch_angle"))
+    table["launch_speed"] *= 0.75
+    r = fit(GAME, table, ("e",), seed=2, intervals="curvature")
+    assert r.params["e"] < 0.33
+    assert any("far from the study's value" in w for w in r.warnings)
+    assert math.isfinite(r.chi2)
