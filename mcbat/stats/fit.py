@@ -668,14 +668,16 @@ def _warnings(like, result):
         if name != "e":
             continue
         search_lo, search_hi = like.search[name]
-        preset = like.model.study_values.get(name)
+        preset = getattr(like.model, "study_values", {}).get(name)
         outside = not search_lo <= value <= search_hi
         far = preset is not None and abs(value - preset) > PRESET_DEVIATION * preset
         if outside or far:
-            out.append(f"e = {value:.4g} is far from the study's value {preset:.4g}"
-                       + (f" and outside the range the fit searched ({search_lo:g}.."
-                          f"{search_hi:g})" if outside else "")
-                       + ": check the units of the observables (docs/fitting.md)")
+            where = [f"far from the study's value {preset:.4g}"] if far else []
+            if outside:
+                where.append(f"outside the range the fit searched ({search_lo:g}.."
+                             f"{search_hi:g})")
+            out.append(f"e = {value:.4g} is {' and '.join(where)}: check the units of the "
+                       f"observables (docs/fitting.md)")
     if math.isfinite(result.p_value) and result.p_value > P_VALUE_TOO_GOOD:
         out.append(f"the fit is implausibly good (p-value {result.p_value:.4f}): the stated "
                    f"errors are larger than the scatter of the data, or a column is in "
