@@ -107,8 +107,8 @@ def read(source, *, name=None):
     source : str, os.PathLike or pandas.DataFrame
         A Savant CSV export (``.csv`` or ``.csv.gz``; any season 2015-2025, the columns of
         its year), a Parquet file holding such an export or a table :func:`write` wrote,
-        or a DataFrame (pybaseball's ``statcast()`` result, or a raw export read by
-        pandas).
+        or a DataFrame (pybaseball's ``statcast()`` result, a raw export read by pandas, or
+        a tidy table, returned as it is).
     name : str, optional
         How errors and the report name the input (default: the path, or
         ``"<DataFrame>"``).
@@ -134,6 +134,12 @@ def read(source, *, name=None):
 
     if isinstance(source, pd.DataFrame):
         label = name or "<DataFrame>"
+        if set(COLUMNS) <= set(map(str, source.columns)) and "vy0" not in source.columns:
+            tidy = source[list(COLUMNS)].copy()  # already a tidy table: as it is
+            tidy.attrs["units"] = dict(UNITS)
+            tidy.attrs["statcast"] = dict(source.attrs.get("statcast", {"source": label,
+                                                                        "rows": len(tidy)}))
+            return tidy
         raw = source.copy()
         raw.columns = [str(c) for c in raw.columns]
         lines = None

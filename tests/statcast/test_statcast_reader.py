@@ -246,3 +246,10 @@ def test_the_attack_direction_check_sees_the_sign(tmp_path):
     assert good["rows"] == int((balls_in_play(df) & df.spray_angle.notna()).sum())
     assert good["correlation"] > 0.5 and bad["correlation"] < -0.5
     assert attack_direction_check(df) is None  # no bat tracking in 2020
+
+
+def test_a_tidy_table_passes_through():
+    df = read(FILE_2019)
+    again = read(df)
+    pd.testing.assert_frame_equal(again, df)
+    assert again.attrs["statcast"] == df.attrs["statcast"]
