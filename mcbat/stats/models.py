@@ -95,6 +95,7 @@ UNITS_HINT = {
     "spin_rate": "wrong unit? spin_rate is in rpm (rad/s would be 9.55 times smaller)",
     "backspin": "wrong unit or sign? backspin is in rpm, positive for backspin",
     "sidespin": "wrong unit or sign? sidespin is in rpm (docs/batting.md)",
+    "hit_distance_sc": "wrong unit? hit_distance_sc is in ft (m would be 3.28 times smaller)",
 }
 """What to check when a column lies far outside anything the model gives."""
 
@@ -107,7 +108,13 @@ def table_columns(game: bool) -> dict:
 def draw_model(study, table, draws, seed, fixed=None):
     """The draw model of ``study`` (:class:`GameModel` or :class:`BatFrameModel`);
     ``draws`` None: the model's :attr:`DEFAULT_DRAWS`."""
-    cls = GameModel if getattr(study, "kind", None) == "game" else BatFrameModel
+    kind = getattr(study, "kind", None)
+    if kind == "flight":
+        from mcbat.stats.flight_model import FlightModel  # it builds on this module
+
+        cls = FlightModel
+    else:
+        cls = GameModel if kind == "game" else BatFrameModel
     return cls(study, table, cls.DEFAULT_DRAWS if draws is None else draws, seed, fixed)
 
 

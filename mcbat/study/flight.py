@@ -4,6 +4,8 @@ a study's ``[flight]`` section or a ``mcbat flight`` case (the same keys, units 
 Keys (all optional)::
 
     model = "nathan"            # or "sawicki2003", "constant" (then drag = C_D, lift = C_L)
+    preset = "NAME"             # instead of model and scales: a calibrated flight
+                                # (FLIGHT_PRESETS)
     drag_scale = 1              # nathan, sawicki2003: C_D0 = 0.3008 drag_scale
     lift_scale = 1              # nathan, sawicki2003: C_L times lift_scale
     landing_height = 0          # m (or {value, unit}): where the descending ball stops
@@ -23,8 +25,8 @@ Defaults are the calculator's standard conditions (70 degF, 29.92 inHg, 50 %, se
 
 from __future__ import annotations
 
-import math
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,7 +47,7 @@ from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, number, parse
 
-__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "SCALE_RANGES",
+__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FLIGHT_PRESETS", "SCALE_RANGES",
            "FlightSettings", "fly_launches", "launch_vectors", "parse_flight"]
 
 #: The spin decay time of each model when none is given (s; None: no decay).
@@ -78,6 +80,7 @@ class FlightSettings:
     drag_scale: float = 1.0
     lift_scale: float = 1.0
     landing_height: float = 0.0
+    preset: str | None = None
     start: tuple = DEFAULT_START
     wind: tuple = (0.0, 0.0, 0.0)
     scheme: str = "adaptive"
@@ -111,6 +114,7 @@ class FlightSettings:
                 "model": self.model, "spin_decay_time_s": self.spin_decay_time,
                 "drag": self.drag if self.model == "constant" else None,
                 "lift": self.lift if self.model == "constant" else None,
+                "preset": self.preset,
                 "drag_scale": self.drag_scale, "lift_scale": self.lift_scale,
                 "landing_height_m": self.landing_height,
                 "start_m": list(self.start), "wind_m_s": list(self.wind),
@@ -148,10 +152,60 @@ def _choice(spec, field, options):
 
 
 #: The keys of a flight section (and of the settings part of a ``mcbat flight`` case).
-FLIGHT_KEYS = ("atmosphere", "model", "spin_decay_time", "drag", "lift", "drag_scale",
-               "lift_scale", "landing_height", "position", "wind", "scheme", "tolerance")
+FLIGHT_KEYS = ("atmosphere", "model", "preset", "spin_decay_time", "drag", "lift",
+               "drag_scale", "lift_scale", "landing_height", "position", "wind", "scheme",
+               "tolerance")
 #: Allowed ranges of the calibration scales.
 SCALE_RANGES = {"drag_scale": (0.2, 3.0), "lift_scale": (0.0, 3.0)}
+#: Calibrated flights (``preset = NAME``): Nathan's model with its drag and lift scaled to
+#: measured Statcast distances by ``mcbat fit --flight`` (``docs/flight.md``): the fitted
+#: values with their 68 % profile-likelihood errors, and the data they came from.
+FLIGHT_PRESETS = {
+    "statcast_2019_2020": {
+        "model": "nathan",
+        "drag_scale": {"value": 0.9692, "lower_error": 0.0143, "upper_error": 0.0143},
+        "lift_scale": {"value": 1.0460, "lower_error": 0.0437, "upper_error": 0.0433},
+        "sigma_ft": 14.9,
+        "balls": 129,
+        "spin_model": "nathan",
+        "ball": "baseball",
+        "data": "the outfield catches and home runs of data/statcast_2020-09-03.csv (eight "
+                "games of 2020-09-03) and data/statcast_2019_darvish.csv (five games of "
+                "July 2019), at 70 degF, 29.92 inHg, 50 % RH and each park's elevation; "
+                "mcbat fit --flight",
+    },
+}
+
+
+def _aerodynamics(table, key) -> dict:
+    """The model's keys of a flight section: ``model``, ``drag``, ``lift``, the scales, or
+    a ``preset`` that sets them."""
+    if "preset" in table:
+        name = _choice(table["preset"], key("preset"), tuple(FLIGHT_PRESETS))
+        for other in ("model", "drag", "lift", *SCALE_RANGES):
+            if other in table:
+                raise InputError(key(other), f"not with preset = {name!r} (the preset sets "
+                                             f"the model and its scales)")
+        preset = FLIGHT_PRESETS[name]
+        return {"model": preset["model"], "preset": name,
+                **{k: preset[k]["value"] for k in SCALE_RANGES}}
+    out = {}
+    model = _choice(table.get("model", "nathan"), key("model"), tuple(MODELS))
+    out["model"] = model
+    for name in ("drag", "lift"):
+        if model == "constant":
+            if name not in table:
+                raise InputError(key(name), "required with model = \"constant\"")
+            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, 0.0, 2.0)
+        elif name in table:
+            raise InputError(key(name), "only with model = \"constant\"")
+    for name, (low, high) in SCALE_RANGES.items():
+        if name in table:
+            if model == "constant":
+                raise InputError(key(name), "not with model = \"constant\" (give drag and "
+                                            "lift)")
+            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, low, high)
+    return out
 
 
 def parse_flight(table, field="flight") -> FlightSettings:
@@ -174,21 +228,8 @@ def parse_flight(table, field="flight") -> FlightSettings:
         if name in atmosphere:
             out[name] = _fixed(atmosphere[name], key("atmosphere", name), quantity, low,
                                high)
-    model = _choice(table.get("model", "nathan"), key("model"), tuple(MODELS))
-    out["model"] = model
-    for name in ("drag", "lift"):
-        if model == "constant":
-            if name not in table:
-                raise InputError(key(name), "required with model = \"constant\"")
-            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, 0.0, 2.0)
-        elif name in table:
-            raise InputError(key(name), "only with model = \"constant\"")
-    for name, (low, high) in SCALE_RANGES.items():
-        if name in table:
-            if model == "constant":
-                raise InputError(key(name), "not with model = \"constant\" (give drag and "
-                                            "lift)")
-            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, low, high)
+    out.update(_aerodynamics(table, key))
+    model = out["model"]
     if "landing_height" in table:
         out["landing_height"] = _fixed(table["landing_height"], key("landing_height"),
                                        u.LENGTH, 0.0, 10.0)

@@ -1,0 +1,2 @@
+"""Measured Statcast distances against the flight model: ``mcbat reproduce statcast``
+(``docs/flight.md``)."""
