@@ -16,9 +16,11 @@ rebuild its velocity exactly:
 - ``V = atan2(vz_f, hypot(vx_f, vy_f))``: the elevation of the velocity, < 0 descending;
 - ``H = atan2(vx_f, -vy_f)``: > 0 moving towards ``+x``.
 
-Savant's published approach angles use ``atan(vz_f / vy_f)`` for the vertical one (the
-angle in the y-z plane, not the elevation of the full velocity): the two differ by the
-factor ``cos H`` inside the tangent, under 0.01 deg for ``|H| < 5 deg``.
+The vertical approach angle as the public literature writes it, ``atan(vz_f / vy_f)``
+(sign set so that descending is negative), is the angle in the y-z plane, not the
+elevation of the full velocity: ``tan`` of one is ``tan`` of the other over ``cos H``, a
+difference of about ``sin V cos V H^2 / 2``: under 0.05 deg for ``|H| < 5 deg`` and
+``|V| < 12 deg`` (tested on the shipped pitches).
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ an optional column the season lacks           a column of NaN, listed in
 (``spin_axis`` before 2020, bat tracking       ``attrs["statcast"]["missing_columns"]``
 before 2024, ...)
 a ``home_team`` the park table does not know  NaN elevation, counted in
-                                              ``attrs["statcast"]["elevation_unknown"]``
+(or a park without a sourced elevation)       ``attrs["statcast"]["elevation_missing"]``
 a column named twice (Savant writes           the first one is used (the copies hold the
 ``pitcher`` and ``fielder_2`` twice)          same values in Savant's exports)
 ============================================  =============================================
@@ -119,8 +119,9 @@ def read(source, *, name=None):
         each column to its unit; ``df.attrs["statcast"]`` is the reader's report:
         ``source``, ``rows``, ``missing_columns`` (optional columns the input lacks, NaN
         here), ``non_numeric`` (per column: cells that were not numbers, set to NaN, and
-        the first one's line and value), ``elevation_unknown`` (rows whose park is not in
-        the table, per ``home_team``), ``duplicate_columns``.
+        the first one's line and value), ``elevation_missing`` (rows without a park
+        elevation, per ``home_team``), ``unknown_home_teams`` (codes the park table does not
+        know, with their rows), ``duplicate_columns``.
 
     Raises
     ------
@@ -198,6 +199,7 @@ def _read_csv(path, label):
         if not header or not any(cell.strip() for cell in header):
             raise InputError(None, "empty file: no header line (not a Savant export)",
                              label)
+        _check_required([cell.strip() for cell in header], label)
         width = len(header)
         for row in reader:
             if len(row) != width and row:
@@ -226,15 +228,12 @@ def _read_csv(path, label):
 def _tidy(raw, label, lines, duplicates):
     import pandas as pd
 
-    missing = [c for c in REQUIRED if c not in raw.columns]
-    if missing:
-        raise InputError(None, f"not a Statcast (Baseball Savant) export: missing "
-                         f"column{'s' if len(missing) > 1 else ''} {', '.join(missing)}",
-                         label)
+    _check_required(raw.columns, label)
     n = len(raw)
     report = {"source": label, "rows": n,
               "missing_columns": [c for c in OPTIONAL if c not in raw.columns],
-              "non_numeric": {}, "elevation_unknown": {}, "duplicate_columns": duplicates}
+              "non_numeric": {}, "elevation_missing": {}, "unknown_home_teams": {},
+              "duplicate_columns": duplicates}
     num = {}
     for column in _NUMERIC:
         if column not in raw.columns:
@@ -249,11 +248,12 @@ def _tidy(raw, label, lines, duplicates):
         num["vx0"], num["vy0"], num["vz0"], num["ax"], num["ay"], num["az"])
     elevation = parks.elevation(text["home_team"], num["game_year"])
     known = {p["home_team"] for p in parks.parks()}
-    for team in text["home_team"]:
-        if not isinstance(team, str) or team not in known:
-            key = team if isinstance(team, str) else "(missing)"
-            report["elevation_unknown"][key] = report["elevation_unknown"].get(key, 0) + 1
-    report["elevation_missing"] = int(np.isnan(elevation).sum())
+    for team, value in zip(text["home_team"], elevation):
+        key = team if isinstance(team, str) else "(missing)"
+        if np.isnan(value):
+            report["elevation_missing"][key] = report["elevation_missing"].get(key, 0) + 1
+        if key not in known:
+            report["unknown_home_teams"][key] = report["unknown_home_teams"].get(key, 0) + 1
 
     columns = {
         **{c: _integers(num[c]) for c in _IDENTIFIERS},
@@ -296,6 +296,21 @@ def _tidy(raw, label, lines, duplicates):
     return df
 
 
+def _check_required(columns, label):
+    """:class:`InputError` naming the required columns ``columns`` lacks (the first ten
+    and their count when most are missing: the file is something else altogether)."""
+    missing = [c for c in REQUIRED if c not in set(columns)]
+    if not missing:
+        return
+    if len(missing) > 10:
+        named = (f"{len(missing)} of its {len(REQUIRED)} required columns "
+                 f"({', '.join(missing[:10])}, ...)")
+    else:
+        named = f"column{'s' if len(missing) > 1 else ''} {', '.join(missing)}"
+    raise InputError(None, f"not a Statcast (Baseball Savant) pitch-level export: missing "
+                     f"{named}", label)
+
+
 def _numbers(values, lines):
     """A column as float64: missing markers NaN, other non-numbers NaN and counted.
 
@@ -307,8 +322,8 @@ def _numbers(values, lines):
     series = values
     converted = pd.to_numeric(series, errors="coerce")
     out = np.array(converted.to_numpy(dtype=float, na_value=np.nan))
-    if series.dtype == object:
-        given = series.notna().to_numpy()
+    if not (pd.api.types.is_numeric_dtype(series) or pd.api.types.is_bool_dtype(series)):
+        given = np.array(series.notna().to_numpy(), dtype=bool)
         if given.any():
             stripped = series[given].astype(str).str.strip()
             given[given] = ~stripped.isin(_MISSING_MARKERS).to_numpy()
@@ -413,8 +428,8 @@ def summarize(df):
     ``with_launch`` (balls in play with launch speed and angle), ``plate`` (median and
     standard deviation of the plate speed and approach angles per pitch type),
     ``attack_direction_check`` (see ``docs/statcast.md``), ``units`` and the reader's
-    report (``missing_columns``, ``non_numeric``, ``elevation_unknown``,
-    ``elevation_missing``, ``duplicate_columns``).
+    report (``missing_columns``, ``non_numeric``, ``elevation_missing``,
+    ``unknown_home_teams``, ``duplicate_columns``).
     """
     seasons = sorted({int(y) for y in df["game_year"].dropna()})
     types = df["pitch_type"].fillna("(none)").value_counts()
@@ -443,8 +458,8 @@ def summarize(df):
         "attack_direction_check": attack_direction_check(df),
         "units": dict(UNITS),
     }
-    for key in ("source", "missing_columns", "non_numeric", "elevation_unknown",
-                "elevation_missing", "duplicate_columns"):
+    for key in ("source", "missing_columns", "non_numeric", "elevation_missing",
+                "unknown_home_teams", "duplicate_columns"):
         if key in report:
             out[key] = report[key]
     return out
