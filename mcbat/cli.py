@@ -340,8 +340,9 @@ def _fit_flight(args) -> int:
                              "ball of --data once)")
     if args.bootstrap:
         raise InputError("--bootstrap", "not with --flight")
-    with _flags("free", "intervals"):
-        result = calibrate_file(args.data, free=args.free, intervals=args.intervals)
+    with _flags("free", "intervals", "spin_model"):
+        result = calibrate_file(args.data, free=args.free, intervals=args.intervals,
+                                spin_model=args.spin_model or "nathan")
     if args.json:
         json.dump(_json_value(result.to_dict()), sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
@@ -361,6 +362,8 @@ def cmd_fit(args) -> int:
 
     if args.flight:
         return _fit_flight(args)
+    if args.spin_model is not None:
+        raise InputError("--spin-model", "applies to --flight only")
     if args.study is None:
         raise InputError("--study", "required (or --flight: the flight model's drag and "
                          "lift against measured distances)")
@@ -662,6 +665,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="fit the flight model's drag_scale and lift_scale to the measured "
                           "distances of --data's outfield catches and home runs "
                           "(docs/flight.md)")
+    fit.add_argument("--spin-model", default=None, metavar="NAME",
+                     help="with --flight: the spin the balls are flown with, nathan (his "
+                          "average model; default) or inferred (mcbat.inference)")
     fit.add_argument("--free", default=None,
                      help="comma-separated (default: e,mu; with --flight "
                           "drag_scale,lift_scale)")

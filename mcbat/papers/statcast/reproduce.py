@@ -70,8 +70,21 @@ def _nathan_spin(balls):
                                balls["handedness"])
 
 
-#: Spin models: name -> function of the balls' frame giving (backspin, sidespin) in rpm.
-SPIN_MODELS = {"nathan": _nathan_spin}
+def _inferred_spin(balls):
+    """The spin of the contact that reproduces each ball's launch with its measured pitch
+    through the game model (:func:`mcbat.inference.infer_spin`, its default assumptions);
+    NaN where the inference did not converge."""
+    from mcbat.inference import infer_spin
+
+    out = infer_spin(balls)
+    ok = (out["inference_status"] == "converged").to_numpy(bool)
+    return (np.where(ok, out["backspin"].to_numpy(float), np.nan),
+            np.where(ok, out["sidespin"].to_numpy(float), np.nan))
+
+
+#: Spin models: name -> function of the balls' frame giving (backspin, sidespin) in rpm
+#: (NaN: no spin for that ball, which is then not compared).
+SPIN_MODELS = {"nathan": _nathan_spin, "inferred": _inferred_spin}
 
 UNITS = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
          "hit_distance_sc": "ft", "elevation": "ft", "compare_height": "ft",
@@ -107,7 +120,9 @@ def compare_file(table: pd.DataFrame, source=None) -> pd.DataFrame:
                 balls["spray_angle"].to_numpy() * _DEG, backspin * _RPM, sidespin * _RPM,
                 elevation=balls["elevation"].to_numpy() * _FT,
                 landing_height=balls["compare_height"].to_numpy() * _FT)
-            predicted = np.where((status == 0) & flown, out["hit_distance"] / _FT, np.nan)
+            spun = np.isfinite(backspin) & np.isfinite(sidespin)
+            predicted = np.where((status == 0) & flown & spun, out["hit_distance"] / _FT,
+                                 np.nan)
             part = balls.copy()
             part["spin_model"] = spin_name
             part["flight"] = flight_name
@@ -156,6 +171,8 @@ def summarise(long: pd.DataFrame) -> dict:
             "fly_ball_and_home_run_20_to_50_deg": residual_stats(window["residual"]),
             "not_risen_to_catch_height": int(((part["flight_status"] == 3)
                                               & part["comparison"].isin(COMPARED)).sum()),
+            "without_spin": int((~np.isfinite(part["backspin"])
+                                 & part["comparison"].isin(COMPARED)).sum()),
         }
     return out
 
