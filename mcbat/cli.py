@@ -564,7 +564,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "summary, all into one results directory. sawicki2003: the optimal "
                     "swing against a fastball and a curveball (undercut x attack-angle "
                     "scan with Monte Carlo scatter, flight to the landing point, rigid and "
-                    "compliant impact models) into DIR/sawicki2003.")
+                    "compliant impact models) into DIR/sawicki2003. statcast: the flight "
+                    "model's distances against Statcast's hit_distance_sc for a Savant "
+                    "export's fly balls, line drives and home runs (--data; default the "
+                    "samples in data/) into DIR (default results/statcast).")
     rep.add_argument("paper", nargs="?", default="cabo2012",
                      choices=("cabo2012", "sawicki2003", "statcast"),
                      help="which reproduction (default: cabo2012); statcast: the flight "
