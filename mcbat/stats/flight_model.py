@@ -24,7 +24,7 @@ import numpy as np
 
 from mcbat.bodies import BALL_PRESETS
 from mcbat.errors import InputError
-from mcbat.stats.models import _DrawModel
+from mcbat.stats.models import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
 
 __all__ = ["FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
@@ -58,7 +58,7 @@ class FlightFitSetup:
     inputs: dict = dataclasses.field(default_factory=dict)
 
 
-class FlightModel(_DrawModel):
+class FlightModel(DrawModel):
     """The flight kernel on a table of batted balls with measured distances (module doc)."""
 
     COLUMNS = FLIGHT_TABLE_COLUMNS

@@ -43,7 +43,7 @@ from mcbat.core.swing import (
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 
-__all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "GAME_TABLE_COLUMNS", "GAME_WRITTEN",
+__all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "DrawModel", "GAME_TABLE_COLUMNS", "GAME_WRITTEN",
            "GameModel", "OUTLIER_SIGMA", "draw_model", "solve_study", "table_columns"]
 
 OUTLIER_SIGMA = 8.0
@@ -205,6 +205,11 @@ class _DrawModel:
         """Write ``{parameter: value}`` into every draw."""
         for name, value in values.items():
             self.inputs[self.PARAMETERS[name]] = value
+
+
+DrawModel = _DrawModel
+"""The base of a draw model, for models defined outside this module
+(:class:`mcbat.stats.flight_model.FlightModel`)."""
 
 
 class BatFrameModel(_DrawModel):

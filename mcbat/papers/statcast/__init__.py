@@ -1,2 +1,4 @@
 """Measured Statcast distances against the flight model: ``mcbat reproduce statcast``
-(``docs/flight.md``)."""
+and ``mcbat fit --flight`` (``docs/flight.md``)."""
+
+__all__ = []
