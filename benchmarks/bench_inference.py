@@ -70,20 +70,28 @@ def main():
         path = Path(tmp) / "balls.parquet"
         statcast.write(tidy, path)
         infer_spin(statcast.read(path).head(64))  # compile (or load the cache)
-        rates, out = [], None
+        rates, cpu_rates, out = [], [], None
         for _ in range(args.runs):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             df = statcast.read(path)
             out = infer_spin(df)
             rates.append(len(df) / (time.perf_counter() - t0))
+            cpu_rates.append(len(df) / (time.process_time() - c0))
     it = out["inference_iterations"]
     mode = "bat speed measured" if args.bat_speed else "bat speed inferred"
     print(f"balls: {len(tidy)} ({mode}), threads: {numba.get_num_threads()}")
     print(f"status: {out.attrs['status_counts']}")
     print(f"Newton iterations: median {it.median():.0f}, mean {it.mean():.2f}, "
-          f"max {it.max()}")
+          f"max {it.max()}; game-kernel calls per ball: mean "
+          f"{out['kernel_evaluations'].mean():.2f}")
     print("read + infer, balls/s per run: " + ", ".join(f"{r:,.0f}" for r in rates))
     print(f"median: {statistics.median(rates):,.0f} balls/s")
+    # On a shared machine the wall-clock rate depends on the other jobs; the CPU time the
+    # process used does not (much): balls per CPU-second, and that times the threads.
+    cpu = statistics.median(cpu_rates)
+    print(f"CPU time: median {cpu:,.0f} balls per CPU-second "
+          f"(x {numba.get_num_threads()} threads = {cpu * numba.get_num_threads():,.0f} "
+          "balls/s on as many idle cores)")
 
 
 if __name__ == "__main__":

@@ -82,7 +82,7 @@ OUTPUT_UNITS = {
     "inference_status": "", "inferred": "", "backspin": "rpm", "sidespin": "rpm",
     "gyrospin": "rpm", "spin_rate": "rpm", "undercut": "m", "bat_speed": "mph",
     "from_barrel_end": "m", "attack_direction": "deg", "attack_angle": "deg",
-    "collision_efficiency": "1", "inference_iterations": "",
+    "collision_efficiency": "1", "inference_iterations": "", "kernel_evaluations": "",
 }
 """Columns of :func:`infer_spin`'s result and their units."""
 
@@ -297,7 +297,8 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
         (``"bat_speed"`` or ``"from_barrel_end"``), the batted ball's ``backspin``,
         ``sidespin``, ``gyrospin``, ``spin_rate`` (rpm, ``docs/batting.md``), the contact
         (``undercut``, ``bat_speed``, ``from_barrel_end``, ``attack_direction``,
-        ``attack_angle``), ``collision_efficiency`` and ``inference_iterations``. NaN
+        ``attack_angle``), ``collision_efficiency``, ``inference_iterations`` and
+        ``kernel_evaluations`` (game-kernel calls, the cost). NaN
         wherever the status is not ``converged``. ``df.attrs``: ``units``,
         ``assumptions``, ``status_counts``.
 
@@ -367,8 +368,10 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                             residual, status, iterations, evaluations)
     measured = cols["attack_angle"] if use_attack_angle else np.full(n, np.nan)
     attack = np.where(np.isfinite(measured), measured, math.degrees(assumptions.attack_angle))
-    return _result(index, solution, status, iterations, mode, missing_rows, attack,
-                   assumptions)
+    out = _result(index, solution, status, iterations, mode, missing_rows, attack,
+                  assumptions)
+    out["kernel_evaluations"] = np.where(missing_rows, 0, evaluations)
+    return out
 
 
 def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,

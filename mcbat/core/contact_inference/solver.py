@@ -461,6 +461,26 @@ def _keep(scratch, g, best):
 
 
 @njit
+def _broyden(jac, x, xt, r, rt, col_scale):
+    """Broyden's rank-one update of ``jac`` for the step ``xt - x`` (in the scaled
+    unknowns, so that no unknown's unit dominates the step's norm)."""
+    s = np.empty(3)
+    size = 0.0
+    for k in range(3):
+        s[k] = (xt[k] - x[k]) / col_scale[k]
+        size += s[k] * s[k]
+    if not size > 0.0:
+        return
+    for i in range(3):
+        predicted = 0.0
+        for k in range(3):
+            predicted += jac[i, k] * col_scale[k] * s[k]
+        miss = (rt[i] - r[i]) - predicted
+        for k in range(3):
+            jac[i, k] += miss * s[k] / (size * col_scale[k])
+
+
+@njit
 def _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings, observed, scratch,
             best):
     """The damped Newton iteration from ``x`` (whose residual is ``r``). Returns
@@ -472,27 +492,44 @@ def _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings, observed
     col_scale[1] = 30.0 if mode == INFER_BAT_SPEED else 0.1
     merit = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
     it, nev = 0, 0
+    fresh = False  # whether jac is a finite-difference Jacobian at x (else Broyden's)
     while True:
         if max(abs(r[0]), abs(r[1]), abs(r[2])) <= settings.tolerance:
             return CONVERGED, it, nev
         if it >= settings.max_iterations:
             break
         it += 1
-        nev += 3
-        if not (_jacobian(x, r, mode, g, table, loc_z, loc_f, settings, observed, scratch,
-                          upper, jac, xt, rt) and _solve3(jac, r, dx, col_scale)):
-            return NO_SOLUTION, it, nev
-        accepted, moved, merit_t, n_ls = _line_search(x, dx, merit, mode, g, table, loc_z,
-                                                      loc_f, settings, observed, scratch,
-                                                      lower, upper, xt, rt)
-        nev += n_ls
+        if not fresh and it == 1:
+            nev += 3
+            if not _jacobian(x, r, mode, g, table, loc_z, loc_f, settings, observed,
+                             scratch, upper, jac, xt, rt):
+                return NO_SOLUTION, it, nev
+            fresh = True
+        if not _solve3(jac, r, dx, col_scale):
+            accepted, moved = False, True
+        else:
+            accepted, moved, merit_t, n_ls = _line_search(x, dx, merit, mode, g, table,
+                                                          loc_z, loc_f, settings, observed,
+                                                          scratch, lower, upper, xt, rt)
+            nev += n_ls
+            # a Broyden step must at least halve the residual, or the Jacobian is redone
+            accepted = accepted and (fresh or merit_t < 0.25 * merit)
         if not accepted:
+            if not fresh:
+                nev += 3
+                if not _jacobian(x, r, mode, g, table, loc_z, loc_f, settings, observed,
+                                 scratch, upper, jac, xt, rt):
+                    return NO_SOLUTION, it, nev
+                fresh = True
+                continue
             # no decrease along the step: pressed against a bound, or at a minimum of
             # the residual that is not a root (no contact inside the bounds gives the
             # ball); or stalled at the kernel's own resolution just above the tolerance
             if not moved or max(abs(r[0]), abs(r[1]), abs(r[2])) > _STALL:
                 return NO_SOLUTION, it, nev
             break
+        _broyden(jac, x, xt, r, rt, col_scale)
+        fresh = False
         for i in range(3):
             x[i] = xt[i]
             r[i] = rt[i]
