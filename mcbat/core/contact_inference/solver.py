@@ -138,6 +138,7 @@ _GRID = 64
 _DEFLECTION_PER_THETA = 1.3
 _OBLIQUE = 0.25
 _BAT_SPEED_GUESS = 32.0
+_MAX_TURN = 0.2  # rad
 # A launch speed above the estimate's maximum along the bat is started this fraction of
 # the way down from the maximum towards the barrel end's value.
 _BELOW_PEAK = 0.1
@@ -250,8 +251,9 @@ def _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper):
     direction = s + math.asin(min(max(ratio, -1.0), 1.0))
     cl = math.cos(observed[1])
     e = (cl * math.sin(observed[2]), cl * math.cos(observed[2]), math.sin(observed[1]))
+    simple = direction
     theta = 0.0
-    for _ in range(3):
+    for _ in range(4):
         ok, i, up = _collision_basis(g, v_guess, direction, z0)
         if not ok:
             break
@@ -260,10 +262,13 @@ def _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper):
         cd, sd = math.cos(delta), math.sin(delta)
         target = (cd * e[0] - sd * up[0], cd * e[1] - sd * up[1])
         turn = math.atan2(target[0], target[1]) - math.atan2(i[0], i[1])
-        direction += hand * turn * (1.0 + pitch / v_guess)
-        direction = min(max(direction, -settings.attack_direction_max),
-                        settings.attack_direction_max)
+        # (the tilted bat's up turns with the attack direction too, so the full
+        # correction can overshoot: each pass moves it at most _MAX_TURN)
+        change = hand * turn * (1.0 + pitch / v_guess)
+        direction += min(max(change, -_MAX_TURN), _MAX_TURN)
         theta = delta / _DEFLECTION_PER_THETA
+    if not abs(direction) < 0.9 * settings.attack_direction_max:
+        direction = simple
     theta = min(max(theta, -0.9 * theta_max), 0.9 * theta_max)
     target = observed[0] / _oblique(theta)
     lower[0], upper[0] = -theta_max, theta_max
