@@ -49,8 +49,9 @@ from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.study.spec import check_tolerance
 
-__all__ = ["INPUT_COLUMNS", "OPTIONAL_COLUMNS", "OUTPUT_UNITS", "STATUS_NAMES",
-           "InferenceOptions", "SpinAssumptions", "infer_spin", "predict_batted_balls"]
+__all__ = ["CARRIED_COLUMNS", "INPUT_COLUMNS", "METADATA_KEY", "OPTIONAL_COLUMNS",
+           "OUTPUT_UNITS", "STATUS_NAMES", "InferenceOptions", "SpinAssumptions", "infer_spin",
+           "predict_batted_balls", "write"]
 
 _MPH = 0.44704
 _RPM = 60.0 / (2.0 * math.pi)
@@ -510,3 +511,44 @@ def _result(index, solution, status, iterations, mode, missing_rows, attack, a):
     out.attrs["status_counts"] = {name: int((status_names == name).sum())
                                   for name in STATUS_NAMES}
     return out
+
+
+CARRIED_COLUMNS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitcher",
+                   "game_date", "home_team", "elevation", "handedness", "pitch_type",
+                   "events", "bb_type", "launch_speed", "launch_angle", "spray_angle",
+                   "hit_distance_sc")
+"""Columns of the tidy table :func:`write` keeps beside the inference's (those present)."""
+
+METADATA_KEY = b"mcbat.inference"
+"""The Parquet schema-metadata key of :func:`write`'s file: JSON with ``units``,
+``assumptions`` and ``status_counts``."""
+
+
+def write(table, spin, path) -> None:
+    """Write the balls (:data:`CARRIED_COLUMNS` of ``table``) and their inferred contact
+    and spin (``spin``, from :func:`infer_spin` on ``table``) to one Parquet file,
+    atomically, with units, assumptions and status counts in the schema metadata."""
+    import json
+    import os
+    from pathlib import Path
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    carried = [c for c in CARRIED_COLUMNS if c in table.columns]
+    df = pd.concat([table[carried], spin], axis=1)
+    units = {c: table.attrs.get("units", {}).get(c, "") for c in carried}
+    units.update(spin.attrs["units"])
+    info = {"units": units, "assumptions": spin.attrs["assumptions"],
+            "status_counts": spin.attrs["status_counts"]}
+    arrow = pa.Table.from_pandas(df, preserve_index=False)
+    arrow = arrow.replace_schema_metadata({**(arrow.schema.metadata or {}),
+                                           METADATA_KEY: json.dumps(info).encode()})
+    path = Path(os.fspath(path))
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        pq.write_table(arrow, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
