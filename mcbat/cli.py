@@ -438,6 +438,33 @@ def cmd_statcast(args) -> int:
     return EXIT_OK
 
 
+def cmd_infer(args) -> int:
+    from mcbat.inference import infer_spin, write
+    from mcbat.statcast import balls_in_play, read
+
+    if args.out:
+        _check_output(args.out, "--out", (".parquet", ".pq"))
+    pitches = read(args.file)
+    balls = pitches[balls_in_play(pitches)]
+    spin = infer_spin(balls)
+    if args.out:
+        try:
+            write(balls, spin, args.out)
+        except OSError as err:
+            raise InputError("--out", f"cannot write: {err.strerror or err}",
+                             args.out) from None
+    counts = ", ".join(f"{k} {v:,}" for k, v in spin.attrs["status_counts"].items() if v)
+    ok = spin["inference_status"] == "converged"
+    print(f"{args.file}: {len(balls):,} balls in play: {counts or 'none'}")
+    if ok.any():
+        print(f"  median backspin {spin.loc[ok, 'backspin'].median():.0f} rpm, spin rate "
+              f"{spin.loc[ok, 'spin_rate'].median():.0f} rpm (assumptions: "
+              "docs/spin_inference.md)")
+    if args.out:
+        print(f"  written: {args.out}")
+    return EXIT_OK
+
+
 def _statcast_lines(summary):
     """The summary of ``mcbat statcast`` as text lines."""
     seasons = ", ".join(str(y) for y in summary["seasons"]) or "none"
@@ -718,6 +745,16 @@ def build_parser() -> argparse.ArgumentParser:
     sc.add_argument("--out", metavar="TABLE.parquet", help="write the tidy table (Parquet, "
                     "units in the schema metadata)")
     sc.set_defaults(func=cmd_statcast)
+
+    inf = sub.add_parser(
+        "infer", help="infer the spin of a Statcast export's balls in play",
+        description="Read a Savant export (or mcbat's tidy table), infer each ball in "
+                    "play's contact and spin through the game model under the default "
+                    "assumptions (docs/spin_inference.md), print the counts.")
+    inf.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
+    inf.add_argument("--out", metavar="TABLE.parquet",
+                     help="write the balls and their inferred contact and spin (Parquet)")
+    inf.set_defaults(func=cmd_infer)
     return parser
 
 

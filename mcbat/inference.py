@@ -49,8 +49,9 @@ from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.study.spec import check_tolerance
 
-__all__ = ["INPUT_COLUMNS", "OPTIONAL_COLUMNS", "OUTPUT_UNITS", "STATUS_NAMES",
-           "InferenceOptions", "SpinAssumptions", "infer_spin"]
+__all__ = ["CARRIED_COLUMNS", "INPUT_COLUMNS", "METADATA_KEY", "OPTIONAL_COLUMNS",
+           "OUTPUT_UNITS", "STATUS_NAMES", "InferenceOptions", "SpinAssumptions", "infer_spin",
+           "predict_batted_balls", "write"]
 
 _MPH = 0.44704
 _RPM = 60.0 / (2.0 * math.pi)
@@ -82,7 +83,7 @@ OUTPUT_UNITS = {
     "inference_status": "", "inferred": "", "backspin": "rpm", "sidespin": "rpm",
     "gyrospin": "rpm", "spin_rate": "rpm", "undercut": "m", "bat_speed": "mph",
     "from_barrel_end": "m", "attack_direction": "deg", "attack_angle": "deg",
-    "collision_efficiency": "1", "inference_iterations": "",
+    "collision_efficiency": "1", "inference_iterations": "", "kernel_evaluations": "",
 }
 """Columns of :func:`infer_spin`'s result and their units."""
 
@@ -172,7 +173,7 @@ class InferenceOptions:
     bat_speed_range: tuple[float, float] = (25.0, 110.0)
     attack_direction_max: float = 80.0
     from_barrel_end_range: tuple[float, float] = (0.0, 0.4)
-    contact_angle_max: float = 85.0
+    contact_angle_max: float = 60.0
 
     def __post_init__(self):
         check_tolerance(_real(self.impact_tolerance, "impact_tolerance"), "impact_tolerance")
@@ -230,8 +231,8 @@ def _numeric(table, name, n, required=True):
     bad = np.isinf(values)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise InputError(name, f"must be finite (or NaN where missing), got {values[i]!r} "
-                         f"in row {i}")
+        raise InputError(name, f"must be finite (or NaN where missing), got "
+                         f"{float(values[i])!r} in row {i}")
     return values
 
 
@@ -239,7 +240,7 @@ def _check_range(values, name, ok, what):
     bad = ~ok(values) & ~np.isnan(values)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise InputError(name, f"{what}, got {values[i]!r} in row {i}")
+        raise InputError(name, f"{what}, got {float(values[i])!r} in row {i}")
 
 
 _RANGES = {
@@ -297,7 +298,8 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
         (``"bat_speed"`` or ``"from_barrel_end"``), the batted ball's ``backspin``,
         ``sidespin``, ``gyrospin``, ``spin_rate`` (rpm, ``docs/batting.md``), the contact
         (``undercut``, ``bat_speed``, ``from_barrel_end``, ``attack_direction``,
-        ``attack_angle``), ``collision_efficiency`` and ``inference_iterations``. NaN
+        ``attack_angle``), ``collision_efficiency``, ``inference_iterations`` and
+        ``kernel_evaluations`` (game-kernel calls, the cost). NaN
         wherever the status is not ``converged``. ``df.attrs``: ``units``,
         ``assumptions``, ``status_counts``.
 
@@ -365,7 +367,86 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                             np.ascontiguousarray(loc_f, dtype=np.float64),
                             options.kernel_settings(assumptions.contact_side), solution,
                             residual, status, iterations, evaluations)
-    return _result(index, solution, status, iterations, mode, missing_rows, game, assumptions)
+    measured = cols["attack_angle"] if use_attack_angle else np.full(n, np.nan)
+    attack = np.where(np.isfinite(measured), measured, math.degrees(assumptions.attack_angle))
+    out = _result(index, solution, status, iterations, mode, missing_rows, attack,
+                  assumptions)
+    out["kernel_evaluations"] = np.where(missing_rows, 0, evaluations)
+    return out
+
+
+def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
+                         from_barrel_end=None, assumptions: SpinAssumptions | None = None,
+                         options: InferenceOptions | None = None) -> pd.DataFrame:
+    """The forward model :func:`infer_spin` inverts: the batted balls that given contacts
+    give, with the same inputs and assumptions (the game kernel, ``solve_game_batch``).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame or mapping
+        The pitch columns of :data:`INPUT_COLUMNS` and ``handedness`` (the batted-ball
+        columns are not needed), optionally ``spin_axis`` and ``attack_angle``.
+    undercut : array_like
+        m (> 0: the ball's centre passes above the bat axis).
+    attack_direction : array_like
+        deg, positive towards the batter's opposite field.
+    bat_speed : array_like, optional
+        mph; default: the table's ``bat_speed``.
+    from_barrel_end : array_like, optional
+        m; default: :attr:`SpinAssumptions.from_barrel_end`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``status`` (the game kernel's, ``"ok"`` when solved), ``launch_speed`` (mph),
+        ``launch_angle``, ``spray_angle`` (deg), ``backspin``, ``sidespin``,
+        ``gyrospin``, ``spin_rate`` (rpm), ``collision_efficiency``; same index as
+        ``table``.
+    """
+    from mcbat.core import status as st
+    from mcbat.core.swing import allocate_game_outputs, solve_game_batch
+    from mcbat.core.swing.game import GAME_OUTPUT_FIELDS
+
+    assumptions = SpinAssumptions() if assumptions is None else assumptions
+    options = InferenceOptions() if options is None else options
+    needed = {k: v for k, v in INPUT_COLUMNS.items() if not k.startswith(("launch", "spray"))}
+    for name in needed:
+        if name not in table:
+            raise InputError(name, "missing column")
+    n = np.asarray(table["pitch_speed"]).shape[0]
+    index = table.index if isinstance(table, pd.DataFrame) else pd.RangeIndex(n)
+    cols = {name: _numeric(table, name, n) for name in needed if name != "handedness"}
+    for name in OPTIONAL_COLUMNS:
+        values = _numeric(table, name, n, required=False)
+        cols[name] = np.full(n, np.nan) if values is None else values
+    if bat_speed is not None:
+        cols["bat_speed"] = np.broadcast_to(np.asarray(bat_speed, np.float64), (n,)).copy()
+    hand = _column(table, "handedness", n)
+    if not np.isin(hand, ["R", "L"]).all():
+        raise InputError("handedness", 'must be "R" or "L"')
+    game, _ = _game_inputs(cols, np.where(hand == "L", -1.0, 1.0), assumptions, n, True,
+                           True)
+    z = (np.full(n, assumptions.from_barrel_end) if from_barrel_end is None
+         else np.broadcast_to(np.asarray(from_barrel_end, np.float64), (n,)).copy())
+    bat = assumptions.bat
+    radius, slope = bat.surface(np.asarray(bat.clip_axial(bat.cm_from_barrel_end - z)))
+    rows = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
+    game[rows["from_barrel_end"]] = z
+    game[rows["bat_radius"]] = radius
+    game[rows["bat_slope"]] = slope
+    game[rows["e_location_factor"]] = assumptions.restitution.location_factor(z)
+    game[rows["undercut"]] = np.broadcast_to(np.asarray(undercut, np.float64), (n,))
+    game[rows["attack_direction"]] = np.broadcast_to(
+        np.asarray(attack_direction, np.float64), (n,)) * _DEG
+    frame, out, game_out, status, end_state = allocate_game_outputs(n)
+    solve_game_batch(game, options.steps, options.impact_tolerance, options.max_steps, frame,
+                     out, game_out, status, end_state)
+    go = dict(zip(GAME_OUTPUT_FIELDS, game_out))
+    ball = derive_game((go["field_ball_vx"], go["field_ball_vy"], go["field_ball_vz"]),
+                       (go["field_ball_wx"], go["field_ball_wy"], go["field_ball_wz"]))
+    names = np.array([st.STATUS_NAMES[int(c)] for c in status], dtype=object)
+    return pd.DataFrame({"status": names, **ball,
+                         "collision_efficiency": go["collision_efficiency"]}, index=index)
 
 
 def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_angle):
@@ -402,7 +483,7 @@ def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_an
     return game, mode
 
 
-def _result(index, solution, status, iterations, mode, missing_rows, game, a):
+def _result(index, solution, status, iterations, mode, missing_rows, attack, a):
     sol = dict(zip(SOLUTION_FIELDS, solution))
     spin = derive_game((sol["field_ball_vx"], sol["field_ball_vy"], sol["field_ball_vz"]),
                        (sol["field_ball_wx"], sol["field_ball_wy"], sol["field_ball_wz"]))
@@ -411,7 +492,7 @@ def _result(index, solution, status, iterations, mode, missing_rows, game, a):
     status_names = names[status.astype(np.int64)]
     status_names[missing_rows] = "missing_input"
     ok = status_names == "converged"
-    attack = np.where(ok, np.degrees(game[GAME_INPUT_FIELDS.index("attack_angle")]), np.nan)
+    attack = np.where(ok, attack, np.nan)
     out = pd.DataFrame({
         "inference_status": pd.Categorical(status_names, categories=list(STATUS_NAMES)),
         "inferred": pd.Categorical(np.where(mode == INFER_BAT_SPEED, "bat_speed",
@@ -430,3 +511,44 @@ def _result(index, solution, status, iterations, mode, missing_rows, game, a):
     out.attrs["status_counts"] = {name: int((status_names == name).sum())
                                   for name in STATUS_NAMES}
     return out
+
+
+CARRIED_COLUMNS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitcher",
+                   "game_date", "home_team", "elevation", "handedness", "pitch_type",
+                   "events", "bb_type", "launch_speed", "launch_angle", "spray_angle",
+                   "hit_distance_sc")
+"""Columns of the tidy table :func:`write` keeps beside the inference's (those present)."""
+
+METADATA_KEY = b"mcbat.inference"
+"""The Parquet schema-metadata key of :func:`write`'s file: JSON with ``units``,
+``assumptions`` and ``status_counts``."""
+
+
+def write(table, spin, path) -> None:
+    """Write the balls (:data:`CARRIED_COLUMNS` of ``table``) and their inferred contact
+    and spin (``spin``, from :func:`infer_spin` on ``table``) to one Parquet file,
+    atomically, with units, assumptions and status counts in the schema metadata."""
+    import json
+    import os
+    from pathlib import Path
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    carried = [c for c in CARRIED_COLUMNS if c in table.columns]
+    df = pd.concat([table[carried], spin], axis=1)
+    units = {c: table.attrs.get("units", {}).get(c, "") for c in carried}
+    units.update(spin.attrs["units"])
+    info = {"units": units, "assumptions": spin.attrs["assumptions"],
+            "status_counts": spin.attrs["status_counts"]}
+    arrow = pa.Table.from_pandas(df, preserve_index=False)
+    arrow = arrow.replace_schema_metadata({**(arrow.schema.metadata or {}),
+                                           METADATA_KEY: json.dumps(info).encode()})
+    path = Path(os.fspath(path))
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        pq.write_table(arrow, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise

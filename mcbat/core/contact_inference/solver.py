@@ -22,7 +22,15 @@ from mcbat.core import status as st
 from mcbat.core.batch import OUTPUT_FIELDS
 from mcbat.core.geometry import ball_centre_radial_distance, profile_surface
 from mcbat.core.jit import njit
-from mcbat.core.swing.frames import SWEET_SPOT_FROM_BARREL_END
+from mcbat.core.swing.frames import (
+    SWEET_SPOT_FROM_BARREL_END,
+    BatBody,
+    Pitch,
+    Swing,
+    bat_frame,
+    pitch_state,
+    swing_state,
+)
 from mcbat.core.swing.game import (
     FRAME_FIELDS,
     GAME_INPUT_FIELDS,
@@ -92,6 +100,10 @@ _PITCH_SPEED, _VAA, _HAA = (_G["pitch_speed"], _G["pitch_vertical_approach_angle
                             _G["pitch_horizontal_approach_angle"])
 _BAT_SPEED, _ATTACK_ANGLE, _ATTACK_DIRECTION = (_G["bat_speed"], _G["attack_angle"],
                                                 _G["attack_direction"])
+_PITCH_SPIN, _PITCH_AXIS, _PITCH_EFF, _PITCH_GYRO = (
+    _G["pitch_spin_rate"], _G["pitch_spin_axis"], _G["pitch_spin_efficiency"],
+    _G["pitch_gyro_sign"])
+_VBA = _G["vertical_bat_angle"]
 _PIVOT, _FROM_BARREL_END, _UNDERCUT = _G["pivot"], _G["from_barrel_end"], _G["undercut"]
 _E_REF, _E_SLOPE, _E_SPEED_REF, _E_LOCATION = (_G["e_ref"], _G["e_slope"], _G["e_speed_ref"],
                                                _G["e_location_factor"])
@@ -109,12 +121,27 @@ _H_POSITION = 1e-5       # m, for the contact position
 # Largest step per iteration (the model is far from linear over a whole bat).
 _MAX_D_ANGLE = 0.35      # rad
 _MAX_D_SPEED = 0.25      # relative
-_MAX_D_POSITION = 0.05   # m
+_MAX_D_POSITION = 0.02   # m
+# The line search's fraction of the way to a bound; a move below _AT_BOUND of the
+# range is none; an iterate within _NEAR_BOUND of the range from a bound when the
+# iterations run out is pressed against it.
+_TO_BOUND = 0.9
+_AT_BOUND = 1e-12
+_NEAR_BOUND = 1e-4
+# A residual above this where the iteration stalls is a minimum that is not a root.
+_STALL = 1e-6
 # Grid of the launch-speed estimate along the bat (contact-position mode).
 _GRID = 64
-# Launch angle per unit contact azimuth, and the launch speed's fall with it, of the
-# warm start (a rough fit to the game kernel; Newton corrects it).
-_LA_PER_THETA = 0.75
+# The warm start's rough fits to the game kernel (R161, game preset; Newton corrects
+# them): the ball's deflection from a square hit's direction per unit contact azimuth,
+# the launch speed's fall with the azimuth, and a bat speed to start from.
+_DEFLECTION_PER_THETA = 1.3
+_OBLIQUE = 0.25
+_BAT_SPEED_GUESS = 32.0
+_MAX_TURN = 0.2  # rad
+# A launch speed above the estimate's maximum along the bat is started this fraction of
+# the way down from the maximum towards the barrel end's value.
+_BELOW_PEAK = 0.1
 
 
 @njit
@@ -188,10 +215,25 @@ def _head_on_speed(g, bat_speed, z, loc_z, loc_f):
 @njit
 def _oblique(theta):
     """The warm start's fall of the launch speed with the contact azimuth (the normal
-    part of the approach shrinks as ``cos(theta)``; the tangential part mostly stays with
-    the bat)."""
+    part of the approach shrinks as ``cos(theta)``; a fit to the game kernel)."""
     c = math.cos(theta)
-    return math.sqrt(c * c + 0.04 * (1.0 - c * c))
+    return math.sqrt(c * c + _OBLIQUE * (1.0 - c * c))
+
+
+@njit
+def _collision_basis(g, bat_speed, direction, z):
+    """The bat-frame directions of a square hit, in the field: ``i`` (the way a head-on
+    ball leaves, away from the bat) and ``up`` (perpendicular to ``i`` and the bat axis,
+    upwards), for a swing with the given speed and attack direction."""
+    pitch = Pitch(g[_PITCH_SPEED, 0], g[_VAA, 0], g[_HAA, 0], g[_PITCH_SPIN, 0],
+                  g[_PITCH_AXIS, 0], g[_PITCH_EFF, 0], g[_PITCH_GYRO, 0])
+    swing = Swing(g[_HANDED, 0], bat_speed, g[_ATTACK_ANGLE, 0], direction,
+                  g[_VBA, 0], g[_PIVOT, 0])
+    ok_p, pv, _ = pitch_state(pitch)
+    ok_s, axis, v_cm, omega = swing_state(swing, BatBody(g[_LENGTH, 0], g[_CM_FROM_KNOB, 0]))
+    ok_f, i, j, _, up, _ = bat_frame(axis, v_cm, omega, pv,
+                                     (g[_LENGTH, 0] - g[_CM_FROM_KNOB, 0]) - z)
+    return ok_p and ok_s and ok_f, i, (up * j[0], up * j[1], up * j[2])
 
 
 @njit
@@ -199,28 +241,40 @@ def _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper):
     """Initial unknowns and their bounds (README: the warm start)."""
     hand = g[_HANDED, 0]
     pitch = g[_PITCH_SPEED, 0]
-    attack = g[_ATTACK_ANGLE, 0]
     theta_max = settings.contact_angle_max
-    # attack direction: the line of the collision points along the spray (batter's frame)
     z0 = g[_FROM_BARREL_END, 0]
-    v_guess = g[_BAT_SPEED, 0] if mode == INFER_FROM_BARREL_END else 32.0
-    v_point = v_guess * math.cos(attack)
+    v_guess = g[_BAT_SPEED, 0] if mode == INFER_FROM_BARREL_END else _BAT_SPEED_GUESS
+    # the attack direction whose line of the collision points along the spray (batter's
+    # frame), then corrected for the undercut's sideways part on a tilted bat
     s = hand * observed[2]
-    ratio = math.sin(s) * pitch / v_point
+    ratio = math.sin(s) * pitch / (v_guess * math.cos(g[_ATTACK_ANGLE, 0]))
     direction = s + math.asin(min(max(ratio, -1.0), 1.0))
-    # theta from the launch angle over the elevation of the line of the collision
-    cv = math.cos(g[_VAA, 0])
-    lx = v_point * math.sin(direction) - pitch * cv * math.sin(g[_HAA, 0]) * hand
-    ly = v_point * math.cos(direction) + pitch * cv * math.cos(g[_HAA, 0])
-    lz = v_guess * math.sin(attack) - pitch * math.sin(g[_VAA, 0])
-    elevation = math.atan2(lz, math.sqrt(lx * lx + ly * ly))
-    theta = (observed[1] - elevation) / _LA_PER_THETA
+    cl = math.cos(observed[1])
+    e = (cl * math.sin(observed[2]), cl * math.cos(observed[2]), math.sin(observed[1]))
+    simple = direction
+    theta = 0.0
+    for _ in range(4):
+        ok, i, up = _collision_basis(g, v_guess, direction, z0)
+        if not ok:
+            break
+        delta = math.atan2(e[0] * up[0] + e[1] * up[1] + e[2] * up[2],
+                           e[0] * i[0] + e[1] * i[1] + e[2] * i[2])
+        cd, sd = math.cos(delta), math.sin(delta)
+        target = (cd * e[0] - sd * up[0], cd * e[1] - sd * up[1])
+        turn = math.atan2(target[0], target[1]) - math.atan2(i[0], i[1])
+        # (the tilted bat's up turns with the attack direction too, so the full
+        # correction can overshoot: each pass moves it at most _MAX_TURN)
+        change = hand * turn * (1.0 + pitch / v_guess)
+        direction += min(max(change, -_MAX_TURN), _MAX_TURN)
+        theta = delta / _DEFLECTION_PER_THETA
+    if not abs(direction) < 0.9 * settings.attack_direction_max:
+        direction = simple
     theta = min(max(theta, -0.9 * theta_max), 0.9 * theta_max)
     target = observed[0] / _oblique(theta)
     lower[0], upper[0] = -theta_max, theta_max
     lower[2], upper[2] = -settings.attack_direction_max, settings.attack_direction_max
     x[0] = theta
-    x[2] = min(max(hand * direction, lower[2]), upper[2])
+    x[2] = min(max(direction, lower[2]), upper[2])
     if mode == INFER_BAT_SPEED:
         lower[1], upper[1] = settings.bat_speed_min, settings.bat_speed_max
         # launch speed is linear in the bat speed but for e*'s speed dependence: two
@@ -247,7 +301,10 @@ def _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper):
         lower[1], upper[1] = z_peak, z_hi
     else:
         lower[1], upper[1] = z_lo, z_peak
-    # the branch's crossing of the target, by bisection on the estimate
+    # the branch's crossing of the target, by bisection on the estimate; a target above
+    # the estimate's maximum starts short of it (the Jacobian is singular there)
+    target = min(target, best - _BELOW_PEAK * (best - _head_on_speed(g, v_s, z_lo, loc_z,
+                                                                     loc_f)))
     a, b = lower[1], upper[1]
     fa = _head_on_speed(g, v_s, a, loc_z, loc_f) - target
     for _ in range(30):
@@ -373,12 +430,19 @@ def _line_search(x, dx, merit, mode, g, table, loc_z, loc_f, settings, observed,
     """Backtrack along the damped step projected on the bounds until the squared
     residual falls. Returns ``(accepted, moved, merit at xt, evaluations)``."""
     lam = _step_limit(x, dx, mode)
+    # stop short of a bound (a tenth of the way left): at the launch speed's maximum
+    # along the bat, the branches' common bound, the Jacobian is singular
+    for i in range(3):
+        if dx[i] > 0.0:
+            lam = min(lam, _TO_BOUND * (upper[i] - x[i]) / dx[i])
+        elif dx[i] < 0.0:
+            lam = min(lam, _TO_BOUND * (lower[i] - x[i]) / dx[i])
     moved = False
     nev = 0
     for _ in range(8):
         for i in range(3):
             xt[i] = min(max(x[i] + lam * dx[i], lower[i]), upper[i])
-            moved = moved or xt[i] != x[i]
+            moved = moved or abs(xt[i] - x[i]) > _AT_BOUND * (upper[i] - lower[i])
         if not moved:
             break
         nev += 1
@@ -402,6 +466,26 @@ def _keep(scratch, g, best):
 
 
 @njit
+def _broyden(jac, x, xt, r, rt, col_scale):
+    """Broyden's rank-one update of ``jac`` for the step ``xt - x`` (in the scaled
+    unknowns, so that no unknown's unit dominates the step's norm)."""
+    s = np.empty(3)
+    size = 0.0
+    for k in range(3):
+        s[k] = (xt[k] - x[k]) / col_scale[k]
+        size += s[k] * s[k]
+    if not size > 0.0:
+        return
+    for i in range(3):
+        predicted = 0.0
+        for k in range(3):
+            predicted += jac[i, k] * col_scale[k] * s[k]
+        miss = (rt[i] - r[i]) - predicted
+        for k in range(3):
+            jac[i, k] += miss * s[k] / (size * col_scale[k])
+
+
+@njit
 def _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings, observed, scratch,
             best):
     """The damped Newton iteration from ``x`` (whose residual is ``r``). Returns
@@ -413,33 +497,52 @@ def _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings, observed
     col_scale[1] = 30.0 if mode == INFER_BAT_SPEED else 0.1
     merit = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
     it, nev = 0, 0
+    fresh = False  # whether jac is a finite-difference Jacobian at x (else Broyden's)
     while True:
         if max(abs(r[0]), abs(r[1]), abs(r[2])) <= settings.tolerance:
             return CONVERGED, it, nev
         if it >= settings.max_iterations:
             break
         it += 1
-        nev += 3
-        if not (_jacobian(x, r, mode, g, table, loc_z, loc_f, settings, observed, scratch,
-                          upper, jac, xt, rt) and _solve3(jac, r, dx, col_scale)):
-            return NO_SOLUTION, it, nev
-        accepted, moved, merit_t, n_ls = _line_search(x, dx, merit, mode, g, table, loc_z,
-                                                      loc_f, settings, observed, scratch,
-                                                      lower, upper, xt, rt)
-        nev += n_ls
+        if not fresh and it == 1:
+            nev += 3
+            if not _jacobian(x, r, mode, g, table, loc_z, loc_f, settings, observed,
+                             scratch, upper, jac, xt, rt):
+                return NO_SOLUTION, it, nev
+            fresh = True
+        if not _solve3(jac, r, dx, col_scale):
+            accepted, moved = False, True
+        else:
+            accepted, moved, merit_t, n_ls = _line_search(x, dx, merit, mode, g, table,
+                                                          loc_z, loc_f, settings, observed,
+                                                          scratch, lower, upper, xt, rt)
+            nev += n_ls
+            # a Broyden step must at least halve the residual, or the Jacobian is redone
+            accepted = accepted and (fresh or merit_t < 0.25 * merit)
         if not accepted:
-            # no decrease along the step: pressed against a bound (no solution inside
-            # them), or stalled at the kernel's own resolution above the tolerance
-            if not moved:
+            if not fresh:
+                nev += 3
+                if not _jacobian(x, r, mode, g, table, loc_z, loc_f, settings, observed,
+                                 scratch, upper, jac, xt, rt):
+                    return NO_SOLUTION, it, nev
+                fresh = True
+                continue
+            # no decrease along the step: pressed against a bound, or at a minimum of
+            # the residual that is not a root (no contact inside the bounds gives the
+            # ball); or stalled at the kernel's own resolution just above the tolerance
+            if not moved or max(abs(r[0]), abs(r[1]), abs(r[2])) > _STALL:
                 return NO_SOLUTION, it, nev
             break
+        _broyden(jac, x, xt, r, rt, col_scale)
+        fresh = False
         for i in range(3):
             x[i] = xt[i]
             r[i] = rt[i]
         merit = merit_t
         _keep(scratch, g, best)
     for i in range(3):
-        if x[i] == lower[i] or x[i] == upper[i]:
+        near = _NEAR_BOUND * (upper[i] - lower[i])
+        if x[i] - lower[i] <= near or upper[i] - x[i] <= near:
             return NO_SOLUTION, it, nev
     return MAX_ITERATIONS, it, nev
 
