@@ -238,7 +238,9 @@ def reproduce(out="results", *, data=None, threads=None, echo=print, overwrite=F
         "catch_height_ft": CATCH_HEIGHT_FT,
         "ball": {"preset": BALL.preset, "mass_kg": BALL.mass, "radius_m": BALL.radius},
         "weather": "70 degF, 29.92 inHg (sea level), 50 % RH, at each park's elevation",
-        "flights": {name: s.config() for name, s in FLIGHTS.items()},
+        "flights": {name: {**s.config(), "elevation_m": "each ball's park (elevation)",
+                           "landing_height_m": "each ball's compare_height"}
+                    for name, s in FLIGHTS.items()},
         "spin_models": list(SPIN_MODELS),
         "residual": "predicted_distance - hit_distance_sc",
         "residuals": residuals,
