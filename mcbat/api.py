@@ -930,7 +930,8 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
     Raises
     ------
     InputError
-        Naming ``trajectory``, or ``position`` for a launch that cannot fly.
+        Naming ``trajectory``, ``position`` for a launch that cannot fly, or
+        ``landing_height`` for a ball that never rises to it.
     """
     v, w = case.vectors()
     params = case.settings.params(case.ball.mass, case.ball.radius)
@@ -945,6 +946,9 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
             raise InputError("trajectory", "not available with scheme = \"sheet\"")
         samples = np.empty((4, int(min(120.0 / dt, 1e6)) + 2))
         f, count = integrate_flight(params, x, v, w, samples, dt)
+    if f.status == 3:
+        raise InputError("landing_height", "the ball never rises to the landing height: it "
+                         "reaches the ground first")
     if f.status != 0:
         raise InputError("position", "the ball cannot fly from there (below the ground, "
                          "or no landing within the step limit)")

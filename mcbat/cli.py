@@ -205,6 +205,12 @@ def cmd_check(args) -> int:
 
 
 def cmd_reproduce(args) -> int:
+    if args.paper != "statcast" and args.data is not None:
+        raise InputError("--data", "applies to the statcast reproduction only")
+    if args.paper == "statcast":
+        return _reproduce_statcast(args)
+    if args.out is None:
+        args.out = "results"
     if args.paper == "sawicki2003":
         from mcbat.papers.sawicki2003.reproduce import reproduce as reproduce_sawicki
 
@@ -219,6 +225,18 @@ def cmd_reproduce(args) -> int:
     with _flags("out", "samples", "threads", "overwrite"):
         reproduce(args.out, samples=args.samples, threads=args.threads,
                   progress=not args.quiet, overwrite=args.overwrite)
+    return EXIT_OK
+
+
+def _reproduce_statcast(args) -> int:
+    from mcbat.papers.statcast.reproduce import reproduce as reproduce_statcast
+
+    if args.samples:
+        raise InputError("--samples", "applies to the cabo2012 reproduction only "
+                                      "(statcast flies every ball of the file)")
+    with _flags("out", "threads", "overwrite"):
+        reproduce_statcast(args.out or str(Path("results") / "statcast"), data=args.data,
+                           threads=args.threads, overwrite=args.overwrite)
     return EXIT_OK
 
 
@@ -313,14 +331,47 @@ def cmd_synth(args) -> int:
 RESIDUAL_FORMATS = (".png", ".pdf", ".svg")
 
 
+def _fit_flight(args) -> int:
+    from mcbat.papers.statcast.calibrate import calibrate_file
+
+    for flag in ("study", "residuals", "draws"):
+        if getattr(args, flag) is not None:
+            raise InputError(f"--{flag}", "not with --flight (the flight fit flies each "
+                             "ball of --data once)")
+    if args.bootstrap:
+        raise InputError("--bootstrap", "not with --flight")
+    with _flags("free", "intervals", "spin_model"):
+        result = calibrate_file(args.data, free=args.free, intervals=args.intervals,
+                                spin_model=args.spin_model or "nathan")
+    if args.json:
+        json.dump(_json_value(result.to_dict()), sys.stdout, indent=2, allow_nan=False)
+        sys.stdout.write("\n")
+        return EXIT_OK
+    print(f"fit of {', '.join(result.result.params)} to {result.balls} outfield catches and "
+          f"home runs of {result.source} (flight model nathan, spin model "
+          f"{result.spin_model}):")
+    for line in result.lines():
+        print(line)
+    return EXIT_OK
+
+
 def cmd_fit(args) -> int:
     from mcbat.stats.fit import check_bootstrap, check_free, compare_models, fit
     from mcbat.stats.measurements import read_measurements
     from mcbat.study import load_study
 
+    if args.flight:
+        return _fit_flight(args)
+    if args.spin_model is not None:
+        raise InputError("--spin-model", "applies to --flight only")
+    if args.study is None:
+        raise InputError("--study", "required (or --flight: the flight model's drag and "
+                         "lift against measured distances)")
+    if args.data is None:
+        raise InputError("--data", "required")
     # Every option is checked before any work.
     with _flags("free", "bootstrap", "draws", "seed"):
-        free = tuple(check_free(args.free))
+        free = tuple(check_free(args.free or "e,mu"))
         check_bootstrap(args.bootstrap)
         if args.draws is not None and args.draws < 4:
             raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
@@ -387,6 +438,33 @@ def cmd_statcast(args) -> int:
         sys.stdout.write("\n")
         return EXIT_OK
     print("\n".join(_statcast_lines(summary)))
+    return EXIT_OK
+
+
+def cmd_infer(args) -> int:
+    from mcbat.inference import infer_spin, write
+    from mcbat.statcast import balls_in_play, read
+
+    if args.out:
+        _check_output(args.out, "--out", (".parquet", ".pq"))
+    pitches = read(args.file)
+    balls = pitches[balls_in_play(pitches)]
+    spin = infer_spin(balls)
+    if args.out:
+        try:
+            write(balls, spin, args.out)
+        except OSError as err:
+            raise InputError("--out", f"cannot write: {err.strerror or err}",
+                             args.out) from None
+    counts = ", ".join(f"{k} {v:,}" for k, v in spin.attrs["status_counts"].items() if v)
+    ok = spin["inference_status"] == "converged"
+    print(f"{args.file}: {len(balls):,} balls in play: {counts or 'none'}")
+    if ok.any():
+        print(f"  median backspin {spin.loc[ok, 'backspin'].median():.0f} rpm, spin rate "
+              f"{spin.loc[ok, 'spin_rate'].median():.0f} rpm (assumptions: "
+              "docs/spin_inference.md)")
+    if args.out:
+        print(f"  written: {args.out}")
     return EXIT_OK
 
 
@@ -530,11 +608,20 @@ def build_parser() -> argparse.ArgumentParser:
                     "summary, all into one results directory. sawicki2003: the optimal "
                     "swing against a fastball and a curveball (undercut x attack-angle "
                     "scan with Monte Carlo scatter, flight to the landing point, rigid and "
-                    "compliant impact models) into DIR/sawicki2003.")
-    rep.add_argument("paper", nargs="?", default="cabo2012", choices=("cabo2012", "sawicki2003"),
-                     help="which reproduction (default: cabo2012)")
-    rep.add_argument("--out", default="results", metavar="DIR",
-                     help="results directory (default: results)")
+                    "compliant impact models) into DIR/sawicki2003. statcast: the flight "
+                    "model's distances against Statcast's hit_distance_sc for a Savant "
+                    "export's fly balls, line drives and home runs (--data; default the "
+                    "samples in data/) into DIR (default results/statcast).")
+    rep.add_argument("paper", nargs="?", default="cabo2012",
+                     choices=("cabo2012", "sawicki2003", "statcast"),
+                     help="which reproduction (default: cabo2012); statcast: the flight "
+                          "model's distances against measured Statcast distances "
+                          "(docs/flight.md)")
+    rep.add_argument("--out", default=None, metavar="DIR",
+                     help="results directory (default: results; statcast: results/statcast)")
+    rep.add_argument("--data", default=None, metavar="FILE",
+                     help="statcast: a Baseball Savant CSV export (default: the samples "
+                          "shipped in data/)")
     rep.add_argument("--samples", type=_int_arg("--samples"), metavar="N",
                      help="Monte Carlo samples (default: the study's)")
     rep.add_argument("--threads", type=_int_arg("--threads"), metavar="K",
@@ -616,9 +703,21 @@ def build_parser() -> argparse.ArgumentParser:
                     "Then a model comparison: the rigid model (e_x = 0) against tangential "
                     "compliance (e_x free, Cross & Nathan 2006), by BIC, with AIC and the "
                     "likelihood ratio.")
-    fit.add_argument("--study", required=True, metavar="S.toml")
-    fit.add_argument("--data", required=True, metavar="M.csv")
-    fit.add_argument("--free", default="e,mu", help="comma-separated (default: e,mu)")
+    fit.add_argument("--study", default=None, metavar="S.toml",
+                     help="the study (required, but with --flight)")
+    fit.add_argument("--data", default=None, metavar="M.csv",
+                     help="the measurement table (required; with --flight a Baseball Savant "
+                          "CSV export, default the samples shipped in data/)")
+    fit.add_argument("--flight", action="store_true",
+                     help="fit the flight model's drag_scale and lift_scale to the measured "
+                          "distances of --data's outfield catches and home runs "
+                          "(docs/flight.md)")
+    fit.add_argument("--spin-model", default=None, metavar="NAME",
+                     help="with --flight: the spin the balls are flown with, nathan (his "
+                          "average model; default) or inferred (mcbat.inference)")
+    fit.add_argument("--free", default=None,
+                     help="comma-separated (default: e,mu; with --flight "
+                          "drag_scale,lift_scale)")
     fit.add_argument("--bootstrap", type=_int_arg("--bootstrap"), default=0, metavar="N",
                      help="parametric bootstrap refits (default 0)")
     fit.add_argument("--intervals", choices=("profile", "curvature"), default="profile",
@@ -653,6 +752,16 @@ def build_parser() -> argparse.ArgumentParser:
     sc.add_argument("--out", metavar="TABLE.parquet", help="write the tidy table (Parquet, "
                     "units in the schema metadata)")
     sc.set_defaults(func=cmd_statcast)
+
+    inf = sub.add_parser(
+        "infer", help="infer the spin of a Statcast export's balls in play",
+        description="Read a Savant export (or mcbat's tidy table), infer each ball in "
+                    "play's contact and spin through the game model under the default "
+                    "assumptions (docs/spin_inference.md), print the counts.")
+    inf.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
+    inf.add_argument("--out", metavar="TABLE.parquet",
+                     help="write the balls and their inferred contact and spin (Parquet)")
+    inf.set_defaults(func=cmd_infer)
     return parser
 
 

@@ -89,3 +89,28 @@ def test_nan_and_a_bad_trajectory_step_exit_2():
     assert nan.returncode == 2 and len(nan.stderr.strip().splitlines()) == 1
     bad = _mcbat("flight", "--trajectory", "0", "-", stdin=json.dumps(BALL))
     assert bad.returncode == 2 and "--trajectory" in bad.stderr
+
+
+
+def test_landing_height_and_scales_in_a_case(tmp_path, capsys):
+    # In this process (main), from files: a catch height ends the flight earlier and
+    # shorter than the ground; a ball that never rises to it is refused naming the key.
+    from mcbat.cli import main
+
+    def run(case):
+        path = tmp_path / "case.json"
+        path.write_text(json.dumps(case))
+        code = main(["flight", str(path)])
+        out = capsys.readouterr()
+        return code, (_strict(out.out) if code == 0 else None), out.err
+
+    _, ground, _ = run(BALL)
+    _, caught, _ = run({**BALL, "landing_height": {"value": 6, "unit": "ft"}})
+    assert 0 < ground["hit_distance"] - caught["hit_distance"] < 10
+    _, less_drag, _ = run({**BALL, "drag_scale": 0.9})
+    assert less_drag["hit_distance"] > ground["hit_distance"]
+    code, _, err = run({"launch_speed": 10, "launch_angle": 0.05, "landing_height": 2})
+    assert code == 2 and "landing_height" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run({**BALL, "model": "constant", "drag": 0.3, "lift": 0.2,
+                        "lift_scale": 1.1})
+    assert code == 2 and "lift_scale" in err

@@ -333,6 +333,12 @@ class BatProfile:
         return -float(self.z[0])
 
     @property
+    def kernel_table(self):
+        """The profile as :class:`mcbat.core.geometry.ProfileTable`, for jitted callers
+        (:func:`mcbat.core.geometry.profile_surface`)."""
+        return self._table
+
+    @property
     def cm_from_barrel(self):
         """Distance of the CM from the barrel end, m."""
         return float(self.z[-1])

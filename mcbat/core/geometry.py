@@ -19,8 +19,8 @@ from mcbat.core.jit import njit
 
 __all__ = ["ProfileTable", "angle_from_impact_parameter", "angles_from_impact_parameters",
            "ball_centre_radial_distance", "contact_frame", "impact_parameter_from_angle",
-           "impact_parameters_from_angles", "profile_surfaces", "profile_surfaces_serial",
-           "profile_table"]
+           "impact_parameters_from_angles", "profile_surface", "profile_surfaces",
+           "profile_surfaces_serial", "profile_table"]
 
 
 @njit
@@ -156,6 +156,14 @@ def _surface(table, z):
     radius = ((0.0 + rc[3, lo]) + rc[2, lo] * s) + rc[1, lo] * s2 + rc[0, lo] * (s2 * s)
     slope = ((0.0 + sc[2, lo]) + sc[1, lo] * s) + sc[0, lo] * s2
     return radius, slope
+
+
+@njit
+def profile_surface(table, z):
+    """``(r, r')`` of the profile ``table`` at one axial position ``z`` (m from the CM; NaN
+    off its ends): the very values :func:`profile_surfaces` writes, for jitted callers that
+    move along the bat (the contact inference)."""
+    return _surface(table, z)
 
 
 @njit(parallel=True)

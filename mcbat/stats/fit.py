@@ -55,15 +55,19 @@ __all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "Likelihood", "ModelComparis
            "compare_models", "fit"]
 
 FREE = {"e": (1e-3, 1.0), "mu": (1e-3, 2.0), "ball_inertia_factor": (0.05, 1.0),
-        "axial": (-1.0, 1.0), "e_x": (0.0, 1.0)}
+        "axial": (-1.0, 1.0), "e_x": (0.0, 1.0), "drag_scale": (0.2, 3.0),
+        "lift_scale": (0.0, 3.0)}
 """Parameters that can be fitted, with their allowed ranges (``e_x``: the tangential
-restitution of Cross & Nathan 2006, 0 = the rigid model)."""
-PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3)}
+restitution of Cross & Nathan 2006, 0 = the rigid model; ``drag_scale``, ``lift_scale``:
+the flight model's, :mod:`mcbat.stats.flight_model`)."""
+PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3),
+                  ("lift_scale", 0.0)}
 """Ends of :data:`FREE` that are physical limits (an interval may end there); the other
 ends (``mu = 2``, ...) only end the search, and a likelihood still flat there means the data
 do not bound the parameter on that side."""
 SEARCH = {"e": (0.05, 0.98), "mu": (0.01, 1.0), "ball_inertia_factor": (0.1, 0.8),
-          "axial": (-0.05, 0.05), "e_x": (0.0, 0.6)}
+          "axial": (-0.05, 0.05), "e_x": (0.0, 0.6), "drag_scale": (0.5, 1.5),
+          "lift_scale": (0.0, 2.0)}
 """Ranges of the coarse grid that starts the search (mu on a logarithmic grid: where
 impacts slide, the likelihood changes fast with mu; where all stick it is flat)."""
 GRID_EVALUATIONS = 121

@@ -51,9 +51,9 @@ from mcbat.core.swing import (
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 
-__all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "GAME_TABLE_COLUMNS", "GAME_WRITTEN",
-           "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "WIDEN_STATISTIC", "draw_model",
-           "prior_range", "solve_study", "table_columns"]
+__all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "DrawModel", "GAME_TABLE_COLUMNS",
+           "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "WIDEN_STATISTIC",
+           "draw_model", "prior_range", "solve_study", "table_columns"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -111,6 +111,7 @@ UNITS_HINT = {
     "spin_rate": "wrong unit? spin_rate is in rpm (rad/s would be 9.55 times smaller)",
     "backspin": "wrong unit or sign? backspin is in rpm, positive for backspin",
     "sidespin": "wrong unit or sign? sidespin is in rpm (docs/batting.md)",
+    "hit_distance_sc": "wrong unit? hit_distance_sc is in ft (m would be 3.28 times smaller)",
 }
 """What to check when a column lies far outside anything the model gives."""
 
@@ -126,7 +127,14 @@ def draw_model(study, table, draws, seed, fixed=None, input_prior="widen"):
     if input_prior not in INPUT_PRIORS:
         raise InputError("input_prior", f"must be one of {', '.join(INPUT_PRIORS)}, got "
                          f"{input_prior!r}")
-    cls = GameModel if getattr(study, "kind", None) == "game" else BatFrameModel
+    kind = getattr(study, "kind", None)
+    if kind == "flight":
+        from mcbat.stats.flight_model import FlightModel  # it builds on this module
+
+        # A flight table has no measured inputs with errors: no prior to choose.
+        return FlightModel(study, table, FlightModel.DEFAULT_DRAWS if draws is None else draws,
+                           seed, fixed)
+    cls = GameModel if kind == "game" else BatFrameModel
     return cls(study, table, cls.DEFAULT_DRAWS if draws is None else draws, seed, fixed,
                input_prior)
 
@@ -306,6 +314,11 @@ class _DrawModel:
         """Write ``{parameter: value}`` into every draw."""
         for name, value in values.items():
             self.inputs[self.PARAMETERS[name]] = value
+
+
+DrawModel = _DrawModel
+"""The base of a draw model, for models defined outside this module
+(:class:`mcbat.stats.flight_model.FlightModel`)."""
 
 
 class BatFrameModel(_DrawModel):

@@ -4,6 +4,11 @@ a study's ``[flight]`` section or a ``mcbat flight`` case (the same keys, units 
 Keys (all optional)::
 
     model = "nathan"            # or "sawicki2003", "constant" (then drag = C_D, lift = C_L)
+    preset = "NAME"             # instead of model and scales: a calibrated flight
+                                # (FLIGHT_PRESETS)
+    drag_scale = 1              # nathan, sawicki2003: C_D0 = 0.3008 drag_scale
+    lift_scale = 1              # nathan, sawicki2003: C_L times lift_scale
+    landing_height = 0          # m (or {value, unit}): where the descending ball stops
     spin_decay_time = 30        # s; the model's default when absent; "none" (or JSON null)
     position = [0, 2, 3]        # launch point (field frame, m or {value, unit}); (0, 2, 3) ft
     wind = [0, 0, 0]            # m/s (field frame), or {value = [...], unit = "mph"}
@@ -20,6 +25,7 @@ Defaults are the calculator's standard conditions (70 degF, 29.92 inHg, 50 %, se
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -27,18 +33,22 @@ import numpy as np
 
 from mcbat.core.flight import (
     DEFAULT_TOLERANCE,
+    FLIGHT_FIELDS,
     GRAVITY,
     MODELS,
     Aero,
     FlightParams,
     air_density,
+    allocate_flight_outputs,
+    fly_batch,
+    pack_params,
 )
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, number, parse
 
-__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FlightSettings", "launch_vectors",
-           "parse_flight"]
+__all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FLIGHT_PRESETS", "SCALE_RANGES",
+           "FlightSettings", "fly_launches", "launch_vectors", "parse_flight"]
 
 #: The spin decay time of each model when none is given (s; None: no decay).
 DEFAULT_DECAY_TIME = {"nathan": 30.0, "sawicki2003": None, "constant": None}
@@ -67,6 +77,10 @@ class FlightSettings:
     spin_decay_time: float | None = 30.0
     drag: float = 0.0
     lift: float = 0.0
+    drag_scale: float = 1.0
+    lift_scale: float = 1.0
+    landing_height: float = 0.0
+    preset: str | None = None
     start: tuple = DEFAULT_START
     wind: tuple = (0.0, 0.0, 0.0)
     scheme: str = "adaptive"
@@ -85,10 +99,12 @@ class FlightSettings:
                                                                  * _DECAY_SPEED)
         return FlightParams(
             drag_factor=self.density * math.pi * radius * radius / (2.0 * mass),
-            radius=radius, aero=Aero(MODELS[self.model], self.drag, self.lift),
+            radius=radius, aero=Aero(MODELS[self.model], self.drag, self.lift,
+                                     self.drag_scale, self.lift_scale),
             decay_rate=decay, gravity=GRAVITY, wind_x=self.wind[0], wind_y=self.wind[1],
             wind_z=self.wind[2],
-            tolerance=0.0 if self.scheme == "sheet" else self.tolerance)
+            tolerance=0.0 if self.scheme == "sheet" else self.tolerance,
+            landing_height=self.landing_height)
 
     def config(self) -> dict:
         """JSON-ready settings (SI), for metadata and summaries."""
@@ -98,6 +114,9 @@ class FlightSettings:
                 "model": self.model, "spin_decay_time_s": self.spin_decay_time,
                 "drag": self.drag if self.model == "constant" else None,
                 "lift": self.lift if self.model == "constant" else None,
+                "preset": self.preset,
+                "drag_scale": self.drag_scale, "lift_scale": self.lift_scale,
+                "landing_height_m": self.landing_height,
                 "start_m": list(self.start), "wind_m_s": list(self.wind),
                 "scheme": self.scheme, "tolerance": self.tolerance}
 
@@ -133,8 +152,60 @@ def _choice(spec, field, options):
 
 
 #: The keys of a flight section (and of the settings part of a ``mcbat flight`` case).
-FLIGHT_KEYS = ("atmosphere", "model", "spin_decay_time", "drag", "lift", "position", "wind",
-               "scheme", "tolerance")
+FLIGHT_KEYS = ("atmosphere", "model", "preset", "spin_decay_time", "drag", "lift",
+               "drag_scale", "lift_scale", "landing_height", "position", "wind", "scheme",
+               "tolerance")
+#: Allowed ranges of the calibration scales.
+SCALE_RANGES = {"drag_scale": (0.2, 3.0), "lift_scale": (0.0, 3.0)}
+#: Calibrated flights (``preset = NAME``): Nathan's model with its drag and lift scaled to
+#: measured Statcast distances by ``mcbat fit --flight`` (``docs/flight.md``): the fitted
+#: values with their 68 % profile-likelihood errors, and the data they came from.
+FLIGHT_PRESETS = {
+    "statcast_2019_2020": {
+        "model": "nathan",
+        "drag_scale": {"value": 0.9692, "lower_error": 0.0143, "upper_error": 0.0143},
+        "lift_scale": {"value": 1.0460, "lower_error": 0.0437, "upper_error": 0.0433},
+        "sigma_ft": 14.9,
+        "balls": 129,
+        "spin_model": "nathan",
+        "ball": "baseball",
+        "data": "the outfield catches and home runs of data/statcast_2020-09-03.csv (eight "
+                "games of 2020-09-03) and data/statcast_2019_darvish.csv (five games of "
+                "July 2019), at 70 degF, 29.92 inHg, 50 % RH and each park's elevation; "
+                "mcbat fit --flight",
+    },
+}
+
+
+def _aerodynamics(table, key) -> dict:
+    """The model's keys of a flight section: ``model``, ``drag``, ``lift``, the scales, or
+    a ``preset`` that sets them."""
+    if "preset" in table:
+        name = _choice(table["preset"], key("preset"), tuple(FLIGHT_PRESETS))
+        for other in ("model", "drag", "lift", *SCALE_RANGES):
+            if other in table:
+                raise InputError(key(other), f"not with preset = {name!r} (the preset sets "
+                                             f"the model and its scales)")
+        preset = FLIGHT_PRESETS[name]
+        return {"model": preset["model"], "preset": name,
+                **{k: preset[k]["value"] for k in SCALE_RANGES}}
+    out = {}
+    model = _choice(table.get("model", "nathan"), key("model"), tuple(MODELS))
+    out["model"] = model
+    for name in ("drag", "lift"):
+        if model == "constant":
+            if name not in table:
+                raise InputError(key(name), "required with model = \"constant\"")
+            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, 0.0, 2.0)
+        elif name in table:
+            raise InputError(key(name), "only with model = \"constant\"")
+    for name, (low, high) in SCALE_RANGES.items():
+        if name in table:
+            if model == "constant":
+                raise InputError(key(name), "not with model = \"constant\" (give drag and "
+                                            "lift)")
+            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, low, high)
+    return out
 
 
 def parse_flight(table, field="flight") -> FlightSettings:
@@ -157,15 +228,11 @@ def parse_flight(table, field="flight") -> FlightSettings:
         if name in atmosphere:
             out[name] = _fixed(atmosphere[name], key("atmosphere", name), quantity, low,
                                high)
-    model = _choice(table.get("model", "nathan"), key("model"), tuple(MODELS))
-    out["model"] = model
-    for name in ("drag", "lift"):
-        if model == "constant":
-            if name not in table:
-                raise InputError(key(name), "required with model = \"constant\"")
-            out[name] = _fixed(table[name], key(name), u.DIMENSIONLESS, 0.0, 2.0)
-        elif name in table:
-            raise InputError(key(name), "only with model = \"constant\"")
+    out.update(_aerodynamics(table, key))
+    model = out["model"]
+    if "landing_height" in table:
+        out["landing_height"] = _fixed(table["landing_height"], key("landing_height"),
+                                       u.LENGTH, 0.0, 10.0)
     decay = table.get("spin_decay_time", DEFAULT_DECAY_TIME[model])
     if decay is None or decay == "none":
         out["spin_decay_time"] = None
@@ -201,3 +268,57 @@ def launch_vectors(launch_speed, launch_angle, spray_angle, backspin, sidespin, 
          backspin * by + sidespin * sy + gyrospin * uy,
          sidespin * sz + gyrospin * uz)
     return v, w
+
+
+def fly_launches(settings: FlightSettings, mass, radius, launch_speed, launch_angle,
+                 spray_angle, backspin, sidespin, gyrospin=0.0, elevation=None,
+                 landing_height=None):
+    """Fly many balls with the batch kernel; each ball may have its own park elevation and
+    landing height (the rest of ``settings`` is shared).
+
+    Parameters
+    ----------
+    settings : FlightSettings
+        Atmosphere, model, launch point, ...; ``elevation`` and ``landing_height`` are
+        replaced per ball when given.
+    mass, radius : float
+        The ball (kg, m).
+    launch_speed, launch_angle, spray_angle, backspin, sidespin, gyrospin : array_like
+        SI (m/s, rad, rad/s), one value per ball (or scalars).
+    elevation, landing_height : array_like, optional
+        m, per ball.
+
+    Returns
+    -------
+    out : dict of str -> ndarray
+        :data:`~mcbat.core.flight.FLIGHT_FIELDS` (SI), per ball.
+    status : ndarray of int8
+        The kernel's status per ball (0 ok; ``mcbat/core/flight/README.md``).
+    """
+    speed = np.atleast_1d(np.asarray(launch_speed, float))
+    n = speed.size
+    v, w = launch_vectors(speed, *(np.broadcast_to(np.asarray(a, float), (n,)) for a in
+                                   (launch_angle, spray_angle, backspin, sidespin, gyrospin)))
+    velocity = np.ascontiguousarray(np.stack(v))
+    spin = np.ascontiguousarray(np.stack(w))
+    start = np.ascontiguousarray(np.repeat(np.asarray(settings.start, float)[:, None], n, 1))
+    elev = np.broadcast_to(np.asarray(settings.elevation if elevation is None else elevation,
+                                      float), (n,))
+    height = np.broadcast_to(np.asarray(settings.landing_height if landing_height is None
+                                        else landing_height, float), (n,))
+    out = np.full((len(FLIGHT_FIELDS), n), np.nan)
+    status = np.empty(n, np.int8)
+    keys = np.stack([elev, height])
+    groups, inverse = np.unique(keys, axis=1, return_inverse=True)
+    inverse = inverse.ravel()
+    for g in range(groups.shape[1]):
+        idx = np.flatnonzero(inverse == g)
+        group = dataclasses.replace(settings, elevation=float(groups[0, g]),
+                                    landing_height=float(groups[1, g]))
+        o, s = allocate_flight_outputs(idx.size)
+        fly_batch(pack_params(group.params(mass, radius)),
+                  np.ascontiguousarray(start[:, idx]), np.ascontiguousarray(velocity[:, idx]),
+                  np.ascontiguousarray(spin[:, idx]), o, s)
+        out[:, idx] = o
+        status[idx] = s
+    return {name: out[i] for i, name in enumerate(FLIGHT_FIELDS)}, status

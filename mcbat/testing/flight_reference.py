@@ -1,5 +1,6 @@
 """Slow, independent reference for the batted-ball flight: scipy ``solve_ivp`` (DOP853,
-rtol 1e-10) with event location of the landing (``z = 0``) and the apex (``v_z = 0``).
+rtol 1e-10) with event location of the landing (the descending ball at ``z = h``, by
+default the ground) and the apex (``v_z = 0``).
 
 Written from the equations of ``mcbat/core/flight/README.md`` without the kernel's code.
 """
@@ -14,22 +15,26 @@ __all__ = ["reference_flight"]
 _RPM = 60.0 / (2.0 * math.pi)
 
 
-def _lift(model, s, lift):
+def _lift(model, s, lift, scale):
     if model == "constant":
         return lift
     if model == "nathan":
-        return 1.120 * s / (0.583 + 2.333 * s)
-    return 1.5 * s if s < 0.1 else 0.09 + 0.6 * s
+        return scale * (1.120 * s / (0.583 + 2.333 * s))
+    return scale * (1.5 * s if s < 0.1 else 0.09 + 0.6 * s)
 
 
 def reference_flight(start, velocity, spin, *, density, mass, radius, model="nathan",
                      decay_time=30.0, wind=(0.0, 0.0, 0.0), drag=None, lift=None,
-                     gravity=9.80665, rtol=1e-10):
+                     gravity=9.80665, rtol=1e-10, drag_scale=1.0, lift_scale=1.0,
+                     landing_height=0.0):
     """Landing point, time and apex of one flight (SI, field frame).
 
     ``decay_time`` (s) or None for no spin decay; ``drag``/``lift`` for the constant
-    model. Returns a dict: ``hit_distance``, ``landing_x``, ``landing_y``, ``hang_time``,
-    ``apex``.
+    model; ``drag_scale`` multiplies the spin-free drag 0.3008 and ``lift_scale`` the lift
+    of the other models; the flight ends where the ball descends through
+    ``landing_height`` (m). Returns a dict: ``hit_distance``, ``landing_x``, ``landing_y``,
+    ``hang_time``, ``apex``; None if the ball reaches the ground without rising to the
+    landing height.
     """
     w = np.asarray(spin, float)
     rate = float(np.linalg.norm(w))
@@ -44,9 +49,9 @@ def reference_flight(start, velocity, spin, *, density, mass, radius, model="nat
         if model == "constant":
             cd = drag
         else:
-            cd = 0.3008 + 0.0292 * rate * _RPM / 1000.0 * decay
+            cd = 0.3008 * drag_scale + 0.0292 * rate * _RPM / 1000.0 * decay
         s = radius * rate * decay / speed if speed > 0 else 0.0
-        cl = _lift(model, s, lift)
+        cl = _lift(model, s, lift, lift_scale)
         acc = -c0 * cd * speed * rel + c0 * cl * speed * np.cross(axis, rel)
         acc[2] -= gravity
         return np.concatenate([y[3:], acc])
@@ -54,7 +59,11 @@ def reference_flight(start, velocity, spin, *, density, mass, radius, model="nat
     def ground(t, y):
         return y[2]
 
+    def landing(t, y):
+        return y[2] - landing_height
+
     ground.terminal, ground.direction = True, -1.0
+    landing.terminal, landing.direction = True, -1.0
 
     def top(t, y):
         return y[5]
@@ -62,8 +71,10 @@ def reference_flight(start, velocity, spin, *, density, mass, radius, model="nat
     top.direction = -1.0
     y0 = np.concatenate([np.asarray(start, float), np.asarray(velocity, float)])
     sol = solve_ivp(rhs, (0.0, 60.0), y0, method="DOP853", rtol=rtol, atol=1e-12,
-                    events=(ground, top))
+                    events=(landing, top, ground))
     if not sol.t_events[0].size:
+        if sol.t_events[2].size:
+            return None  # on the ground without rising to the landing height
         raise RuntimeError("the reference flight did not land within 60 s")
     land = sol.y_events[0][0]
     apex = max([y0[2]] + [float(e[2]) for e in sol.y_events[1]])

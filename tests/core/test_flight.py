@@ -81,7 +81,8 @@ def test_tightening_the_tolerance_converges():
 
 
 def test_without_air_the_flight_is_the_vacuum_parabola():
-    p = FlightParams(0.0, 0.036, Aero(0, 0.0, 0.0), 0.0, GRAVITY, 0.0, 0.0, 0.0, 1e-6)
+    p = FlightParams(0.0, 0.036, Aero(0, 0.0, 0.0, 1.0, 1.0), 0.0, GRAVITY, 0.0, 0.0, 0.0, 1e-6,
+                     0.0)
     v, w = _vectors(90, 35, 20, 3000, 1000)
     z0 = 1.0
     f = fly(p, (0.0, 0.0, z0), v, w)
@@ -154,3 +155,56 @@ def test_other_models_with_wind_and_gyrospin_match_the_reference(model, kw):
                              **kw)
         assert abs(f.distance - r["hit_distance"]) / FT < 0.05
         assert abs(f.hang_time - r["hang_time"]) < 1e-3
+
+
+def test_landing_height_and_calibration_scales_against_the_reference():
+    # A catch height above the launch point (the ball must first rise through it) and
+    # scaled drag and lift: the kernel against the scipy reference on 40 launches.
+    rng = np.random.default_rng(7)
+    for drag_scale, lift_scale, height in ((0.8, 1.3, 6 * FT), (1.25, 0.6, 6 * FT),
+                                           (1.1, 0.0, 0.0)):
+        settings = FlightSettings(drag_scale=drag_scale, lift_scale=lift_scale,
+                                  landing_height=height)
+        p = settings.params(0.145, 0.036)
+        compared = 0
+        for _ in range(40):
+            v, w = _vectors(rng.uniform(60, 115), rng.uniform(5, 60), rng.uniform(-45, 45),
+                            rng.uniform(0, 3500), rng.uniform(-3000, 3000))
+            f = fly(p, settings.start, v, w)
+            r = reference_flight(settings.start, v, w, density=settings.density, mass=0.145,
+                                 radius=0.036, drag_scale=drag_scale, lift_scale=lift_scale,
+                                 landing_height=height)
+            if r is None:  # never rose to the catch height
+                assert f.status == 3 and math.isnan(f.distance)
+                continue
+            compared += 1
+            assert f.status == 0
+            assert abs(f.distance - r["hit_distance"]) / FT < 0.05
+            assert abs(f.hang_time - r["hang_time"]) < 1e-3
+        assert compared >= 35
+
+
+def test_scales_of_one_are_the_published_model_bit_for_bit():
+    v, w = _vectors(103, 27, 10, 2000, -500)
+    base = FlightSettings()
+    scaled = FlightSettings(drag_scale=1.0, lift_scale=1.0, landing_height=0.0)
+    assert fly(base.params(0.145, 0.036), base.start, v, w) == fly(
+        scaled.params(0.145, 0.036), scaled.start, v, w)
+
+
+def test_catch_height_in_a_vacuum():
+    # Without air the descending crossing of z = h is analytic, also when the apex lies
+    # just above h (the crossing is then inside the step that holds the apex).
+    z0, h = 0.9144, 6 * FT
+    for vz in (25.0, math.sqrt(2 * GRAVITY * (h - z0)) * 1.0005):
+        p = FlightParams(0.0, 0.036, Aero(0, 0.0, 0.0, 1.0, 1.0), 0.0, GRAVITY, 0.0, 0.0, 0.0,
+                         1e-6, h)
+        f = fly(p, (0.0, 0.0, z0), (3.0, 30.0, vz), (0.0, 0.0, 0.0))
+        t = (vz + math.sqrt(vz * vz - 2 * GRAVITY * (h - z0))) / GRAVITY
+        assert f.status == 0
+        assert f.hang_time == pytest.approx(t, rel=1e-9)
+        assert f.distance == pytest.approx(math.hypot(3.0, 30.0) * t, rel=1e-9)
+    # a ball that never rises to h: no crossing, status 3
+    low = fly(p, (0.0, 0.0, z0), (0.0, 30.0, 0.9 * math.sqrt(2 * GRAVITY * (h - z0))),
+              (0.0, 0.0, 0.0))
+    assert low.status == 3 and math.isnan(low.distance)

@@ -12,7 +12,10 @@ Models (integer codes, so jitted code can branch on them):
 ``CONSTANT`` (2)
     Given ``C_D`` and ``C_L``.
 
-``D`` is the spin decay factor (1 without decay).
+``D`` is the spin decay factor (1 without decay). ``drag_scale`` multiplies the spin-free
+drag ``C_D0`` (0.3008) and ``lift_scale`` the lift of ``NATHAN`` and ``SAWICKI2003``: a
+calibration of the model to measured distances (``docs/flight.md``); 1 and 1 are the
+published models, bit for bit.
 """
 
 from collections import namedtuple
@@ -29,8 +32,9 @@ MODELS = {"nathan": NATHAN, "sawicki2003": SAWICKI2003, "constant": CONSTANT}
 
 _RPM = 60.0 / (2.0 * 3.141592653589793)
 
-Aero = namedtuple("Aero", ("model", "drag", "lift"))
-"""The model's code, and ``C_D``, ``C_L`` (used by ``CONSTANT`` only)."""
+Aero = namedtuple("Aero", ("model", "drag", "lift", "drag_scale", "lift_scale"))
+"""The model's code, ``C_D``, ``C_L`` (used by ``CONSTANT`` only), and the scales of the
+spin-free drag ``C_D0`` and of the lift (not used by ``CONSTANT``)."""
 
 
 @njit(inline="always")
@@ -39,8 +43,8 @@ def coefficients(aero, radius, spin, speed, decay):
     decay factor ``decay`` and ball radius ``radius`` (m)."""
     if aero.model == CONSTANT:
         return aero.drag, aero.lift
-    drag = 0.3008 + 0.0292 * (spin * _RPM / 1000.0) * decay
+    drag = 0.3008 * aero.drag_scale + 0.0292 * (spin * _RPM / 1000.0) * decay
     s = radius * spin * decay / speed if speed > 0.0 else 0.0
     if aero.model == NATHAN:
-        return drag, 1.120 * s / (0.583 + 2.333 * s)
-    return drag, (1.5 * s if s < 0.1 else 0.09 + 0.6 * s)
+        return drag, aero.lift_scale * (1.120 * s / (0.583 + 2.333 * s))
+    return drag, aero.lift_scale * (1.5 * s if s < 0.1 else 0.09 + 0.6 * s)

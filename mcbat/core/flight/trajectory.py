@@ -28,7 +28,7 @@ MAX_STEPS = 20000
 #: The spreadsheet's time step (s).
 SHEET_STEP = 0.01
 #: Status codes of a flight.
-OK, INVALID, MAX_STEPS_REACHED = 0, 1, 2
+OK, INVALID, MAX_STEPS_REACHED, NOT_RISEN = 0, 1, 2, 3
 
 FLIGHT_FIELDS = ("hit_distance", "landing_x", "landing_y", "hang_time", "apex",
                  "flight_steps")
@@ -37,11 +37,13 @@ point from home plate, its coordinates, the time of flight, the greatest height,
 
 FlightParams = namedtuple("FlightParams", ("drag_factor", "radius", "aero", "decay_rate",
                                            "gravity", "wind_x", "wind_y", "wind_z",
-                                           "tolerance"))
+                                           "tolerance", "landing_height"))
 """Shared by every ball of a call: ``drag_factor`` ``c0 = rho A / (2 m)`` (1/m), the ball's
 radius (m), the :class:`~mcbat.core.flight.aero.Aero` model, the spin decay rate
-``1 / (tau 44.704 m/s)`` (s/m^2; 0: no decay), gravity (m/s^2), the wind (m/s), and the
-integrator's tolerance (0 selects the spreadsheet's scheme)."""
+``1 / (tau 44.704 m/s)`` (s/m^2; 0: no decay), gravity (m/s^2), the wind (m/s), the
+integrator's tolerance (0 selects the spreadsheet's scheme), and the landing height (m,
+>= 0): the flight ends where the descending ball passes ``z = landing_height`` (0: the
+ground; a catch height compares with a fielder's catch)."""
 
 Flight = namedtuple("Flight", ("status", "distance", "landing_x", "landing_y", "hang_time",
                                "apex", "steps"))
@@ -94,13 +96,13 @@ def _hermite(s, h, y0, d0, a0, y1, d1, a1):
 
 
 @njit
-def _root(h, y0, d0, a0, y1, d1, a1, derivative):
-    """``s`` in [0, 1] where the interpolant (``derivative`` False) or its slope (True)
-    crosses zero, given a sign change between the ends: safeguarded Newton."""
-    lo, hi = 0.0, 1.0
-    f_lo = _hermite(0.0, h, y0, d0, a0, y1, d1, a1)[1 if derivative else 0]
+def _root(h, y0, d0, a0, y1, d1, a1, derivative, start=0.0):
+    """``s`` in [start, 1] where the interpolant (``derivative`` False) or its slope (True)
+    crosses zero, given a sign change between ``start`` and 1: safeguarded Newton."""
+    lo, hi = start, 1.0
+    f_lo = _hermite(start, h, y0, d0, a0, y1, d1, a1)[1 if derivative else 0]
     f_hi = _hermite(1.0, h, y0, d0, a0, y1, d1, a1)[1 if derivative else 0]
-    s = f_lo / (f_lo - f_hi) if f_lo != f_hi else 0.5
+    s = start + (1.0 - start) * (f_lo / (f_lo - f_hi) if f_lo != f_hi else 0.5)
     for _ in range(60):
         value, slope, curve = _hermite(s, h, y0, d0, a0, y1, d1, a1)
         f, df = (slope, curve * h) if derivative else (value, slope * h)
@@ -170,9 +172,11 @@ def _dp_step(p, axis, spin, t, x, v, a1, h):
 
 
 @njit
-def _landing(h, t, x, v, a, x1, v1, a1):
-    """Time, position of the landing inside a step that ends below the ground."""
-    s = _root(h, x[2], v[2], a[2], x1[2], v1[2], a1[2], False)
+def _landing(h, t, x, v, a, x1, v1, a1, height, start):
+    """Time, position where the step, from ``start`` (a fraction of it) on, descends
+    through ``z = height``. The interpolant of ``z - height`` is that of ``z`` shifted: its
+    end values move and its derivatives do not."""
+    s = _root(h, x[2] - height, v[2], a[2], x1[2] - height, v1[2], a1[2], False, start)
     lx = _hermite(s, h, x[0], v[0], a[0], x1[0], v1[0], a1[0])[0]
     ly = _hermite(s, h, x[1], v[1], a[1], x1[1], v1[1], a1[1])[0]
     return t + s * h, lx, ly
@@ -180,9 +184,10 @@ def _landing(h, t, x, v, a, x1, v1, a1):
 
 @njit
 def _apex(h, x, v, a, x1, v1, a1):
-    """Greatest height inside a step where the vertical velocity changes sign."""
+    """Greatest height inside a step where the vertical velocity changes sign, and where
+    in the step (a fraction of it) it lies."""
     s = _root(h, x[2], v[2], a[2], x1[2], v1[2], a1[2], True)
-    return _hermite(s, h, x[2], v[2], a[2], x1[2], v1[2], a1[2])[0]
+    return _hermite(s, h, x[2], v[2], a[2], x1[2], v1[2], a1[2])[0], s
 
 
 @njit
@@ -215,7 +220,11 @@ def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
         return fly_sheet(p, axis, spin, x, v, max_steps), 0
     t, apex = 0.0, x[2]
     count = 0
-    if x[2] == 0.0 and v[2] <= 0.0:
+    target = p.landing_height
+    # The flight ends on a downward crossing of the landing height; a ball launched below
+    # it must first rise above it (a catch height above the launch point).
+    risen = x[2] >= target
+    if x[2] == target and v[2] <= 0.0:
         if dt > 0.0 and samples.shape[1] > 0:
             samples[0, 0], samples[1, 0], samples[2, 0], samples[3, 0] = 0.0, x[0], x[1], x[2]
             count = 1
@@ -229,13 +238,21 @@ def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
         if not ratio <= 1.0:
             h *= max(0.2, 0.9 * ratio ** -0.2) if math.isfinite(ratio) else 0.2
             continue
+        start = 0.0
         if v[2] > 0.0 and v1[2] <= 0.0:
-            apex = max(apex, _apex(h, x, v, a, x1, v1, a1))
-        if x1[2] < 0.0:
-            t_land, lx, ly = _landing(h, t, x, v, a, x1, v1, a1)
+            top, s_top = _apex(h, x, v, a, x1, v1, a1)
+            apex = max(apex, top)
+            if not risen and top >= target:  # rose above the landing height in this step
+                risen, start = True, s_top
+        if x1[2] < target and risen:
+            t_land, lx, ly = _landing(h, t, x, v, a, x1, v1, a1, target, start)
             if dt > 0.0:
                 count = _record(samples, count, dt, t, h, x, v, a, x1, v1, a1, t_land)
             return Flight(OK, math.hypot(lx, ly), lx, ly, t_land, apex, steps), count
+        if x1[2] < 0.0:  # on the ground without reaching the landing height
+            return (Flight(NOT_RISEN, math.nan, math.nan, math.nan, math.nan, apex, steps),
+                    count)
+        risen = risen or x1[2] >= target
         if dt > 0.0:
             count = _record(samples, count, dt, t, h, x, v, a, x1, v1, a1, t + h)
         t += h
@@ -260,14 +277,19 @@ def fly_sheet(p, axis, spin, x, v, max_steps=MAX_STEPS):
     sheet reports it (this reproduces its published 400.5 ft)."""
     dt = SHEET_STEP
     t, apex = 0.0, x[2]
+    target = p.landing_height
+    risen = x[2] >= target
     for steps in range(1, max_steps + 1):
         a = rates(p, axis, spin, t, v)
         x1 = (x[0] + v[0] * dt + 0.5 * a[0] * dt * dt, x[1] + v[1] * dt + 0.5 * a[1] * dt * dt,
               x[2] + v[2] * dt + 0.5 * a[2] * dt * dt)
         v = (v[0] + a[0] * dt, v[1] + a[1] * dt, v[2] + a[2] * dt)
         apex = max(apex, x1[2])
-        if x1[2] < 0.0:  # the sheet reports its last point above the ground
+        if x1[2] < target and risen:  # the sheet reports its last point above the ground
             return Flight(OK, math.hypot(x[0], x[1]), x[0], x[1], t, apex, steps)
+        if x1[2] < 0.0:
+            return Flight(NOT_RISEN, math.nan, math.nan, math.nan, math.nan, apex, steps)
+        risen = risen or x1[2] >= target
         x = x1
         t += dt
     return Flight(MAX_STEPS_REACHED, math.nan, math.nan, math.nan, math.nan, math.nan,
@@ -278,14 +300,14 @@ def pack_params(p):
     """:class:`FlightParams` as the flat float64 array :func:`fly_batch` takes (numba's
     parallel loops do not accept named tuples of mixed types as arguments)."""
     return np.array([p.drag_factor, p.radius, p.aero.model, p.aero.drag, p.aero.lift,
-                     p.decay_rate, p.gravity, p.wind_x, p.wind_y, p.wind_z, p.tolerance],
-                    np.float64)
+                     p.aero.drag_scale, p.aero.lift_scale, p.decay_rate, p.gravity, p.wind_x,
+                     p.wind_y, p.wind_z, p.tolerance, p.landing_height], np.float64)
 
 
 @njit(inline="always")
 def _unpack(s):
-    return FlightParams(s[0], s[1], Aero(int(s[2]), s[3], s[4]), s[5], s[6], s[7], s[8], s[9],
-                        s[10])
+    return FlightParams(s[0], s[1], Aero(int(s[2]), s[3], s[4], s[5], s[6]), s[7], s[8], s[9],
+                        s[10], s[11], s[12], s[13])
 
 
 @njit(parallel=True)
@@ -294,14 +316,15 @@ def fly_batch(params, start, velocity, spin, out, status):
 
     Parameters
     ----------
-    params : float64[11]
+    params : float64[14]
         :func:`pack_params` of the :class:`FlightParams` shared by every ball.
     start, velocity, spin : float64[3, n]
         Field frame: position (m), velocity (m/s), spin (rad/s).
     out : float64[len(FLIGHT_FIELDS), n]
         Written: :data:`FLIGHT_FIELDS`.
     status : int8[n]
-        Written: 0 ok, 1 invalid input (non-finite, below the ground), 2 too many steps.
+        Written: 0 ok, 1 invalid input (non-finite, below the ground), 2 too many steps,
+        3 the ball reached the ground without rising to the landing height.
     """
     for i in numba.prange(start.shape[1]):
         p = _unpack(params)  # inside the loop: parallel regions take no named tuples

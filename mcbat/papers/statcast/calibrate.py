@@ -1,0 +1,196 @@
+"""Calibrate the flight model's drag and lift to measured distances.
+
+The fit (:func:`mcbat.stats.fit.fit` with :class:`mcbat.stats.flight_model.FlightModel`)
+scales the spin-free drag ``C_D0`` and the lift ``C_L`` of Nathan's model so that the
+predicted distances of the balls whose measured point is known best (outfield catches at
+the catch height, home runs projected to the ground; :mod:`~mcbat.papers.statcast.compare`)
+match ``hit_distance_sc``. Hits in play are left out of the fit: a ball that struck a wall
+is measured short of its carry, and nothing in the data says which did.
+
+The per-ball scatter ``sigma`` (ft) is not a measurement error: it is what the launch
+numbers do not determine, each ball's own spin about the average spin model, the day's
+weather and wind, the catch height, the tracking. It is taken from the data: a first fit
+with the robust spread of the uncalibrated residuals (1.4826 x their median absolute
+deviation), then ``sigma`` = the rms of the residuals about that fit with ``n - 2``
+degrees of freedom, and the fit again with it for the profile intervals. With one
+``sigma`` for every ball the best fit does not depend on it (the same least squares), and
+the intervals scale with it. The chi2 of the second fit is then ``n - 2`` by construction:
+the check of the fit is the residuals by launch angle (the figures of ``mcbat reproduce
+statcast``), not its chi2.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pandas as pd
+
+from mcbat.errors import InputError
+from mcbat.papers.statcast.compare import select_balls
+from mcbat.stats.fit import fit
+from mcbat.stats.flight_model import FLIGHT_TABLE_COLUMNS, FlightFitSetup
+from mcbat.study.flight import FlightSettings
+
+__all__ = ["FIT_CLASSES", "FREE", "FlightCalibration", "calibrate", "fit_scales",
+           "flight_table", "predict"]
+
+#: Comparison classes the fit uses.
+FIT_CLASSES = ("catch", "home_run")
+#: The calibrated parameters.
+FREE = ("drag_scale", "lift_scale")
+#: Fewest balls a calibration takes.
+MIN_BALLS = 10
+
+
+@dataclasses.dataclass
+class FlightCalibration:
+    """A fitted calibration: the :class:`~mcbat.stats.fit.FitResult`, the per-ball scatter
+    ``sigma`` (ft) it used, and the number of balls."""
+
+    result: object
+    sigma: float
+    balls: int
+    spin_model: str
+    source: str | None = None
+
+    def to_dict(self) -> dict:
+        """JSON-ready: the fit (:meth:`FitResult.to_dict`), ``sigma_ft``, ``balls``, the
+        spin model and the data."""
+        return {**self.result.to_dict(), "sigma_ft": self.sigma, "balls": self.balls,
+                "spin_model": self.spin_model, "fit_classes": list(FIT_CLASSES),
+                "data": self.source}
+
+    def lines(self) -> list[str]:
+        """As printed by ``mcbat fit --flight``."""
+        r = self.result
+        return [*r.lines(),
+                f"  per-ball scatter sigma = {self.sigma:.1f} ft (rms of the residuals, "
+                f"{self.balls} - {len(r.params)} degrees of freedom)",
+                f"  chi2 / dof = {r.chi2:.1f} / {r.dof} (1 by construction of sigma)"]
+
+
+def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame:
+    """The measurement table of :class:`~mcbat.stats.flight_model.FlightModel` for
+    ``balls`` (a :func:`~mcbat.papers.statcast.compare.select_balls` frame) flown with
+    ``backspin``, ``sidespin`` (rpm), with the scatter ``sigma`` (ft) per ball."""
+    table = pd.DataFrame({c: balls[c].to_numpy(float) for c in
+                          ("launch_speed", "launch_angle", "spray_angle", "elevation",
+                           "hit_distance_sc")})
+    table["backspin"] = np.asarray(backspin, float)
+    table["sidespin"] = np.asarray(sidespin, float)
+    table["landing_height"] = balls["compare_height"].to_numpy(float)
+    table["hit_distance_sc_err"] = np.broadcast_to(np.asarray(sigma, float), len(table))
+    return table[[*FLIGHT_TABLE_COLUMNS, "hit_distance_sc_err"]]
+
+
+def check_free(free) -> tuple:
+    """``free`` (a comma-separated string or names; None: both scales) as a tuple of
+    distinct names of :data:`FREE`, or :class:`InputError`."""
+    if free is None:
+        return FREE
+    names = [p.strip() for p in free.split(",")] if isinstance(free, str) else list(free)
+    unknown = [p for p in names if p not in FREE]
+    if unknown or not names or len(set(names)) != len(names):
+        raise InputError("free", f"the flight fit takes {' and/or '.join(FREE)} (distinct), "
+                         f"got {free!r}")
+    return tuple(p for p in FREE if p in names)
+
+
+def calibrate_file(path=None, *, spin_model="nathan", free=None,
+                   intervals="profile") -> FlightCalibration:
+    """Read a Statcast file (None: the shipped samples), select its balls and calibrate
+    (:func:`calibrate`) with the spin of ``spin_model``."""
+    from mcbat.papers.statcast.reproduce import SPIN_MODELS, read_statcast
+
+    free = check_free(free)
+    if spin_model not in SPIN_MODELS:
+        raise InputError("spin_model", f"must be one of {', '.join(SPIN_MODELS)}, got "
+                         f"{spin_model!r}")
+    table, source = read_statcast(path)
+    balls = select_balls(table, source)
+    backspin, sidespin = SPIN_MODELS[spin_model](balls)
+    return calibrate(balls, backspin, sidespin, spin_model=spin_model, free=free,
+                     intervals=intervals, source=source)
+
+
+def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
+              settings: FlightSettings | None = None, ball=None, free=FREE,
+              intervals="profile", source=None) -> FlightCalibration:
+    """Fit ``drag_scale`` and ``lift_scale`` to the catches and home runs of ``balls``
+    flown with the given spin (module docstring).
+
+    Parameters
+    ----------
+    balls : pandas.DataFrame
+        :func:`~mcbat.papers.statcast.compare.select_balls`.
+    backspin, sidespin : array_like
+        rpm, per ball.
+    settings : FlightSettings, optional
+        The flight (default: the published model at standard weather; the elevation is
+        the balls').
+    ball : mcbat.bodies.Ball, optional
+        Default: the ``baseball`` preset.
+    intervals : {"profile", "curvature"}
+        As :func:`mcbat.stats.fit.fit`.
+
+    Raises
+    ------
+    InputError
+        Naming ``hit_distance_sc`` when fewer than :data:`MIN_BALLS` balls qualify.
+    """
+    use = balls["comparison"].isin(FIT_CLASSES).to_numpy(bool)
+    settings = FlightSettings() if settings is None else settings
+    setup = FlightFitSetup(settings=settings) if ball is None else FlightFitSetup(
+        settings=settings, mass=ball.mass, radius=ball.radius)
+    backspin = np.broadcast_to(np.asarray(backspin, float), use.shape)
+    sidespin = np.broadcast_to(np.asarray(sidespin, float), use.shape)
+    table = flight_table(balls, backspin, sidespin, 1.0)
+    table.attrs["source"] = source
+    # Balls that never rise to their catch height have no prediction (low line drives).
+    model = predict(setup, table)
+    use = use & np.isfinite(model)
+    if use.sum() < MIN_BALLS:
+        raise InputError("hit_distance_sc", f"{int(use.sum())} outfield catches and home runs "
+                         f"with a prediction; a calibration needs at least {MIN_BALLS}",
+                         source)
+    table = table[use].reset_index(drop=True)
+    table.attrs["source"] = source
+    return fit_scales(table, setup, free=free, intervals=intervals, spin_model=spin_model,
+                      source=source)
+
+
+def fit_scales(table: pd.DataFrame, setup: FlightFitSetup | None = None, *,
+               free=FREE, intervals="profile", spin_model="nathan",
+               source=None) -> FlightCalibration:
+    """Fit ``drag_scale`` and ``lift_scale`` to a :func:`flight_table` whose every row
+    has a prediction, with the per-ball scatter taken from the data (module docstring;
+    the table's ``hit_distance_sc_err`` is replaced)."""
+    table = table.copy()
+    setup = FlightFitSetup() if setup is None else setup
+    model = predict(setup, table)
+    residual = model - table["hit_distance_sc"].to_numpy()
+    sigma0 = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
+    table["hit_distance_sc_err"] = max(sigma0, 0.1)
+    first = fit(setup, table, free, intervals="curvature")
+    best = [first.params[p] for p in free]
+    fitted = predict(setup, table, dict(zip(free, best)))
+    n = len(table)
+    sigma = math.sqrt(float(np.sum((fitted - table["hit_distance_sc"].to_numpy()) ** 2))
+                      / (n - len(free)))
+    table["hit_distance_sc_err"] = sigma
+    result = fit(setup, table, free, start=best, intervals=intervals)
+    return FlightCalibration(result=result, sigma=sigma, balls=n, spin_model=spin_model,
+                             source=source)
+
+
+def predict(setup, table, scales=None) -> np.ndarray:
+    """Predicted ``hit_distance_sc`` (ft) of every row at ``scales`` (default: the
+    settings')."""
+    from mcbat.stats.flight_model import FlightModel
+
+    model = FlightModel(setup, table, 2, 0, scales)
+    values, status = model.solve()
+    d = values["hit_distance_sc"].reshape(-1, 2)[:, 0]
+    return np.where(status.reshape(-1, 2)[:, 0] == 0, d, np.nan)

@@ -1,0 +1,106 @@
+"""Figures of ``mcbat reproduce statcast``: each function takes the long table of
+:func:`~mcbat.papers.statcast.reproduce.compare_file`, draws one PNG into ``fig_dir`` and
+returns its path. One row of panels per spin model, one column per flight."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from mcbat.papers.statcast.compare import COMPARED, launch_angle_bins  # noqa: E402
+
+__all__ = ["predicted_vs_measured", "residual_vs_launch_angle"]
+
+_STYLE = {"catch": ("tab:blue", "o", "outfield catch (at 6 ft)"),
+          "home_run": ("tab:red", "^", "home run (projected to the ground)"),
+          "hit": ("tab:gray", "s", "hit in play (first bounce or wall)")}
+
+
+def _panels(long):
+    """Per spin model and flight, the compared balls with a prediction."""
+    spins = [s for s in long["spin_model"].cat.categories if (long["spin_model"] == s).any()]
+    flights = [f for f in long["flight"].cat.categories if (long["flight"] == f).any()]
+    return [[(spin, flight, long[(long["spin_model"] == spin) & (long["flight"] == flight)
+                                 & long["comparison"].isin(COMPARED)
+                                 & np.isfinite(long["predicted_distance"])])
+             for flight in flights] for spin in spins]
+
+
+def _figure(grid, height):
+    rows, cols = len(grid), len(grid[0])
+    return plt.subplots(rows, cols, figsize=(5.2 * cols, height * rows), squeeze=False,
+                        sharex=True, sharey=True)
+
+
+def predicted_vs_measured(fig_dir, long):
+    """Predicted against measured distance, by comparison class."""
+    grid = _panels(long)
+    fig, axes = _figure(grid, 5.0)
+    parts = [p for row in grid for _, _, p in row]
+    lo = min(min(p["hit_distance_sc"].min(), p["predicted_distance"].min())
+             for p in parts) - 10
+    hi = max(max(p["hit_distance_sc"].max(), p["predicted_distance"].max())
+             for p in parts) + 10
+    for ax, (spin, flight, part) in zip(axes.ravel(), (c for row in grid for c in row)):
+        for kind, (colour, marker, label) in _STYLE.items():
+            sel = part[part["comparison"] == kind]
+            ax.scatter(sel["hit_distance_sc"], sel["predicted_distance"], s=14,
+                       c=colour, marker=marker, alpha=0.7, lw=0, label=label)
+        ax.plot([lo, hi], [lo, hi], color="k", lw=1)
+        med = np.median(part["residual"])
+        ax.set_title(f"spin {spin!r}, flight {flight!r}: median predicted - measured "
+                     f"{med:+.1f} ft (n = {len(part)})", fontsize=8)
+        ax.set_xlim(lo, hi)
+        ax.set_ylim(lo, hi)
+        ax.set_aspect("equal")
+        ax.grid(alpha=0.3)
+    for ax in axes[-1]:
+        ax.set_xlabel("measured hit_distance_sc (ft)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("predicted distance (ft)")
+    axes[0, 0].legend(fontsize=7, loc="upper left")
+    path = fig_dir / "predicted_vs_measured.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def residual_vs_launch_angle(fig_dir, long):
+    """Predicted minus measured against launch angle, with the median of the catches and
+    home runs per 10-degree bin."""
+    grid = _panels(long)
+    fig, axes = _figure(grid, 4.2)
+    for ax, (spin, flight, part) in zip(axes.ravel(), (c for row in grid for c in row)):
+        for kind, (colour, marker, label) in _STYLE.items():
+            sel = part[part["comparison"] == kind]
+            ax.scatter(sel["launch_angle"], sel["residual"], s=14, c=colour, marker=marker,
+                       alpha=0.7, lw=0, label=label)
+        core = part[part["comparison"].isin(("catch", "home_run"))]
+        bins = launch_angle_bins(core["launch_angle"])
+        centres, medians = [], []
+        for b in np.unique(bins):
+            r = core["residual"][bins == b]
+            if len(r) >= 3:
+                centres.append(b + 5.0)
+                medians.append(np.median(r))
+        ax.plot(centres, medians, "k-o", ms=5, lw=1.5,
+                label="median of catches and home runs (10° bins, n >= 3)")
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.axhspan(-5.0, 5.0, color="tab:green", alpha=0.1, lw=0)
+        ax.set_title(f"spin {spin!r}, flight {flight!r} (band: ±5 ft)", fontsize=8)
+        ax.grid(alpha=0.3)
+    for ax in axes[-1]:
+        ax.set_xlabel("launch angle (deg)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("predicted - measured (ft)")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    path = fig_dir / "residual_vs_launch_angle.png"
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path

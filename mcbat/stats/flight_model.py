@@ -1,0 +1,106 @@
+"""The flight model's draw model: measured distances of batted balls against the flight
+kernel, for :class:`mcbat.stats.fit.Likelihood`.
+
+A row of the table is one batted ball: its launch (``launch_speed`` mph, ``launch_angle``,
+``spray_angle`` deg), the spin it is flown with (``backspin``, ``sidespin`` rpm: a spin
+model's, since tracking data publish none), the park's ``elevation`` (ft), the height at
+which the measurement was taken (``landing_height`` ft: 0 for the ground, a catch height
+for a caught ball) and the measured ``hit_distance_sc`` (ft) with its ``hit_distance_sc_err``
+(1 sigma, ft: the per-ball scatter about the model, ``docs/flight.md`` says how it is set).
+
+The free parameters scale the model's drag and lift (``drag_scale`` multiplies the
+spin-free ``C_D0``, ``lift_scale`` the lift coefficient; ``mcbat/core/flight/README.md``).
+The prediction of a row has no nuisance scatter (the launch is taken as measured), so the
+draws of a row are identical: two per row, and the model's covariance is zero; the whole
+scatter is the row's ``hit_distance_sc_err``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from mcbat.bodies import BALL_PRESETS
+from mcbat.errors import InputError
+from mcbat.stats.models import DrawModel
+from mcbat.study.flight import FlightSettings, fly_launches
+
+__all__ = ["FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
+
+_FT, _MPH, _DEG, _RPM = 0.3048, 0.44704, math.pi / 180.0, 2.0 * math.pi / 60.0
+
+FLIGHT_TABLE_COLUMNS = {
+    "launch_speed": ("mph", "input"),
+    "launch_angle": ("deg", "input"),
+    "spray_angle": ("deg", "input"),
+    "backspin": ("rpm", "input"),
+    "sidespin": ("rpm", "input"),
+    "elevation": ("ft", "input"),
+    "landing_height": ("ft", "input"),
+    "hit_distance_sc": ("ft", "observable"),
+}
+"""Columns of a flight measurement table (Statcast's names and units)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class FlightFitSetup:
+    """What a flight fit holds fixed: the flight settings (atmosphere other than the
+    elevation, model, launch point, spin decay) and the ball. Plays the part of a study
+    for :class:`mcbat.stats.fit.Likelihood`."""
+
+    settings: FlightSettings = FlightSettings()
+    mass: float = BALL_PRESETS["baseball"].mass
+    radius: float = BALL_PRESETS["baseball"].radius
+    name: str = "flight"
+    kind: str = "flight"
+    inputs: dict = dataclasses.field(default_factory=dict)
+
+
+class FlightModel(DrawModel):
+    """The flight kernel on a table of batted balls with measured distances (module doc)."""
+
+    COLUMNS = FLIGHT_TABLE_COLUMNS
+    KIND = "flight"
+    PARAMETERS = {"drag_scale": "drag_scale", "lift_scale": "lift_scale"}
+    DEFAULT_DRAWS = 2
+    """The prediction of a row is deterministic: two identical draws (the least the
+    likelihood takes), zero model covariance."""
+    SEARCH = {"drag_scale": (0.5, 1.5), "lift_scale": (0.0, 2.0)}
+    """The coarse grid: drag within +-50 % of the calculator's, lift from none to twice."""
+    FAILURE_HINTS = {}
+
+    def __init__(self, study, table, draws, seed, fixed=None):
+        super().__init__(study, table, draws, seed, fixed)
+        missing = [c for c, (_, role) in self.COLUMNS.items()
+                   if role == "input" and c not in table.columns]
+        if missing:
+            raise InputError(missing[0], "missing required column", self.source)
+        if "hit_distance_sc_err" not in table.columns:
+            raise InputError("hit_distance_sc_err", "missing required column: the per-ball "
+                             "scatter of the distances about the model (ft)", self.source)
+        si = {"launch_speed": _MPH, "launch_angle": _DEG, "spray_angle": _DEG,
+              "backspin": _RPM, "sidespin": _RPM, "elevation": _FT, "landing_height": _FT}
+        self._launch = {c: table[c].to_numpy(float) * k for c, k in si.items()}
+        self.parameters = {"drag_scale": study.settings.drag_scale,
+                           "lift_scale": study.settings.lift_scale}
+        self.set_parameters(fixed or {})
+
+    def set_parameters(self, values):
+        """Set ``drag_scale`` and ``lift_scale``."""
+        for name, value in values.items():
+            self.parameters[self.PARAMETERS[name]] = float(value)
+
+    def solve(self):
+        """Fly every row once (its draws are identical): ``{"hit_distance_sc": ft}`` per
+        draw and the kernel's status."""
+        settings = dataclasses.replace(self.study.settings, **self.parameters)
+        launch = self._launch
+        out, status = fly_launches(settings, self.study.mass, self.study.radius,
+                                   launch["launch_speed"], launch["launch_angle"],
+                                   launch["spray_angle"], launch["backspin"],
+                                   launch["sidespin"], elevation=launch["elevation"],
+                                   landing_height=launch["landing_height"])
+        return ({"hit_distance_sc": np.repeat(out["hit_distance"] / _FT, self.draws)},
+                np.repeat(status, self.draws))

@@ -1,0 +1,134 @@
+"""``mcbat fit --flight``: the flight model's drag and lift scales fitted to measured
+distances; injection on synthetic distances from known scales; the calibrated preset."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mcbat.api import flight_case_from_dict, solve_flight
+from mcbat.cli import main
+from mcbat.errors import InputError
+from mcbat.papers.statcast.calibrate import (
+    FIT_CLASSES,
+    calibrate_file,
+    fit_scales,
+    flight_table,
+    predict,
+)
+from mcbat.papers.statcast.compare import select_balls
+from mcbat.papers.statcast.reproduce import read_statcast
+from mcbat.papers.statcast.spin import nathan_average_spin
+from mcbat.stats.fit import Likelihood
+from mcbat.stats.flight_model import FlightFitSetup
+from mcbat.study.flight import FLIGHT_PRESETS, parse_flight
+
+PRESET = "statcast_2019_2020"
+
+
+@pytest.fixture(scope="module")
+def launches():
+    """The real launches of the calibration sample as a flight table."""
+    balls = select_balls(read_statcast()[0])
+    balls = balls[balls["comparison"].isin(FIT_CLASSES)].reset_index(drop=True)
+    back, side = nathan_average_spin(balls["launch_angle"], balls["spray_angle"],
+                                     balls["handedness"])
+    table = flight_table(balls, back, side, 1.0)
+    return table[np.isfinite(predict(FlightFitSetup(), table))].reset_index(drop=True)
+
+
+def _inject(launches, truth, sigma, rng, rows=None):
+    table = launches if rows is None else launches.iloc[:rows].reset_index(drop=True)
+    table = table.copy()
+    table["hit_distance_sc"] = (predict(FlightFitSetup(), table, truth)
+                                + sigma * rng.standard_normal(len(table)))
+    return table
+
+
+def test_the_preset_is_what_the_shipped_samples_give():
+    cal = calibrate_file()
+    preset = FLIGHT_PRESETS[PRESET]
+    assert cal.balls == preset["balls"] and cal.sigma == pytest.approx(preset["sigma_ft"],
+                                                                       abs=0.05)
+    for name in ("drag_scale", "lift_scale"):
+        assert cal.result.params[name] == pytest.approx(preset[name]["value"], abs=1e-4)
+        iv = cal.result.intervals[name]
+        assert iv["status"] == "measured"
+        assert iv["lower_error"] == pytest.approx(preset[name]["lower_error"], abs=1e-4)
+        assert iv["upper_error"] == pytest.approx(preset[name]["upper_error"], abs=1e-4)
+    assert cal.result.dof == cal.balls - 2
+    assert cal.result.chi2 == pytest.approx(cal.balls - 2, rel=1e-6)
+
+
+def test_injected_scales_are_recovered(launches):
+    # nearly noiseless distances: the fit finds the truth to well within its small error
+    truth = {"drag_scale": 0.85, "lift_scale": 1.3}
+    table = _inject(launches, truth, 0.5, np.random.default_rng(3))
+    cal = fit_scales(table)
+    for name, value in truth.items():
+        iv = cal.result.intervals[name]
+        assert abs(cal.result.params[name] - value) < 3 * max(iv["lower_error"],
+                                                              iv["upper_error"])
+        assert iv["upper_error"] < 0.01
+    assert cal.sigma == pytest.approx(0.5, rel=0.2)
+
+
+def test_intervals_have_the_width_of_the_scatter_of_the_fits(launches):
+    # Reduced coverage check (the full one: benchmarks/flight_calibration_coverage.py,
+    # 200 tables): on 10 tables of 40 balls the pulls (fit - truth) / error are centred
+    # and of unit width, within what 10 tables can tell.
+    truth = {"drag_scale": 0.9, "lift_scale": 1.2}
+    rng = np.random.default_rng(11)
+    pulls = {name: [] for name in truth}
+    for _ in range(10):
+        cal = fit_scales(_inject(launches, truth, 15.0, rng, rows=40))
+        for name, value in truth.items():
+            iv = cal.result.intervals[name]
+            fitted = cal.result.params[name]
+            pulls[name].append((fitted - value)
+                               / (iv["upper_error"] if fitted < value else iv["lower_error"]))
+    for name, p in pulls.items():
+        p = np.array(p)
+        assert abs(p.mean()) < 0.9 and 0.5 < p.std(ddof=1) < 1.6, (name, p)
+
+
+def test_the_likelihood_needs_the_scatter_column(launches):
+    table = launches.drop(columns="hit_distance_sc_err")
+    with pytest.raises(InputError, match="hit_distance_sc_err"):
+        Likelihood(FlightFitSetup(), table, ("drag_scale",))
+
+
+def test_one_free_scale_and_bad_free(capsys):
+    assert main(["fit", "--flight", "--free", "lift_scale", "--intervals", "curvature"]) == 0
+    out = capsys.readouterr().out
+    assert "lift_scale" in out and "drag_scale" not in out
+    assert main(["fit", "--flight", "--free", "e,mu"]) == 2
+    err = capsys.readouterr().err
+    assert "--free" in err and len(err.strip().splitlines()) == 1
+    assert main(["fit", "--flight", "--spin-model", "guessed"]) == 2
+    assert "--spin-model" in capsys.readouterr().err
+
+
+def test_the_preset_in_flight_settings_and_mcbat_flight():
+    settings = parse_flight({"preset": PRESET})
+    assert settings.drag_scale == FLIGHT_PRESETS[PRESET]["drag_scale"]["value"]
+    assert settings.lift_scale == FLIGHT_PRESETS[PRESET]["lift_scale"]["value"]
+    assert settings.config()["preset"] == PRESET
+    for bad in ({"preset": PRESET, "drag_scale": 1.0}, {"preset": PRESET, "model": "nathan"},
+                {"preset": "coors1995"}):
+        with pytest.raises(InputError) as err:
+            parse_flight(bad)
+        assert err.value.field in ("flight.drag_scale", "flight.model", "flight.preset")
+    ball = {"launch_speed": 103 * 0.44704, "launch_angle": math.radians(27),
+            "backspin": 2000 * math.pi / 30}
+    default = solve_flight(flight_case_from_dict(ball)).hit_distance
+    calibrated = solve_flight(flight_case_from_dict({**ball, "preset": PRESET})).hit_distance
+    assert calibrated > default  # less drag, a little more lift
+
+
+def test_fit_without_a_study_or_flight_exits_2(capsys):
+    assert main(["fit", "--data", "table.csv"]) == 2
+    err = capsys.readouterr().err
+    assert "--study" in err and "--flight" in err
+    assert main(["fit", "--study", "s.toml", "--data", "t.csv", "--spin-model", "nathan"]) == 2
+    assert "--spin-model" in capsys.readouterr().err
