@@ -27,6 +27,7 @@ from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
 from mcbat.runner.memory import reuse_freed_memory
+from mcbat.runner.pitches import load_pitches
 from mcbat.runner.plan import (
     DEFAULT_CHUNK_SIZE,
     chunks_to_compute,
@@ -187,11 +188,13 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     Raises
     ------
     InputError
-        A bad option or output location, named by its parameter; before anything is
-        written.
+        A bad option or output location, named by its parameter; a ``[pitches]`` file
+        that cannot be read or a filter that selects no row, named by its key; before
+        anything is written.
     """
     if tolerance is not None:
         study = study.with_overrides(tolerance=tolerance)
+    study = load_pitches(study)  # a [pitches] file: read, hashed and filtered first
     samples = positive_int(study.samples if samples is None else samples, "samples")
     seed = study.seed if seed is None else seed
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:

@@ -21,7 +21,9 @@ import numba
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from mcbat.dataset import chunks
+from mcbat.errors import InputError
 from mcbat.runner.memory import set_run_allocation
+from mcbat.runner.pitches import load_pitches
 from mcbat.runner.plan import ChunkJob, ChunkSummary, dataset_hash, run_chunk, warm_kernel
 from mcbat.study import Study
 
@@ -99,6 +101,11 @@ def _study(definition: dict, job: ChunkJob):
         if study is None:
             meta = job.metadata
             study = Study.from_dict(definition, text=meta.get("study_toml"))
+            try:  # (a [pitches] file: read on the worker, which must see it)
+                study = load_pitches(study)
+            except InputError as err:
+                raise WorkerSetupError(err.field, f"the worker on {_host()} cannot use "
+                                       f"the [pitches] file: {err.message}") from None
             if dataset_hash(study.config(), job.seed, job.samples) != job.config_hash:
                 raise WorkerSetupError(
                     "scheduler", f"the study rebuilt on the worker on {_host()} differs "
