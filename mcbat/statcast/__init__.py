@@ -1,0 +1,25 @@
+"""Real pitches and batted balls: Baseball Savant (Statcast) exports in mcbat's frame and
+units (``docs/statcast.md``).
+
+``read(path_or_dataframe)`` gives the tidy table, one row per pitch; ``write(df, path)``
+stores it as Parquet with its units; ``summarize(df)`` the counts ``mcbat statcast``
+prints. The pitch's crossing of the plate and the spray angle are the small pure
+functions of :mod:`mcbat.statcast.kinematics`; the parks and their elevations
+:mod:`mcbat.statcast.parks`.
+"""
+
+from mcbat.statcast.kinematics import plate_crossing, spray_angle
+from mcbat.statcast.reader import (
+    COLUMNS,
+    OPTIONAL,
+    REQUIRED,
+    UNITS,
+    attack_direction_check,
+    balls_in_play,
+    read,
+    summarize,
+    write,
+)
+
+__all__ = ["COLUMNS", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
+           "balls_in_play", "plate_crossing", "read", "spray_angle", "summarize", "write"]

@@ -1,0 +1,485 @@
+"""Read a Baseball Savant export (CSV, or a pybaseball DataFrame) into mcbat's tidy table.
+
+One row per pitch, in mcbat's field frame and units (``docs/statcast.md`` lists every
+column with its unit and definition; :data:`UNITS` is the machine-readable list).
+Missing values stay NaN; nothing is guessed. What the reader does with imperfect input:
+
+============================================  =============================================
+input                                         result
+============================================  =============================================
+not a Savant export (required columns absent) :class:`~mcbat.errors.InputError` naming
+                                              the missing columns (exit 2 in the CLI)
+a row with more or fewer fields than the      :class:`~mcbat.errors.InputError` naming the
+header; an unterminated quote (a truncated    line: the file was cut or is malformed
+download)
+not UTF-8 text, an empty file                 :class:`~mcbat.errors.InputError`
+a non-numeric cell in a numeric column        NaN, counted per column with the first
+(``"abc"`` for ``launch_speed``)              offending line in ``attrs["statcast"]
+                                              ["non_numeric"]``
+Savant's ``null`` marker, empty cells         NaN (not counted: that is how Savant writes
+                                              a missing value)
+an optional column the season lacks           a column of NaN, listed in
+(``spin_axis`` before 2020, bat tracking       ``attrs["statcast"]["missing_columns"]``
+before 2024, ...)
+a ``home_team`` the park table does not know  NaN elevation, counted in
+(or a park without a sourced elevation)       ``attrs["statcast"]["elevation_missing"]``
+a column named twice (Savant writes           the first one is used (the copies hold the
+``pitcher`` and ``fielder_2`` twice)          same values in Savant's exports)
+============================================  =============================================
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from mcbat.errors import InputError
+from mcbat.statcast import kinematics, parks
+
+__all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
+           "balls_in_play", "read", "summarize", "write"]
+
+UNITS = {
+    # identifiers
+    "game_pk": "id", "at_bat_number": "1", "pitch_number": "1", "batter": "id",
+    "pitcher": "id",
+    # where and when
+    "game_date": "date", "game_year": "year", "home_team": "code", "elevation": "ft",
+    # the pitch
+    "pitch_type": "code", "p_throws": "code (R, L)", "handedness": "code (R, L)",
+    "release_speed": "mph", "pitch_speed": "mph", "vertical_approach_angle": "deg",
+    "horizontal_approach_angle": "deg", "spin_rate": "rpm", "spin_axis": "deg",
+    "plate_x": "ft", "plate_z": "ft",
+    # the swing (bat tracking, 2024-)
+    "bat_speed": "mph", "swing_length": "ft", "attack_angle": "deg",
+    "attack_direction": "deg", "swing_path_tilt": "deg",
+    # the batted ball
+    "description": "code", "events": "code", "bb_type": "code", "launch_speed": "mph",
+    "launch_angle": "deg", "spray_angle": "deg", "hit_distance_sc": "ft",
+    "hit_location": "code (fielder 1-9)", "hc_x": "spray-chart units",
+    "hc_y": "spray-chart units",
+}
+"""Every column of the tidy table, in order, with its unit."""
+COLUMNS = tuple(UNITS)
+"""The tidy table's columns, in order."""
+
+REQUIRED = ("pitch_type", "game_date", "release_speed", "batter", "pitcher", "events",
+            "description", "stand", "p_throws", "home_team", "hit_location", "bb_type",
+            "game_year", "plate_x", "plate_z", "hc_x", "hc_y", "vx0", "vy0", "vz0", "ax",
+            "ay", "az", "hit_distance_sc", "launch_speed", "launch_angle",
+            "release_spin_rate", "game_pk", "at_bat_number", "pitch_number")
+"""Columns every Savant pitch-level export has had, whatever the season (2015-2025)."""
+OPTIONAL = ("spin_axis", "bat_speed", "swing_length", "attack_angle", "attack_direction",
+            "swing_path_tilt")
+"""Columns that came later: ``spin_axis`` (2020), ``bat_speed`` and ``swing_length``
+(2024), ``attack_angle``, ``attack_direction`` and ``swing_path_tilt`` (2025)."""
+
+_NUMERIC = ("release_speed", "batter", "pitcher", "hit_location", "game_year", "plate_x",
+            "plate_z", "hc_x", "hc_y", "vx0", "vy0", "vz0", "ax", "ay", "az",
+            "hit_distance_sc", "launch_speed", "launch_angle", "release_spin_rate",
+            "game_pk", "at_bat_number", "pitch_number", *OPTIONAL)
+_TEXT = ("pitch_type", "events", "description", "stand", "p_throws", "home_team",
+         "bb_type")
+_IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitcher")
+_MISSING_MARKERS = ("", "null", "NULL", "NA", "<NA>", "NaN", "nan", "None")
+"""Cells that are a missing value: Savant wrote ``null`` in older exports and writes
+empty cells now; pandas writes ``NaN``/``<NA>`` when a DataFrame is saved."""
+
+METADATA_KEY = b"mcbat.statcast"
+"""The Parquet schema-metadata key of a tidy table: JSON with ``units`` and ``statcast``
+(the reader's report)."""
+
+_TIDY_MARKER = ("pitch_speed", "vertical_approach_angle", "spray_angle")
+
+
+def read(source, *, name=None):
+    """Read a Savant export into mcbat's tidy table, one row per pitch.
+
+    Parameters
+    ----------
+    source : str, os.PathLike or pandas.DataFrame
+        A Savant CSV export (``.csv`` or ``.csv.gz``; any season 2015-2025, the columns of
+        its year), a Parquet file holding such an export or a table :func:`write` wrote,
+        or a DataFrame (pybaseball's ``statcast()`` result, or a raw export read by
+        pandas).
+    name : str, optional
+        How errors and the report name the input (default: the path, or
+        ``"<DataFrame>"``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The columns of :data:`COLUMNS` (``docs/statcast.md``). ``df.attrs["units"]`` maps
+        each column to its unit; ``df.attrs["statcast"]`` is the reader's report:
+        ``source``, ``rows``, ``missing_columns`` (optional columns the input lacks, NaN
+        here), ``non_numeric`` (per column: cells that were not numbers, set to NaN, and
+        the first one's line and value), ``elevation_missing`` (rows without a park
+        elevation, per ``home_team``), ``unknown_home_teams`` (codes the park table does not
+        know, with their rows), ``duplicate_columns``.
+
+    Raises
+    ------
+    mcbat.errors.InputError
+        One line naming the input and what is wrong: a missing required column, a
+        truncated or malformed CSV, a file that cannot be read.
+    """
+    import pandas as pd
+
+    if isinstance(source, pd.DataFrame):
+        label = name or "<DataFrame>"
+        raw = source.copy()
+        raw.columns = [str(c) for c in raw.columns]
+        lines = None
+        duplicates = sorted({c for c in raw.columns if list(raw.columns).count(c) > 1})
+        raw = raw.loc[:, ~raw.columns.duplicated()]
+    else:
+        path = Path(os.fspath(source))
+        label = name or str(path)
+        if path.suffix.lower() in (".parquet", ".pq"):
+            raw = _read_parquet(path, label)
+            if all(c in raw.columns for c in _TIDY_MARKER):
+                return _tidy_from_parquet(raw, path, label)
+            lines = None
+            duplicates = []
+        else:
+            raw, duplicates = _read_csv(path, label)
+            lines = np.arange(len(raw)) + 2  # the header is line 1
+    return _tidy(raw, label, lines, duplicates)
+
+
+def _read_parquet(path, label):
+    import pandas as pd
+
+    if not path.is_file():
+        raise InputError(None, "no such file", label)
+    try:
+        return pd.read_parquet(path)
+    except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault
+        raise InputError(None, f"cannot read the Parquet file: {err}", label) from None
+
+
+def _open_text(path, label):
+    """The file's text (``.gz`` decompressed), or :class:`InputError` naming it."""
+    import gzip
+
+    if not path.is_file():
+        raise InputError(None, "no such file", label)
+    try:
+        data = path.read_bytes()
+        if path.suffix.lower() == ".gz" or data[:2] == b"\x1f\x8b":
+            data = gzip.decompress(data)
+    except (OSError, EOFError) as err:
+        raise InputError(None, f"cannot read the file: {err}", label) from None
+    try:
+        return data.decode("utf-8-sig")  # Savant's newer exports start with a BOM
+    except UnicodeDecodeError as err:
+        raise InputError(None, f"not UTF-8 text (byte {err.start}); a Savant export is a "
+                         "UTF-8 CSV file", label) from None
+
+
+def _read_csv(path, label):
+    """The export's columns as strings, and the names it repeats.
+
+    Every row is checked to have as many fields as the header (Python's csv module, in
+    strict mode, before pandas parses the text): pandas would pad a short row with NaN,
+    and a download cut in the middle of a row would pass for a row of missing values.
+    """
+    import pandas as pd
+
+    text = _open_text(path, label)
+    reader = csv.reader(io.StringIO(text), strict=True)
+    try:
+        header = next(reader, None)
+        if not header or not any(cell.strip() for cell in header):
+            raise InputError(None, "empty file: no header line (not a Savant export)",
+                             label)
+        _check_required([cell.strip() for cell in header], label)
+        width = len(header)
+        for row in reader:
+            if len(row) != width and row:
+                raise InputError(None, f"line {reader.line_num}: {len(row)} fields where "
+                                 f"the header has {width}: the file is truncated or "
+                                 "malformed (an interrupted download?)", label)
+    except csv.Error as err:
+        raise InputError(None, f"line {reader.line_num}: malformed CSV ({err}): the file "
+                         "is truncated or malformed (an interrupted download?)",
+                         label) from None
+    names = [cell.strip() for cell in header]
+    first = {}
+    for index, column in enumerate(names):
+        first.setdefault(column, index)
+    duplicates = sorted(c for c in first if names.count(c) > 1)
+    wanted = [first[c] for c in (*REQUIRED, *OPTIONAL) if c in first]
+    table = pd.read_csv(io.StringIO(text), header=0, usecols=wanted, dtype=str,
+                        keep_default_na=False, na_values=list(_MISSING_MARKERS),
+                        skip_blank_lines=True)
+    # usecols keeps the file's order; name the columns by position (pandas renames
+    # repeated names, "pitcher.1", which the positions avoid).
+    table.columns = [names[i] for i in sorted(wanted)]
+    return table, duplicates
+
+
+def _tidy(raw, label, lines, duplicates):
+    import pandas as pd
+
+    _check_required(raw.columns, label)
+    n = len(raw)
+    report = {"source": label, "rows": n,
+              "missing_columns": [c for c in OPTIONAL if c not in raw.columns],
+              "non_numeric": {}, "elevation_missing": {}, "unknown_home_teams": {},
+              "duplicate_columns": duplicates}
+    num = {}
+    for column in _NUMERIC:
+        if column not in raw.columns:
+            num[column] = np.full(n, np.nan)
+            continue
+        num[column], bad = _numbers(raw[column], lines)
+        if bad:
+            report["non_numeric"][column] = bad
+    text = {c: _text(raw[c]) for c in _TEXT}
+
+    speed, vertical, horizontal = kinematics.plate_crossing(
+        num["vx0"], num["vy0"], num["vz0"], num["ax"], num["ay"], num["az"])
+    elevation = parks.elevation(text["home_team"], num["game_year"])
+    known = {p["home_team"] for p in parks.parks()}
+    for team, value in zip(text["home_team"], elevation):
+        key = team if isinstance(team, str) else "(missing)"
+        if np.isnan(value):
+            report["elevation_missing"][key] = report["elevation_missing"].get(key, 0) + 1
+        if key not in known:
+            report["unknown_home_teams"][key] = report["unknown_home_teams"].get(key, 0) + 1
+
+    columns = {
+        **{c: _integers(num[c]) for c in _IDENTIFIERS},
+        "game_date": _dates(raw["game_date"]),
+        "game_year": num["game_year"],
+        "home_team": text["home_team"],
+        "elevation": elevation,
+        "pitch_type": text["pitch_type"],
+        "p_throws": text["p_throws"],
+        "handedness": text["stand"],
+        "release_speed": num["release_speed"],
+        "pitch_speed": speed,
+        "vertical_approach_angle": vertical,
+        "horizontal_approach_angle": horizontal,
+        "spin_rate": num["release_spin_rate"],
+        "spin_axis": num["spin_axis"],
+        "plate_x": num["plate_x"],
+        "plate_z": num["plate_z"],
+        # Savant's bat-tracking angles are already in mcbat's conventions
+        # (docs/statcast.md): attack_direction > 0 towards the batter's opposite field.
+        "bat_speed": num["bat_speed"],
+        "swing_length": num["swing_length"],
+        "attack_angle": num["attack_angle"],
+        "attack_direction": num["attack_direction"],
+        "swing_path_tilt": num["swing_path_tilt"],
+        "description": text["description"],
+        "events": text["events"],
+        "bb_type": text["bb_type"],
+        "launch_speed": num["launch_speed"],
+        "launch_angle": num["launch_angle"],
+        "spray_angle": kinematics.spray_angle(num["hc_x"], num["hc_y"]),
+        "hit_distance_sc": num["hit_distance_sc"],
+        "hit_location": num["hit_location"],
+        "hc_x": num["hc_x"],
+        "hc_y": num["hc_y"],
+    }
+    df = pd.DataFrame(columns, columns=list(COLUMNS))
+    df.attrs["units"] = dict(UNITS)
+    df.attrs["statcast"] = report
+    return df
+
+
+def _check_required(columns, label):
+    """:class:`InputError` naming the required columns ``columns`` lacks (the first ten
+    and their count when most are missing: the file is something else altogether)."""
+    missing = [c for c in REQUIRED if c not in set(columns)]
+    if not missing:
+        return
+    if len(missing) > 10:
+        named = (f"{len(missing)} of its {len(REQUIRED)} required columns "
+                 f"({', '.join(missing[:10])}, ...)")
+    else:
+        named = f"column{'s' if len(missing) > 1 else ''} {', '.join(missing)}"
+    raise InputError(None, f"not a Statcast (Baseball Savant) pitch-level export: missing "
+                     f"{named}", label)
+
+
+def _numbers(values, lines):
+    """A column as float64: missing markers NaN, other non-numbers NaN and counted.
+
+    Returns the array and ``None`` or ``{"cells": count, "line": first line (CSV only),
+    "value": its text}``.
+    """
+    import pandas as pd
+
+    series = values
+    converted = pd.to_numeric(series, errors="coerce")
+    out = np.array(converted.to_numpy(dtype=float, na_value=np.nan))
+    if series.dtype == object:
+        given = series.notna().to_numpy()
+        if given.any():
+            stripped = series[given].astype(str).str.strip()
+            given[given] = ~stripped.isin(_MISSING_MARKERS).to_numpy()
+        bad = given & np.isnan(out)
+    else:
+        bad = np.zeros(len(out), dtype=bool)
+    # inf is not a measurement either
+    infinite = np.isinf(out)
+    bad |= infinite
+    out[infinite] = np.nan
+    if not bad.any():
+        return out, None
+    first = int(np.flatnonzero(bad)[0])
+    report = {"cells": int(bad.sum()), "value": str(series.iloc[first])}
+    if lines is not None:
+        report["line"] = int(lines[first])
+    return out, report
+
+
+def _integers(values):
+    """Identifiers as nullable integers (NaN where missing or not a whole number)."""
+    import pandas as pd
+
+    whole = np.where(np.isfinite(values) & (values == np.round(values)), values, np.nan)
+    return pd.array(whole, dtype="Int64")
+
+
+def _text(values):
+    """A text column as Python strings with NaN where missing (object dtype, so that
+    ``df.pitch_type == "FF"`` is False, not NA, on a missing value)."""
+    out = np.empty(len(values), dtype=object)
+    for i, value in enumerate(values.tolist()):
+        if value is None or (isinstance(value, float) and math.isnan(value)):
+            out[i] = np.nan
+            continue
+        value = str(value).strip()
+        out[i] = np.nan if value in _MISSING_MARKERS else value
+    return out
+
+
+def _dates(values):
+    import pandas as pd
+
+    return pd.to_datetime(values, errors="coerce", format="mixed").dt.normalize() \
+        if len(values) else pd.Series([], dtype="datetime64[ns]")
+
+
+def _tidy_from_parquet(table, path, label):
+    """A table :func:`write` wrote: its columns and the report kept in its metadata."""
+    import pyarrow.parquet as pq
+
+    missing = [c for c in COLUMNS if c not in table.columns]
+    if missing:
+        raise InputError(None, f"a tidy Statcast table but missing column"
+                         f"{'s' if len(missing) > 1 else ''} {', '.join(missing)}", label)
+    table = table[list(COLUMNS)].copy()
+    meta = pq.read_schema(path).metadata or {}
+    info = json.loads(meta[METADATA_KEY]) if METADATA_KEY in meta else {}
+    table.attrs["units"] = dict(UNITS)
+    table.attrs["statcast"] = info.get("statcast", {"source": label, "rows": len(table)})
+    return table
+
+
+def write(df, path):
+    """Write a tidy table (from :func:`read`) to Parquet, atomically, with its units and
+    the reader's report in the schema metadata (key :data:`METADATA_KEY`).
+
+    The file appears complete or not at all: it is written under a temporary name in the
+    same directory and renamed.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = Path(os.fspath(path))
+    table = pa.Table.from_pandas(df[list(COLUMNS)], preserve_index=False)
+    info = {"units": dict(UNITS), "statcast": df.attrs.get("statcast", {})}
+    table = table.replace_schema_metadata(
+        {**(table.schema.metadata or {}),
+         METADATA_KEY: json.dumps(info, sort_keys=True).encode()})
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        pq.write_table(table, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def balls_in_play(df):
+    """Boolean mask of the balls put in play (``description`` starting with
+    ``hit_into_play``: Savant's ``hit_into_play``, and ``hit_into_play_no_out`` /
+    ``hit_into_play_score`` of exports before 2019's change)."""
+    return df["description"].astype(str).str.startswith("hit_into_play").to_numpy()
+
+
+def summarize(df):
+    """The counts ``mcbat statcast`` prints, as a JSON-ready dict.
+
+    Keys: ``rows``, ``seasons`` (sorted), ``pitch_types`` (count per type, most common
+    first; ``"(none)"`` for rows without one), ``balls_in_play``, ``with_distance``
+    (``hit_distance_sc`` measured), ``with_bat_tracking`` (``bat_speed`` measured),
+    ``with_launch`` (balls in play with launch speed and angle), ``plate`` (median and
+    standard deviation of the plate speed and approach angles per pitch type),
+    ``attack_direction_check`` (see ``docs/statcast.md``), ``units`` and the reader's
+    report (``missing_columns``, ``non_numeric``, ``elevation_missing``,
+    ``unknown_home_teams``, ``duplicate_columns``).
+    """
+    seasons = sorted({int(y) for y in df["game_year"].dropna()})
+    types = df["pitch_type"].fillna("(none)").value_counts()
+    bip = balls_in_play(df)
+    launch = bip & df["launch_speed"].notna().to_numpy() & df["launch_angle"].notna().to_numpy()
+    plate = {}
+    for kind, rows in df.groupby(df["pitch_type"].fillna("(none)")):
+        entry = {"pitches": int(len(rows))}
+        for column in ("pitch_speed", "vertical_approach_angle",
+                       "horizontal_approach_angle"):
+            values = rows[column].dropna()
+            entry[column] = ({"median": float(values.median()),
+                              "sd": float(values.std(ddof=1)) if len(values) > 1 else None}
+                             if len(values) else None)
+        plate[str(kind)] = entry
+    report = dict(df.attrs.get("statcast", {}))
+    out = {
+        "rows": int(len(df)),
+        "seasons": seasons,
+        "pitch_types": {str(k): int(v) for k, v in types.items()},
+        "balls_in_play": int(bip.sum()),
+        "with_launch": int(launch.sum()),
+        "with_distance": int(df["hit_distance_sc"].notna().sum()),
+        "with_bat_tracking": int(df["bat_speed"].notna().sum()),
+        "plate": plate,
+        "attack_direction_check": attack_direction_check(df),
+        "units": dict(UNITS),
+    }
+    for key in ("source", "missing_columns", "non_numeric", "elevation_missing",
+                "unknown_home_teams", "duplicate_columns"):
+        if key in report:
+            out[key] = report[key]
+    return out
+
+
+def attack_direction_check(df, minimum=20):
+    """Whether the swing's attack direction agrees in sign with where the ball went.
+
+    Among balls in play with both an attack direction and a spray angle, the correlation
+    between ``attack_direction`` and the spray angle towards the batter's opposite field
+    (``spray_angle`` for a right-handed batter, ``-spray_angle`` for a left-handed one).
+    A clearly positive value confirms the convention of ``docs/statcast.md`` (positive
+    towards the opposite field) on the user's own data. None with fewer than ``minimum``
+    such rows.
+    """
+    sign = np.where(df["handedness"].to_numpy() == "L", -1.0, 1.0)
+    opposite = sign * df["spray_angle"].to_numpy(dtype=float)
+    attack = df["attack_direction"].to_numpy(dtype=float)
+    rows = balls_in_play(df) & np.isfinite(opposite) & np.isfinite(attack)
+    if rows.sum() < minimum:
+        return None
+    r = float(np.corrcoef(attack[rows], opposite[rows])[0, 1])
+    return {"rows": int(rows.sum()), "correlation": r}
