@@ -75,13 +75,23 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
     where = str(path) if where is None else where
     try:
         with open(path, "rb") as handle:
+            stamp = os.fstat(handle.fileno())
             data = handle.read()
     except OSError as err:
         reason = os.strerror(err.errno) if err.errno else str(err)
         raise InputError("pitches.file", f"cannot read {where}: {reason}") from None
     frame = _parse(data, where)
-    if _SAVANT_MARK in frame.columns and "pitch_speed" not in frame.columns:
-        frame = _from_savant(frame, where)
+    if "pitch_speed" not in frame.columns and _SAVANT_MARK in frame.columns:
+        # A raw export: the Savant reader converts it from the file itself (its CSV
+        # checks report line numbers), which must be the bytes hashed above.
+        frame = _from_savant(path, where)
+        try:
+            now = os.stat(path)
+        except OSError:
+            now = None
+        if now is None or (now.st_size, now.st_mtime_ns) != (stamp.st_size,
+                                                               stamp.st_mtime_ns):
+            raise InputError("pitches.file", f"{where} changed while it was read; rerun")
     missing = [name for name in needed if name not in frame.columns]
     if missing:
         raise InputError("pitches.file", f"{where} has no column {', '.join(missing)} "
@@ -119,15 +129,12 @@ def _parse(data: bytes, where: str) -> pd.DataFrame:
     return frame
 
 
-def _from_savant(frame: pd.DataFrame, where: str) -> pd.DataFrame:
-    """A raw Savant CSV as the tidy table (:func:`mcbat.statcast.read`)."""
+def _from_savant(path, where: str) -> pd.DataFrame:
+    """A raw Savant export as the tidy table (:func:`mcbat.statcast.read`)."""
+    from mcbat.statcast import read
+
     try:
-        from mcbat.statcast import read
-    except ImportError:  # (an installation without the reader)
-        raise InputError("pitches.file", f"{where} is a raw Baseball Savant CSV; convert "
-                         "it to mcbat's tidy table first") from None
-    try:
-        return read(frame)
+        return read(path, name=where)
     except InputError as err:
         raise InputError("pitches.file", f"{where}: {err.message}") from None
 

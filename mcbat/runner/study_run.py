@@ -72,6 +72,9 @@ class RunSummary:
         Stray chunk files (beyond the dataset's last chunk) the run removed.
     summary : dict or None
         With ``[summary]``: ``{"path", "bins", "outside", "summary_only"}``.
+    pitches : dict or None
+        With ``[pitches]``: the file and its rows selected, left out (reason -> count) and
+        drawn from (the ``pitches`` entry of the study's config).
     """
 
     directory: Path | str
@@ -86,6 +89,7 @@ class RunSummary:
     redone: list = field(default_factory=list)
     removed: list = field(default_factory=list)
     summary: dict | None = None
+    pitches: dict | None = None
 
     @property
     def rows_per_second(self) -> float:
@@ -106,6 +110,12 @@ class RunSummary:
         if self.summary is not None:
             out.append(f"summary: {self.summary['path']} ({self.summary['bins']:,} bins; "
                        f"{self.summary['outside']:,} rows outside every bin)")
+        if self.pitches is not None:
+            p = self.pitches
+            left = "".join(f", {n:,} {reason}" for reason, n in p["excluded"].items())
+            out.append(f"pitches: {p['drawn_from']:,} rows of {p['file']} drawn from "
+                       f"({p['rows_in_file']:,} in the file, {p['selected']:,} selected by "
+                       f"the filters{left})")
         for index, reason in self.redone:
             out.append(f"recomputed {chunks.chunk_name(index)}: {reason}")
         for name in self.removed:
@@ -240,7 +250,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         "outside": int(state.total.outside[0]), "summary_only": job.summary_only}
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
-                      batted, redone, stray, summary)
+                      batted, redone, stray, summary,
+                      job.metadata["study"].get("pitches"))
 
 
 def _compute(study, job, display, on_disk, runner, progress):

@@ -309,11 +309,12 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
             mask[bad] = False
 
     for name in IDENTIFIERS:
-        leave_out(~np.isfinite(cols[name]), f"no {name}")
+        leave_out(~np.isfinite(cols[name]), f"without {name}")
     handedness = None
     if fixed_handedness is None:
         side = cols["handedness"]
-        leave_out(~np.isin(side, np.asarray(["R", "L"], object)), "no batter side (stand)")
+        leave_out(~np.isin(side, np.asarray(["R", "L"], object)),
+                  "without the batter's side (stand)")
     keys = tuple(source.keys)
     si = {}
     for key in keys:
@@ -322,13 +323,13 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
         values = np.asarray(cols[column], np.float64) * u.UNITS[quantity][unit]
         missing = ~np.isfinite(values)
         if key not in source.fallback:
-            leave_out(missing, f"no {column}")
+            leave_out(missing, f"without {column}")
         leave_out(~missing & ~_in_range(key, values, inputs), f"{column} out of range")
         si[key] = values
     if not mask.any():
         reasons = ", ".join(f"{n:,} {r}" for r, n in excluded.items())
         fix = next((f"; give pitches.fallback.{k.split('.')[1]} for rows without it"
-                    for k in keys if f"no {source.keys[k]}" in excluded), "")
+                    for k in keys if f"without {source.keys[k]}" in excluded), "")
         raise InputError("pitches", f"no row of {where} is left to draw from: of the "
                          f"{selected:,} rows the filters select, {reasons}{fix}")
     index = np.flatnonzero(mask).astype(np.int64)
