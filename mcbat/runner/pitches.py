@@ -15,6 +15,7 @@ study's config is that of the rows drawn.
 
 from __future__ import annotations
 
+import csv
 import hashlib
 import io
 import os
@@ -29,8 +30,8 @@ __all__ = ["load_pitches", "read_pitch_table"]
 
 #: Columns read as text (the others as numbers).
 _TEXT = ("pitch_type", "p_throws", "handedness")
-# A Savant CSV is told from the tidy table by its release speed without a plate speed.
-_SAVANT_MARK = "release_speed"
+# The tidy table is told from a raw Savant export by its plate speed.
+_TIDY_MARK = "pitch_speed"
 
 
 def load_pitches(study):
@@ -81,9 +82,9 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
         reason = os.strerror(err.errno) if err.errno else str(err)
         raise InputError("pitches.file", f"cannot read {where}: {reason}") from None
     frame = _parse(data, where)
-    if "pitch_speed" not in frame.columns and _SAVANT_MARK in frame.columns:
-        # A raw export: the Savant reader converts it from the file itself (its CSV
-        # checks report line numbers), which must be the bytes hashed above.
+    if frame is None:
+        # A raw export: the Savant reader converts it, from the file itself (its CSV
+        # checks report line numbers), which must still hold the bytes hashed above.
         frame = _from_savant(path, where)
         try:
             now = os.stat(path)
@@ -109,24 +110,39 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
                       os.path.basename(str(path)))
 
 
-def _parse(data: bytes, where: str) -> pd.DataFrame:
-    """Parquet (by its magic bytes) or CSV."""
+def _parse(data: bytes, where: str) -> pd.DataFrame | None:
+    """The tidy table in ``data`` (Parquet, told by its magic bytes, or CSV), or None for
+    anything else (a raw Savant export: :func:`_from_savant`)."""
     if data[:4] == b"PAR1":
         import pyarrow as pa
         import pyarrow.parquet as pq
 
         try:
-            return pq.read_table(io.BytesIO(data)).to_pandas()
+            table = pq.read_table(io.BytesIO(data))
         except (pa.ArrowException, OSError, ValueError) as err:
             raise InputError("pitches.file", f"{where}: not a readable Parquet file "
                              f"({_first_line(err)})") from None
+        return table.to_pandas() if _TIDY_MARK in table.column_names else None
     try:
-        frame = pd.read_csv(io.BytesIO(data), low_memory=False)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError,
-            ValueError) as err:
-        raise InputError("pitches.file", f"{where}: not a CSV or Parquet table "
-                         f"({_first_line(err)})") from None
-    return frame
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return None  # (the Savant reader says what is wrong with it)
+    rows = csv.reader(io.StringIO(text), strict=True)
+    try:
+        header = [cell.strip() for cell in next(rows, [])]
+        if _TIDY_MARK not in header:
+            return None
+        # Every row as wide as the header (pandas would pad a row cut short with NaN: a
+        # truncated file would pass for missing values).
+        for row in rows:
+            if row and len(row) != len(header):
+                raise InputError("pitches.file", f"{where}: line {rows.line_num}: "
+                                 f"{len(row)} fields where the header has {len(header)}: "
+                                 "the file is truncated or malformed")
+    except csv.Error as err:
+        raise InputError("pitches.file", f"{where}: line {rows.line_num}: malformed CSV "
+                         f"({err}): the file is truncated or malformed") from None
+    return pd.read_csv(io.StringIO(text), low_memory=False)
 
 
 def _from_savant(path, where: str) -> pd.DataFrame:

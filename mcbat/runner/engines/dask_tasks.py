@@ -106,7 +106,14 @@ def _study(definition: dict, job: ChunkJob):
             except InputError as err:
                 raise WorkerSetupError(err.field, f"the worker on {_host()} cannot use "
                                        f"the [pitches] file: {err.message}") from None
-            if dataset_hash(study.config(), job.seed, job.samples) != job.config_hash:
+            config = study.config()
+            if dataset_hash(config, job.seed, job.samples) != job.config_hash:
+                theirs = (meta.get("study") or {}).get("pitches") or {}
+                if "pitches" in config and config["pitches"]["sha256"] != theirs.get("sha256"):
+                    raise WorkerSetupError(
+                        "pitches.file", f"the worker on {_host()} reads another "
+                        f"{study.pitches.path} than the client (its content differs): the "
+                        "file must be the same on every host")
                 raise WorkerSetupError(
                     "scheduler", f"the study rebuilt on the worker on {_host()} differs "
                     "from the client's (another mcbat version?)")
