@@ -245,8 +245,8 @@ def cmd_calibrate(args) -> int:
 
 
 def _calibrate_study(args) -> int:
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.calibrate import calibrate
-    from mcbat.study import load_study
 
     if args.target is None:
         raise InputError("--target", "required with --study: the measured mean")
@@ -281,8 +281,8 @@ SYNTH_PARAMETERS = ("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_nois
 
 
 def cmd_synth(args) -> int:
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.measurements import synthesize, write_table_atomic
-    from mcbat.study import load_study
 
     if args.out:
         _check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
@@ -314,9 +314,9 @@ RESIDUAL_FORMATS = (".png", ".pdf", ".svg")
 
 
 def cmd_fit(args) -> int:
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.fit import check_bootstrap, check_free, compare_models, fit
     from mcbat.stats.measurements import read_measurements
-    from mcbat.study import load_study
 
     # Every option is checked before any work.
     with _flags("free", "bootstrap", "draws", "seed"):

@@ -210,3 +210,21 @@ def test_a_tidy_parquet_file_gives_the_same_rows_as_the_savant_csv(baseline, tmp
     same_rows(other[inputs + list(PITCH_SOURCE_COLUMNS)],
               baseline[inputs + list(PITCH_SOURCE_COLUMNS)])
     assert other.attrs["mcbat"]["config_hash"] != baseline.attrs["mcbat"]["config_hash"]
+
+
+def test_calibrate_and_synth_read_the_pitches_file(tmp_path):
+    # The commands that sample a study outside `mcbat run` load its [pitches] rows too.
+    proc = mcbat_cli("calibrate", "--study", STUDY, "--target", 100, "--parameter", "e",
+                     "--samples", 1000)
+    assert proc.returncode == 0, proc.stderr
+    result = json.loads(proc.stdout)
+    assert abs(result["achieved"] - 100) < 1e-6 and 0 < result["value"] < 1
+    out = tmp_path / "synth.csv"
+    proc = mcbat_cli("synth", "--study", STUDY, "--rows", 40, "--seed", 1, "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    table = pd.read_csv(out)
+    # Its pitch speeds are the real plate speeds of the selected rows (mph).
+    tidy = read(DATA)
+    speeds = tidy.loc[tidy.pitch_type.isin(["FF", "SI"]) & (tidy.p_throws == "R"),
+                      "pitch_speed"].to_numpy()
+    assert np.isin(np.round(table["pitch_speed"].to_numpy(), 6), np.round(speeds, 6)).all()
