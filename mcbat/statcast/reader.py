@@ -322,8 +322,8 @@ def _numbers(values, lines):
     series = values
     converted = pd.to_numeric(series, errors="coerce")
     out = np.array(converted.to_numpy(dtype=float, na_value=np.nan))
-    if series.dtype == object:
-        given = series.notna().to_numpy()
+    if not (pd.api.types.is_numeric_dtype(series) or pd.api.types.is_bool_dtype(series)):
+        given = np.array(series.notna().to_numpy(), dtype=bool)
         if given.any():
             stripped = series[given].astype(str).str.strip()
             given[given] = ~stripped.isin(_MISSING_MARKERS).to_numpy()
