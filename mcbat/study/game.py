@@ -1,6 +1,7 @@
 """Game studies: a pitch, a swing and a contact in the field frame (``docs/batting.md``).
 
-A study file is a game study when it has a ``[pitch]`` or ``[swing]`` section::
+A study file is a game study when it has a ``[pitch]``, ``[swing]`` or ``[pitches]``
+section::
 
     handedness = "R"              # optional, "R" (default) or "L": the mirror image in x
     [study]  ...                  # as in every study
@@ -24,7 +25,7 @@ A study file is a game study when it has a ``[pitch]`` or ``[swing]`` section::
     [pitches]                     # optional: real pitches, resampled with replacement
     file = "statcast.parquet"     # (mcbat.study.pitches); then [pitch] and [swing] hold only
                                   # the keys not drawn from the rows, and handedness, if
-                                  # given, fixes the side the rows' batters had
+                                  # given, replaces the batter's side of every row
 
 Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
 Samples are the float64 columns of :data:`COLUMNS`, the inputs of

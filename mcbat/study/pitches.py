@@ -16,7 +16,7 @@ A game study with a ``[pitches]`` section resamples real pitches with replacemen
 The drawn keys are :data:`PITCH_KEYS` (and :data:`SWING_KEYS` with ``swing = true``);
 ``[pitch]`` and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat
 angle, ...), drawn from their distributions as always. A row that lacks a drawn value (NaN:
-no spin axis before 2020, no bat tracking before 2023, a pitch not swung at) takes the key's
+older exports have no spin axis, bat tracking starts in 2024, a pitch not swung at) takes the key's
 fallback when ``[pitches.fallback]`` has one; otherwise it is left out of the draw and
 counted. Rows with values outside the physical ranges the study keys are checked against
 are left out and counted too.
