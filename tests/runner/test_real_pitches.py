@@ -143,6 +143,13 @@ def test_a_changed_file_is_not_resumed_into_the_old_dataset(tmp_path):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert "different study config" in proc.stderr and "--overwrite" in proc.stderr
     assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == stamps
+    # A file gone: one line, and the dataset on disk is left as it was (even with
+    # --overwrite: the file is read before the directory is touched).
+    moved = data.rename(tmp_path / "elsewhere.csv")
+    line = one_line_exit_2(mcbat_cli(*args, "--overwrite"))
+    assert "pitches.file: cannot read pitches.csv" in line
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == stamps
+    moved.rename(data)
     proc = mcbat_cli(*args, "--overwrite")
     assert proc.returncode == 0, proc.stderr
     manifest = json.loads((out / ds.MANIFEST).read_text())
