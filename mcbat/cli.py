@@ -330,6 +330,15 @@ def cmd_fit(args) -> int:
         _check_output(args.residuals, "--residuals", RESIDUAL_FORMATS)
     study = load_study(args.study)
     table = read_measurements(args.data)
+    if "statcast" in table.attrs:  # a Savant export: say which rows the fit uses
+        kept = table.attrs["statcast"]
+        print(f"mcbat: {args.data}: Statcast export: {kept['used']:,} of {kept['rows']:,} "
+              f"pitches used (balls in play with launch speed, angle, spray and plate "
+              f"speed{' and bat tracking' if 'bat_speed' in table else ''}); dropped: "
+              f"{kept['not_in_play']:,} not in play, {kept['no_launch']:,} without launch, "
+              f"{kept['foul_territory']:,} fielded in foul territory, "
+              f"{kept['no_plate_speed']:,} without plate speed, {kept['no_bat_tracking']:,} "
+              f"without bat tracking", file=sys.stderr)
     with _flags("free", "bootstrap", "draws", "seed", "intervals"):
         result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
                      seed=args.seed, intervals=args.intervals)
@@ -397,6 +406,11 @@ def _statcast_lines(summary):
                            "horizontal_approach_angle")]
         lines.append(f"  {kind} at the plate (median): {parts[0]} mph, vertical approach "
                      f"{parts[1]} deg, horizontal {parts[2]} deg")
+    check = summary.get("attack_direction_check")
+    if check:
+        lines.append(f"  attack_direction vs spray towards the opposite field: correlation "
+                     f"{check['correlation']:+.2f} over {check['rows']:,} balls in play "
+                     "(> 0: the sign convention of docs/statcast.md holds)")
     if summary.get("missing_columns"):
         lines.append(f"  columns this export lacks (NaN): {', '.join(summary['missing_columns'])}")
     for column, bad in summary.get("non_numeric", {}).items():

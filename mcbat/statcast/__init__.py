@@ -9,6 +9,7 @@ functions of :mod:`mcbat.statcast.kinematics`; the parks and their elevations
 """
 
 from mcbat.statcast.kinematics import plate_crossing, spray_angle
+from mcbat.statcast.measured import is_statcast, measurement_table
 from mcbat.statcast.reader import (
     COLUMNS,
     OPTIONAL,
@@ -22,4 +23,5 @@ from mcbat.statcast.reader import (
 )
 
 __all__ = ["COLUMNS", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
-           "balls_in_play", "plate_crossing", "read", "spray_angle", "summarize", "write"]
+           "balls_in_play", "is_statcast", "measurement_table", "plate_crossing", "read",
+           "spray_angle", "summarize", "write"]

@@ -60,7 +60,8 @@ UNITS = {
     "bat_speed": "mph", "swing_length": "ft", "attack_angle": "deg",
     "attack_direction": "deg", "swing_path_tilt": "deg",
     # the batted ball
-    "description": "code", "events": "code", "bb_type": "code", "launch_speed": "mph",
+    "description": "code", "events": "code", "des": "text", "bb_type": "code",
+    "launch_speed": "mph",
     "launch_angle": "deg", "spray_angle": "deg", "hit_distance_sc": "ft",
     "hit_location": "code (fielder 1-9)", "hc_x": "spray-chart units",
     "hc_y": "spray-chart units",
@@ -70,7 +71,7 @@ COLUMNS = tuple(UNITS)
 """The tidy table's columns, in order."""
 
 REQUIRED = ("pitch_type", "game_date", "release_speed", "batter", "pitcher", "events",
-            "description", "stand", "p_throws", "home_team", "hit_location", "bb_type",
+            "description", "des", "stand", "p_throws", "home_team", "hit_location", "bb_type",
             "game_year", "plate_x", "plate_z", "hc_x", "hc_y", "vx0", "vy0", "vz0", "ax",
             "ay", "az", "hit_distance_sc", "launch_speed", "launch_angle",
             "release_spin_rate", "game_pk", "at_bat_number", "pitch_number")
@@ -85,7 +86,7 @@ _NUMERIC = ("release_speed", "batter", "pitcher", "hit_location", "game_year", "
             "hit_distance_sc", "launch_speed", "launch_angle", "release_spin_rate",
             "game_pk", "at_bat_number", "pitch_number", *OPTIONAL)
 _TEXT = ("pitch_type", "events", "description", "stand", "p_throws", "home_team",
-         "bb_type")
+         "bb_type", "des")
 _IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitcher")
 _MISSING_MARKERS = ("", "null", "NULL", "NA", "<NA>", "NaN", "nan", "None")
 """Cells that are a missing value: Savant wrote ``null`` in older exports and writes
@@ -106,8 +107,8 @@ def read(source, *, name=None):
     source : str, os.PathLike or pandas.DataFrame
         A Savant CSV export (``.csv`` or ``.csv.gz``; any season 2015-2025, the columns of
         its year), a Parquet file holding such an export or a table :func:`write` wrote,
-        or a DataFrame (pybaseball's ``statcast()`` result, or a raw export read by
-        pandas).
+        or a DataFrame (pybaseball's ``statcast()`` result, a raw export read by pandas, or
+        a tidy table, returned as it is).
     name : str, optional
         How errors and the report name the input (default: the path, or
         ``"<DataFrame>"``).
@@ -133,6 +134,12 @@ def read(source, *, name=None):
 
     if isinstance(source, pd.DataFrame):
         label = name or "<DataFrame>"
+        if set(COLUMNS) <= set(map(str, source.columns)) and "vy0" not in source.columns:
+            tidy = source[list(COLUMNS)].copy()  # already a tidy table: as it is
+            tidy.attrs["units"] = dict(UNITS)
+            tidy.attrs["statcast"] = dict(source.attrs.get("statcast", {"source": label,
+                                                                        "rows": len(tidy)}))
+            return tidy
         raw = source.copy()
         raw.columns = [str(c) for c in raw.columns]
         lines = None
@@ -281,6 +288,7 @@ def _tidy(raw, label, lines, duplicates):
         "swing_path_tilt": num["swing_path_tilt"],
         "description": text["description"],
         "events": text["events"],
+        "des": text["des"],
         "bb_type": text["bb_type"],
         "launch_speed": num["launch_speed"],
         "launch_angle": num["launch_angle"],

@@ -35,6 +35,11 @@ column                    unit      meaning
 ``<column>_err``          as above  optional 1-sigma uncertainty of that column
 ========================  ========  ==============================================
 
+A Baseball Savant (Statcast) export, or the tidy table ``mcbat statcast --out`` writes,
+is read as a game table: its balls in play with a measured launch, the columns above that
+Statcast has (:mod:`mcbat.statcast.measured` says which rows are dropped and counts them in
+``table.attrs["statcast"]``).
+
 The fixed setup (bat, ball, and for a drop test the incoming speed) comes from a study TOML.
 Every value must be a finite number; uncertainties must be > 0; an ``_err`` column needs its
 value column. Errors name the file, the column and the data row (1-based) with the offending
@@ -107,8 +112,17 @@ def read_measurements(path, required=()):
     """
     import pandas as pd
 
+    from mcbat.statcast.measured import is_statcast, measurement_table
+
     path = Path(path)
     source = str(path)
+    if is_statcast(path):  # a Savant export or mcbat's tidy Statcast table
+        table = measurement_table(path)
+        _check_columns(table.columns, required, source)
+        if len(table) == 0:
+            raise InputError(None, "the Statcast export has no ball in play with a measured "
+                             "launch speed, launch angle and spray angle", source)
+        return table
     df = _read_table(path, source)
     df.columns = [str(c).strip() for c in df.columns]
     _check_columns(df.columns, required, source)

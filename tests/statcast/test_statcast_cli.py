@@ -101,7 +101,7 @@ def _empty(tmp_path):
 
 @pytest.mark.parametrize("make,message", [
     (_cut, "the file is truncated or malformed (an interrupted download?)"),
-    (_not_csv, "not a Statcast (Baseball Savant) pitch-level export: missing 30 of its 30"),
+    (_not_csv, "not a Statcast (Baseball Savant) pitch-level export: missing 31 of its 31"),
     (_utf16, "not UTF-8 text (byte 0)"),
     (_empty, "empty file: no header line"),
     (lambda p: p / "nope.csv", "no such file"),

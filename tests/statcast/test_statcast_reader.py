@@ -220,3 +220,36 @@ def test_an_empty_export_is_an_empty_table(tmp_path):
     path.write_text(FILE_2020.read_text(encoding="utf-8").splitlines()[0] + "\n")
     df = read(path)
     assert len(df) == 0 and tuple(df.columns) == COLUMNS
+
+
+def test_a_typed_pybaseball_frame_with_nullable_dtypes_reads_the_same():
+    """pybaseball converts types (``convert_dtypes``: nullable integers, strings with
+    ``pd.NA``, dates as datetimes)."""
+    frame = pd.read_csv(FILE_2019, na_values=["null"], low_memory=False).convert_dtypes()
+    frame["game_date"] = pd.to_datetime(frame["game_date"])
+    assert str(frame["batter"].dtype) == "Int64"
+    pd.testing.assert_frame_equal(read(frame), read(FILE_2019), check_dtype=False)
+
+
+def test_the_attack_direction_check_sees_the_sign(tmp_path):
+    """On a 2025-layout file whose attack direction follows the ball to the opposite field
+    (made up from the real spray angles), the check is positive; with the sign flipped it
+    is negative."""
+    from mcbat.statcast import attack_direction_check
+
+    df = read(FILE_2020)
+    opposite = np.where(df.handedness == "L", -1.0, 1.0) * df.spray_angle.to_numpy()
+    rng = np.random.default_rng(1)
+    aimed = df.assign(attack_direction=0.3 * opposite + rng.normal(0, 5, len(df)))
+    good = attack_direction_check(aimed)
+    bad = attack_direction_check(aimed.assign(attack_direction=-aimed.attack_direction))
+    assert good["rows"] == int((balls_in_play(df) & df.spray_angle.notna()).sum())
+    assert good["correlation"] > 0.5 and bad["correlation"] < -0.5
+    assert attack_direction_check(df) is None  # no bat tracking in 2020
+
+
+def test_a_tidy_table_passes_through():
+    df = read(FILE_2019)
+    again = read(df)
+    pd.testing.assert_frame_equal(again, df)
+    assert again.attrs["statcast"] == df.attrs["statcast"]
