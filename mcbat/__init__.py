@@ -99,10 +99,17 @@ def check(directory, checksums=True):
 
 
 def load_study(path):
-    """A TOML study file -> a validated study: see :func:`mcbat.study.load_study`."""
+    """A TOML study file -> a validated study: see :func:`mcbat.study.load_study`. A game
+    study's ``[pitches]`` file is read too (:func:`mcbat.runner.pitches.load_pitches`), so
+    the study samples at once."""
     from mcbat.study import load_study as _load_study
 
-    return _load_study(path)
+    study = _load_study(path)
+    if getattr(study, "pitches", None) is None:
+        return study
+    from mcbat.runner.pitches import load_pitches  # (pandas: only for such a study)
+
+    return load_pitches(study)
 
 
 _SUBPACKAGES = ("api", "bodies", "core", "dataset", "errors", "runner", "stats", "study",

@@ -263,8 +263,8 @@ def cmd_calibrate(args) -> int:
 
 
 def _calibrate_study(args) -> int:
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.calibrate import calibrate
-    from mcbat.study import load_study
 
     if args.target is None:
         raise InputError("--target", "required with --study: the measured mean")
@@ -299,8 +299,8 @@ SYNTH_PARAMETERS = ("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_nois
 
 
 def cmd_synth(args) -> int:
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.measurements import synthesize, write_table_atomic
-    from mcbat.study import load_study
 
     if args.out:
         _check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
@@ -356,9 +356,9 @@ def _fit_flight(args) -> int:
 
 
 def cmd_fit(args) -> int:
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.fit import check_bootstrap, check_free, compare_models, fit
     from mcbat.stats.measurements import read_measurements
-    from mcbat.study import load_study
 
     if args.flight:
         return _fit_flight(args)

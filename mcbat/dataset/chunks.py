@@ -41,6 +41,7 @@ from mcbat.dataset.schema import (
     GAME_INPUT_COLUMNS,
     INPUT_COLUMNS,
     MEASURED_SUFFIX,
+    PITCH_SOURCE_COLUMNS,
     derive,
     derive_game,
 )
@@ -90,7 +91,7 @@ _INT8_COLUMNS = ("status", "end_state", "flight_status")
 #: Columns that keep their type whatever ``[output] precision`` says: the inputs (enough to
 #: re-solve a row) and the bookkeeping.
 _FULL_PRECISION = frozenset(INPUT_COLUMNS) | frozenset(GAME_INPUT_COLUMNS) | {
-    "sample_id", "chunk", "rk4_steps", *_INT8_COLUMNS}
+    "sample_id", "chunk", "rk4_steps", *_INT8_COLUMNS, *PITCH_SOURCE_COLUMNS}
 
 
 _ARROW_TYPES = {np.dtype(np.float64): pa.float64(), np.dtype(np.float32): pa.float32(),
@@ -132,6 +133,8 @@ def _arrow_array(name, values, sample_id_start, chunk, n, float32):
         return numpy_to_arrow(np.arange(sample_id_start, sample_id_start + n, dtype=np.int64))
     if name == "chunk":
         return numpy_to_arrow(np.full(n, chunk, np.int32))
+    if name in PITCH_SOURCE_COLUMNS:
+        return numpy_to_arrow(values, np.int64)
     if float32 and name not in _FULL_PRECISION:
         return numpy_to_arrow(values, np.float32)
     return numpy_to_arrow(values, np.float64)
@@ -185,9 +188,11 @@ _FT = 0.3048  # m per ft (Statcast reports distances in ft)
 
 
 def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None,
-                 derived=None):
+                 derived=None, pitch_source=None):
     """Every column of a game chunk as arrays (:data:`~mcbat.dataset.schema.GAME_COLUMNS`,
-    plus :data:`~mcbat.dataset.schema.FLIGHT_COLUMNS` with ``flight``), from the arrays of
+    plus :data:`~mcbat.dataset.schema.FLIGHT_COLUMNS` with ``flight`` and
+    :data:`~mcbat.dataset.schema.PITCH_SOURCE_COLUMNS` with ``pitch_source``, the int64
+    columns of :meth:`mcbat.study.game.GameStudy.pitch_identifiers`), from the arrays of
     :func:`mcbat.core.swing.solve_game_batch`; returns ``(names, cols)`` as
     :func:`impact_columns` (``derived``: the bat-frame derived columns to compute, as
     there; the field-frame ones are always computed)."""
@@ -210,6 +215,9 @@ def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=No
         cols["hang_time"] = flight_out[row["hang_time"]]
         cols["flight_status"] = flight_status
         names += FLIGHT_COLUMNS
+    if pitch_source:
+        cols.update(pitch_source)
+        names += PITCH_SOURCE_COLUMNS
     cols.update(status=status, end_state=end_state)
     return names, cols
 

@@ -30,6 +30,12 @@ efficiency (:data:`GAME_OUTPUT_COLUMNS`), and the batted ball in the field's con
 (:func:`derive_game`: ``launch_speed`` mph, ``launch_angle``, ``spray_angle`` deg,
 ``spin_rate``, ``backspin``, ``sidespin``, ``gyrospin`` rpm).
 
+Game datasets of a study with ``[pitches]`` (real pitches, ``docs/batting.md``) end with
+:data:`PITCH_SOURCE_COLUMNS` (int64): ``source_row``, the row of the study's file the
+sample's pitch was drawn from (from 0, in the file's order, before any filter), and that
+pitch's Statcast identifiers ``game_pk``, ``at_bat_number``, ``pitch_number``, ``pitcher``,
+``batter``.
+
 A row whose status is not 0 has NaN outputs: it is flagged, never passed off as a result.
 """
 
@@ -39,11 +45,12 @@ import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
+from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
 
 __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
            "GAME_DERIVED_COLUMNS", "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS",
-           "INPUT_COLUMNS", "MEASURED_SUFFIX",
-           "OUTPUT_COLUMNS", "SCHEMA_VERSION", "UNITS", "derive", "derive_game"]
+           "INPUT_COLUMNS", "MEASURED_SUFFIX", "OUTPUT_COLUMNS", "PITCH_SOURCE_COLUMNS",
+           "SCHEMA_VERSION", "UNITS", "derive", "derive_game"]
 
 #: Version of the column contract; stored in every manifest and chunk file.
 #: 3: game datasets (:data:`GAME_COLUMNS`); the bat-frame columns are those of version 2.
@@ -90,6 +97,10 @@ UNITS = {
     "hit_distance": "ft", "hang_time": "s", "apex": "ft", "landing_x": "ft", "landing_y": "ft",
     "hit_distance_m": "m", "apex_m": "m", "landing_x_m": "m", "landing_y_m": "m",
     "flight_status": "code (0 ok, 1 no flight: invalid launch, 2 step limit)",
+    # game datasets with [pitches]: the real pitch of each row
+    "source_row": "1 (row of the [pitches] file, from 0)", "game_pk": "id (MLB game)",
+    "at_bat_number": "1", "pitch_number": "1", "pitcher": "id (MLBAM)",
+    "batter": "id (MLBAM)",
 }
 """Unit of every column."""
 

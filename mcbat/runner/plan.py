@@ -42,6 +42,7 @@ from mcbat.dataset.schema import (
     FLIGHT_COLUMNS,
     GAME_COLUMNS,
     MEASURED_SUFFIX,
+    PITCH_SOURCE_COLUMNS,
     SCHEMA_VERSION,
     UNITS,
 )
@@ -243,8 +244,9 @@ def dataset_columns(study) -> list:
     """The columns of ``study``'s dataset, in file order (before an ``[output]``
     selection)."""
     if getattr(study, "kind", "impact") == "game":
-        return list(GAME_COLUMNS) + (list(FLIGHT_COLUMNS) if study.flight is not None
-                                     else [])
+        return (list(GAME_COLUMNS) + (list(FLIGHT_COLUMNS) if study.flight is not None
+                                      else [])
+                + (list(PITCH_SOURCE_COLUMNS) if study.pitches is not None else []))
     return list(COLUMNS) + [f"{name}{MEASURED_SUFFIX}" for name in study.noise]
 
 
@@ -474,7 +476,7 @@ def _solve_game_chunk(study, start, stop, seed, derived=None):
                      frame, out_arr, game_out, status, end_state)
     flight = None if study.flight is None else _fly(study, game_out)
     return chunks.game_columns(game_inputs, frame, out_arr, game_out, status, end_state,
-                               flight, derived)
+                               flight, derived, study.pitch_identifiers(start, stop, seed))
 
 
 def _fly(study, game_out):

@@ -27,6 +27,7 @@ from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
 from mcbat.runner.memory import reuse_freed_memory
+from mcbat.runner.pitches import load_pitches
 from mcbat.runner.plan import (
     DEFAULT_CHUNK_SIZE,
     chunks_to_compute,
@@ -71,6 +72,9 @@ class RunSummary:
         Stray chunk files (beyond the dataset's last chunk) the run removed.
     summary : dict or None
         With ``[summary]``: ``{"path", "bins", "outside", "summary_only"}``.
+    pitches : dict or None
+        With ``[pitches]``: the file and its rows selected, left out (reason -> count) and
+        drawn from (the ``pitches`` entry of the study's config).
     """
 
     directory: Path | str
@@ -85,6 +89,7 @@ class RunSummary:
     redone: list = field(default_factory=list)
     removed: list = field(default_factory=list)
     summary: dict | None = None
+    pitches: dict | None = None
 
     @property
     def rows_per_second(self) -> float:
@@ -105,6 +110,12 @@ class RunSummary:
         if self.summary is not None:
             out.append(f"summary: {self.summary['path']} ({self.summary['bins']:,} bins; "
                        f"{self.summary['outside']:,} rows outside every bin)")
+        if self.pitches is not None:
+            p = self.pitches
+            left = "".join(f", {n:,} {reason}" for reason, n in p["excluded"].items())
+            out.append(f"pitches: {p['drawn_from']:,} rows of {p['file']} drawn from "
+                       f"({p['rows_in_file']:,} in the file, {p['selected']:,} selected by "
+                       f"the filters{left})")
         for index, reason in self.redone:
             out.append(f"recomputed {chunks.chunk_name(index)}: {reason}")
         for name in self.removed:
@@ -187,11 +198,13 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     Raises
     ------
     InputError
-        A bad option or output location, named by its parameter; before anything is
-        written.
+        A bad option or output location, named by its parameter; a ``[pitches]`` file
+        that cannot be read or a filter that selects no row, named by its key; before
+        anything is written.
     """
     if tolerance is not None:
         study = study.with_overrides(tolerance=tolerance)
+    study = load_pitches(study)  # a [pitches] file: read, hashed and filtered first
     samples = positive_int(study.samples if samples is None else samples, "samples")
     seed = study.seed if seed is None else seed
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -237,7 +250,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         "outside": int(state.total.outside[0]), "summary_only": job.summary_only}
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
-                      batted, redone, stray, summary)
+                      batted, redone, stray, summary,
+                      job.metadata["study"].get("pitches"))
 
 
 def _compute(study, job, display, on_disk, runner, progress):

@@ -1,6 +1,7 @@
 """Game studies: a pitch, a swing and a contact in the field frame (``docs/batting.md``).
 
-A study file is a game study when it has a ``[pitch]`` or ``[swing]`` section::
+A study file is a game study when it has a ``[pitch]``, ``[swing]`` or ``[pitches]``
+section::
 
     handedness = "R"              # optional, "R" (default) or "L": the mirror image in x
     [study]  ...                  # as in every study
@@ -21,6 +22,11 @@ A study file is a game study when it has a ``[pitch]`` or ``[swing]`` section::
                                   # or e_ref, e_slope (per m/s), e_speed_ref (speed); with
                                   # either, location (a table of data/) and e_x.
 
+    [pitches]                     # optional: real pitches, resampled with replacement
+    file = "statcast.parquet"     # (mcbat.study.pitches); then [pitch] and [swing] hold only
+                                  # the keys not drawn from the rows, and handedness, if
+                                  # given, replaces the batter's side of every row
+
 Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
 Samples are the float64 columns of :data:`COLUMNS`, the inputs of
 :func:`mcbat.core.swing.solve_game_batch`.
@@ -39,6 +45,7 @@ from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import check_keys, check_range, parse
 from mcbat.study.flight import parse_flight
+from mcbat.study.pitches import IDENTIFIERS, PitchRows, PitchTable, parse_pitches, select_rows
 from mcbat.study.spec import Study, check_solver, check_string, fill_bodies, parse_ball, parse_bat
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
@@ -79,7 +86,8 @@ KEYS = {
 }
 GAME_SECTIONS = ("pitch", "swing")
 _REQUIRED = ("study", "ball", "bat", "pitch", "swing", "friction")
-_OPTIONAL = ("handedness", "contact", "restitution", "solver", "flight", "output", "summary")
+_OPTIONAL = ("handedness", "contact", "restitution", "solver", "flight", "output", "summary",
+             "pitches")
 HANDEDNESS = {"R": 1.0, "L": -1.0}
 _RAD = 180.0 / math.pi
 
@@ -113,6 +121,20 @@ def _largest(dist):
     return max(abs(low), abs(high))
 
 
+def _check_sections(data):
+    """Known sections, tables where tables belong, the required ones present."""
+    check_keys(data, "", (), _REQUIRED + _OPTIONAL)
+    for section in data:
+        if section != "handedness" and not isinstance(data[section], dict):
+            raise InputError(section, f"must be a table ([{section}]), "
+                                      f"got {data[section]!r}")
+    for section in _REQUIRED:
+        # (with real pitches, [pitch] and [swing] may be left out: their other keys have
+        # defaults)
+        if section not in data and not ("pitches" in data and section in GAME_SECTIONS):
+            raise InputError(section, f"missing required section [{section}]")
+
+
 class GameStudy(Study):
     """A validated game study (see the module docstring). Sampling, overrides and the
     config hash work as for :class:`~mcbat.study.spec.Study`."""
@@ -120,17 +142,15 @@ class GameStudy(Study):
     kind = "game"
 
     def _parse(self, data):
-        check_keys(data, "", (), _REQUIRED + _OPTIONAL)
-        for section in _REQUIRED:
-            if section not in data:
-                raise InputError(section, f"missing required section [{section}]")
-        for section in data:
-            if section != "handedness" and not isinstance(data[section], dict):
-                raise InputError(section, f"must be a table ([{section}]), "
-                                          f"got {data[section]!r}")
+        _check_sections(data)
+        real = "pitches" in data
         self._parse_study_section(data["study"])
-        self.handedness = data.get("handedness", "R")
-        parse_handedness(self.handedness)
+        self.pitches = parse_pitches(data["pitches"], self.source) if real else None
+        self._pitch_rows = self._pitch_table = None
+        # With real pitches and no handedness key, each row's batter side (None here).
+        self.handedness = data.get("handedness", None if real else "R")
+        if self.handedness is not None:
+            parse_handedness(self.handedness)
         self.ball = parse_ball(data["ball"])
         self.bat = parse_bat(data["bat"])
         if self.bat.length is None or self.bat.cm_from_barrel_end is None:
@@ -144,11 +164,18 @@ class GameStudy(Study):
 
         inputs = {}
         location = None
+        drawn = self.pitches.keys if real else {}
         for section, keys in KEYS.items():
             table = data.get(section, {})
             optional = tuple(keys) + (("location",) if section == "restitution" else ())
             required = tuple(k for k, (_, default, _) in keys.items()
-                             if default is None and section != "restitution")
+                             if default is None and section != "restitution"
+                             and f"{section}.{k}" not in drawn)
+            for key in table:
+                if f"{section}.{key}" in drawn:
+                    raise InputError(f"{section}.{key}", "drawn from the rows of [pitches]; "
+                                     "a value for rows that lack it goes in "
+                                     f"[pitches.fallback] ({key} = ...)")
             check_keys(table, section, required, optional)
             for key, spec in table.items():
                 if key == "location":
@@ -171,9 +198,76 @@ class GameStudy(Study):
                 key = "e_slope" if "e_slope" in rest else "e_speed_ref"
                 raise InputError(f"restitution.{key}", "only with 'e_ref', not with 'e'")
             self.restitution = Restitution(location=location)
+        if real:
+            inputs.update(self.pitches.fallback)
         self.inputs = MappingProxyType(inputs)
         self._check_ranges()
         self._plan()
+
+    # ------------------------------------------------------------ real pitches
+
+    def with_pitch_table(self, table: PitchTable) -> GameStudy:
+        """A copy that draws its pitches from ``table`` (the rows of the ``[pitches]``
+        file, read by :func:`mcbat.runner.pitches.load_pitches`): the filters and
+        exclusions applied, ready to sample.
+
+        Raises
+        ------
+        InputError
+            A filter that selects no row (naming it), or no row left to draw from.
+        """
+        if self.pitches is None:
+            raise ValueError("this study has no [pitches] section")
+        try:
+            rows = select_rows(self.pitches, table, self.handedness, self.inputs,
+                               self.pitches.file)
+        except InputError as err:
+            raise err.within(source=self.source) from None
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new._pitch_table, new._pitch_rows = table, rows
+        return new
+
+    @property
+    def pitch_rows(self) -> PitchRows | None:
+        """The rows drawn from (None: no ``[pitches]``, or the file not loaded yet)."""
+        return self._pitch_rows
+
+    def _need_rows(self) -> PitchRows:
+        if self._pitch_rows is None:
+            raise RuntimeError(f"the rows of {self.pitches.file} ([pitches]) are not "
+                               "loaded: mcbat.runner.pitches.load_pitches(study) reads them")
+        return self._pitch_rows
+
+    def pitch_identifiers(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
+        """The real pitch each of samples ``start .. stop - 1`` comes from: int64 columns
+        :data:`~mcbat.study.pitches.PITCH_SOURCE_COLUMNS` (``source_row``: the row of the
+        file, from 0, before any filter). Empty without ``[pitches]``."""
+        if self.pitches is None:
+            return {}
+        rows = self._need_rows()
+        stop = self.samples if stop is None else stop
+        seed = self.seed if seed is None else seed
+        j = rows.draw_rows(int(seed), int(start), int(stop) - int(start))
+        out = {"source_row": rows.index[j]}
+        out.update({name: rows.identifiers[k, j] for k, name in enumerate(IDENTIFIERS)})
+        return out
+
+    def _fill_pitches(self, cols, start, n, seed) -> None:
+        """Overwrite the drawn keys' columns with the sampled rows' values (where a row
+        lacks one, the fallback drawn there stays), and the handedness from the rows."""
+        rows = self._need_rows()
+        j = rows.draw_rows(seed, start, n)
+        targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
+        for k, key in enumerate(rows.keys):
+            values = rows.values[k, j]
+            column = cols[targets[key]]
+            if key in self.pitches.fallback:
+                np.copyto(column, values, where=np.isfinite(values))
+            else:
+                column[:] = values
+        if rows.handedness is not None:
+            cols["handedness"][:] = rows.handedness[j]
 
     def _check_ranges(self):
         inp, bat = self.inputs, self.bat
@@ -223,14 +317,27 @@ class GameStudy(Study):
         """As :meth:`Study.config`, with ``kind = "game"``, the handedness and the
         restitution's form."""
         out = super().config()
-        out.update(kind="game", handedness=self.handedness,
+        out.update(kind="game",
+                   handedness=self.handedness if self.handedness is not None else "rows",
                    restitution=self.restitution.config()
                    if any(k.startswith("restitution.") for k in self.inputs)
                    else {"preset": "game", **GAME_RESTITUTION.config()})
         out["contact"] = {"position": "from_barrel_end", "offset": "undercut"}
         if self.flight is not None:
             out["flight"] = self.flight.config()
+        if self.pitches is not None:
+            # The file's content hash, the filters and the selection: a changed file is a
+            # different study (never resumed into the old dataset).
+            out["pitches"] = self._need_rows().config(self.pitches, self._pitch_table)
         return out
+
+    def definition(self) -> dict:
+        """As :meth:`Study.definition`, with the ``[pitches]`` file as an absolute path
+        (a Dask worker rebuilds the study without the study file's directory)."""
+        data = super().definition()
+        if self.pitches is not None:
+            data["pitches"]["file"] = str(self.pitches.path)
+        return data
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
         """Game-kernel inputs of samples ``start .. stop - 1`` (:data:`COLUMNS`, SI), as
@@ -272,7 +379,10 @@ class GameStudy(Study):
         fill_bodies(cols, ball, bat)
         cols["bat_length"][:] = bat.length
         cols["bat_cm_from_knob"][:] = bat.length - bat.cm_from_barrel_end
-        cols["handedness"][:] = HANDEDNESS[self.handedness]
+        if self.handedness is not None:
+            cols["handedness"][:] = HANDEDNESS[self.handedness]
+        if self.pitches is not None:
+            self._fill_pitches(cols, start, n, seed)
         self.fill_contact(cols)
         return table
 

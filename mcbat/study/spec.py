@@ -396,15 +396,16 @@ class Study:
         Returns
         -------
         Study
-            A :class:`mcbat.study.game.GameStudy` when ``data`` has a ``[pitch]`` or
-            ``[swing]`` section.
+            A :class:`mcbat.study.game.GameStudy` when ``data`` has a ``[pitch]``,
+            ``[swing]`` or ``[pitches]`` section.
 
         Raises
         ------
         InputError
             Naming ``source``, the dotted key and the offending value.
         """
-        if cls is Study and isinstance(data, dict) and ("pitch" in data or "swing" in data):
+        if cls is Study and isinstance(data, dict) and any(
+                k in data for k in ("pitch", "swing", "pitches")):
             from mcbat.study.game import GameStudy
 
             return GameStudy(data, source=source, text=text)

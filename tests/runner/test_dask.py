@@ -471,3 +471,56 @@ def test_without_dask_the_engine_says_how_to_install_it(tmp_path):
                            "--quiet", "--samples", "1000"], capture_output=True, text=True,
                           timeout=TIMEOUT)
     assert proc.returncode == 0, proc.stderr
+
+
+# ---------------------------------------------------------------- real pitches
+
+REAL_PITCHES = ROOT / "studies" / "real_pitches.toml"
+
+
+def test_real_pitches_on_a_scheduler_and_two_workers_give_the_local_dataset(
+        cluster, tmp_path, tmp_path_factory):
+    # The workers run in another directory than the client: they read the [pitches] file
+    # by the absolute path the study's definition carries, and draw the same rows.
+    proc = mcbat_cli("run", REAL_PITCHES, "--out", "ds", "--samples", 12_000, "--seed", 4,
+                     "--chunk-size", 3_000, "--quiet", "--engine", "dask", "--scheduler",
+                     cluster.address, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert engine_note(proc.stdout) == (2, "1")
+    reference = local_reference(tmp_path_factory, REAL_PITCHES, 12_000, 4, 3_000)
+    assert "source_row" in mcbat.load(reference).columns
+    assert_same_dataset(tmp_path / "ds", reference)
+
+
+def test_a_worker_that_cannot_read_the_pitches_file_says_so(dask_installed, tmp_path):
+    from mcbat.runner.engines.dask_tasks import WorkerSetupError, chunk_task
+
+    data = tmp_path / "pitches.csv"
+    shutil.copy(ROOT / "data" / "statcast_2020-09-03.csv", data)
+    study_file = tmp_path / "real.toml"
+    study_file.write_text(REAL_PITCHES.read_text().replace(
+        "../data/statcast_2020-09-03.csv", str(data)))
+    study = mcbat.load_study(study_file)
+    out = tmp_path / "ds"
+    job, manifest = plan_run(study, out, 600, 5, 300)
+    prepare_directory(out, manifest, 300, False)
+    definition = study.definition()
+    assert definition["pitches"]["file"] == str(data)
+    # The same file: the local engine's bytes.
+    summary = chunk_task(1, definition, job, 1)
+    assert summary.rows == 300
+    local = tmp_path / "local"
+    run_study(study, local, samples=600, seed=5, chunk_size=300, progress=False)
+    assert (out / ds.chunk_name(1)).read_bytes() == (local / ds.chunk_name(1)).read_bytes()
+    # A worker that sees another file under that path (or none) refuses to compute.
+    from mcbat.runner.engines import dask_tasks
+
+    dask_tasks._STUDIES.clear()
+    data.write_text(data.read_text()[:-200].rsplit("\n", 1)[0] + "\n")
+    with pytest.raises(WorkerSetupError, match="reads another .*pitches.csv than the client"):
+        chunk_task(0, definition, job, 1)
+    data.unlink()
+    with pytest.raises(WorkerSetupError, match=r"cannot use the \[pitches\] file: cannot "
+                                               r"read .*No such file"):
+        chunk_task(0, definition, job, 1)
+    assert sorted(p.name for p in out.iterdir()) == [ds.MANIFEST, ds.chunk_name(1)]

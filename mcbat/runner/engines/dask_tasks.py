@@ -21,7 +21,9 @@ import numba
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from mcbat.dataset import chunks
+from mcbat.errors import InputError
 from mcbat.runner.memory import set_run_allocation
+from mcbat.runner.pitches import load_pitches
 from mcbat.runner.plan import ChunkJob, ChunkSummary, dataset_hash, run_chunk, warm_kernel
 from mcbat.study import Study
 
@@ -99,7 +101,19 @@ def _study(definition: dict, job: ChunkJob):
         if study is None:
             meta = job.metadata
             study = Study.from_dict(definition, text=meta.get("study_toml"))
-            if dataset_hash(study.config(), job.seed, job.samples) != job.config_hash:
+            try:  # (a [pitches] file: read on the worker, which must see it)
+                study = load_pitches(study)
+            except InputError as err:
+                raise WorkerSetupError(err.field, f"the worker on {_host()} cannot use "
+                                       f"the [pitches] file: {err.message}") from None
+            config = study.config()
+            if dataset_hash(config, job.seed, job.samples) != job.config_hash:
+                theirs = (meta.get("study") or {}).get("pitches") or {}
+                if "pitches" in config and config["pitches"]["sha256"] != theirs.get("sha256"):
+                    raise WorkerSetupError(
+                        "pitches.file", f"the worker on {_host()} reads another "
+                        f"{study.pitches.path} than the client (its content differs): the "
+                        "file must be the same on every host")
                 raise WorkerSetupError(
                     "scheduler", f"the study rebuilt on the worker on {_host()} differs "
                     "from the client's (another mcbat version?)")

@@ -1,0 +1,382 @@
+"""Real pitches: a game study's pitch (and swing) drawn from the rows of a Statcast table.
+
+A game study with a ``[pitches]`` section resamples real pitches with replacement::
+
+    [pitches]
+    file = "../data/statcast_example.parquet"  # relative to the study file: mcbat's tidy
+                                               # table (.parquet or .csv) or a Savant CSV
+    pitch_type = ["FF", "SI"]                  # filters, each one value or a list:
+    p_throws = "R"                             #   pitch_type, p_throws, pitcher, batter,
+    game_year = 2024                           #   game_year
+    swing = true                               # also bat_speed, attack_angle and
+                                               # attack_direction from the rows (default false)
+    [pitches.fallback]                         # for rows that lack a value: a number or a
+    spin_axis = { dist = "uniform", low = 180, high = 240, unit = "deg" }  # distribution
+
+The drawn keys are :data:`PITCH_KEYS` (and :data:`SWING_KEYS` with ``swing = true``);
+``[pitch]`` and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat
+angle, ...), drawn from their distributions as always. A row that lacks a drawn value (NaN:
+older exports have no spin axis, bat tracking starts in 2024, a pitch not swung at) takes the key's
+fallback when ``[pitches.fallback]`` has one; otherwise it is left out of the draw and
+counted. Rows with values outside the physical ranges the study keys are checked against
+are left out and counted too.
+
+This module knows only plain numpy columns: reading the file (pandas, pyarrow, the Savant
+reader) is the runner's (:mod:`mcbat.runner.pitches`), which hands a :class:`PitchTable` to
+:meth:`mcbat.study.game.GameStudy.with_pitch_table`. Until then the study is valid but
+cannot be sampled.
+
+Sampling: sample ``i`` takes selected row ``floor(u * M)`` (``M`` selected rows), ``u`` the
+Philox uniform of stream ``"pitches.row"`` for sample ``i``, like every random input of a
+study (:mod:`mcbat.core.sampling`): the draw depends on the seed, the sample index and the
+selection alone, not on threads, chunks, engine or resumption.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+
+from mcbat.errors import InputError
+from mcbat.study import units as u
+from mcbat.study.distributions import Uniform, check_keys, integer, parse
+from mcbat.study.random_program import compile_program, draw
+
+__all__ = ["FILTERS", "IDENTIFIERS", "PITCH_KEYS", "PITCH_SOURCE_COLUMNS", "ROW_STREAM",
+           "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource", "PitchTable",
+           "parse_pitches"]
+
+#: Study keys of ``[pitch]`` drawn from the rows -> the tidy table's column.
+PITCH_KEYS = {"speed": "pitch_speed",
+              "vertical_approach_angle": "vertical_approach_angle",
+              "horizontal_approach_angle": "horizontal_approach_angle",
+              "spin_rate": "spin_rate", "spin_axis": "spin_axis"}
+#: Study keys of ``[swing]`` drawn from the rows with ``swing = true`` (bat tracking).
+SWING_KEYS = {"bat_speed": "bat_speed", "attack_angle": "attack_angle",
+              "attack_direction": "attack_direction"}
+#: Units of the tidy table's numeric columns (Statcast's): quantity and unit.
+TABLE_UNITS = {"pitch_speed": (u.SPEED, "mph"), "vertical_approach_angle": (u.ANGLE, "deg"),
+               "horizontal_approach_angle": (u.ANGLE, "deg"), "spin_rate": (u.SPIN, "rpm"),
+               "spin_axis": (u.ANGLE, "deg"), "bat_speed": (u.SPEED, "mph"),
+               "attack_angle": (u.ANGLE, "deg"), "attack_direction": (u.ANGLE, "deg")}
+#: The identifiers of a pitch, copied into the dataset.
+IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter")
+#: The dataset columns that trace a row to its real pitch: the row of the file (from 0,
+#: in the file's order, before any filter) and the pitch's identifiers.
+PITCH_SOURCE_COLUMNS = ("source_row", *IDENTIFIERS)
+#: Filters: key -> the type of its values.
+FILTERS = {"pitch_type": str, "p_throws": str, "pitcher": int, "batter": int,
+           "game_year": int}
+#: The Philox stream of the row draw (as an input named so; no study key has the name).
+ROW_STREAM = "pitches.row"
+
+_HAND = {"R": 1.0, "L": -1.0}
+_RIGHT_ANGLE = math.pi / 2.0
+
+
+def _study_key(key):
+    """``"speed"`` -> ``"pitch.speed"``, ``"bat_speed"`` -> ``"swing.bat_speed"``."""
+    return f"pitch.{key}" if key in PITCH_KEYS else f"swing.{key}"
+
+
+@dataclass(frozen=True)
+class PitchSource:
+    """The validated ``[pitches]`` section (no rows yet).
+
+    Attributes
+    ----------
+    file : str
+        The file as written.
+    path : Path
+        The file, resolved against the study file's directory (the working directory for
+        a study without a file).
+    filters : mapping
+        Filter key -> tuple of accepted values, in :data:`FILTERS` order.
+    swing : bool
+        Draw :data:`SWING_KEYS` from the rows too.
+    fallback : mapping
+        Study input name (``"pitch.spin_axis"``) -> its fallback distribution.
+    """
+
+    file: str
+    path: Path
+    filters: MappingProxyType
+    swing: bool
+    fallback: MappingProxyType
+
+    @property
+    def keys(self) -> dict:
+        """The drawn study keys (``"pitch.speed"``, ...) -> the table's column."""
+        keys = {f"pitch.{k}": c for k, c in PITCH_KEYS.items()}
+        if self.swing:
+            keys.update({f"swing.{k}": c for k, c in SWING_KEYS.items()})
+        return keys
+
+    def needed_columns(self, handedness_from_rows: bool) -> tuple:
+        """The table columns the study reads."""
+        names = [*self.keys.values(), *IDENTIFIERS, *self.filters]
+        if handedness_from_rows:
+            names.append("handedness")
+        return tuple(dict.fromkeys(names))
+
+
+def parse_pitches(table, source) -> PitchSource:
+    """Validate a ``[pitches]`` section; ``source`` is the study file (or None)."""
+    check_keys(table, "pitches", ("file",), (*FILTERS, "swing", "fallback"))
+    file = table["file"]
+    if not isinstance(file, str) or not file.strip():
+        raise InputError("pitches.file", f"must be a file name (a string), got {file!r}")
+    path = Path(file).expanduser()
+    if not path.is_absolute():
+        base = Path(source).parent if source else Path.cwd()
+        path = base / path
+    path = Path(os.path.abspath(path))
+    swing = table.get("swing", False)
+    if not isinstance(swing, bool):
+        raise InputError("pitches.swing", f"must be true or false, got {swing!r}")
+    filters = {}
+    for key, kind in FILTERS.items():
+        if key in table:
+            filters[key] = _filter_values(table[key], f"pitches.{key}", kind)
+    fallback_table = table.get("fallback", {})
+    allowed = (*PITCH_KEYS, *(SWING_KEYS if swing else ()))
+    if not isinstance(fallback_table, dict):
+        raise InputError("pitches.fallback", f"must be a table ([pitches.fallback]), got "
+                         f"{fallback_table!r}")
+    if not swing:
+        for key in fallback_table:
+            if key in SWING_KEYS:
+                raise InputError(f"pitches.fallback.{key}", "only with pitches.swing = true "
+                                 f"(without it, {key} is a key of [swing])")
+    check_keys(fallback_table, "pitches.fallback", (), allowed)
+    fallback = {}
+    for key, spec in fallback_table.items():
+        quantity = TABLE_UNITS[{**PITCH_KEYS, **SWING_KEYS}[key]][0]
+        fallback[_study_key(key)] = parse(spec, f"pitches.fallback.{key}", quantity)
+    return PitchSource(file, path, MappingProxyType(filters), swing,
+                       MappingProxyType(fallback))
+
+
+def _filter_values(value, name, kind) -> tuple:
+    """A filter's accepted values: one value or a non-empty list, all of ``kind``."""
+    values = value if isinstance(value, list) else [value]
+    if not values:
+        raise InputError(name, "must not be an empty list")
+    out = []
+    for i, item in enumerate(values):
+        where = name if not isinstance(value, list) else f"{name}[{i}]"
+        if kind is str:
+            if not isinstance(item, str) or not item:
+                raise InputError(where, f"must be a non-empty string, got {item!r}")
+            if name.endswith("p_throws") and item not in _HAND:
+                raise InputError(where, f'must be "R" or "L", got {item!r}')
+            out.append(item)
+        else:
+            out.append(integer(item, where, minimum=0))
+    return tuple(dict.fromkeys(out))
+
+
+@dataclass(frozen=True)
+class PitchTable:
+    """A Statcast table as plain numpy columns (what the runner reads from the file).
+
+    Attributes
+    ----------
+    columns : mapping
+        Column name -> 1-d array, every one of length :attr:`rows`, in the tidy table's
+        units (:data:`TABLE_UNITS`): float64 for the measured values (NaN where missing),
+        float64 for identifiers and ``game_year`` (NaN where missing; integers otherwise),
+        ``str`` objects for ``pitch_type``, ``p_throws`` and ``handedness`` (``""`` where
+        missing).
+    rows : int
+        Rows of the file.
+    sha256 : str
+        SHA-256 (hex) of the file's bytes: part of the study's identity.
+    name : str
+        The file's name, for messages and the study's config.
+    """
+
+    columns: dict
+    rows: int
+    sha256: str
+    name: str
+
+
+@dataclass(frozen=True)
+class PitchRows:
+    """The rows a study draws from: its filters and exclusions applied to a
+    :class:`PitchTable`.
+
+    Attributes
+    ----------
+    index : int64[M]
+        The selected rows of the file.
+    values : float64[k, M]
+        The drawn keys' values (SI; NaN where the key's fallback applies), one row per key
+        of :attr:`keys`.
+    keys : tuple of str
+        Study input names (``"pitch.speed"``, ...), the rows of :attr:`values`.
+    handedness : float64[M] or None
+        +1 (R) / -1 (L) from the batter's side, or None when the study fixes it.
+    identifiers : int64[5, M]
+        :data:`IDENTIFIERS` of the selected rows.
+    summary : dict
+        Rows in the file, selected by the filters, left out (reason -> count), drawn from.
+    """
+
+    index: np.ndarray
+    values: np.ndarray
+    keys: tuple
+    handedness: np.ndarray | None
+    identifiers: np.ndarray
+    summary: dict = field(default_factory=dict)
+
+    def config(self, source: PitchSource, table: PitchTable) -> dict:
+        """The identity of the rows for the study's config: the file's content hash, the
+        filters, the drawn keys and what was selected."""
+        return {"file": table.name, "sha256": table.sha256,
+                "filters": {k: list(v) for k, v in source.filters.items()},
+                "swing": source.swing, "keys": list(self.keys),
+                "fallback": sorted(source.fallback),
+                "handedness": "rows" if self.handedness is not None else "study",
+                "draw": f"row = floor(u M), u the Philox uniform of stream {ROW_STREAM!r}",
+                **self.summary}
+
+    def draw_rows(self, seed: int, start: int, n: int) -> np.ndarray:
+        """Indices into the selection (0 .. M - 1) of samples ``start .. start + n - 1``."""
+        m = self.index.size
+        table = np.empty((1, n))
+        dist = Uniform(ROW_STREAM, u.DIMENSIONLESS, None, low=0.0, high=float(m),
+                       raw={"low": 0, "high": m})
+        draw(compile_program([(ROW_STREAM, dist)], {ROW_STREAM: 0}), seed, start, table)
+        # u < 1, but u M may round up to M: the last row then.
+        return np.minimum(table[0].astype(np.int64), m - 1)
+
+
+def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs,
+                where) -> PitchRows:
+    """Apply ``source``'s filters to ``table``, leave out (and count) the rows that lack a
+    value without a fallback or hold one outside the physical range, and convert the drawn
+    values to SI.
+
+    Parameters
+    ----------
+    fixed_handedness : str or None
+        The study's ``handedness``; None: from the rows' batter side.
+    inputs : mapping
+        The study's other inputs (``swing.vertical_bat_angle`` bounds the attack angles).
+    where : str
+        The file as the study names it, for messages.
+
+    Raises
+    ------
+    InputError
+        On ``pitches.<filter>`` when a filter leaves no row, on ``pitches`` when the
+        exclusions leave none.
+    """
+    cols = table.columns
+    mask = np.ones(table.rows, bool)
+    for key, accepted in source.filters.items():
+        column = cols[key]
+        if FILTERS[key] is int:
+            hit = np.isin(column, np.asarray(accepted, np.float64))
+        else:
+            hit = np.isin(column, np.asarray(accepted, object))
+        before = mask.copy()
+        mask &= hit
+        if not mask.any():
+            shown = accepted[0] if len(accepted) == 1 else list(accepted)
+            count = int(before.sum())
+            context = ("" if count == table.rows else
+                       f" among the {count:,} rows the filters before it select")
+            present = _present(column[before])
+            which = "those rows have" if context else "the file has"
+            raise InputError(f"pitches.{key}", f"selects no row of {where}: no {key} "
+                             f"= {shown!r}{context}; {which} {key} {present}")
+    selected = int(mask.sum())
+    excluded = {}
+
+    def leave_out(bad, reason):
+        bad = bad & mask
+        count = int(bad.sum())
+        if count:
+            excluded[reason] = excluded.get(reason, 0) + count
+            mask[bad] = False
+
+    for name in IDENTIFIERS:
+        leave_out(~np.isfinite(cols[name]), f"without {name}")
+    handedness = None
+    if fixed_handedness is None:
+        side = cols["handedness"]
+        leave_out(~np.isin(side, np.asarray(["R", "L"], object)),
+                  "without the batter's side (stand)")
+    keys = tuple(source.keys)
+    si = {}
+    for key in keys:
+        column = source.keys[key]
+        quantity, unit = TABLE_UNITS[column]
+        values = np.asarray(cols[column], np.float64) * u.UNITS[quantity][unit]
+        missing = ~np.isfinite(values)
+        if key not in source.fallback:
+            leave_out(missing, f"without {column}")
+        leave_out(~missing & ~_in_range(key, values, inputs), f"{column} out of range")
+        si[key] = values
+    if not mask.any():
+        reasons = ", ".join(f"{n:,} {r}" for r, n in excluded.items())
+        fix = next((f"; give pitches.fallback.{k.split('.')[1]} for rows without it"
+                    for k in keys if f"without {source.keys[k]}" in excluded), "")
+        raise InputError("pitches", f"no row of {where} is left to draw from: of the "
+                         f"{selected:,} rows the filters select, {reasons}{fix}")
+    index = np.flatnonzero(mask).astype(np.int64)
+    if fixed_handedness is None:
+        handedness = np.where(cols["handedness"][index] == "R", 1.0, -1.0)
+    values = np.stack([si[k][index] for k in keys]) if keys else np.zeros((0, index.size))
+    identifiers = np.stack([cols[n][index].astype(np.int64) for n in IDENTIFIERS])
+    summary = {"rows_in_file": table.rows, "selected": selected, "excluded": excluded,
+               "drawn_from": int(index.size)}
+    return PitchRows(index, values, keys, handedness, identifiers, summary)
+
+
+def _present(column) -> str:
+    """A short list of the values a column holds, for a filter's message."""
+    values = [v for v in column if v == v and v != ""]  # (NaN and empty: missing)
+    if not values:
+        return "no values in that column"
+    unique, counts = np.unique(np.asarray(values, object if isinstance(values[0], str)
+                                          else np.float64), return_counts=True)
+    order = np.argsort(-counts, kind="stable")[:8]
+    shown = ", ".join(_show(unique[i]) for i in order)
+    more = f" and {unique.size - 8} more" if unique.size > 8 else ""
+    return f"{shown}{more}"
+
+
+def _show(value) -> str:
+    if isinstance(value, str):
+        return value
+    return f"{int(value)}" if float(value).is_integer() else f"{value!r}"
+
+
+def _in_range(key, values, inputs) -> np.ndarray:
+    """Rows whose value of ``key`` (SI) lies where the study's range checks put it."""
+    with np.errstate(invalid="ignore"):
+        if key == "pitch.speed":
+            return values > 0.0
+        if key in ("pitch.spin_rate", "swing.bat_speed"):
+            return values >= 0.0
+        if key == "pitch.spin_axis":
+            return np.isfinite(values)
+        ok = np.abs(values) < _RIGHT_ANGLE
+        if key == "swing.attack_angle":
+            # The bat axis must be perpendicular to the sweet spot's velocity:
+            # |tan(attack) tan(vertical_bat_angle)| < 1 for every vertical bat angle drawn.
+            vertical = inputs.get("swing.vertical_bat_angle")
+            if vertical is not None:
+                low, high = vertical.support()
+                largest = max(abs(low), abs(high))
+                ok &= np.abs(np.tan(values)) * math.tan(largest) < 1.0 - 1e-9
+        return ok
