@@ -1,5 +1,5 @@
-"""Throughput of the spin inference: read a tidy Statcast table from Parquet and infer
-every ball's contact and spin.
+"""Throughput of the spin inference: read a tidy Statcast table from Parquet, infer every
+ball's contact and spin, and (``--fly``) fly every inferred ball to the ground.
 
 The balls are simulated with the game kernel from known contacts (the forward model,
 ``mcbat.inference.predict_batted_balls``) on sampled pitches and swings like the game
@@ -9,6 +9,7 @@ the median over runs is reported (the first, compiling run is left out).
 
     .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5
     .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5 --bat-speed
+    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5 --fly
 """
 
 import argparse
@@ -22,7 +23,23 @@ import numpy as np
 import pandas as pd
 
 from mcbat import statcast
+from mcbat.bodies.presets import BALL_PRESETS
 from mcbat.inference import infer_spin, predict_batted_balls
+from mcbat.study.flight import FlightSettings, fly_launches
+
+MPH, DEG, RPM = 0.44704, np.pi / 180, np.pi / 30
+
+
+def fly(df, spin):
+    """Every inferred ball flown with the published flight model (standard conditions)."""
+    ok = spin["inferred"].to_numpy(bool)
+    ball = BALL_PRESETS["baseball"]
+    out, status = fly_launches(
+        FlightSettings(), ball.mass, ball.radius, df["launch_speed"].to_numpy()[ok] * MPH,
+        df["launch_angle"].to_numpy()[ok] * DEG, df["spray_angle"].to_numpy()[ok] * DEG,
+        spin["backspin"].to_numpy()[ok] * RPM, spin["sidespin"].to_numpy()[ok] * RPM,
+        spin["gyrospin"].to_numpy()[ok] * RPM)
+    return int((status == 0).sum())
 
 
 def simulate(n, seed, with_bat_speed):
@@ -61,6 +78,8 @@ def main():
     parser.add_argument("--n", type=int, default=100_000)
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--fly", action="store_true",
+                        help="also fly every inferred ball (read + infer + fly)")
     parser.add_argument("--bat-speed", action="store_true",
                         help="measured bat speed and attack angle (the contact position is "
                              "inferred)")
@@ -69,12 +88,17 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "balls.parquet"
         statcast.write(tidy, path)
-        infer_spin(statcast.read(path).head(64))  # compile (or load the cache)
-        rates, cpu_rates, out = [], [], None
+        head = statcast.read(path).head(64)
+        warm = infer_spin(head)  # compile (or load the cache)
+        if args.fly:
+            fly(head, warm)
+        rates, cpu_rates, out, flown = [], [], None, None
         for _ in range(args.runs):
             t0, c0 = time.perf_counter(), time.process_time()
             df = statcast.read(path)
             out = infer_spin(df)
+            if args.fly:
+                flown = fly(df, out)
             rates.append(len(df) / (time.perf_counter() - t0))
             cpu_rates.append(len(df) / (time.process_time() - c0))
     it = out["inference_iterations"]
@@ -84,7 +108,10 @@ def main():
     print(f"Newton iterations: median {it.median():.0f}, mean {it.mean():.2f}, "
           f"max {it.max()}; game-kernel calls per ball: mean "
           f"{out['kernel_evaluations'].mean():.2f}")
-    print("read + infer, balls/s per run: " + ", ".join(f"{r:,.0f}" for r in rates))
+    stages = "read + infer + fly" if args.fly else "read + infer"
+    if args.fly:
+        print(f"flown to the ground: {flown} balls")
+    print(f"{stages}, balls/s per run: " + ", ".join(f"{r:,.0f}" for r in rates))
     print(f"median: {statistics.median(rates):,.0f} balls/s")
     # On a shared machine the wall-clock rate depends on the other jobs; the CPU time the
     # process used does not (much): balls per CPU-second, and that times the threads.
