@@ -178,7 +178,10 @@ def cmd_run(args) -> int:
     if args.columns is not None:
         with _flags("columns"):
             study = study.with_overrides(columns=args.columns)
-    out = args.out or str(Path("results") / study.name)
+    if args.out is not None and not args.out.strip():
+        raise InputError("--out", "must not be empty (give a directory or a URL; without "
+                         "--out the dataset goes to results/<study name>)")
+    out = args.out if args.out is not None else str(Path("results") / study.name)
     if re.match(r"(?i)memory://", out):
         raise InputError("--out", "memory:// keeps files in this process's memory: they would "
                          "vanish when the command ends (the Python API can use it); give a "
@@ -201,7 +204,8 @@ def cmd_check(args) -> int:
     result = check_dataset(args.directory, checksums=not args.quick)
     for line in result.lines():
         print(line)
-    return EXIT_OK if result.ok else EXIT_DATASET_PROBLEMS
+    # A dataset whose bytes cannot be verified is not reported as fine.
+    return EXIT_OK if result.ok and not result.unverified else EXIT_DATASET_PROBLEMS
 
 
 def cmd_reproduce(args) -> int:
@@ -326,6 +330,8 @@ def cmd_fit(args) -> int:
             raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
         if args.seed < 0:
             raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
+        if args.seed > 2**63 - 1:
+            raise InputError("seed", f"must be <= 2**63 - 1, got {args.seed}")
     if args.residuals:
         _check_output(args.residuals, "--residuals", RESIDUAL_FORMATS)
     study = load_study(args.study)

@@ -99,7 +99,8 @@ def _study(definition: dict, job: ChunkJob):
         if study is None:
             meta = job.metadata
             study = Study.from_dict(definition, text=meta.get("study_toml"))
-            if dataset_hash(study.config(), job.seed, job.samples) != job.config_hash:
+            if dataset_hash(study.config(), job.seed, job.samples,
+                            job.summary_only) != job.config_hash:
                 raise WorkerSetupError(
                     "scheduler", f"the study rebuilt on the worker on {_host()} differs "
                     "from the client's (another mcbat version?)")
