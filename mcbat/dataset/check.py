@@ -110,11 +110,13 @@ class DatasetCheck:
         if self.summary:
             out.append(self.summary)
         if self.foreign:
-            out.append(f"{len(self.foreign)} entr{'y' if len(self.foreign) == 1 else 'ies'} "
-                       "that Parquet readers of the directory would read as rows but are "
-                       f"not chunk files of the dataset ({', '.join(self.foreign[:3])}"
-                       f"{', ...' if len(self.foreign) > 3 else ''}); move them out of the "
-                       "directory")
+            one = len(self.foreign) == 1
+            out.append(f"{len(self.foreign)} entr{'y' if one else 'ies'} that Parquet "
+                       "readers of the directory would read as rows but "
+                       f"{'is not a chunk file' if one else 'are not chunk files'} of the "
+                       f"dataset ({', '.join(self.foreign[:3])}"
+                       f"{', ...' if len(self.foreign) > 3 else ''}); move "
+                       f"{'it' if one else 'them'} out of the directory")
         if self.missing:
             out.append(f"{len(self.missing)} of {self.manifest['chunks']} chunk(s) missing "
                        f"({_indices(self.missing)}): {self.rows_good:,} of "
@@ -178,7 +180,11 @@ def check_dataset(directory, *, checksums: bool = False) -> DatasetCheck:
         No such directory, or not an mcbat dataset (no usable manifest).
     """
     directory = storage.location(directory)
-    if storage.entry_type(directory) != "dir":
+    try:
+        kind = storage.entry_type(directory)
+    except OSError as err:  # an unreachable object store, a permission
+        raise InputError(None, f"cannot read the dataset: {err}", str(directory)) from None
+    if kind != "dir":
         raise InputError(None, "no such dataset directory", str(directory))
     manifest = chunks.read_manifest(directory)
     if manifest is None:

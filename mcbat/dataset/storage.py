@@ -14,6 +14,7 @@ Errors name no command-line flag: a location the user gave is reported as ``loca
 from __future__ import annotations
 
 import contextlib
+import datetime
 import functools
 import json
 import os
@@ -29,7 +30,7 @@ import pyarrow.fs as pafs
 from mcbat.errors import InputError
 
 __all__ = ["LOCAL", "entry_type", "file_size", "is_temporary_name", "join", "list_entries",
-           "list_names", "location",
+           "list_names", "local_path", "location",
            "make_dirs", "read_bytes", "read_json", "remove", "resolve", "write_atomic",
            "write_bytes_atomic", "write_json_atomic"]
 
@@ -53,11 +54,11 @@ def location(where) -> Path | str:
     """A dataset location: a :class:`~pathlib.Path` for a local path, else the URL as a
     string.
 
-    Every spelling of a local path is a :class:`~pathlib.Path`, so that the run's lock
-    (:mod:`mcbat.dataset.lock`), which only a local directory can hold, covers them all: a
-    plain or relative path (whatever it holds: ``run:1`` is the relative directory of that
-    name), ``file:///abs``, ``file:/abs``, ``local:///abs``, and any URL whose file system
-    is the local one.
+    A plain or relative path is a path whatever it holds (``run:1`` is the relative
+    directory of that name); ``file:///abs`` and ``file:/abs`` are the path ``/abs``;
+    ``local:///abs`` stays a URL (pyarrow's LocalFileSystem, the same code path as
+    ``s3://``), spelled ``local:///abs`` whatever its slashes. Every spelling of a local
+    directory has one lock: :func:`local_path`.
     """
     if isinstance(where, Path):
         return where
@@ -70,8 +71,9 @@ def location(where) -> Path | str:
         raise InputError(None, "must not contain a NUL character", repr(where))
     if _LOCAL_URL_RE.match(where):
         parsed = urlparse(where)
+        scheme = parsed.scheme.lower()
         if parsed.netloc not in ("", "localhost"):
-            raise InputError(None, f"a {parsed.scheme}:// URL names this machine's files; "
+            raise InputError(None, f"a {scheme}:// URL names this machine's files; "
                              f"host {parsed.netloc!r} is not supported (mount it and give "
                              "the local path)", where)
         if parsed.query or parsed.fragment:
@@ -79,10 +81,11 @@ def location(where) -> Path | str:
                              where)
         path = unquote(parsed.path)
         if not path.startswith("/"):
-            raise InputError(None, f"a {parsed.scheme}: URL needs an absolute path "
-                             f"({parsed.scheme}:///abs/path); give a relative directory as "
+            raise InputError(None, f"a {scheme}: URL needs an absolute path "
+                             f"({scheme}:///abs/path); give a relative directory as "
                              "a plain path", where)
-        return Path(path)
+        path = os.path.normpath(path)
+        return Path(path) if scheme == "file" else f"local://{path}"
     if _URL_RE.match(where):
         parsed = urlparse(where)
         scheme = parsed.scheme.lower()
@@ -94,12 +97,19 @@ def location(where) -> Path | str:
             raise InputError(None, f"{scheme}:// is not storage a dataset can be written to "
                              "or read from; give a directory or a URL of a file system "
                              "(s3://, gs://, hdfs://, ...)", where)
-        where = where.rstrip("/")
-        fs, path = _filesystem(where)
-        if _is_local(fs):  # another spelling of a local path
-            return Path(path)
-        return where
+        return where.rstrip("/")
     return Path(where)
+
+
+def local_path(where) -> Path | None:
+    """The absolute local directory that ``where`` names, whatever its spelling (a
+    relative path, ``file:``, ``local://``, or any URL whose file system is this
+    machine's); None for remote storage. The run's lock is taken there."""
+    where = location(where)
+    if isinstance(where, Path):
+        return Path(os.path.abspath(where))
+    fs, path = resolve(where)
+    return Path(os.path.abspath(path)) if _is_local(fs) else None
 
 
 def _is_local(fs) -> bool:
@@ -118,9 +128,25 @@ def join(directory, name: str) -> Path | str:
     return directory / name if isinstance(directory, Path) else f"{directory}/{name}"
 
 
+def url_timeout() -> float:
+    """Seconds a cloud file system may retry a request before the command fails:
+    ``MCBAT_URL_TIMEOUT`` (default 30)."""
+    try:
+        value = float(os.environ.get("MCBAT_URL_TIMEOUT", "30"))
+    except ValueError:
+        value = 30.0
+    return value if 0 < value < 86_400 else 30.0
+
+
 @functools.lru_cache(maxsize=32)
 def _filesystem(url: str) -> tuple[pafs.FileSystem, str]:
     """(file system, path) of a URL: pyarrow's own file systems first, then fsspec."""
+    scheme = url.partition("://")[0].lower()
+    if scheme in ("gs", "gcs"):
+        # pyarrow's Google Cloud Storage client retries for 15 minutes by default: without
+        # a network (or credentials) a command hung for as long. Bounded here.
+        return (pafs.GcsFileSystem(retry_time_limit=datetime.timedelta(
+            seconds=url_timeout())), url.partition("://")[2].rstrip("/"))
     try:
         return pafs.FileSystem.from_uri(url)
     except pa.ArrowInvalid:  # a scheme pyarrow does not know: fsspec

@@ -2,6 +2,7 @@
 complete, nothing the run did not write is deleted, every spelling of a directory shares
 one lock, and the closing report reads the chunks under it and one at a time."""
 
+import os
 import shutil
 import subprocess
 import sys
@@ -363,3 +364,15 @@ def test_a_url_scheme_missing_a_package_names_it(tmp_path):
     proc = _cli("check", "http://127.0.0.1:9/ds", cwd=tmp_path)
     assert proc.returncode == 2 and "aiohttp" in proc.stderr, proc.stderr
     assert "needs fsspec" not in proc.stderr
+
+
+def test_an_unreachable_object_store_is_an_error_in_bounded_time(tmp_path):
+    """Without a network (or credentials), a gs:// URL fails once its retries have run
+    for MCBAT_URL_TIMEOUT seconds (pyarrow's own default is 15 minutes)."""
+    env = {**os.environ, "MCBAT_URL_TIMEOUT": "2"}
+    t0 = time.monotonic()
+    proc = subprocess.run([sys.executable, "-m", "mcbat", "check", "gs://mcbat-no-bucket/ds"],
+                          capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120,
+                          check=False)
+    assert time.monotonic() - t0 < 60
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
