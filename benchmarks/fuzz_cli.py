@@ -460,6 +460,29 @@ def run_one(argv, timeout):
     return code, stdout.getvalue(), stderr.getvalue(), time.perf_counter() - t0
 
 
+def warm_up(scratch: Path):
+    """One valid input of each command, untimed: the first call of a command loads its
+    compiled kernels (seconds; minutes on a loaded machine), which is not a hang."""
+    flight = scratch / "warm_flight.json"
+    flight.write_text(json.dumps({"launch_speed": 45, "launch_angle": 0.5}))
+    drop, game = ROOT / "studies" / "cross_nathan_2006.toml", ROOT / "studies" / \
+        "game_fastball.toml"
+    table = scratch / "warm_table.csv"
+    for argv in (["impact", str(ROOT / "examples" / "cabo2012_sec5.json")],
+                 ["impact", str(ROOT / "examples" / "game_fastball.json")],
+                 ["flight", str(flight)],
+                 ["run", str(ROOT / "studies" / "example.toml"), "--samples", "50",
+                  "--quiet", "--out", str(scratch / "warm_run")],
+                 ["run", str(game), "--samples", "50", "--quiet", "--out",
+                  str(scratch / "warm_game")],
+                 ["synth", "--study", str(drop), "--rows", "5", "--out", str(table)],
+                 ["fit", "--study", str(drop), "--data", str(table), "--free", "e",
+                  "--intervals", "curvature", "--no-compare", "--draws", "4"]):
+        with contextlib.redirect_stdout(io.StringIO()), \
+                contextlib.redirect_stderr(io.StringIO()):
+            main(argv)
+
+
 def main_fuzz(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--n", type=int, default=10_000, help="inputs (default 10,000)")
@@ -480,6 +503,7 @@ def main_fuzz(argv=None):
         os.chdir(scratch)  # relative --out spellings land in the scratch directory
         try:
             inputs = Inputs(rng, Path(scratch))
+            warm_up(Path(scratch))
             for i in range(args.n):
                 command = rng.choices(commands, weights)[0]
                 try:
@@ -505,9 +529,11 @@ def main_fuzz(argv=None):
                                        "stdout": out[:300]})
                     print(f"violation #{i} {command}: {problems}: {argv_i}: "
                           f"{err.strip().splitlines()[-1:]}", flush=True)
-                if (i + 1) % 500 == 0:
+                if (i + 1) % 250 == 0:
                     print(f"{i + 1:,} inputs, {len(violations)} violations, "
-                          f"{time.perf_counter() - t_start:.0f} s", flush=True)
+                          f"{time.perf_counter() - t_start:.0f} s, exit codes "
+                          f"{dict(sum(codes.values(), Counter()))}, slowest "
+                          f"{slowest[0]:.1f} s", flush=True)
                 # keep the scratch directory small
                 for path in Path(scratch).glob("in*"):
                     if path.is_dir() and path.name != "in" and rng.random() < 0.5:

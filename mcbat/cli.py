@@ -40,6 +40,16 @@ class _UsageError(Exception):
     """A command-line usage error (bad flag or value): exit code 2."""
 
 
+def _one_line(text: str) -> str:
+    r"""``text`` with every line break and control character escaped (``\x85``,
+    ``\u2028``): an error message that echoes the user's input stays one line."""
+    import unicodedata
+
+    return "".join(
+        ch if ch == " " or unicodedata.category(ch) not in ("Cc", "Cf", "Zl", "Zp")
+        else ch.encode("unicode_escape").decode("ascii") for ch in text)
+
+
 def _reject_constant(name):
     raise ValueError(f"non-finite number {name} is not allowed")
 
@@ -594,7 +604,7 @@ def main(argv=None) -> int:
             return EXIT_USER
         return args.func(args)
     except _UsageError as err:
-        print(f"mcbat: error: {err}", file=sys.stderr)
+        print(f"mcbat: error: {_one_line(str(err))}", file=sys.stderr)
         return EXIT_USER
     except BrokenPipeError:
         # The reader went away (`mcbat impact ... | head -1`): stop quietly, as a command
@@ -613,12 +623,12 @@ def main(argv=None) -> int:
 
             traceback.print_exc()
         if isinstance(err, InputError):
-            print(f"mcbat: error: {err}", file=sys.stderr)
+            print(f"mcbat: error: {_one_line(str(err))}", file=sys.stderr)
             return EXIT_USER
         if isinstance(err, EnvironmentFailure):
-            print(f"mcbat: error: {err}", file=sys.stderr)
+            print(f"mcbat: error: {_one_line(str(err))}", file=sys.stderr)
             return EXIT_ENVIRONMENT
-        print(f"mcbat: internal error: {type(err).__name__}: {err}"
+        print(f"mcbat: internal error: {type(err).__name__}: {_one_line(str(err))}"
               + ("" if debug else " (run with --debug for a traceback)"), file=sys.stderr)
         return EXIT_INTERNAL
 

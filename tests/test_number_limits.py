@@ -93,3 +93,10 @@ def test_a_trajectory_beyond_its_point_limit_is_an_error(capsys, tmp_path):
     answer = json.loads(capsys.readouterr().out)
     t = answer["trajectory"]["t"]
     assert t[-1] == answer["hang_time"] and len(t) == math.ceil(answer["hang_time"] / 1e-4) + 1
+
+
+@pytest.mark.parametrize("token", ["\x85", "\u2028", "a\nb"])
+def test_an_error_that_echoes_a_line_break_stays_one_line(capsys, token):
+    code = main(["calibrate", token, "1e20"])
+    _, err = capsys.readouterr()
+    assert code == 2 and len(err.splitlines()) == 1, repr(err)

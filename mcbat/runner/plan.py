@@ -298,8 +298,9 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
                 what = (f"dataset schema version {existing.get('schema')} (this version "
                         f"of mcbat writes version {manifest['schema']})"
                         if existing.get("schema") != manifest["schema"] else
-                        "a different study config, seed, sample count or stored rows "
-                        "(--summary-only, columns, precision)" if not same else
+                        "a different study config, seed or sample count (or rows "
+                        "stored where this run is --summary-only, or the reverse)"
+                        if not same else
                         f"chunk size {existing.get('chunk_size')}")
                 raise InputError("out", f"holds a dataset written with {what}; "
                                  "pass overwrite=True to replace it, or choose another "
