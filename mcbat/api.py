@@ -923,7 +923,7 @@ def flight_case_from_dict(data) -> FlightCase:
 
 #: Most points of a sampled trajectory (``mcbat flight --trajectory DT``); a flight is also
 #: sampled over at most its first 120 s.
-MAX_TRAJECTORY_POINTS = 1_000_000
+MAX_TRAJECTORY_POINTS = 100_000
 
 
 def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightResult:
