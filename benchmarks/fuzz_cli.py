@@ -529,7 +529,10 @@ def main_fuzz(argv=None):
                                        "stdout": out[:300]})
                     print(f"violation #{i} {command}: {problems}: {argv_i}: "
                           f"{err.strip().splitlines()[-1:]}", flush=True)
-                if (i + 1) % 250 == 0:
+                if (i + 1) % 100 == 0:
+                    if args.report:  # a run stopped early still leaves its numbers
+                        _write_report(args, i + 1, time.perf_counter() - t_start, codes,
+                                      slowest, violations)
                     print(f"{i + 1:,} inputs, {len(violations)} violations, "
                           f"{time.perf_counter() - t_start:.0f} s, exit codes "
                           f"{dict(sum(codes.values(), Counter()))}, slowest "
@@ -557,12 +560,16 @@ def main_fuzz(argv=None):
         print(f"  #{v['i']} {v['command']}: {v['problems']}: {v['argv']}\n"
               f"      {v.get('stderr')}")
     if args.report:
-        args.report.write_text(json.dumps({
-            "n": args.n, "seed": args.seed, "timeout": args.timeout, "seconds": total,
-            "codes": {k: dict(v) for k, v in codes.items()},
-            "slowest": [slowest[0], slowest[1]], "violations": violations}, indent=1,
-            default=str))
+        _write_report(args, args.n, total, codes, slowest, violations)
     return 1 if violations else 0
+
+
+def _write_report(args, done, seconds, codes, slowest, violations):
+    args.report.write_text(json.dumps({
+        "n": args.n, "done": done, "seed": args.seed, "timeout": args.timeout,
+        "seconds": seconds, "codes": {k: dict(v) for k, v in codes.items()},
+        "slowest": [slowest[0], slowest[1]], "violations": violations}, indent=1,
+        default=str))
 
 
 if __name__ == "__main__":
