@@ -221,9 +221,12 @@ def cmd_check(args) -> int:
 def cmd_reproduce(args) -> int:
     # The plain checks before the reproduction's imports (figures, fits: seconds of start-up,
     # a minute on a loaded machine, for what is a one-line refusal).
-    for flag, value in (("--samples", args.samples), ("--threads", args.threads)):
+    for flag, value, most in (("--samples", args.samples, 10**12),
+                              ("--threads", args.threads, 4096)):
         if value is not None and value < 1:
             raise InputError(flag, f"must be an integer >= 1, got {value}")
+        if value is not None and value > most:
+            raise InputError(flag, f"must be <= {most:,}, got {value:,}")
     if args.paper == "sawicki2003":
         from mcbat.papers.sawicki2003.reproduce import reproduce as reproduce_sawicki
 
