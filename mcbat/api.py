@@ -921,6 +921,11 @@ def flight_case_from_dict(data) -> FlightCase:
     return FlightCase(ball=ball, settings=settings, **launch)
 
 
+#: Most points of a sampled trajectory (``mcbat flight --trajectory DT``); a flight is also
+#: sampled over at most its first 120 s.
+MAX_TRAJECTORY_POINTS = 100_000
+
+
 def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightResult:
     """Fly one ball with the flight kernel (the one studies use).
 
@@ -944,7 +949,7 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
             raise InputError("trajectory", f"must be > 0 s, got {trajectory!r}")
         if case.settings.scheme == "sheet":
             raise InputError("trajectory", "not available with scheme = \"sheet\"")
-        samples = np.empty((4, int(min(120.0 / dt, 1e6)) + 2))
+        samples = np.empty((4, int(min(120.0 / dt, MAX_TRAJECTORY_POINTS)) + 2))
         f, count = integrate_flight(params, x, v, w, samples, dt)
     if f.status == 3:
         raise InputError("landing_height", "the ball never rises to the landing height: it "
@@ -952,8 +957,23 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
     if f.status != 0:
         raise InputError("position", "the ball cannot fly from there (below the ground, "
                          "or no landing within the step limit)")
+    landing = (f.distance, f.landing_x, f.landing_y, f.hang_time, f.apex)
+    if not all(math.isfinite(value) for value in landing):
+        # A successful answer holds numbers only: a ball the model cannot carry (a
+        # feather's mass, a balloon's radius, a launch near the speed of light) is the
+        # input's fault, said so, not a null in the output.
+        raise InputError("launch_speed", f"the flight model has no finite landing for a "
+                         f"{case.ball.mass:.3g} kg ball of radius {case.ball.radius:.3g} m "
+                         f"launched at {case.launch_speed:.3g} m/s (ball.mass, ball.radius, "
+                         "launch_speed): outside the range the model is made for")
     trajectory = None
     if samples is not None:
+        if count and samples[0, count - 1] + dt < f.hang_time and count >= samples.shape[1]:
+            needed = f.hang_time / dt
+            raise InputError("trajectory", f"a {f.hang_time:.3g} s flight sampled every "
+                             f"{dt:g} s needs {needed:,.0f} points, at most "
+                             f"{MAX_TRAJECTORY_POINTS:,} (and 120 s of flight): choose a "
+                             f"step of at least {f.hang_time / MAX_TRAJECTORY_POINTS:.2g} s")
         t, px, py, pz = (samples[i, :count].tolist() for i in range(4))
         if not t or t[-1] < f.hang_time:
             t, px, py, pz = (t + [f.hang_time], px + [f.landing_x], py + [f.landing_y],

@@ -40,6 +40,16 @@ class _UsageError(Exception):
     """A command-line usage error (bad flag or value): exit code 2."""
 
 
+def _one_line(text: str) -> str:
+    r"""``text`` with every line break and control character escaped (``\x85``,
+    ``\u2028``): an error message that echoes the user's input stays one line."""
+    import unicodedata
+
+    return "".join(
+        ch if ch == " " or unicodedata.category(ch) not in ("Cc", "Cf", "Zl", "Zp")
+        else ch.encode("unicode_escape").decode("ascii") for ch in text)
+
+
 def _reject_constant(name):
     raise ValueError(f"non-finite number {name} is not allowed")
 
@@ -178,7 +188,10 @@ def cmd_run(args) -> int:
     if args.columns is not None:
         with _flags("columns"):
             study = study.with_overrides(columns=args.columns)
-    out = args.out or str(Path("results") / study.name)
+    if args.out is not None and not args.out.strip():
+        raise InputError("--out", "must not be empty (give a directory or a URL; without "
+                         "--out the dataset goes to results/<study name>)")
+    out = args.out if args.out is not None else str(Path("results") / study.name)
     if re.match(r"(?i)memory://", out):
         raise InputError("--out", "memory:// keeps files in this process's memory: they would "
                          "vanish when the command ends (the Python API can use it); give a "
@@ -201,10 +214,19 @@ def cmd_check(args) -> int:
     result = check_dataset(args.directory, checksums=not args.quick)
     for line in result.lines():
         print(line)
-    return EXIT_OK if result.ok else EXIT_DATASET_PROBLEMS
+    # A dataset whose bytes cannot be verified is not reported as fine.
+    return EXIT_OK if result.ok and not result.unverified else EXIT_DATASET_PROBLEMS
 
 
 def cmd_reproduce(args) -> int:
+    # The plain checks before the reproduction's imports (figures, fits: seconds of start-up,
+    # a minute on a loaded machine, for what is a one-line refusal).
+    for flag, value, most in (("--samples", args.samples, 10**12),
+                              ("--threads", args.threads, 4096)):
+        if value is not None and value < 1:
+            raise InputError(flag, f"must be an integer >= 1, got {value}")
+        if value is not None and value > most:
+            raise InputError(flag, f"must be <= {most:,}, got {value:,}")
     if args.paper != "statcast" and args.data is not None:
         raise InputError("--data", "applies to the statcast reproduction only")
     if args.paper == "statcast":
@@ -377,6 +399,8 @@ def cmd_fit(args) -> int:
             raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
         if args.seed < 0:
             raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
+        if args.seed > 2**63 - 1:
+            raise InputError("seed", f"must be <= 2**63 - 1, got {args.seed}")
     if args.residuals:
         _check_output(args.residuals, "--residuals", RESIDUAL_FORMATS)
     study = load_study(args.study)
@@ -788,7 +812,7 @@ def main(argv=None) -> int:
             return EXIT_USER
         return args.func(args)
     except _UsageError as err:
-        print(f"mcbat: error: {err}", file=sys.stderr)
+        print(f"mcbat: error: {_one_line(str(err))}", file=sys.stderr)
         return EXIT_USER
     except BrokenPipeError:
         # The reader went away (`mcbat impact ... | head -1`): stop quietly, as a command
@@ -807,12 +831,12 @@ def main(argv=None) -> int:
 
             traceback.print_exc()
         if isinstance(err, InputError):
-            print(f"mcbat: error: {err}", file=sys.stderr)
+            print(f"mcbat: error: {_one_line(str(err))}", file=sys.stderr)
             return EXIT_USER
         if isinstance(err, EnvironmentFailure):
-            print(f"mcbat: error: {err}", file=sys.stderr)
+            print(f"mcbat: error: {_one_line(str(err))}", file=sys.stderr)
             return EXIT_ENVIRONMENT
-        print(f"mcbat: internal error: {type(err).__name__}: {err}"
+        print(f"mcbat: internal error: {type(err).__name__}: {_one_line(str(err))}"
               + ("" if debug else " (run with --debug for a traceback)"), file=sys.stderr)
         return EXIT_INTERNAL
 

@@ -12,10 +12,15 @@ A chunk file belongs to the dataset only if it is recorded and matches its recor
   with ``checksums=True`` also one whose bytes no longer give the recorded CRC-32 (bit rot,
   a partial overwrite; the only check that reads every byte).
 
+- **foreign**: an entry a Parquet reader of the directory would read as data that is not a
+  chunk file (``chunk-000002 (copy).parquet``, a directory named like a chunk): the
+  documented ``pandas.read_parquet(DIR)`` would return its rows too.
+
 :func:`mcbat.load` runs the cheap checks (file sizes and Parquet footers) and refuses a
 dataset with any problem, unless ``allow_partial=True``; ``mcbat check DIR`` runs all of
 them. Datasets written before chunk records existed (manifest without ``files``) are checked
-by their footers alone.
+by their footers alone and reported as **unverified** (their bytes have no checksum to
+compare with), never as verified; rerunning the same ``mcbat run`` records them.
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ import pyarrow.parquet as pq
 from mcbat.dataset import chunks, storage
 from mcbat.errors import InputError
 
-__all__ = ["DatasetCheck", "check_dataset"]
+__all__ = ["UNVERIFIED", "DatasetCheck", "check_dataset", "chunk_mismatch"]
 
 SUMMARY = "_summary.parquet"  # = mcbat.dataset.summary.SUMMARY (kept light: no numba here)
 
@@ -53,6 +58,13 @@ class DatasetCheck:
         ``(file name, reason)`` of recorded chunks that do not match their record.
     checksums : bool
         Whether the CRC-32 of every file was verified.
+    unverified : bool
+        The manifest records no checksums (written by an older mcbat): the files' bytes
+        cannot be verified, whatever ``checksums`` asked. Reported, never passed as
+        verified; a rerun of the same ``mcbat run`` records them.
+    foreign : list of str
+        Entries a Parquet reader of the directory would read as data that are not chunk
+        files of the dataset (a renamed copy, a directory with a chunk's name).
     summary : str or None
         What is wrong with the ``[summary]`` table of a study that has one (unfinished, or
         not matching its record), None when it is fine or there is none.
@@ -65,6 +77,8 @@ class DatasetCheck:
     extra: list = field(default_factory=list)
     mismatched: list = field(default_factory=list)
     checksums: bool = False
+    unverified: bool = False
+    foreign: list = field(default_factory=list)
     summary: str | None = None
 
     @property
@@ -76,8 +90,8 @@ class DatasetCheck:
     def ok(self) -> bool:
         """True when every chunk is present and matches (none is expected of a
         summary-only run), nothing else is there, and the summary table is complete."""
-        return not ((self.missing and not self.summary_only) or self.extra
-                    or self.mismatched or self.summary)
+        return not (self.missing or self.extra or self.mismatched or self.foreign
+                    or self.summary)
 
     @property
     def rows_expected(self) -> int:
@@ -95,7 +109,15 @@ class DatasetCheck:
         out = []
         if self.summary:
             out.append(self.summary)
-        if self.missing and not self.summary_only:
+        if self.foreign:
+            one = len(self.foreign) == 1
+            out.append(f"{len(self.foreign)} entr{'y' if one else 'ies'} that Parquet "
+                       "readers of the directory would read as rows but "
+                       f"{'is not a chunk file' if one else 'are not chunk files'} of the "
+                       f"dataset ({', '.join(self.foreign[:3])}"
+                       f"{', ...' if len(self.foreign) > 3 else ''}); move "
+                       f"{'it' if one else 'them'} out of the directory")
+        if self.missing:
             out.append(f"{len(self.missing)} of {self.manifest['chunks']} chunk(s) missing "
                        f"({_indices(self.missing)}): {self.rows_good:,} of "
                        f"{self.rows_expected:,} rows present; rerun the same `mcbat run` "
@@ -112,13 +134,25 @@ class DatasetCheck:
 
     def lines(self) -> list[str]:
         """The report of ``mcbat check``."""
-        how = "sizes, footers and CRC-32 of every byte" if self.checksums else \
-            "sizes and footers"
+        how = ("sizes and footers only: no checksums recorded" if self.unverified else
+               "sizes, footers and CRC-32 of every byte" if self.checksums else
+               "sizes and footers")
+        stored = self.summary_only and not (self.good or self.missing or self.mismatched)
         head = [f"dataset: {self.directory}",
                 f"chunks: {len(self.good)} of {self.manifest['chunks']} good ({how}), "
                 f"{self.rows_good:,} of {self.rows_expected:,} rows"
-                + (" (a summary-only run: no rows stored)" if self.summary_only else "")]
-        return head + (self.problems() or ["ok: complete and consistent with its manifest"])
+                + (" (a summary-only run: no rows stored)" if stored else "")]
+        problems = self.problems()
+        if problems:
+            return head + problems
+        if self.unverified:
+            return head + [UNVERIFIED]
+        return head + ["ok: complete and consistent with its manifest"]
+
+
+UNVERIFIED = ("unverified: complete by its sizes and footers, but the manifest records no "
+              "checksums (an older mcbat wrote it), so changed bytes cannot be detected; "
+              "rerun the same `mcbat run` to recompute and record them")
 
 
 def _indices(indices) -> str:
@@ -146,7 +180,11 @@ def check_dataset(directory, *, checksums: bool = False) -> DatasetCheck:
         No such directory, or not an mcbat dataset (no usable manifest).
     """
     directory = storage.location(directory)
-    if storage.entry_type(directory) != "dir":
+    try:
+        kind = storage.entry_type(directory)
+    except OSError as err:  # an unreachable object store, a permission
+        raise InputError(None, f"cannot read the dataset: {err}", str(directory)) from None
+    if kind != "dir":
         raise InputError(None, "no such dataset directory", str(directory))
     manifest = chunks.read_manifest(directory)
     if manifest is None:
@@ -158,8 +196,13 @@ def check_dataset(directory, *, checksums: bool = False) -> DatasetCheck:
         raise InputError(None, f"not an mcbat dataset (unusable {chunks.MANIFEST})",
                          str(directory))
     records = manifest.get("files")  # None: written before chunk records existed
-    result = DatasetCheck(directory, manifest, checksums=checksums)
+    if records is not None and not isinstance(records, dict):
+        raise InputError(None, f"not an mcbat dataset (unusable {chunks.MANIFEST}: 'files' "
+                         f"is {type(records).__name__}, not an object)", str(directory))
+    result = DatasetCheck(directory, manifest, checksums=checksums,
+                          unverified=records is None)
     present = chunks.chunk_files(directory)
+    result.foreign = chunks.foreign_entries(directory)
     n_chunks, size = manifest["chunks"], manifest["chunk_size"]
     for k, path in sorted(present.items()):
         name = chunks.chunk_name(k)
@@ -167,13 +210,17 @@ def check_dataset(directory, *, checksums: bool = False) -> DatasetCheck:
             result.extra.append(name)
             continue
         rows = min(size, manifest["samples"] - k * size)
-        reason = _mismatch(path, k, rows, size, manifest, None if records is None
-                           else records[name], checksums)
+        reason = chunk_mismatch(path, k, rows, size, manifest, None if records is None
+                                else records[name], checksums)
         if reason is None:
             result.good[k] = path
         else:
             result.mismatched.append((name, reason))
-    result.missing = [k for k in range(n_chunks) if k not in present]
+    # Every chunk of the run is expected, except in a summary-only run that stored no rows:
+    # a summary-only manifest over chunk files (or their records) of a run that did store
+    # them still owes every row, so a chunk missing there is never "complete".
+    rows_stored = not result.summary_only or bool(records) or bool(present)
+    result.missing = [k for k in range(n_chunks) if k not in present] if rows_stored else []
     result.summary = _summary_problem(directory, manifest, checksums)
     return result
 
@@ -182,7 +229,8 @@ def _summary_problem(directory, manifest, checksums) -> str | None:
     """What is wrong with the summary table of a study with ``[summary]`` (None: fine)."""
     if not isinstance(manifest.get("study"), dict) or manifest["study"].get("summary") is None:
         return None
-    record = (manifest.get("summary") or {}).get("table")
+    summary = manifest.get("summary")
+    record = summary.get("table") if isinstance(summary, dict) else None
     if not isinstance(record, dict):
         return ("the [summary] table is not finished; rerun the same `mcbat run` to "
                 "complete it")
@@ -195,7 +243,7 @@ def _summary_problem(directory, manifest, checksums) -> str | None:
     return None
 
 
-def _mismatch(path, index, rows, size, manifest, record, checksums) -> str | None:
+def chunk_mismatch(path, index, rows, size, manifest, record, checksums) -> str | None:
     """Why chunk file ``path`` is not chunk ``index`` of this dataset (None if it is)."""
     if record is not None:
         if not isinstance(record, dict):

@@ -20,6 +20,7 @@ columns are those of :mod:`mcbat.dataset.schema`.
 from __future__ import annotations
 
 import json
+import os
 import platform
 import re
 import threading
@@ -47,7 +48,8 @@ from mcbat.dataset.schema import (
 )
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
-           "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "game_columns",
+           "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "foreign_entries",
+           "game_columns", "is_reader_visible",
            "impact_columns", "is_temporary_chunk_name", "numpy_to_arrow", "package_versions",
            "read_manifest", "read_metadata", "read_table", "to_table", "verify_chunk",
            "write_chunk", "write_manifest"]
@@ -372,13 +374,30 @@ def read_manifest(directory) -> dict | None:
 
 def chunk_files(directory) -> dict:
     """Final-named chunk files in ``directory``, by chunk index (paths, or URLs for a
-    URL)."""
+    URL). Only files: a directory with a chunk's name is not one (:func:`foreign_entries`
+    names it)."""
     found = {}
-    for name in storage.list_names(directory):
+    for name, kind in storage.list_entries(directory).items():
         index = chunk_index(name)
-        if index is not None:
+        if index is not None and kind == "file":
             found[index] = storage.join(directory, name)
     return found
+
+
+def is_reader_visible(name: str) -> bool:
+    """Whether a Parquet reader of the directory (``pandas.read_parquet(DIR)``,
+    ``pyarrow.dataset``) reads this entry as data: it skips names starting with ``_`` or
+    ``.``, and reads every other file and directory."""
+    return not name.startswith(("_", "."))
+
+
+def foreign_entries(directory) -> list:
+    """Entries of ``directory`` a Parquet reader would read as data that are not chunk
+    files (``chunk-000002 (copy).parquet``, a directory named like a chunk, any other
+    file): sorted names."""
+    return sorted(name for name, kind in storage.list_entries(directory).items()
+                  if is_reader_visible(name)
+                  and not (kind == "file" and chunk_index(name) is not None))
 
 
 def chunk_is_complete(path, expected_rows: int, config_hash: str) -> bool:
@@ -397,7 +416,8 @@ def read_metadata(path) -> pq.FileMetaData:
     if isinstance(path, str):
         fs, fs_path = storage.resolve(path)
         return pq.read_metadata(fs_path, filesystem=fs)
-    return pq.read_metadata(path)
+    # An explicit local file system: given a string, pyarrow would read "run:1/x" as a URL.
+    return pq.read_metadata(os.path.abspath(path), filesystem=storage.LOCAL)
 
 
 def read_table(path, columns=None) -> pa.Table:
@@ -406,4 +426,4 @@ def read_table(path, columns=None) -> pa.Table:
     if isinstance(path, str):
         fs, fs_path = storage.resolve(path)
         return pq.read_table(fs_path, columns=columns, filesystem=fs)
-    return pq.read_table(path, columns=columns)
+    return pq.read_table(os.path.abspath(path), columns=columns, filesystem=storage.LOCAL)

@@ -9,7 +9,7 @@ import pyarrow.parquet as pq
 
 from mcbat.core import status as st
 from mcbat.dataset import storage
-from mcbat.dataset.check import check_dataset
+from mcbat.dataset.check import UNVERIFIED, check_dataset
 from mcbat.dataset.chunks import checksum, chunk_name
 from mcbat.dataset.schema import MEASURED_SUFFIX, UNITS
 from mcbat.errors import InputError
@@ -44,7 +44,8 @@ def load(directory, columns=None, labels=False, allow_partial=False):
         match the manifest, with a warning that says what is left out. By default such a
         dataset is refused (:func:`mcbat.dataset.check.check_dataset`). Every file's bytes
         are checked against the CRC-32 the manifest recorded as they are read (~1 GB/s):
-        a corrupted chunk is never returned.
+        a corrupted chunk is never returned. A manifest of an older mcbat that records no
+        checksums is read with a warning that the bytes are unverified.
 
     Returns
     -------
@@ -72,6 +73,8 @@ def load(directory, columns=None, labels=False, allow_partial=False):
                              "there; `mcbat check` lists every problem)", str(directory))
         warnings.warn(f"{directory}: partial dataset: " + "; ".join(check.problems()),
                       stacklevel=2)
+    if check.unverified:
+        warnings.warn(f"{directory}: {UNVERIFIED}", stacklevel=2)
     records = manifest.get("files") or {}
     tables = []
     for k, path in sorted(check.good.items()):

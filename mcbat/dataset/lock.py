@@ -23,6 +23,7 @@ import os
 import socket
 from pathlib import Path
 
+from mcbat.dataset import storage
 from mcbat.errors import InputError
 
 __all__ = ["LOCK_NAME", "dataset_lock"]
@@ -41,7 +42,8 @@ def _holder(path: Path) -> str:
 
 @contextlib.contextmanager
 def dataset_lock(directory):
-    """Hold the writer's lock of the local dataset ``directory`` (created if missing).
+    """Hold the writer's lock of the dataset ``directory`` (created if missing) if it is
+    on this machine, in any spelling (:func:`mcbat.dataset.storage.local_path`).
 
     Raises
     ------
@@ -49,9 +51,13 @@ def dataset_lock(directory):
         Naming ``out`` when another run holds the lock, or when the directory cannot be
         created or written.
     """
-    if not isinstance(directory, Path):  # a URL: no lock there
+    # One lock per directory, whatever the spelling (relative, file:, local://): the lock
+    # file is found through the directory's absolute local path.
+    local = storage.local_path(directory)
+    if local is None:  # remote storage: no lock there
         yield
         return
+    directory = local
     created = not directory.exists()
     path = directory / LOCK_NAME
     try:

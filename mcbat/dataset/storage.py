@@ -14,6 +14,7 @@ Errors name no command-line flag: a location the user gave is reported as ``loca
 from __future__ import annotations
 
 import contextlib
+import datetime
 import functools
 import json
 import os
@@ -28,32 +29,97 @@ import pyarrow.fs as pafs
 
 from mcbat.errors import InputError
 
-__all__ = ["entry_type", "file_size", "is_temporary_name", "join", "list_names", "location",
+__all__ = ["LOCAL", "entry_type", "file_size", "is_temporary_name", "join", "list_entries",
+           "list_names", "local_path", "location",
            "make_dirs", "read_bytes", "read_json", "remove", "resolve", "write_atomic",
            "write_bytes_atomic", "write_json_atomic"]
 
+#: The local file system, for pyarrow calls on local paths (a path string given to pyarrow
+#: alone is parsed as a URI when it holds a colon: ``run:1/chunk-000000.parquet``).
+LOCAL = pafs.LocalFileSystem()
 _URL_RE = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
 _TEMPORARY_RE = re.compile(r"^\..+\.tmp$")
 
 
+#: Schemes that name this machine's files: a location in one of them is a local path.
+_LOCAL_URL_RE = re.compile(r"^(?:file|local):", re.IGNORECASE)
+#: fsspec protocols that are not storage a dataset can live in (views of other file
+#: systems, archives, inline data, read-only code hosts): refused with a clear message.
+_NOT_STORAGE = frozenset({"data", "reference", "dir", "zip", "tar", "libarchive", "git",
+                          "github", "cached", "simplecache", "filecache", "blockcache",
+                          "jupyter", "jlab", "dask"})
+
+
 def location(where) -> Path | str:
-    """A dataset location: a :class:`~pathlib.Path` for a local path (a ``file://`` URL
-    without a host is one too), else the URL as a string."""
-    if isinstance(where, str) and _URL_RE.match(where):
+    """A dataset location: a :class:`~pathlib.Path` for a local path, else the URL as a
+    string.
+
+    A plain or relative path is a path whatever it holds (``run:1`` is the relative
+    directory of that name); ``file:///abs`` and ``file:/abs`` are the path ``/abs``;
+    ``local:///abs`` stays a URL (pyarrow's LocalFileSystem, the same code path as
+    ``s3://``), spelled ``local:///abs`` whatever its slashes. Every spelling of a local
+    directory has one lock: :func:`local_path`.
+    """
+    if isinstance(where, Path):
+        return where
+    if not isinstance(where, str):
+        raise InputError(None, f"must be a path or a URL, got {type(where).__name__}",
+                         repr(where))
+    if not where.strip():
+        raise InputError(None, "must not be empty (give a directory or a URL)", repr(where))
+    if "\x00" in where:
+        raise InputError(None, "must not contain a NUL character", repr(where))
+    if _LOCAL_URL_RE.match(where):
         parsed = urlparse(where)
         scheme = parsed.scheme.lower()
-        if scheme == "file":
-            if parsed.netloc not in ("", "localhost"):
-                raise InputError(None, f"a file:// URL names this machine's files; host "
-                                 f"{parsed.netloc!r} is not supported (mount it and give "
-                                 "the local path)", where)
-            return Path(unquote(parsed.path))
+        if parsed.netloc not in ("", "localhost"):
+            raise InputError(None, f"a {scheme}:// URL names this machine's files; "
+                             f"host {parsed.netloc!r} is not supported (mount it and give "
+                             "the local path)", where)
+        if parsed.query or parsed.fragment:
+            raise InputError(None, "URL query strings and fragments are not supported",
+                             where)
+        path = unquote(parsed.path)
+        if not path.startswith("/"):
+            raise InputError(None, f"a {scheme}: URL needs an absolute path "
+                             f"({scheme}:///abs/path); give a relative directory as "
+                             "a plain path", where)
+        path = os.path.normpath(path)
+        return Path(path) if scheme == "file" else f"local://{path}"
+    if _URL_RE.match(where):
+        parsed = urlparse(where)
+        scheme = parsed.scheme.lower()
         if parsed.query or parsed.fragment:
             raise InputError(None, "URL query strings and fragments are not supported (the "
                              "dataset's file names are appended to the path); configure the "
                              "file system through its environment variables instead", where)
+        if scheme in _NOT_STORAGE:
+            raise InputError(None, f"{scheme}:// is not storage a dataset can be written to "
+                             "or read from; give a directory or a URL of a file system "
+                             "(s3://, gs://, hdfs://, ...)", where)
         return where.rstrip("/")
     return Path(where)
+
+
+def local_path(where) -> Path | None:
+    """The absolute local directory that ``where`` names, whatever its spelling (a
+    relative path, ``file:``, ``local://``, or any URL whose file system is this
+    machine's); None for remote storage. The run's lock is taken there."""
+    where = location(where)
+    if isinstance(where, Path):
+        return Path(os.path.abspath(where))
+    fs, path = resolve(where)
+    return Path(os.path.abspath(path)) if _is_local(fs) else None
+
+
+def _is_local(fs) -> bool:
+    """Whether a resolved file system is this machine's own (pyarrow's or fsspec's)."""
+    if isinstance(fs, pafs.LocalFileSystem):
+        return True
+    if isinstance(fs, pafs.PyFileSystem):
+        inner = getattr(fs.handler, "fs", None)
+        return type(inner).__name__ == "LocalFileSystem"
+    return False
 
 
 def join(directory, name: str) -> Path | str:
@@ -62,20 +128,45 @@ def join(directory, name: str) -> Path | str:
     return directory / name if isinstance(directory, Path) else f"{directory}/{name}"
 
 
+def url_timeout() -> float:
+    """Seconds a cloud file system may retry a request before the command fails:
+    ``MCBAT_URL_TIMEOUT`` (default 30)."""
+    try:
+        value = float(os.environ.get("MCBAT_URL_TIMEOUT", "30"))
+    except ValueError:
+        value = 30.0
+    return value if 0 < value < 86_400 else 30.0
+
+
 @functools.lru_cache(maxsize=32)
 def _filesystem(url: str) -> tuple[pafs.FileSystem, str]:
     """(file system, path) of a URL: pyarrow's own file systems first, then fsspec."""
-    with contextlib.suppress(pa.ArrowInvalid):  # a scheme pyarrow does not know: fsspec
+    scheme = url.partition("://")[0].lower()
+    if scheme in ("gs", "gcs"):
+        # pyarrow's Google Cloud Storage client retries for 15 minutes by default: without
+        # a network (or credentials) a command hung for as long. Bounded here.
+        return (pafs.GcsFileSystem(retry_time_limit=datetime.timedelta(
+            seconds=url_timeout())), url.partition("://")[2].rstrip("/"))
+    try:
         return pafs.FileSystem.from_uri(url)
+    except pa.ArrowInvalid:  # a scheme pyarrow does not know: fsspec
+        pass
+    except (pa.ArrowException, OSError, ValueError) as err:
+        raise InputError(None, f"unsupported URL: {err}", url) from None
     try:
         import fsspec
-
-        fs, path = fsspec.core.url_to_fs(url)
     except ImportError:
         raise InputError(None, "this URL scheme needs fsspec (pip install fsspec)",
                          url) from None
-    except ValueError as err:
+    try:
+        fs, path = fsspec.core.url_to_fs(url)
+    except ImportError as err:  # the scheme's own dependencies (aiohttp for http://, ...)
+        raise InputError(None, f"this URL scheme needs a package that is not installed: "
+                         f"{err}", url) from None
+    except Exception as err:  # noqa: BLE001 - any URL fsspec cannot resolve is the user's
         raise InputError(None, f"unsupported URL: {err}", url) from None
+    if type(fs).__name__ in ("DataFileSystem", "ReferenceFileSystem", "DirFileSystem"):
+        raise InputError(None, "not storage a dataset can live in", url)
     return pafs.PyFileSystem(pafs.FSSpecHandler(fs)), path.rstrip("/")
 
 
@@ -107,6 +198,25 @@ def list_names(directory) -> list[str]:
     fs, path = resolve(directory)
     infos = fs.get_file_info(pafs.FileSelector(path, allow_not_found=True))
     return [info.base_name for info in infos]
+
+
+def list_entries(directory) -> dict:
+    """``{name: "file" | "dir" | "other"}`` of the entries of a directory (a symbolic link
+    counts as what it points to)."""
+    directory = location(directory)
+    if isinstance(directory, Path):
+        out = {}
+        for entry in directory.iterdir():
+            try:
+                out[entry.name] = ("dir" if entry.is_dir() else "file" if entry.is_file()
+                                   else "other")
+            except OSError:
+                out[entry.name] = "other"
+        return out
+    fs, path = resolve(directory)
+    infos = fs.get_file_info(pafs.FileSelector(path, allow_not_found=True))
+    kinds = {pafs.FileType.Directory: "dir", pafs.FileType.File: "file"}
+    return {info.base_name: kinds.get(info.type, "other") for info in infos}
 
 
 def remove(directory, name: str, missing_ok=False) -> None:
@@ -306,3 +416,5 @@ def read_json(path, what: str = "JSON file"):
         return json.loads(text)
     except (OSError, ValueError) as err:
         raise InputError(None, f"unreadable {what}: {err}", str(path)) from None
+    except RecursionError:
+        raise InputError(None, f"unreadable {what}: nested too deeply", str(path)) from None

@@ -35,6 +35,7 @@ from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAUL
 from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
 from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks, storage
+from mcbat.dataset.check import chunk_mismatch
 from mcbat.dataset.load import units_of
 from mcbat.dataset.lock import LOCK_NAME
 from mcbat.dataset.schema import (
@@ -88,10 +89,16 @@ def set_threads(threads):
     return threads
 
 
-def dataset_hash(study_config: dict, seed: int, samples: int) -> str:
-    """Hash of everything that determines the rows of a dataset."""
+def dataset_hash(study_config: dict, seed: int, samples: int,
+                 summary_only: bool = False) -> str:
+    """Hash of everything that determines what a dataset holds on disk: the rows (study
+    config with its ``[output]`` columns and precision, seed, sample count) and whether
+    they are stored at all (``summary_only``; in the hash only when set, so the datasets
+    that store their rows keep their hashes)."""
     payload = {"schema": SCHEMA_VERSION, "study": study_config, "seed": seed,
                "samples": samples}
+    if summary_only:
+        payload["summary_only"] = True
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
@@ -204,7 +211,7 @@ def plan_run(study, out, samples: int, seed: int, chunk_size: int, *,
     if summary is not None:
         check_summary_size(summary)
     config = study.config()
-    config_hash = dataset_hash(config, seed, samples)
+    config_hash = dataset_hash(config, seed, samples, bool(summary_only))
     n_chunks = -(-samples // chunk_size)
     manifest = {"schema": SCHEMA_VERSION, "config_hash": config_hash, "seed": seed,
                 "samples": samples, "chunk_size": chunk_size, "chunks": n_chunks,
@@ -274,8 +281,10 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
         raise InputError("out", "exists and is not a directory", str(out))
     # The lock, and the temporary files of a run killed before its first manifest was in
     # place (they are removed below), do not make a directory a foreign one.
-    names = [name for name in (storage.list_names(out) if kind == "dir" else [])
-             if name != LOCK_NAME and not _leftover(name)]
+    entries = {name: what for name, what in
+               (storage.list_entries(out) if kind == "dir" else {}).items()
+               if name != LOCK_NAME and not _leftover(name)}
+    names = list(entries)
     existing = None
     if names:
         existing = chunks.read_manifest(out)
@@ -283,17 +292,21 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
             raise InputError("out", "is not empty and is not an mcbat dataset; choose "
                              "another directory", str(out))
         same = existing.get("config_hash") == manifest["config_hash"]
+        # Nothing a run did not write is ever deleted: an overwrite refuses it, and so does a
+        # resume when a Parquet reader of the directory would read it as rows.
+        foreign = [name for name in names if not _ours(name, entries[name])]
         if not same or existing.get("chunk_size") != chunk_size:
             if not overwrite:
                 what = (f"dataset schema version {existing.get('schema')} (this version "
                         f"of mcbat writes version {manifest['schema']})"
                         if existing.get("schema") != manifest["schema"] else
-                        "a different study config, seed or sample count" if not same else
+                        "a different study config, seed or sample count (or rows "
+                        "stored where this run is --summary-only, or the reverse)"
+                        if not same else
                         f"chunk size {existing.get('chunk_size')}")
                 raise InputError("out", f"holds a dataset written with {what}; "
                                  "pass overwrite=True to replace it, or choose another "
                                  "directory", str(out))
-            foreign = [name for name in names if not _ours(name)]
             if foreign:
                 raise InputError("out", f"holds files mcbat did not write "
                                  f"({foreign[0]!r}); refusing to overwrite", str(out))
@@ -302,18 +315,31 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
             for name in names:
                 storage.remove(out, name)
             existing = None
+        else:
+            visible = [name for name in foreign if chunks.is_reader_visible(name)]
+            visible += _foreign_strays(out, manifest)
+            if visible:
+                raise InputError("out", f"holds {visible[0]!r}, which mcbat did not write "
+                                 "and which Parquet readers of the directory would read as "
+                                 "rows; move it out of the directory and rerun", str(out))
     if check_only:
         return None
     storage.make_dirs(out)
     # Leftover temporary files of a killed run are never trusted.
     remove_temporary_files(out)
     # The same dataset: keep its chunk records and the study text it was started with (an
-    # edit of the study's comments does not change the data, nor the files' metadata).
-    kept = {"files": existing.get("files", {}),
-            "study_toml": existing.get("study_toml", manifest.get("study_toml")),
-            "summary": existing.get("summary")} \
-        if existing is not None else {}
-    if kept.get("summary") is None:
+    # edit of the study's comments does not change the data, nor the files' metadata). A
+    # manifest without usable records (an older mcbat's) keeps none: every chunk is then
+    # recomputed and recorded, which upgrades it.
+    if existing is not None:
+        files = existing.get("files")
+        text = existing.get("study_toml")
+        kept = {"files": files if isinstance(files, dict) else {},
+                "study_toml": text if isinstance(text, str) else manifest.get("study_toml"),
+                "summary": existing.get("summary")}
+    else:
+        kept = {}
+    if not isinstance(kept.get("summary"), dict):
         kept.pop("summary", None)
     on_disk = {**manifest, **kept}
     if existing != on_disk:
@@ -321,8 +347,28 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
     return on_disk
 
 
-def _ours(name: str) -> bool:
-    """True for a file name a run writes in a dataset directory."""
+def _foreign_strays(out, manifest) -> list:
+    """Chunk files beyond the dataset's last chunk whose footer is not of this dataset (a
+    resume removes only copies of its own chunks)."""
+    found = []
+    for index, path in sorted(chunks.chunk_files(out).items()):
+        if index >= manifest["chunks"] and not _footer_is_ours(path, manifest["config_hash"]):
+            found.append(chunks.chunk_name(index))
+    return found
+
+
+def _footer_is_ours(path, config_hash) -> bool:
+    try:
+        info = json.loads(chunks.read_metadata(path).metadata[chunks.METADATA_KEY])
+    except Exception:  # noqa: BLE001 - any unreadable footer is not ours
+        return False
+    return isinstance(info, dict) and info.get("config_hash") == config_hash
+
+
+def _ours(name: str, kind: str = "file") -> bool:
+    """True for a file a run writes in a dataset directory (a directory never is)."""
+    if kind != "file":
+        return False
     if name in (chunks.MANIFEST, SUMMARY, STATE) or chunks.chunk_index(name) is not None:
         return True
     return chunks.is_temporary_chunk_name(name) or any(
@@ -347,13 +393,19 @@ def chunks_to_compute(out, job: ChunkJob, records: dict) -> tuple[list, list, li
     """
     present = chunks.chunk_files(out)
     todo, redone = [], []
+    identity = {"config_hash": job.config_hash}
     for k in range(job.chunks):
         name = chunks.chunk_name(k)
         record = records.get(name)
         if k not in present:
             todo.append(k)
             continue
-        reason = chunks.verify_chunk(present[k], record)
+        # The bytes against the record, and the footer against this chunk of this dataset:
+        # a chunk copied in with its record from another dataset (or from another index)
+        # matches its record but not its place.
+        reason = ("not recorded in the manifest" if not isinstance(record, dict) else
+                  chunk_mismatch(present[k], k, job.rows(k), job.chunk_size, identity,
+                                 record, checksums=True))
         if reason is None and record.get("rows") != job.rows(k):
             reason = f"{record.get('rows')} rows recorded, {job.rows(k)} expected"
         if reason is not None:

@@ -22,6 +22,7 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.dataset import chunks, storage
 from mcbat.dataset.lock import dataset_lock
+from mcbat.dataset.streaming import streamed_percentiles
 from mcbat.dataset.summary import SUMMARY, SummaryState, write_summary
 from mcbat.errors import InputError
 from mcbat.runner.engines.dask import DaskEngine
@@ -43,6 +44,8 @@ ENGINES = ("local", "dask")
 #: Most chunk files of one dataset: the manifest records each one, and a run's plan and
 #: resume check list them all.
 MAX_CHUNKS = 100_000
+#: Largest seed: a study file's ``study.seed`` has the same bound.
+MAX_SEED = 2**63 - 1
 
 
 @dataclass
@@ -209,6 +212,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     seed = study.seed if seed is None else seed
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("seed", f"must be an integer >= 0, got {seed!r}")
+    if seed > MAX_SEED:
+        raise InputError("seed", f"must be <= 2**63 - 1 = {MAX_SEED:,}, got {seed:,}")
     if chunk_size is None:
         chunk_size = getattr(study, "chunk_size", None) or DEFAULT_CHUNK_SIZE
     chunk_size = positive_int(chunk_size, "chunk_size")
@@ -238,13 +243,17 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         except BaseException:
             _forget_if_empty(display, on_disk)
             raise
+        # The closing report reads the chunk files: still under the lock, so that a run
+        # that takes the directory over next cannot remove them under it.
+        batted = None
+        if (getattr(study, "kind", "impact") == "game" and not job.summary_only
+                and _stored(study, BATTED_BALL_COLUMNS)):
+            with _out_errors(display):
+                batted = batted_ball_summary(display, flight=study.flight is not None
+                                             and _stored(study, ("hit_distance",
+                                                                 "hang_time")))
     status_counts = ({st.STATUS_NAMES[i]: int(c) for i, c in enumerate(counts) if c}
                      if todo else {})
-    batted = None
-    if (getattr(study, "kind", "impact") == "game" and not job.summary_only
-            and _stored(study, BATTED_BALL_COLUMNS)):
-        batted = batted_ball_summary(display, flight=study.flight is not None
-                                     and _stored(study, ("hit_distance", "hang_time")))
     summary = None if state is None else {
         "path": storage.join(display, SUMMARY), "bins": job.summary.n_bins,
         "outside": int(state.total.outside[0]), "summary_only": job.summary_only}
@@ -330,25 +339,40 @@ def _stored(study, names) -> bool:
 def batted_ball_summary(out, flight=False) -> dict:
     """Median and 5-95 % range of launch speed, launch angle and backspin (and, with
     ``flight``, of the distance and hang time) of a game dataset's ok rows, and the median
-    collision efficiency of its sweet-spot hits."""
+    collision efficiency of its sweet-spot hits.
+
+    The chunk files are read one at a time, a few times over
+    (:func:`mcbat.dataset.streaming.streamed_percentiles`): memory stays that of one chunk
+    whatever the dataset's size, and the percentiles are numpy's of all the rows."""
     carried = ["hit_distance", "hang_time"] if flight else []
     names = ["launch_speed", "launch_angle", "backspin", *carried, "collision_efficiency",
              "from_barrel_end", "undercut", "status"]
-    tables = [chunks.read_table(path, columns=names)
-              for _, path in sorted(chunks.chunk_files(out).items())]
-    cols = {n: np.concatenate([t.column(n).to_numpy() for t in tables]) for n in names}
-    ok = cols["status"] == 0
-    result = {}
-    for name in ("launch_speed", "launch_angle", "backspin", *carried):
-        values = cols[name][ok & np.isfinite(cols[name])]
-        result[name] = tuple(float(v) for v in np.percentile(values, [50, 5, 95])) \
-            if values.size else (math.nan,) * 3
+    paths = [path for _, path in sorted(chunks.chunk_files(out).items())]
     centre, half_width, square = SWEET_SPOT_WINDOW
-    sweet = ok & (np.abs(cols["from_barrel_end"] - centre) <= half_width) \
-        & (np.abs(cols["undercut"]) <= square)
-    q = cols["collision_efficiency"][sweet]
-    result["collision_efficiency_sweet_spot"] = (float(np.median(q)) if q.size else math.nan,
-                                                 int(q.size))
+
+    def read_pass():
+        for path in paths:
+            table = chunks.read_table(path, columns=names)
+            cols = {n: table.column(n).to_numpy() for n in names}
+            del table
+            ok = cols["status"] == 0
+            part = {}
+            for name in ("launch_speed", "launch_angle", "backspin", *carried):
+                values = cols[name]
+                part[name] = values[ok & np.isfinite(values)]
+            sweet = ok & (np.abs(cols["from_barrel_end"] - centre) <= half_width) \
+                & (np.abs(cols["undercut"]) <= square)
+            q = cols["collision_efficiency"]
+            part["collision_efficiency"] = q[sweet & np.isfinite(q)]
+            yield part
+
+    wanted = {name: (50, 5, 95) for name in ("launch_speed", "launch_angle", "backspin",
+                                             *carried)}
+    wanted["collision_efficiency"] = (50,)
+    found = streamed_percentiles(read_pass, wanted)
+    result = {name: found[name][1] for name in wanted if name != "collision_efficiency"}
+    n_sweet, (median,) = found["collision_efficiency"]
+    result["collision_efficiency_sweet_spot"] = (median, int(n_sweet))
     return result
 
 
@@ -424,8 +448,7 @@ class _Recorder:
         """Write ``_summary.parquet`` (all chunks merged) and record it."""
         record = self.manifest.get("summary") or {}
         table = record.get("table")
-        if isinstance(table, dict) and storage.file_size(
-                storage.join(self.out, SUMMARY)) == table.get("bytes"):
+        if isinstance(table, dict) and _matches(storage.join(self.out, SUMMARY), table):
             return  # complete from before, and this run merged nothing new
         with _out_errors(self.out):
             written = write_summary(self.out, job.summary, self.state,
@@ -433,6 +456,17 @@ class _Recorder:
         self.manifest.setdefault("summary", {})["table"] = written
         self.dirty = True
         self.flush()
+
+
+def _matches(path, record: dict) -> bool:
+    """Whether the file at ``path`` has the size and CRC-32 of its manifest record (a
+    damaged file of the same size is rewritten, not kept)."""
+    if storage.file_size(path) != record.get("bytes"):
+        return False
+    try:
+        return chunks.checksum(storage.read_bytes(path)) == record.get("crc32")
+    except OSError:
+        return False
 
 
 @contextlib.contextmanager

@@ -108,7 +108,7 @@ def calibrate(study, column, target, parameter="e", *, samples=None, seed=None, 
     for a, b, ga, gb in zip(grid[:-1], grid[1:], gap[:-1], gap[1:]):
         if ga == 0.0:
             roots.append(float(a))
-        elif np.isfinite(ga) and np.isfinite(gb) and ga * gb < 0:
+        elif np.isfinite(ga) and np.isfinite(gb) and np.sign(ga) * np.sign(gb) < 0:
             roots.append(float(brentq(lambda v: mean(v) - target, a, b, xtol=xtol)))
     if gap[-1] == 0.0:
         roots.append(float(grid[-1]))

@@ -199,9 +199,17 @@ def _check_columns(columns, required, source):
             raise InputError(name, "missing required column", source)
 
 
+#: Largest magnitude of a measured value (and its uncertainty) by unit: an angle within a
+#: turn, anything else within 10^6 of its unit (mph, m/s, rpm, rad/s, m). Larger values are
+#: typos that would overflow the likelihood's squares.
+VALUE_LIMITS = {"deg": 360.0, None: 1e6}
+
+
 def _numbers(name, values, source):
     """Column ``name`` as finite floats (uncertainties > 0), naming the first bad row."""
     numbers = np.empty(len(values))
+    unit = COLUMNS.get(name[:-4] if name.endswith("_err") else name, "")
+    limit = VALUE_LIMITS.get(unit, VALUE_LIMITS[None])
     for i, value in enumerate(values):
         try:
             numbers[i] = float(value)
@@ -209,6 +217,9 @@ def _numbers(name, values, source):
             raise InputError(name, f"row {i + 1}: not a number: {value!r}", source) from None
         if not math.isfinite(numbers[i]):
             raise InputError(name, f"row {i + 1}: must be finite, got {value!r}", source)
+        if not abs(numbers[i]) <= limit:
+            raise InputError(name, f"row {i + 1}: must be within +-{limit:g} {unit}, got "
+                             f"{value!r}", source)
         if name.endswith("_err") and not numbers[i] > 0.0:
             raise InputError(name, f"row {i + 1}: an uncertainty must be > 0, got {value!r}",
                              source)
@@ -262,8 +273,8 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
     import pandas as pd
 
     game = getattr(study, "kind", None) == "game"
-    rows = _count(rows, "rows", 1)
-    seed = _count(seed, "seed", 0)
+    rows = _count(rows, "rows", 1, MAX_SYNTH_ROWS)
+    seed = _count(seed, "seed", 0, 2**63 - 1)
     noise = dict(input_noise or {})
     for name, value in (("impact_parameter", impact_parameter_noise),
                         ("spin_in", spin_in_noise)):
@@ -278,14 +289,17 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
     speed_noise = (0.01 if game else 0.05) if speed_noise is None else speed_noise
     angle_noise = (1.0 if game else 3.0) if angle_noise is None else angle_noise
     spin_floor = (50.0 if game else 1.0) if spin_floor is None else spin_floor
-    limits = {"e": (e, 0.0, 1.0), "mu": (mu, 0.0, math.inf), "e_x": (e_x, 0.0, 1.0),
-              "speed_noise": (speed_noise, 0.0, math.inf),
-              "angle_noise": (angle_noise, 0.0, math.inf),
-              "spin_noise": (spin_noise, 0.0, math.inf),
-              "spin_floor": (spin_floor, 0.0, math.inf),
+    # Finite bounds on every number: an infinite or absurd noise would write inf and NaN
+    # into the table, and a friction coefficient of 1e10 leaves no impact the solver can
+    # finish. The bounds are far beyond any experiment's.
+    limits = {"e": (e, 0.0, 1.0), "mu": (mu, 0.0, MAX_MU), "e_x": (e_x, 0.0, 1.0),
+              "speed_noise": (speed_noise, 0.0, 10.0),
+              "angle_noise": (angle_noise, 0.0, 180.0),
+              "spin_noise": (spin_noise, 0.0, 10.0),
+              "spin_floor": (spin_floor, 0.0, 1e6),
               "impact_parameter_noise": (impact_parameter_noise, 0.0, 0.05),
-              "spin_in_noise": (spin_in_noise, 0.0, math.inf)}
-    limits.update({("input_noise", k): (v, 0.0, math.inf) for k, v in (input_noise or {}).items()})
+              "spin_in_noise": (spin_in_noise, 0.0, 1e4)}
+    limits.update({("input_noise", k): (v, 0.0, 1e3) for k, v in (input_noise or {}).items()})
     for name, (value, low, high) in limits.items():
         if value is not None and not (isinstance(value, (int, float, np.floating))
                                       and not isinstance(value, bool) and low <= value <= high):
@@ -293,6 +307,9 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
             raise InputError(field, f"{what}must be in [{low:g}, {high:g}], got {value!r}")
     params = {"e": e, "mu": mu, "e_x": e_x}
     inputs, observed, ok = solve_study(study, rows, seed, params)
+    if not ok.any():
+        raise InputError(None, f"none of the {rows:,} impacts could be solved with these "
+                         "parameters (e, mu, e_x and the study's setup): nothing written")
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 7,)))
     errors = {}
     for name, value in observed.items():
@@ -315,12 +332,26 @@ def synthesize(study, rows, seed=0, *, e=None, mu=None, e_x=None, speed_noise=No
     for name, value in observed.items():
         columns[name] = value + errors[name] * rng.standard_normal(rows)
         columns[f"{name}_err"] = errors[name]
-    return pd.DataFrame(columns)[ok].reset_index(drop=True)
+    table = pd.DataFrame(columns)[ok].reset_index(drop=True)
+    bad = [name for name in table.columns if not np.isfinite(table[name]).all()]
+    if bad:  # never a table with inf or NaN (a measurement table refuses them)
+        raise InputError(None, f"the synthetic table's {bad[0]!r} is not finite with these "
+                         "settings: nothing written")
+    return table
 
 
-def _count(value, name, minimum):
+#: Most rows of one synthetic table.
+MAX_SYNTH_ROWS = 10_000_000
+#: Largest friction coefficient ``synthesize`` accepts (Coulomb friction of a ball on a bat
+#: is ~0.2-0.6; beyond a few every contact sticks at once).
+MAX_MU = 10.0
+
+
+def _count(value, name, minimum, maximum):
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise InputError(name, f"must be an integer >= {minimum}, got {value!r}")
+    if value > maximum:
+        raise InputError(name, f"must be <= {maximum:,}, got {value:,}")
     return int(value)
 
 

@@ -106,9 +106,9 @@ import json
 import math
 import re
 import tomllib
+import unicodedata
 import warnings
 from dataclasses import replace
-from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -153,6 +153,10 @@ SOBOL_BITS = 32
 #: Most samples of one run: 10^12 (11 days at 10^6 impacts/s). Beyond it a sample count is
 #: a typo, and sample indices would near the range the seeding scheme is laid out for.
 MAX_SAMPLES = 10**12
+#: Longest ``study.description`` (characters) and study file (bytes): both are stored in
+#: every chunk file's Parquet footer, which a reader refuses beyond ~100 MB.
+MAX_DESCRIPTION = 10_000
+MAX_STUDY_BYTES = 1 << 20
 #: Version of the study format and sampling scheme, recorded in :meth:`Study.config`.
 FORMAT_VERSION = 2
 
@@ -459,6 +463,10 @@ class Study:
         self.name = check_string(study["name"], "study.name")
         check_study_name(self.name)
         self.description = check_string(study.get("description", ""), "study.description")
+        if len(self.description) > MAX_DESCRIPTION:
+            raise InputError("study.description", f"at most {MAX_DESCRIPTION:,} characters, "
+                             f"got {len(self.description):,} (it is stored in every chunk "
+                             "file's footer)")
         self.samples = integer(study["samples"], "study.samples", minimum=1,
                                maximum=MAX_SAMPLES)
         self.seed = integer(study.get("seed", 0), "study.seed", minimum=0,
@@ -780,7 +788,11 @@ _TARGETS = {
 def check_study_name(name: str) -> None:
     """A study name is the default output directory's name (``results/<name>``): one
     plain directory name, never a path that leads elsewhere."""
-    bad = next((c for c in name if ord(c) < 32 or ord(c) == 127), None)
+    # Every control, format and line/paragraph separator character: C0 and C1 controls
+    # (U+0085 ends a line in some tools), U+2028/2029, and the bidirectional overrides
+    # (U+202E shows the name reversed in a listing).
+    bad = next((c for c in name if unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp")),
+               None)
     if bad is not None:
         raise InputError("study.name", f"must not contain control characters, got "
                          f"{name!r}")
@@ -854,7 +866,12 @@ def load_study(path) -> Study:
     """
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")  # a leading BOM is allowed
+        with open(path, "rb") as handle:  # the text goes into every chunk file's footer
+            raw = handle.read(MAX_STUDY_BYTES + 1)
+        if len(raw) > MAX_STUDY_BYTES:
+            raise InputError(None, f"a study file is at most {MAX_STUDY_BYTES:,} bytes (its "
+                             "text is stored in every chunk file's footer)", source=source)
+        text = raw.decode("utf-8-sig")  # a leading BOM is allowed
     except UnicodeDecodeError as exc:
         raise InputError(None, f"not UTF-8 text (byte {exc.start}); TOML files are UTF-8: "
                          "save it as UTF-8", source=source) from None

@@ -107,7 +107,7 @@ def _study(definition: dict, job: ChunkJob):
                 raise WorkerSetupError(err.field, f"the worker on {_host()} cannot use "
                                        f"the [pitches] file: {err.message}") from None
             config = study.config()
-            if dataset_hash(config, job.seed, job.samples) != job.config_hash:
+            if dataset_hash(config, job.seed, job.samples, job.summary_only) != job.config_hash:
                 theirs = (meta.get("study") or {}).get("pitches") or {}
                 if "pitches" in config and config["pitches"]["sha256"] != theirs.get("sha256"):
                     raise WorkerSetupError(
