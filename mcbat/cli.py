@@ -391,16 +391,7 @@ def cmd_fit(args) -> int:
                          "lift against measured distances)")
     if args.data is None:
         raise InputError("--data", "required")
-    # Every option is checked before any work.
-    with _flags("free", "bootstrap", "draws", "seed"):
-        free = tuple(check_free(args.free or "e,mu"))
-        check_bootstrap(args.bootstrap)
-        if args.draws is not None and args.draws < 4:
-            raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
-        if args.seed < 0:
-            raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
-        if args.seed > 2**63 - 1:
-            raise InputError("seed", f"must be <= 2**63 - 1, got {args.seed}")
+    free = _fit_options(args, check_free, check_bootstrap)
     if args.residuals:
         _check_output(args.residuals, "--residuals", RESIDUAL_FORMATS)
     study = load_study(args.study)
@@ -441,6 +432,20 @@ def cmd_fit(args) -> int:
     if comparison is not None:
         print("\n".join(comparison.lines()))
     return EXIT_OK
+
+
+def _fit_options(args, check_free, check_bootstrap):
+    """The fit's free parameters; every option checked before any work."""
+    with _flags("free", "bootstrap", "draws", "seed"):
+        free = tuple(check_free(args.free or "e,mu"))
+        check_bootstrap(args.bootstrap)
+        if args.draws is not None and args.draws < 4:
+            raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
+        if args.seed < 0:
+            raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
+        if args.seed > 2**63 - 1:
+            raise InputError("seed", f"must be <= 2**63 - 1, got {args.seed}")
+    return free
 
 
 def cmd_statcast(args) -> int:
