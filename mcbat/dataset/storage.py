@@ -149,10 +149,14 @@ def _filesystem(url: str) -> tuple[pafs.FileSystem, str]:
             seconds=url_timeout())), url.partition("://")[2].rstrip("/"))
     try:
         return pafs.FileSystem.from_uri(url)
-    except pa.ArrowInvalid:  # a scheme pyarrow does not know: fsspec
-        pass
+    except pa.ArrowInvalid:  # a scheme pyarrow does not know
+        return _fsspec_filesystem(url)
     except (pa.ArrowException, OSError, ValueError) as err:
         raise InputError(None, f"unsupported URL: {err}", url) from None
+
+
+def _fsspec_filesystem(url: str) -> tuple[pafs.FileSystem, str]:
+    """(file system, path) of a URL through fsspec, for the schemes pyarrow does not know."""
     try:
         import fsspec
     except ImportError:
