@@ -131,7 +131,7 @@ class FitResult:
     priors: dict = field(default_factory=dict)
     """Measured input -> the flat prior its true values were marginalised over
     (:attr:`mcbat.stats.models._DrawModel.priors`: ``study_range``, ``range``, ``widened``,
-    ``likelihood_ratio``; table units)."""
+    ``p_value``; table units)."""
     warnings: list = field(default_factory=list)
     """What a user should check before trusting the fit (a value at a bound or far from the
     study's, an implausibly good chi-squared, a widened prior), one sentence each."""
@@ -659,8 +659,8 @@ def _warnings(like, result):
         if prior["widened"]:
             (slo, shi), (lo, hi) = prior["study_range"], prior["range"]
             out.append(f"{name}: the measured values reach beyond the study's range "
-                       f"{slo:.4g}..{shi:.4g} (likelihood ratio {prior['likelihood_ratio']:.3g}"
-                       f"); their true values were marginalised over the widened range "
+                       f"{slo:.4g}..{shi:.4g} (p = {prior['p_value']:.2g} if every true value "
+                       f"lay within it); their true values were marginalised over the widened range "
                        f"{lo:.4g}..{hi:.4g} (a flat prior fitted to them)")
     for name, value in result.params.items():
         lo, hi = FREE[name]

@@ -52,8 +52,8 @@ from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 
 __all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "DrawModel", "GAME_TABLE_COLUMNS",
-           "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "WIDEN_STATISTIC",
-           "draw_model", "prior_range", "solve_study", "table_columns"]
+           "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "WIDEN_P_VALUE",
+           "beyond_range_test", "draw_model", "prior_range", "solve_study", "table_columns"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -64,11 +64,11 @@ GRAZING = 0.999
 above 87.4 deg) is refused: the ball grazes the bat."""
 INPUT_PRIORS = ("widen", "study")
 """What a fit does when the measured inputs reject the study's range (module docstring)."""
-WIDEN_STATISTIC = float(stats.chi2.ppf(0.999, 2))
-"""Likelihood ratio (13.8) above which the measured values of an input reject the study's
-range: twice the log-likelihood gained by widening the range to fit them. When the true
-values do lie within the study's range the ratio exceeds this in fewer than 0.1 % of
-tables, whatever their size."""
+WIDEN_P_VALUE = 1e-3
+"""The measured values of an input reject the study's range when :func:`beyond_range_test`
+gives a p-value below this: when every true value does lie within the study's range, that
+happens in fewer than 0.1 % of tables, whatever their size and wherever in the range the
+true values lie (the test is computed at the least favourable place, the range's ends)."""
 _MPH = 0.44704
 _DEG = math.pi / 180.0
 
@@ -146,6 +146,46 @@ def _range_log_likelihood(value, sigma, lo, hi):
     return float(np.sum(np.log(np.maximum(mass, 1e-300))) - len(value) * math.log(hi - lo))
 
 
+def beyond_range_test(value, sigma, study_range):
+    """How far measured values reach beyond a range, and the p-value of that reach if
+    every true value lay within it.
+
+    Row ``i`` lies ``z_i = max(0, (x_i - hi) / s_i, (lo - x_i) / s_i)`` of its errors beyond
+    the range; the statistic is ``T = sum z_i^2``. Whatever the true values inside the
+    range, ``z_i`` is largest in distribution when the true value sits at an end: it is
+    positive with probability ``p_i = 1/2 + Phi(-w_i)`` (``w_i`` the range's width in
+    errors) and, when positive, no larger in distribution than ``|N(0, 1)|``. So ``P(T >= t)
+    <= sum_k P(K = k) P(chi2_k >= t)``, ``K`` the number of positive terms (a sum of
+    Bernoulli(``p_i``)): the chi-bar-squared tail, exact when the range is many errors
+    wide and the true values sit at its ends, conservative otherwise. Unlike a likelihood
+    ratio against a wider *uniform* range, it does not reject a range whose true values
+    pile up near its ends.
+
+    Returns
+    -------
+    statistic : float
+        ``T``.
+    p_value : float
+        The bound on ``P(T >= statistic)`` above (1 when no row lies beyond the range).
+    """
+    lo, hi = study_range
+    value, sigma = np.asarray(value, float), np.asarray(sigma, float)
+    z = np.maximum(0.0, np.maximum(value - hi, lo - value) / sigma)
+    statistic = float(np.sum(z * z))
+    if statistic == 0.0:
+        return 0.0, 1.0
+    width = (hi - lo) / sigma
+    positive = 0.5 + stats.norm.sf(width)
+    counts = np.zeros(len(value) + 1)  # P(K = k), the Poisson-binomial by recursion
+    counts[0] = 1.0
+    for i, p in enumerate(positive):
+        counts[1:i + 2] = counts[1:i + 2] * (1 - p) + counts[0:i + 1] * p
+        counts[0] *= 1 - p
+    k = np.arange(1, len(value) + 1)
+    p_value = float(np.sum(counts[1:] * stats.chi2.sf(statistic, k)))
+    return statistic, min(p_value, 1.0)
+
+
 def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
     """The range of the flat prior of a measured input, and whether the data reject the
     study's.
@@ -163,31 +203,32 @@ def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
     Returns
     -------
     (lo, hi) : tuple of float
-        The range that best explains the measured values with ``lo <= study lo`` and
-        ``hi >= study hi`` (maximum likelihood of :func:`_range_log_likelihood`), or the
-        study's range when it is unbounded.
-    statistic : float
-        Twice the log-likelihood gained by that widening (0 when nothing is gained); the
-        data reject the study's range above :data:`WIDEN_STATISTIC`.
+        The study's range, or, when the data reject it (:func:`beyond_range_test` below
+        :data:`WIDEN_P_VALUE`), the range that best explains the measured values with
+        ``lo <= study lo`` and ``hi >= study hi`` (the maximum likelihood of true values
+        uniform over it, :func:`_range_log_likelihood`), within ``physical``.
+    p_value : float
+        The p-value of :func:`beyond_range_test` (1 for an unbounded range).
     """
     lo, hi = study_range
     if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
-        return (lo, hi), 0.0
-    base = _range_log_likelihood(value, sigma, lo, hi)
+        return (lo, hi), 1.0
+    _, p_value = beyond_range_test(value, sigma, study_range)
+    if p_value >= WIDEN_P_VALUE:
+        return (lo, hi), p_value
     # The widened edges lie between the study's and the farthest measurement plus ten of
     # its errors (farther never helps), within the physical range.
     far_lo = max(physical[0], min(lo, float(np.min(value - 10 * sigma))))
     far_hi = min(physical[1], max(hi, float(np.max(value + 10 * sigma))))
     if far_lo >= lo and far_hi <= hi:
-        return (lo, hi), 0.0
+        return (lo, hi), p_value
 
     def cost(edges):
         return -_range_log_likelihood(value, sigma, edges[0], edges[1])
 
     x0 = [max(far_lo, min(lo, float(np.min(value)))), min(far_hi, max(hi, float(np.max(value))))]
     res = optimize.minimize(cost, x0, method="L-BFGS-B", bounds=[(far_lo, lo), (hi, far_hi)])
-    statistic = max(2.0 * (-float(res.fun) - base), 0.0)
-    return (float(res.x[0]), float(res.x[1])), statistic
+    return (float(res.x[0]), float(res.x[1])), p_value
 
 
 def rows_text(mask, values=None, limit=5):
@@ -222,7 +263,7 @@ class _DrawModel:
         self.input_prior = input_prior
         self.priors = {}
         """Measured input -> the flat prior its draws use: ``study_range`` and ``range``
-        (table units), ``widened`` and the ``likelihood_ratio`` of :func:`prior_range`."""
+        (table units), ``widened`` and the ``p_value`` of :func:`prior_range`."""
         self._stratified = False
         known = {c for c in self.COLUMNS} | {f"{c}_err" for c in self.COLUMNS}
         for col in table.columns:
@@ -279,22 +320,22 @@ class _DrawModel:
         """The flat prior's range (SI) of measured input ``name`` (module docstring),
         recorded in :attr:`priors`; :class:`InputError` when the data reject the study's
         range and ``input_prior`` is ``"study"``."""
-        (lo, hi), statistic = prior_range(value, sigma, support, physical)
-        widened = statistic > WIDEN_STATISTIC
+        (lo, hi), p_value = prior_range(value, sigma, support, physical)
+        widened = p_value < WIDEN_P_VALUE
         if widened and self.input_prior == "study":
             beyond = (value < support[0] - 2 * sigma) | (value > support[1] + 2 * sigma)
             rows = (f"{rows_text(beyond, value / scale)} lie more than 2 of their errors "
                     if beyond.any() else "the measured values lie ")
             raise InputError(name, f"{rows}outside the study's range {support[0] / scale:g}.."
-                             f"{support[1] / scale:g}, which the data reject (likelihood ratio "
-                             f"{statistic:.3g} > {WIDEN_STATISTIC:.3g}): widen "
-                             f"{key or name} in the study, or let the fit widen it "
-                             f"(--input-prior widen)", self.source)
+                             f"{support[1] / scale:g}, which the data reject (p = "
+                             f"{p_value:.2g} < {WIDEN_P_VALUE:g} if every true value lay "
+                             f"within it): widen {key or name} in the study, or let the fit "
+                             f"widen it (--input-prior widen)", self.source)
         if not widened:
             lo, hi = support
         self.priors[name] = {"study_range": [support[0] / scale, support[1] / scale],
                              "range": [lo / scale, hi / scale], "widened": bool(widened),
-                             "likelihood_ratio": statistic}
+                             "p_value": p_value}
         return lo, hi
 
     def support(self, key):

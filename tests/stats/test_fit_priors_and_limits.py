@@ -14,7 +14,7 @@ from mcbat.errors import InputError
 from mcbat.stats import fit as fitting
 from mcbat.stats.fit import FitResult, fit
 from mcbat.stats.measurements import read_measurements, synthesize
-from mcbat.stats.models import WIDEN_STATISTIC, prior_range
+from mcbat.stats.models import WIDEN_P_VALUE, beyond_range_test, prior_range
 from mcbat.study import load_study
 from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
 
@@ -68,12 +68,39 @@ def test_the_prior_range_stays_the_studys_when_the_data_fit_it():
     rng = np.random.default_rng(5)
     sigma = np.full(3000, 0.005)
     inside = rng.uniform(-0.0254, 0.0254, 3000) + sigma * rng.standard_normal(3000)
-    (lo, hi), stat = prior_range(inside, sigma, (-0.0254, 0.0254), (-0.069, 0.069))
-    assert stat < WIDEN_STATISTIC
+    (lo, hi), p = prior_range(inside, sigma, (-0.0254, 0.0254), (-0.069, 0.069))
+    assert p > WIDEN_P_VALUE and (lo, hi) == (-0.0254, 0.0254)
     wide = rng.uniform(-0.04, 0.04, 60) + sigma[:60] * rng.standard_normal(60)
-    (lo, hi), stat = prior_range(wide, sigma[:60], (-0.0254, 0.0254), (-0.069, 0.069))
-    assert stat > WIDEN_STATISTIC
+    (lo, hi), p = prior_range(wide, sigma[:60], (-0.0254, 0.0254), (-0.069, 0.069))
+    assert p < WIDEN_P_VALUE
     assert -0.05 < lo < -0.033 and 0.033 < hi < 0.05  # around the true +-4 cm
+
+
+@pytest.mark.parametrize("rows", [20, 60, 3000])
+def test_true_values_piled_at_the_ends_do_not_reject_the_range(rows):
+    # The least favourable truth: every true value at an end of the range. The test's
+    # p-values must then be no smaller than uniform: at most alpha of the tables rejected.
+    rng = np.random.default_rng(rows)
+    sigma = np.full(rows, 0.005)
+    ends = np.where(np.arange(rows) % 2 == 0, -0.0254, 0.0254)
+    p = np.array([beyond_range_test(ends + sigma * rng.standard_normal(rows), sigma,
+                                    (-0.0254, 0.0254))[1] for _ in range(2000)])
+    for alpha in (0.01, 0.05, 0.2):
+        # binomial 4-sigma allowance above alpha; the bound is exact here, so not far below
+        assert (p < alpha).mean() < alpha + 4 * np.sqrt(alpha * (1 - alpha) / 2000)
+        assert (p < alpha).mean() > alpha / 3
+
+
+def test_the_range_test_agrees_with_the_chi_bar_squared_by_hand():
+    # Two rows one error beyond each end of a wide range: T = 2, K ~ Binomial(2, 1/2).
+    stat, p = beyond_range_test(np.array([-2.0, 2.0]), np.array([1.0, 1.0]), (-1.0, 1.0))
+    assert stat == pytest.approx(2.0)
+    from scipy import stats
+    width_tail = stats.norm.sf(2.0)  # the far end is two errors away
+    q = 0.5 + width_tail
+    expected = 2 * q * (1 - q) * stats.chi2.sf(2.0, 1) + q * q * stats.chi2.sf(2.0, 2)
+    assert p == pytest.approx(expected, rel=1e-12)
+    assert beyond_range_test(np.array([0.0]), np.array([1.0]), (-1.0, 1.0)) == (0.0, 1.0)
 
 
 @pytest.fixture(scope="module")
