@@ -407,10 +407,11 @@ def cmd_fit(args) -> int:
               f"without bat tracking", file=sys.stderr)
     with _flags("free", "bootstrap", "draws", "seed", "intervals"):
         result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
-                     seed=args.seed, intervals=args.intervals, input_prior=args.input_prior)
+                     seed=args.seed, intervals=args.intervals, input_prior=args.input_prior,
+                     likelihood=args.likelihood)
         comparison = None if args.no_compare else compare_models(
             study, table, free, draws=args.draws, seed=args.seed, fitted=result,
-            input_prior=args.input_prior)
+            input_prior=args.input_prior, likelihood=args.likelihood)
     if args.residuals:
         from mcbat.stats.figures import fig_fit_residuals
 
@@ -761,6 +762,10 @@ def build_parser() -> argparse.ArgumentParser:
                      help="when the measured inputs (columns with _err) reach beyond the "
                           "study's range of that input: widen: marginalise over the range "
                           "that fits them, and say so (default); study: refuse the table")
+    fit.add_argument("--likelihood", choices=("mixture", "gaussian"), default=None,
+                     help="each row's likelihood: mixture: the draws' average of the "
+                          "measurement's density (default for a drop test); gaussian: a "
+                          "normal of the draws' mean and covariance (default for a game)")
     fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure "
                      "(.png, .pdf or .svg)")
     fit.add_argument("--json", action="store_true", help="print the result as JSON")

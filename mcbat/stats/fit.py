@@ -12,20 +12,35 @@ them):
 * the study's nuisance scatter (the impact point, the spread of the incoming spin when
   the table has no ``spin_in``, ...) is drawn from the study;
 * a measured input with an ``_err`` column is drawn from its posterior given the
-  measurement: a normal of that width about the measured value, truncated to the range
-  the study allows for that input (a flat prior there; for the drop-test study,
-  ``|b| <= 1 in``), stratified over the ``M`` draws (one draw in each of ``M``
-  equal-probability slices) so that the smear is represented with little Monte Carlo
+  measurement (a prior of the true values estimated from the table, times a normal of the
+  stated width about the measured value, within the range the study allows for that
+  input: :mod:`mcbat.stats.models`), stratified over the ``M`` draws (one draw in each of
+  ``M`` equal-probability slices) so that the smear is represented with little Monte Carlo
   noise; without an ``_err`` column the input is exact.
 
 Draws whose impact fails (status not ``ok``, e.g. a nuisance geometry in which the ball does
-not reach the bat) are dropped: the measured rows are impacts. The ``n_i`` good draws give
-the model's mean ``m_i(theta)`` and covariance ``C_i(theta)`` (the observables of a row are
-correlated: a smeared impact parameter moves speed, angle and spin together), including
-the Monte Carlo error of the mean, measured from the draws (:func:`draw_moments`), and
+not reach the bat) are dropped: the measured rows are impacts. The ``n_i`` good draws
+``f_ik(theta)`` of row ``i`` stand for the distribution of its true observables, and the
+likelihood takes one of two forms (``likelihood``):
 
-    -2 ln L = sum_i r_i^T T_i^-1 r_i + ln det(2 pi T_i),  r_i = y_i - m_i,
-    T_i = diag(s_i^2) + C_i.
+* ``"mixture"``: the marginal likelihood itself, the draws' average of the measurement's
+  density,
+
+      L_i = (1 / n_i) sum_k N(y_i; f_ik, diag(s_i^2)).
+
+  Exact as the draws grow, whatever the shape of the row's distribution. The default of a
+  drop test, whose draws vary mainly in the measured inputs (stratified): a smeared impact
+  parameter moves speed, angle and spin together along a bent curve, which a normal
+  describes badly and the stratified draws resolve.
+* ``"gaussian"``: a normal with the draws' mean ``m_i(theta)`` and covariance ``C_i(theta)``
+  (including the Monte Carlo error of the mean, measured from the draws,
+  :func:`draw_moments`),
+
+      -2 ln L_i = r_i^T T_i^-1 r_i + ln det(2 pi T_i),  r_i = y_i - m_i,
+      T_i = diag(s_i^2) + C_i.
+
+  The default of a game, whose draws spread over several unmeasured inputs (the swing,
+  the contact): there ``M`` draws resolve a mean and a covariance but not a density.
 
 The draws are held fixed (common random numbers), so ``L`` is smooth in ``theta``. A coarse
 grid and Nelder-Mead find the maximum. Intervals are profile-likelihood intervals (``-ln L``
@@ -33,7 +48,8 @@ rises by 1/2 when the other parameters are re-optimised; asymmetric in general);
 likelihood stays flat up to the end of a parameter's range on one side, a one-sided 95 %
 limit (a rise of 1.353) is reported instead, and a parameter flat on both sides is reported
 as not identified. The curvature error (finite-difference Hessian) is kept as ``stderr``; a
-parametric bootstrap is optional. ``chi^2 = sum_i r_i^T T_i^-1 r_i`` at the best fit, with
+parametric bootstrap is optional. The goodness of fit is the normal form's
+``chi^2 = sum_i r_i^T T_i^-1 r_i`` at the best fit (for either likelihood), with
 ``dof = rows x observables - free parameters`` and its ``scipy.stats.chi2`` p-value.
 """
 
@@ -49,10 +65,17 @@ from mcbat.bodies.game import GAME_RESTITUTION
 from mcbat.core.status import OK, STATUS_NAMES
 from mcbat.errors import InputError
 from mcbat.stats.measurements import DEFAULT_ERRORS, table_error
-from mcbat.stats.models import OUTLIER_SIGMA, UNITS_HINT, draw_model, rows_text
+from mcbat.stats.models import (
+    OUTLIER_SIGMA,
+    PRIOR_RIDGE,
+    UNITS_HINT,
+    PriorFamily,
+    draw_model,
+    rows_text,
+)
 
-__all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "Likelihood", "ModelComparison", "SEARCH",
-           "compare_models", "fit"]
+__all__ = ["FREE", "FitResult", "GRID_EVALUATIONS", "LIKELIHOODS", "Likelihood",
+           "ModelComparison", "SEARCH", "compare_models", "fit"]
 
 FREE = {"e": (1e-3, 1.0), "mu": (1e-3, 2.0), "ball_inertia_factor": (0.05, 1.0),
         "axial": (-1.0, 1.0), "e_x": (0.0, 1.0), "drag_scale": (0.2, 3.0),
@@ -99,6 +122,8 @@ PRESET_DEVIATION = 0.4
 """``e`` further than this fraction from the study's own value is reported (a baseball's
 ``e*`` is known to a few per cent; a fit far from it usually means a unit or a column is
 wrong)."""
+LIKELIHOODS = ("mixture", "gaussian")
+"""The forms of a row's likelihood (module docstring)."""
 _BAD = 1e30
 
 
@@ -265,10 +290,16 @@ class Likelihood:
         What to do when the measured values of an input with an ``_err`` column reject the
         study's range of that input (:func:`mcbat.stats.models.prior_range`): marginalise
         over the widened range and report it, or refuse the table.
+    likelihood : {"mixture", "gaussian"}, optional
+        The form of each row's likelihood (module docstring); default: the model's
+        (``"mixture"`` for a drop test, ``"gaussian"`` for a game).
     """
 
     def __init__(self, study, table, free, draws=None, seed=0, fixed=None,
-                 input_prior="widen"):
+                 input_prior="widen", likelihood=None):
+        if likelihood is not None and likelihood not in LIKELIHOODS:
+            raise InputError("likelihood", f"must be one of {', '.join(LIKELIHOODS)}, got "
+                             f"{likelihood!r}")
         self.free = check_free(free)
         draws = None if draws is None else _check_count(draws, "draws", 4)
         seed = _check_count(seed, "seed", 0)
@@ -290,9 +321,25 @@ class Likelihood:
         self.s2 = np.stack([table[f"{c}_err"].to_numpy(float) ** 2 if f"{c}_err" in table
                             else default_errors(c, self.y[:, j]) ** 2
                             for j, c in enumerate(self.observables)], axis=1)
+        self.likelihood = likelihood or self.model.LIKELIHOOD
         self.calls = 0
         self.failure = None
         self.envelope = None
+        self._draws = None
+        # The mixture likelihood estimates the prior of each measured input over a bounded
+        # range with the parameters, by reweighting its draws (module docstring).
+        self.prior_families = {}
+        blocks = []
+        if self.likelihood == "mixture":
+            for name, (values, lo, hi) in self.model.prior_draws.items():
+                family = PriorFamily(lo, hi)
+                self.prior_families[name] = family
+                blocks.append(family.basis_at(values))
+        self._prior_basis = np.concatenate(blocks, axis=2) if blocks else None
+        self.prior_coefficients = np.zeros(0 if not blocks else self._prior_basis.shape[2])
+        """The prior's coefficients at the last evaluation (one block of
+        :data:`mcbat.stats.models.PRIOR_DEGREE` per measured input in
+        :attr:`prior_families`)."""
 
     def predict(self, theta):
         """Model mean and covariance per row at ``theta``, or None (and the reason in
@@ -323,6 +370,7 @@ class Likelihood:
         sims = np.stack([values[c].reshape(self.rows, self.draws) for c in self.observables],
                         axis=2)
         mean, cov = draw_moments(sims, ok)
+        self._draws = (sims, ok)
         return mean, cov, n_ok
 
     def _evaluate(self, theta):
@@ -338,8 +386,84 @@ class Likelihood:
             return None
         resid = self.y - mean
         quad = np.einsum("ri,ri->r", resid, np.linalg.solve(total, resid[:, :, None])[..., 0])
-        nll = 0.5 * (quad.sum() + logdet.sum() + resid.size * math.log(2 * math.pi))
+        if self.likelihood == "mixture":
+            nll = self._mixture_nll(*self._draws)
+        else:
+            nll = 0.5 * (quad.sum() + logdet.sum() + resid.size * math.log(2 * math.pi))
         return float(nll), quad, total, mean
+
+    def _mixture_nll(self, sims, ok):
+        """``-sum_i ln((1 / n_i) sum_k N(y_i; sims_ik, diag(s2_i)) g(b_ik))`` over the good
+        draws, minimised over the priors' coefficients (``g = 1`` without a prior to fit).
+
+        The draws of a measured input come from its posterior under a flat prior, so
+        weighting draw ``k`` by ``g(b_ik)``, the prior's density, makes the average the
+        likelihood under prior ``g``, including what the measured inputs say about ``g``.
+        Minimising over the coefficients profiles the prior out of the parameters'
+        likelihood, so its uncertainty is in their intervals."""
+        log_density = -0.5 * ((self.y[:, None, :] - sims) ** 2 / self.s2[:, None, :]).sum(axis=2)
+        log_density = np.where(ok, log_density, -np.inf)
+        const = 0.5 * float(np.log(2 * math.pi * self.s2).sum()) + float(
+            np.log(ok.sum(axis=1)).sum())
+        if self._prior_basis is None:
+            top = log_density.max(axis=1)
+            return float(-(top + np.log(np.exp(log_density - top[:, None]).sum(axis=1))).sum()
+                         + const)
+        basis, families, rows = self._prior_basis, list(self.prior_families.values()), self.rows
+        size = basis.shape[2]
+
+        def cost(alpha, hessian=False):
+            """F(alpha), its gradient and (optionally) its Hessian."""
+            total = log_density + basis @ alpha
+            top = total.max(axis=1)
+            weights = np.exp(total - top[:, None])
+            sums = weights.sum(axis=1)
+            share = weights / sums[:, None]
+            mean_basis = np.einsum("rk,rkj->rj", share, basis)
+            value = -float((top + np.log(sums)).sum()) + 0.5 * PRIOR_RIDGE * float(alpha @ alpha)
+            grad = -mean_basis.sum(axis=0) + PRIOR_RIDGE * alpha
+            hess = None
+            if hessian:  # -sum_i Cov_i(B) + rows Cov_g(P) + ridge
+                hess = -(np.einsum("rk,rkj,rkl->jl", share, basis, basis)
+                         - mean_basis.T @ mean_basis) + PRIOR_RIDGE * np.eye(size)
+            at = 0
+            for family in families:
+                block = slice(at, at + family.degree)
+                log_norm, mean_p, cov_p = family.log_norm(alpha[block], second=True)
+                value += rows * log_norm
+                grad[block] += rows * mean_p
+                if hessian:
+                    hess[block, block] += rows * cov_p
+                at += family.degree
+            return value, grad, hess
+
+        # Damped Newton from the last coefficients (a few steps when theta moved a little);
+        # the damping keeps each step a descent where the Hessian is not positive.
+        alpha = self.prior_coefficients.copy()
+        value, grad, hess = cost(alpha, True)
+        damping = 1e-6
+        for _ in range(100):
+            if np.max(np.abs(grad)) < 1e-8:
+                break
+            while True:
+                try:
+                    step = -np.linalg.solve(hess + damping * np.eye(size), grad)
+                    if grad @ step < 0:
+                        trial = cost(alpha + step)[0]
+                        if trial <= value:
+                            break
+                except np.linalg.LinAlgError:
+                    pass
+                damping *= 10.0
+                if damping > 1e12:
+                    break
+            if damping > 1e12:
+                break
+            alpha = alpha + step
+            value, grad, hess = cost(alpha, True)
+            damping = max(damping / 10.0, 1e-6)
+        self.prior_coefficients = alpha
+        return float(value) + const
 
     def __call__(self, theta):
         """``-ln L`` at the free parameters ``theta`` (1e30 outside their ranges or where
@@ -489,7 +613,7 @@ def default_errors(column, values):
 
 
 def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, start=None,
-        fixed=None, intervals="profile", input_prior="widen"):
+        fixed=None, intervals="profile", input_prior="widen", likelihood=None):
     """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc).
 
     Parameters
@@ -516,6 +640,8 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
         ``"curvature"``: the Hessian errors only (faster).
     input_prior : {"widen", "study"}
         See :class:`Likelihood`; the prior used is in :attr:`FitResult.priors`.
+    likelihood : {"mixture", "gaussian"}, optional
+        See :class:`Likelihood` (default: the model's).
 
     Raises
     ------
@@ -528,7 +654,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     if intervals not in ("profile", "curvature"):
         raise InputError("intervals", f"must be 'profile' or 'curvature', got {intervals!r}")
     like = Likelihood(study, table, free, draws=draws, seed=seed, fixed=fixed,
-                      input_prior=input_prior)
+                      input_prior=input_prior, likelihood=likelihood)
     if start is None:
         # The likelihood has flat regions (e.g. every impact sticks above some mu, and then
         # mu does not matter): a coarse grid over the search ranges finds the right basin
@@ -659,9 +785,9 @@ def _warnings(like, result):
         if prior["widened"]:
             (slo, shi), (lo, hi) = prior["study_range"], prior["range"]
             out.append(f"{name}: the measured values reach beyond the study's range "
-                       f"{slo:.4g}..{shi:.4g} (p = {prior['p_value']:.2g} if every true value "
-                       f"lay within it); their true values were marginalised over the widened range "
-                       f"{lo:.4g}..{hi:.4g} (a flat prior fitted to them)")
+                       f"{slo:.4g}..{shi:.4g} (p = {prior['p_value']:.2g} if every true "
+                       f"value lay within it); their true values were marginalised over the "
+                       f"widened range {lo:.4g}..{hi:.4g}")
     for name, value in result.params.items():
         lo, hi = FREE[name]
         status = result.intervals.get(name, {}).get("status", "measured")
@@ -981,12 +1107,12 @@ class ModelComparison:
 
 
 def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted=None,
-                   input_prior="widen"):
+                   input_prior="widen", likelihood=None):
     """Fit the rigid model (``e_x = 0``) and the compliant one (``e_x`` free) and compare.
 
     Parameters
     ----------
-    study, table, draws, seed, input_prior
+    study, table, draws, seed, input_prior, likelihood
         As for :func:`fit`.
     free : sequence of str
         The other free parameters, shared by both models (``e_x`` in it is ignored).
@@ -998,7 +1124,7 @@ def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted
     ModelComparison
     """
     base = [p for p in free if p != "e_x"]
-    like_kwargs = dict(draws=draws, seed=seed, input_prior=input_prior)
+    like_kwargs = dict(draws=draws, seed=seed, input_prior=input_prior, likelihood=likelihood)
     rigid_study = _rigid(study)
     if fitted is not None and "e_x" not in fitted.params and rigid_study:
         rigid = fitted

@@ -17,20 +17,23 @@ measured inputs, their errors) and solves them at any value of the free paramete
   in m). Inputs the table does not give are drawn from the study.
 
 Measured inputs with an ``_err`` column are drawn from their posterior given the
-measurement: a normal of that width about the measured value, truncated to the range of a
-flat prior, *stratified*: draw ``k`` of a row lies in the
-``k``-th of ``M`` equal-probability slices of that normal for the first such input (the
-slices of any further one are shuffled, as in a Latin hypercube). The order matters:
-:func:`mcbat.stats.fit.draw_moments` pairs neighbouring slices to measure the Monte Carlo
-error of the mean.
+measurement: the prior of the true values times a normal of that width about the measured
+value. Over a bounded range the prior is estimated from the measured values themselves
+(:func:`histogram_prior`: a smooth density fitted by deconvolution, empirical Bayes), so
+that a table whose true values pile up somewhere (at the ends of the range, say) is not
+fitted as if they were spread evenly; over an unbounded range it is flat. The draws are
+*stratified*: draw ``k`` of a row lies in the ``k``-th of ``M`` equal-probability slices of
+that posterior for the first such input (the slices of any further one are shuffled, as in
+a Latin hypercube). The order matters: :func:`mcbat.stats.fit.draw_moments` pairs
+neighbouring slices to measure the Monte Carlo error of the mean.
 
-The prior of a measured input is flat over the study's range of that input, unless the
-measured values reject that range (:func:`prior_range`): then, with ``input_prior =
-"widen"`` (the default), it is flat over the range that best explains the measured values
-(the study's range widened, never narrowed, and never beyond the input's physical range),
-and the fit reports it; with ``input_prior = "study"`` the table is refused. Truncating
-each row's true value to a range the data reach beyond would bias the fit without a word
-(rows measured 2-3 errors beyond the edge forced onto it).
+The range of a measured input's prior is the study's range of that input, unless the
+measured values reject it (:func:`beyond_range_test`, :func:`prior_range`): then, with
+``input_prior = "widen"`` (the default), it is the range that best explains the measured
+values (the study's range widened, never narrowed, and never beyond the input's physical
+range), and the fit reports it; with ``input_prior = "study"`` the table is refused.
+Truncating each row's true value to a range the data reach beyond would bias the fit
+without a word (rows measured 2-3 errors beyond the edge forced onto it).
 """
 
 from __future__ import annotations
@@ -52,8 +55,9 @@ from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 
 __all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "DrawModel", "GAME_TABLE_COLUMNS",
-           "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "WIDEN_P_VALUE",
-           "beyond_range_test", "draw_model", "prior_range", "solve_study", "table_columns"]
+           "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "PRIOR_DEGREE",
+           "PriorFamily", "WIDEN_P_VALUE", "beyond_range_test", "draw_model", "prior_range",
+           "solve_study", "table_columns"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -231,6 +235,55 @@ def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
     return (float(res.x[0]), float(res.x[1])), p_value
 
 
+PRIOR_DEGREE = 4
+"""Degree of the polynomial in the log-density of a measured input's prior
+(:class:`PriorFamily`)."""
+PRIOR_RIDGE = 1e-2
+"""Penalty ``ridge |alpha|^2 / 2`` on that polynomial's coefficients: it keeps them finite
+when the data cannot fix one (true values piled at one end) and is negligible otherwise."""
+
+
+class PriorFamily:
+    """Densities of a measured input's true values over ``[lo, hi]`` whose logarithm is a
+    polynomial of degree :data:`PRIOR_DEGREE` (Legendre polynomials of the position in the
+    range): ``g(b) = exp(sum_j alpha_j P_j(t(b))) / N(alpha)``; ``alpha = 0`` is flat
+    (Efron's g-modelling, Biometrika 103, 1 (2016)).
+
+    A fit estimates ``alpha`` with the other parameters: a flat prior misplaces the true
+    values of a table whose values pile up somewhere (at the ends of the range, say) and
+    biases the fit, and a prior fixed beforehand from the measured inputs alone would
+    leave its own uncertainty out of the intervals.
+    """
+
+    def __init__(self, lo, hi, degree=PRIOR_DEGREE):
+        self.lo, self.hi, self.degree = lo, hi, degree
+        nodes, weights = np.polynomial.legendre.leggauss(64)
+        self._basis_nodes = self.basis_at(lo + (hi - lo) * (nodes + 1) / 2)
+        self._node_weights = weights * (hi - lo) / 2
+
+    def basis_at(self, b):
+        """``P_1..P_degree`` at ``b`` (any shape): an array of shape ``b.shape + (degree,)``."""
+        t = 2 * (np.clip(b, self.lo, self.hi) - self.lo) / (self.hi - self.lo) - 1
+        return np.polynomial.legendre.legvander(t, self.degree)[..., 1:]
+
+    def log_norm(self, alpha, second=False):
+        """``ln N(alpha)``, its gradient ``E_g[P_j]`` and, if ``second``, its Hessian
+        ``Cov_g[P_j, P_l]``."""
+        log_g = self._basis_nodes @ alpha
+        top = log_g.max()
+        w = self._node_weights * np.exp(log_g - top)
+        total = w.sum()
+        mean = (w @ self._basis_nodes) / total
+        if not second:
+            return top + math.log(total), mean
+        cov = (self._basis_nodes.T * w) @ self._basis_nodes / total - np.outer(mean, mean)
+        return top + math.log(total), mean, cov
+
+    def density(self, b, alpha):
+        """``g(b)`` (1 / the input's unit)."""
+        return np.exp(self.basis_at(b) @ alpha - self.log_norm(alpha)[0])
+
+
 def rows_text(mask, values=None, limit=5):
     """``"rows 3, 7 (value ...)"``: the 1-based rows where ``mask`` holds."""
     idx = np.flatnonzero(mask)
@@ -251,6 +304,9 @@ class _DrawModel:
     FAILURE_HINTS: dict = {}
     DEFAULT_DRAWS = 48
     """Draws per row unless the user asks for another number."""
+    LIKELIHOOD = "gaussian"
+    """The form of a row's likelihood unless the user asks for another
+    (:mod:`mcbat.stats.fit`): a normal of the draws' mean and covariance."""
     SEARCH: dict = {}
     """Search ranges of the fit's coarse grid that differ from the default
     (:data:`mcbat.stats.fit.SEARCH`)."""
@@ -264,6 +320,10 @@ class _DrawModel:
         self.priors = {}
         """Measured input -> the flat prior its draws use: ``study_range`` and ``range``
         (table units), ``widened`` and the ``p_value`` of :func:`prior_range`."""
+        self.prior_draws = {}
+        """Measured input over a bounded range -> ``(draws (rows x M), lo, hi)`` in table
+        units: its draws, taken from the posterior under a flat prior over ``[lo, hi]``,
+        which a likelihood may reweight to another prior (:mod:`mcbat.stats.fit`)."""
         self._stratified = False
         known = {c for c in self.COLUMNS} | {f"{c}_err" for c in self.COLUMNS}
         for col in table.columns:
@@ -314,7 +374,10 @@ class _DrawModel:
             z = stats.norm.ppf(u)
         else:
             z = stats.truncnorm.ppf(u, a, b)
-        return (value[:, None] + sigma[:, None] * z).ravel()
+        draws = value[:, None] + sigma[:, None] * z
+        if math.isfinite(lo) and math.isfinite(hi):
+            self.prior_draws[name] = (draws / scale, lo / scale, hi / scale)
+        return draws.ravel()
 
     def prior(self, name, value, sigma, support, physical, scale, key):
         """The flat prior's range (SI) of measured input ``name`` (module docstring),
@@ -372,6 +435,7 @@ class BatFrameModel(_DrawModel):
 
     COLUMNS = BAT_FRAME_COLUMNS
     KIND = "bat-frame"
+    LIKELIHOOD = "mixture"  # the draws vary mainly in the stratified measured inputs
     PARAMETERS = {name: INPUT_FIELDS.index(name)
                   for name in ("e", "mu", "ball_inertia_factor", "axial", "e_x")}
     FAILURE_HINTS = {"not_approaching": ("impact_parameter", " (the ball does not approach "

@@ -12,9 +12,9 @@ import pytest
 
 from mcbat.errors import InputError
 from mcbat.stats import fit as fitting
-from mcbat.stats.fit import FitResult, fit
+from mcbat.stats.fit import FitResult, Likelihood, fit
 from mcbat.stats.measurements import read_measurements, synthesize
-from mcbat.stats.models import WIDEN_P_VALUE, beyond_range_test, prior_range
+from mcbat.stats.models import WIDEN_P_VALUE, PriorFamily, beyond_range_test, prior_range
 from mcbat.study import load_study
 from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
 
@@ -185,3 +185,36 @@ def test_e_far_from_the_studys_value_is_reported():
     assert r.params["e"] < 0.33
     assert any("far from the study's value" in w for w in r.warnings)
     assert math.isfinite(r.chi2)
+
+
+def test_the_prior_family_is_a_normalised_density_with_its_gradient():
+    family = PriorFamily(-0.0254, 0.0254)
+    alpha = np.array([0.3, 1.5, -0.4, 0.8])
+    grid = np.linspace(-0.0254, 0.0254, 200_001)
+    density = family.density(grid, alpha)
+    assert np.trapezoid(density, grid) == pytest.approx(1.0, rel=1e-9)
+    assert family.density(grid, np.zeros(4)) == pytest.approx(1 / 0.0508)
+    _, grad = family.log_norm(alpha)
+    for j in range(4):
+        step = np.eye(4)[j] * 1e-6
+        numeric = (family.log_norm(alpha + step)[0] - family.log_norm(alpha - step)[0]) / 2e-6
+        assert grad[j] == pytest.approx(numeric, rel=1e-6, abs=1e-9)
+
+
+def _mass_near_the_ends(family, alpha, width=0.007):
+    grid = np.linspace(family.lo, family.hi, 100_001)
+    density = family.density(grid, alpha)
+    near = (grid < family.lo + width) | (grid > family.hi - width)
+    return float(np.trapezoid(np.where(near, density, 0.0), grid))
+
+
+@pytest.mark.parametrize("setting,low,high", [("inside", 0.17, 0.4), ("edges", 0.6, 1.0)])
+def test_the_fitted_prior_follows_the_true_values(setting, low, high):
+    # 200 drops; a uniform truth puts 28 % of the mass within 7 mm of the ends, the edge
+    # tables all of it.
+    table = drop_table(200, 1000, solver=kernel_solver,
+                       **({"edges": 0.005} if setting == "edges" else {}))
+    like = Likelihood(DROP, table, ("e", "mu"), seed=0)
+    like(np.array([0.6, 0.18]))
+    family = like.prior_families["impact_parameter"]
+    assert low < _mass_near_the_ends(family, like.prior_coefficients) < high

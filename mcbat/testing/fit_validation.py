@@ -1,0 +1,145 @@
+"""The drop-test fit against tables it did not simulate: one table's fit, and the summary.
+
+Each table comes from :mod:`mcbat.testing.drop_tables` (its own geometry, draws and noise;
+not the study machinery nor ``mcbat synth``) and is fitted as a user would fit it:
+``fit(studies/cross_nathan_2006.toml, table, ("e", "mu"))`` with profile intervals. The
+summary gives, per setting and parameter, the share of two-sided 68 % intervals holding
+the truth, the pulls, how often one-sided 95 % limits hold it, refusals and zero-width
+intervals. ``benchmarks/fit_validation.py`` runs many tables; the tests run a few.
+
+Settings (truth e* = 0.6; 5 mm of stated error on the impact parameter unless said; the
+study's range of the impact parameter is +-1 in):
+
+  inside    mu = 0.18, b uniform in +-2.54 cm, 60 rows
+  edges     mu = 0.18, b within 0.5 cm of the ends of +-2.54 cm, 60 rows
+  wide      mu = 0.18, b uniform in +-4 cm (beyond the study's range), 60 rows
+  stick     mu = 0.5, most drops stick (mu bounded from below only), 60 rows
+  slide     mu = 0.1, most drops slide, 60 rows
+  small     mu = 0.18, 20 rows
+  large     mu = 0.18, 3000 rows
+  err1      mu = 0.18, 1 mm of error on b
+  err10     mu = 0.18, 10 mm of error on b
+
+Table ``k`` of a setting uses the seed ``1000 + k``, its fit the seed ``k``.
+"""
+
+import math
+import time
+
+import numpy as np
+
+__all__ = ["SETTINGS", "TRUTH", "fit_table", "limit_holds", "make_table", "pull", "summarize",
+           "summary_line"]
+
+SETTINGS = {
+    "inside": {},
+    "edges": {"edges": 0.005},
+    "wide": {"impact_parameter": (-0.04, 0.04)},
+    "stick": {"mu": 0.5},
+    "slide": {"mu": 0.1},
+    "small": {"rows": 20},
+    "large": {"rows": 3000},
+    "err1": {"impact_parameter_err": 0.001},
+    "err10": {"impact_parameter_err": 0.010},
+}
+"""Each setting's departures from :data:`TRUTH`, 60 rows and 5 mm errors on ``b``."""
+TRUTH = {"e": 0.6, "mu": 0.18}
+"""The fitted parameters and their true values, unless a setting says otherwise."""
+
+
+def make_table(setting, k, solver="kernel"):
+    """Table ``k`` of ``setting``, solved by ``"kernel"`` or ``"reference"``."""
+    from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
+
+    spec = {**TRUTH, **SETTINGS[setting]}
+    rows = spec.pop("rows", 60)
+    chosen = reference_solver if solver == "reference" else kernel_solver
+    return drop_table(rows, 1000 + k, solver=chosen, **spec)
+
+
+def fit_table(setting, k, study, solver="kernel"):
+    """Fit table ``k`` of ``setting`` with ``study``; a JSON-ready record: the truth, and
+    the fit's parameters, chi2, warnings and widened priors, or the refusal's message."""
+    from mcbat.errors import InputError
+    from mcbat.stats.fit import fit
+
+    table = make_table(setting, k, solver)
+    truth = {p: table.attrs["truth"][p] for p in TRUTH}
+    t0 = time.perf_counter()
+    rec = {"setting": setting, "table": k, "truth": truth}
+    try:
+        r = fit(study, table, tuple(TRUTH), seed=k)
+    except InputError as err:
+        rec.update(refused=str(err), seconds=time.perf_counter() - t0)
+        return rec
+    out = r.to_dict()
+    rec.update(seconds=time.perf_counter() - t0, chi2=r.chi2, dof=r.dof,
+               params=out["params"], warnings=out["warnings"],
+               widened=[k for k, v in out["input_priors"].items() if v["widened"]])
+    return rec
+
+
+def pull(entry, truth):
+    """(value - truth) / the profile error on the truth's side; None without an interval."""
+    if entry.get("status") != "measured":
+        return None
+    err = entry["upper_error"] if truth > entry["value"] else entry["lower_error"]
+    return (entry["value"] - truth) / err if err else None
+
+
+def limit_holds(entry, truth):
+    """None if the entry is not a one-sided limit, else whether it holds the truth."""
+    if entry.get("status") == "lower_limit":
+        return truth >= entry["limit"]
+    if entry.get("status") == "upper_limit":
+        return truth <= entry["limit"]
+    return None
+
+
+def summarize(records):
+    """Per setting and parameter: tables, refusals, widened priors, two-sided 68 % coverage
+    (a table without an interval counts as not covered) and its binomial error, mean pull
+    and its error, the pulls' spread, one-sided limits and how often they hold the truth,
+    zero-width intervals, and the median seconds a fit took."""
+    rows = []
+    for setting in SETTINGS:
+        these = [r for r in records if r["setting"] == setting]
+        if not these:
+            continue
+        fitted = [r for r in these if "refused" not in r]
+        for p in TRUTH:
+            entries = [(r["params"][p], r["truth"][p]) for r in fitted]
+            pv = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
+            limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
+            n = max(len(fitted), 1)
+            rows.append({
+                "setting": setting, "param": p, "tables": len(these),
+                "refused": len(these) - len(fitted),
+                "widened": sum(bool(r.get("widened")) for r in fitted),
+                "coverage": float((np.abs(pv) <= 1).sum() / n),
+                "coverage_se": math.sqrt(0.68 * 0.32 / n),
+                "mean_pull": float(pv.mean()) if len(pv) else None,
+                "mean_pull_se": float(pv.std(ddof=1) / math.sqrt(len(pv))) if len(pv) > 1
+                else None,
+                "pull_sd": float(pv.std(ddof=1)) if len(pv) > 1 else None,
+                "limits": len(limits),
+                "limit_coverage": float(np.mean(limits)) if limits else None,
+                "zero_width": sum(1 for e, _ in entries if e.get("status") == "measured"
+                                  and (e.get("lower_error") == 0 or e.get("upper_error") == 0)),
+                "median_seconds": float(np.median([r["seconds"] for r in these]))})
+    return rows
+
+
+def _fmt(value, spec):
+    return "-" if value is None else format(value, spec)
+
+
+def summary_line(row):
+    """One printed line of a :func:`summarize` row."""
+    return (f"{row['setting']:7s} {row['param']:3s} tables {row['tables']:4d} refused "
+            f"{row['refused']:3d} widened {row['widened']:3d}  coverage "
+            f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f})  mean pull "
+            f"{_fmt(row['mean_pull'], '+.3f')} (+-{_fmt(row['mean_pull_se'], '.3f')})  pull sd "
+            f"{_fmt(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "
+            f"{_fmt(row['limit_coverage'], '.3f')}  zero-width {row['zero_width']}  "
+            f"{row['median_seconds']:.1f} s/fit")

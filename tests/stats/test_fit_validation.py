@@ -1,0 +1,53 @@
+"""The drop-test fit against tables simulated independently (mcbat.testing.fit_validation).
+
+The default run fits a few tables per setting and checks what must hold table by table (no
+refusal, no zero-width interval, pulls within reason); the slow-marked test runs the full
+check (400 tables inside and at the edges of the study's range) with its statistical
+criteria: two-sided coverage 68 +- 3 %, one-sided 95 % limits holding the truth in
+95 +- 2 % of the tables that report one, mean pulls within +-0.1.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from mcbat.study import load_study
+from mcbat.testing.fit_validation import fit_table, summarize
+
+from ..conftest import ROOT
+
+
+@pytest.fixture(scope="module")
+def study():
+    return load_study(ROOT / "studies" / "cross_nathan_2006.toml")
+
+
+def _records(study, settings, tables):
+    return [fit_table(s, k, study) for k in range(tables) for s in settings]
+
+
+@pytest.mark.parametrize("setting", ["inside", "edges"])
+def test_a_few_independent_tables_fit_without_refusal_or_zero_width(study, setting):
+    records = _records(study, [setting], 3)
+    assert not [r["refused"] for r in records if "refused" in r]
+    for row in summarize(records):
+        assert row["zero_width"] == 0
+        assert row["coverage"] > 0  # at least one of three intervals holds the truth
+        # Three pulls of unit spread: their mean lies within 3 / sqrt(3) of zero.
+        assert row["mean_pull"] is not None and abs(row["mean_pull"]) < 3 / math.sqrt(3)
+    # True values inside the study's range never widen its prior (p < 0.001 by design).
+    assert not any(r["widened"] for r in records)
+
+
+@pytest.mark.slow
+def test_coverage_and_pulls_over_400_tables_inside_and_at_the_edges(study):
+    records = _records(study, ["inside", "edges"], 400)
+    for row in summarize(records):
+        where = f"{row['setting']} {row['param']}"
+        assert row["refused"] == 0 and row["zero_width"] == 0, where
+        assert abs(row["coverage"] - 0.68) <= 0.03, where
+        assert abs(row["mean_pull"]) <= 0.1, where
+        if row["limits"]:
+            assert abs(row["limit_coverage"] - 0.95) <= 0.02, where
+    assert np.isfinite([r["chi2"] for r in records]).all()
