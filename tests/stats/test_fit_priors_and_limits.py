@@ -86,20 +86,42 @@ def test_true_values_piled_at_the_ends_do_not_reject_the_range(rows):
     p = np.array([beyond_range_test(ends + sigma * rng.standard_normal(rows), sigma,
                                     (-0.0254, 0.0254))[1] for _ in range(2000)])
     for alpha in (0.01, 0.05, 0.2):
-        # binomial 4-sigma allowance above alpha; the bound is exact here, so not far below
+        # binomial 4-sigma allowance above alpha
         assert (p < alpha).mean() < alpha + 4 * np.sqrt(alpha * (1 - alpha) / 2000)
-        assert (p < alpha).mean() > alpha / 3
 
 
-def test_the_range_test_agrees_with_the_chi_bar_squared_by_hand():
-    # Two rows one error beyond each end of a wide range: T = 2, K ~ Binomial(2, 1/2).
-    stat, p = beyond_range_test(np.array([-2.0, 2.0]), np.array([1.0, 1.0]), (-1.0, 1.0))
-    assert stat == pytest.approx(2.0)
+def test_true_values_spread_beyond_the_range_reject_it():
+    # 60 rows uniform in +-4 cm against a range of +-1 in. The test is built for a truth at
+    # the range's ends, so it cannot catch every table: those it misses have few rows far
+    # beyond. Most tables are rejected, and every one with eight rows 2 errors beyond
+    # (the count alone then gives p = 3 P(K >= 8) < 0.001, K ~ Binomial(60, 0.023)).
+    rng = np.random.default_rng(8)
+    sigma = np.full(60, 0.005)
+    rejected, clear = [], []
+    for _ in range(200):
+        measured = rng.uniform(-0.04, 0.04, 60) + sigma * rng.standard_normal(60)
+        p = beyond_range_test(measured, sigma, (-0.0254, 0.0254))[1]
+        rejected.append(p < WIDEN_P_VALUE)
+        if (np.abs(measured) > 0.0254 + 2 * 0.005).sum() >= 8:
+            clear.append(p < WIDEN_P_VALUE)
+    assert np.mean(rejected) > 0.8 and all(clear) and len(clear) > 50
+
+
+def test_the_range_test_agrees_with_its_statistics_by_hand():
     from scipy import stats
-    width_tail = stats.norm.sf(2.0)  # the far end is two errors away
-    q = 0.5 + width_tail
-    expected = 2 * q * (1 - q) * stats.chi2.sf(2.0, 1) + q * q * stats.chi2.sf(2.0, 2)
-    assert p == pytest.approx(expected, rel=1e-12)
+
+    # Two rows, one and three errors beyond each end of a range two errors wide.
+    stat, p = beyond_range_test(np.array([-2.0, 4.0]), np.array([1.0, 1.0]), (-1.0, 1.0))
+    assert stat == pytest.approx(10.0)
+
+    def beyond(c):  # a row at an end lies c errors beyond: either side of a 2-error range
+        return stats.norm.sf(c) + stats.norm.sf(c + 2.0)
+    q = beyond(0.0)
+    p_sum = 2 * q * (1 - q) * stats.chi2.sf(10.0, 1) + q * q * stats.chi2.sf(10.0, 2)
+    c = beyond(2.0)
+    p_count = 1 - (1 - c) ** 2  # one row of two more than 2 errors beyond
+    p_max = 1 - (1 - beyond(3.0)) ** 2
+    assert p == pytest.approx(3 * min(p_sum, p_count, p_max), rel=1e-9)
     assert beyond_range_test(np.array([0.0]), np.array([1.0]), (-1.0, 1.0)) == (0.0, 1.0)
 
 
