@@ -1,4 +1,4 @@
-"""Fuzzing the inputs (issue 17): study TOML files and impact JSON, valid and broken.
+"""Fuzzing the inputs: study TOML files and impact JSON, valid and broken.
 
 Every example runs the real command line in-process (``mcbat.cli.main``) and must exit 0
 or 2, never 1; an error is one line without a traceback; a refused run leaves no directory,

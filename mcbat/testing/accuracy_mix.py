@@ -1,14 +1,14 @@
-"""A hard random mix of impacts and the kernel's errors on it against the reference (issue 13).
+"""A hard random mix of impacts and the kernel's errors on it against the reference.
 
-Issue 13 (kernel error control) states its acceptance on "a mix of at least 500 random
-impacts that includes bats from 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1,
-creeping slip and re-slip". This module is the measuring instrument for that sentence:
+The kernel's accuracy is stated on a mix of at least 500 random impacts that includes
+bats from 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1, creeping slip and
+re-slip. This module is the measuring instrument for that statement:
 
 * :func:`draw_mix` draws the mix, deterministically from a seed;
 * :func:`reference_for` solves one case with the independent scipy integrator
   :func:`mcbat.testing.cabo2012_reference.reference_impact` and keeps what the errors need;
 * :func:`kernel_errors` runs the batch kernel on the mix at a given tolerance and returns the
-  per-case errors in the issue's units (:data:`ERROR_COLUMNS`, :data:`TARGETS`).
+  per-case errors in the targets' units (:data:`ERROR_COLUMNS`, :data:`TARGETS`).
 
 ``benchmarks/accuracy_mix.py`` prints the tables; ``tests/core/test_accuracy_mix.py`` checks
 the mix and the measure. Unlike the reference solvers in this package, this module imports
@@ -104,10 +104,10 @@ ERROR_COLUMNS = ("velocity", "stick_impulse", "normal_work", "friction_work",
 
 TARGETS = dict(velocity=1e-8, stick_impulse=1e-7, normal_work=1e-8, friction_work=1e-8,
                stick_criterion=1e-8)
-"""Issue 13's acceptance bounds on the largest error of each column, default tolerance."""
+"""The targets: bounds on the largest error of each column at the default tolerance."""
 
 MONOTONE_FACTOR = 2.0
-"""Issue 13's monotone convergence: tightening the tolerance 10-fold may not make an error
+"""Monotone convergence: tightening the tolerance 10-fold may not make an error
 more than this factor worse ..."""
 MONOTONE_FLOOR = 1e-13
 """... unless the tighter error stays below this floor (rounding)."""
@@ -328,7 +328,7 @@ def _set_motion(case, ball_v, ball_w, bat_v, bat_w):
 
 
 def draw_mix(n=520, seed=DEFAULT_SEED):
-    """Draw issue 13's random mix of approaching impacts.
+    """Draw the random mix of approaching impacts.
 
     Parameters
     ----------
@@ -519,7 +519,7 @@ def kernel_errors(cases, refs, tolerance, steps=DEFAULT_STEPS, max_steps=DEFAULT
 
 
 def monotone_violations(coarse, fine):
-    """Where tightening the tolerance made an error worse than issue 13 allows.
+    """Where tightening the tolerance made an error worse than monotone convergence allows.
 
     Parameters
     ----------

@@ -1,18 +1,18 @@
-"""The instrument of issue 13 (kernel error control): its random mix and its error measure.
+"""The kernel's accuracy instrument: its random mix and its error measure.
 
 ``mcbat.testing.accuracy_mix`` draws a hard mix of impacts and measures the kernel against
 the scipy reference; ``benchmarks/accuracy_mix.py`` runs it on 520 cases. Here:
 
-* the mix is what the issue asks for (every mode, deterministic, creeping slip at
+* the mix is what the accuracy targets are stated on (every mode, deterministic, creeping slip at
   ``|f|/mu ~ 1``, re-slip that the reference confirms, bats of 5 g to 5000 kg, spins up to
   3000 rad/s, ``mu`` from 0 to 1);
 * the error measure can fail (a perturbed kernel output is caught);
-* on the first 40 cases of the benchmark's mix (5 per mode), the kernel meets the issue's
+* on the first 40 cases of the benchmark's mix (5 per mode), the kernel meets the
   accuracy targets at the default tolerance and converges monotonically (the benchmark
   measures the whole mix);
-* ``benchmarks/monotone_uniform_steps.py``, the evidence that issue 13's monotone item
-  needs the asymptotic regime, solves the stick impulse correctly and counts violations
-  as the item defines them.
+* ``benchmarks/monotone_uniform_steps.py``, the evidence that monotone convergence in
+  every case needs the asymptotic regime, solves the stick impulse correctly and counts
+  violations as that requirement defines them.
 """
 
 import math
@@ -227,11 +227,11 @@ def test_kernel_meets_the_issue13_targets_on_the_subset(subset):
     print(f"\nsubset of {len(cases)} at the default tolerance: "
           + ", ".join(f"{name} {value:.1e}" for name, value in worst.items()))
     over = {name: value for name, value in worst.items() if not value <= TARGETS[name]}
-    assert not over, f"over the issue 13 targets: {over}"
+    assert not over, f"over the accuracy targets: {over}"
 
 
 def test_monotone_convergence_on_the_subset(subset):
-    """Issue 13's monotone convergence on the subset. (On the whole 520-case mix a few
+    """Monotone convergence on the subset. (On the whole 520-case mix a few
     cases still violate it where an error changes sign between two tolerances:
     ``benchmarks/accuracy_mix.py`` counts them.)"""
     cases, refs = subset
@@ -310,7 +310,8 @@ def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
     assert out[OUT["rk4_steps"], 0] < 100
 
 
-# (d) The instrument behind issue 13's blocked item: benchmarks/monotone_uniform_steps.py.
+# (d) The instrument behind monotone convergence in every case:
+# benchmarks/monotone_uniform_steps.py.
 
 @pytest.fixture(scope="module")
 def uniform_steps():

@@ -58,7 +58,7 @@ def test_stick_impulse_high_order_on_paper_case():
           f"order {order:.2f}")
     assert 3.5 <= order <= 4.5
     assert np.all(np.diff(errors) < 0)
-    # The default tolerance meets issue 13's 1e-7 (the paper's own I_s is 4e-4 off).
+    # The default tolerance meets the 1e-7 target (the paper's own I_s is 4e-4 off).
     default = kernel(mu=0.5, e=1.0)["stick_impulse"]
     assert abs(default - ref) / ref < 1e-7
 

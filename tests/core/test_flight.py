@@ -1,5 +1,5 @@
 """The flight kernel against the scipy reference, the sheet's published case, and
-invariants (issue 15)."""
+invariants."""
 
 import math
 

@@ -409,7 +409,7 @@ def test_landing_under_extreme_anisotropy_leaves_no_residual_slip():
     dict(ball_w=(0.0, 0.0, 1e12)), dict(axial=1e6), dict(mu=1e9),
 ], ids=lambda o: next(iter(o)) + "=" + str(next(iter(o.values()))))
 def test_absurd_scales_are_invalid_input(override):
-    """Issue 13: a ball of 1e-200 kg or an approach of 1e-200 m/s used to come back ok
+    """A ball of 1e-200 kg or an approach of 1e-200 m/s used to come back ok
     with a wrong answer (at 1e-200 m/s the ball left still moving into the bat). Outside
     the documented ranges the kernel says invalid_input; at their edges it solves."""
     r = kernel(**override)

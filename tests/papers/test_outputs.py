@@ -1,4 +1,4 @@
-"""A reproduction writes only what it owns (issue 17, item 2)."""
+"""A reproduction writes only what it owns."""
 
 import json
 import subprocess

@@ -1,4 +1,4 @@
-"""One writer per dataset directory (issue 17, item 1): real ``mcbat run`` processes."""
+"""One writer per dataset directory: real ``mcbat run`` processes."""
 
 import os
 import signal

@@ -1,4 +1,4 @@
-"""mcbat calibrate for any study and target (issue 16): the paper's Sec. V calibration is
+"""mcbat calibrate for any study and target: the paper's Sec. V calibration is
 one case of it."""
 
 import json

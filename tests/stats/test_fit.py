@@ -111,7 +111,7 @@ def test_injection_and_recovery():
 
 
 def test_impact_parameter_error_is_marginalised():
-    """5 mm of error on b (issue 16: pulls of +2 sigma, chi2/dof 8.7 when b was taken as
+    """5 mm of error on b (pulls of +2 sigma, chi2/dof 8.7 when b was taken as
     exact): with its _err column the fit recovers the truth and chi2/dof is normal; the
     same table with the column dropped is refused or fits far worse."""
     truth = {"e": 0.6, "mu": 0.15}

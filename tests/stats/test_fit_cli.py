@@ -1,5 +1,5 @@
 """`mcbat fit`, `synth` and `calibrate`: every bad input exits 2 with one line naming the
-option or column (issue 16), and `--json` is strict JSON."""
+option or column, and `--json` is strict JSON."""
 
 import json
 import math

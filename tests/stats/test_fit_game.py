@@ -1,4 +1,4 @@
-"""Fits of a game study to a Statcast-like table (issue 16), and the draws' moments."""
+"""Fits of a game study to a Statcast-like table, and the draws' moments."""
 
 import json
 import subprocess
