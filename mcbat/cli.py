@@ -511,6 +511,9 @@ def cmd_compare(args) -> int:
 
     if args.figure:
         _check_output(args.figure, "--figure", RESIDUAL_FORMATS)
+    for path in (args.dataset, *args.measured):  # before the readers' imports (seconds)
+        if "://" not in path and not Path(path).exists():
+            raise InputError(None, "no such file or directory", path)
     units = {}
     for item in args.units:
         name, sep, unit = (part.strip() for part in item.partition("="))
@@ -532,10 +535,10 @@ def cmd_compare(args) -> int:
                              plane_rows=args.plane_rows)
     except InputError as err:  # a column's problem: name the measured table(s)
         message = re.sub(r"units=\{'([^']+)': '([^']+)'\}", r"--units \1=\2", err.message)
-        raise InputError(err.field, message, err.source or (
-            None if str(err.field).startswith("--") else ", ".join(args.measured))) from None
+        raise InputError(err.field, message, err.source or ", ".join(args.measured)) \
+            from None
     result.simulated = {"path": args.dataset, "rows": len(simulated),
-                        "study": simulated.attrs.get("mcbat", {}).get("study", {}).get("name")}
+                        "study": simulated.attrs.get("mcbat", {}).get("study_name")}
     result.measured = {"rows": len(measured), "sources": measured.attrs["sources"]}
     if args.figure:
         fig_compare(args.figure, simulated, measured, result)

@@ -33,6 +33,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import warnings
 import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -42,8 +43,8 @@ import numpy as np
 from mcbat.errors import InputError
 
 __all__ = ["MAX_ROWS", "PERMUTATIONS", "PLANE", "PLANE_ROWS", "UNIT_FACTORS", "Comparison",
-           "check_settings", "compare", "convert", "energy_test", "fig_compare", "ks_test", "plane_energy_test",
-           "read_measured", "read_simulated", "wasserstein"]
+           "check_settings", "compare", "convert", "energy_test", "fig_compare", "ks_test",
+           "plane_energy_test", "read_measured", "read_simulated", "wasserstein"]
 
 PERMUTATIONS = 1000
 """Default number of random relabellings of a permutation test (p-value resolution 1/1001)."""
@@ -113,9 +114,14 @@ def ks_test(x, y):
     from scipy import stats
 
     x, y = _finite(x, "x"), _finite(y, "y")
-    result = stats.ks_2samp(x, y, method="auto")
-    # scipy's "auto" uses the exact distribution up to 10,000 rows on the larger side
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = stats.ks_2samp(x, y, method="auto")
+    # scipy's "auto" uses the exact distribution up to 10,000 rows on the larger side, and
+    # falls back to the asymptotic one (with a warning) where the exact sum fails
     method = "exact" if max(len(x), len(y)) <= 10_000 else "asymptotic"
+    if any("asymp" in str(w.message) for w in caught):
+        method = "asymptotic"
     return {"statistic": float(result.statistic), "p_value": float(result.pvalue),
             "method": method}
 
@@ -426,7 +432,8 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
             continue
         results.append(result)
     if not results:
-        raise InputError("columns", "no shared column with values on both sides "
+        raise InputError("columns" if columns is not None else None,
+                         "no shared column with values on both sides "
                          f"(simulated columns: {len(simulated.columns)}, measured: "
                          f"{', '.join(map(str, measured.columns)) or 'none'})")
     plane_result = None
@@ -490,7 +497,7 @@ def _choose(simulated, measured, columns, sim_units, meas_units):
         columns = [c for c in simulated.columns
                    if c in measured.columns and c not in _NOT_COMPARED]
         if not columns:
-            raise InputError("columns", "the measured table shares no column with the "
+            raise InputError(None, "the measured table shares no column with the "
                              "simulated dataset (measured columns: "
                              f"{', '.join(map(str, measured.columns)) or 'none'})")
     chosen, left_out = [], []
@@ -503,7 +510,7 @@ def _choose(simulated, measured, columns, sim_units, meas_units):
         else:
             left_out.append({"column": name, "reason": reason})
     if not chosen:
-        raise InputError("columns", "no shared column can be compared: " + "; ".join(
+        raise InputError(None, "no shared column can be compared: " + "; ".join(
             f"{c['column']}: {c['reason']}" for c in left_out))
     return chosen, left_out
 
