@@ -535,8 +535,9 @@ def cmd_compare(args) -> int:
                              plane_rows=args.plane_rows)
     except InputError as err:  # a column's problem: name the measured table(s)
         message = re.sub(r"units=\{'([^']+)': '([^']+)'\}", r"--units \1=\2", err.message)
-        raise InputError(err.field, message, err.source or ", ".join(args.measured)) \
-            from None
+        where = args.dataset if "of the simulated dataset" in message else \
+            ", ".join(args.measured)
+        raise InputError(err.field, message, err.source or where) from None
     result.simulated = {"path": args.dataset, "rows": len(simulated),
                         "study": simulated.attrs.get("mcbat", {}).get("study_name")}
     result.measured = {"rows": len(measured), "sources": measured.attrs["sources"]}

@@ -329,13 +329,13 @@ class Comparison:
     def lines(self) -> list:
         """The table ``mcbat compare`` prints."""
         s = self.settings
-        out = [f"{'column':<30} {'unit':<6} {'n sim':>8} {'n meas':>7} {'median sim':>11} "
+        out = [f"{'column':<32} {'unit':<6} {'n sim':>8} {'n meas':>7} {'median sim':>11} "
                f"{'median meas':>11} {'KS D':>6} {'KS p':>8} {'Wasserst.':>10} "
                f"{'energy':>9} {'perm p':>7}"]
         for c in self.columns:
             sim, meas = c["simulated"], c["measured"]
             out.append(
-                f"{c['column']:<30} {c['unit']:<6} {sim['rows']:>8,} {meas['rows']:>7,} "
+                f"{c['column']:<32} {c['unit']:<6} {sim['rows']:>8,} {meas['rows']:>7,} "
                 f"{sim['median']:>11.4g} {meas['median']:>11.4g} {c['ks']['statistic']:>6.3f} "
                 f"{_p_text(c['ks']['p_value'], None):>8} {c['wasserstein']:>10.4g} "
                 f"{c['energy']['distance']:>9.4g} "
@@ -369,6 +369,13 @@ class Comparison:
         for item in self.not_compared:
             out.append(f"not compared: {item['column']}: {item['reason']}")
         return out
+
+
+def _shown_range(a, b):
+    """From the lower to the upper 0.5 % quantile of whichever side reaches further."""
+    low = min(np.quantile(a, 0.005), np.quantile(b, 0.005))
+    high = max(np.quantile(a, 0.995), np.quantile(b, 0.995))
+    return (low, high) if high > low else (low - 0.5, high + 0.5)
 
 
 def _p_text(p, resolution):
@@ -755,13 +762,13 @@ def fig_compare(path, simulated, measured, comparison):
         sim, meas, unit, *_ = _column_values(c["column"], simulated[c["column"]],
                                              measured[c["column"]], c["units"]["simulated"],
                                              c["units"]["measured"])
-        low, high = np.quantile(np.concatenate([sim, meas]), [0.002, 0.998])
-        if not high > low:
-            low, high = low - 0.5, high + 0.5
-        bins = np.linspace(low, high, 41)
-        ax.hist(np.clip(sim, low, high), bins=bins, density=True, histtype="stepfilled",
+        low, high = _shown_range(sim, meas)
+        bins = np.linspace(low, high, 31)
+        # values beyond the range (each side's outer 0.5 %) are not drawn, not piled into
+        # the end bins
+        ax.hist(sim, bins=bins, density=True, histtype="stepfilled",
                 alpha=0.35, color="C0", label=f"simulated ({sim.size:,})")
-        ax.hist(np.clip(meas, low, high), bins=bins, density=True, histtype="step", lw=1.6,
+        ax.hist(meas, bins=bins, density=True, histtype="step", lw=1.6,
                 color="C3", label=f"measured ({meas.size:,})")
         ax.set_xlabel(f"{c['column']} ({unit})")
         ax.set_title(f"KS D = {c['ks']['statistic']:.3f}, W = {c['wasserstein']:.3g} {unit}",
@@ -779,10 +786,12 @@ def fig_compare(path, simulated, measured, comparison):
                                           given[c][side] or u, u)
                                   for c, u in ((cx, ux), (cy, uy))])
             points.append(xy[np.isfinite(xy).all(axis=1)])
-        both = np.concatenate(points)
-        lows, highs = np.quantile(both, 0.002, axis=0), np.quantile(both, 0.998, axis=0)
-        extent = [lows[0], highs[0], lows[1], highs[1]]
-        titles = (f"simulated ({len(points[0]):,} rows)", f"measured ({len(points[1]):,} rows)")
+        extent = [*_shown_range(points[0][:, 0], points[1][:, 0]),
+                  *_shown_range(points[0][:, 1], points[1][:, 1])]
+        p_text = _p_text(plane["p_value"], comparison.settings["p_value_resolution"])
+        titles = (f"simulated ({len(points[0]):,} rows)",
+                  f"measured ({len(points[1]):,} rows); energy distance "
+                  f"{plane['distance']:.3f} (standardized), p {p_text}")
         axes = [fig.add_subplot(grid[rows_1d, 0:per_row]),
                 fig.add_subplot(grid[rows_1d, per_row:2 * per_row])]
         axes[0].hist2d(points[0][:, 0], points[0][:, 1], bins=50,
@@ -795,11 +804,6 @@ def fig_compare(path, simulated, measured, comparison):
             ax.set_xlim(extent[:2])
             ax.set_ylim(extent[2:])
             ax.grid(alpha=0.3)
-        p = plane["p_value"]
-        fig.suptitle(f"plane {cx} x {cy}: energy distance {plane['distance']:.3f} "
-                     f"(standardized), permutation p = "
-                     f"{_p_text(p, comparison.settings['p_value_resolution'])}",
-                     fontsize=10)
     path = Path(path)
     fig.savefig(path, dpi=130)
     return path
