@@ -151,3 +151,17 @@ def test_subprocess_exit_codes():
                            REAL[0]], capture_output=True, text=True, check=False)
     assert done.returncode == 2
     assert "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
+
+
+def test_a_dataset_against_itself(game, capsys):
+    code, out, err = _run(capsys, game, game, "--columns", "launch_speed,launch_angle",
+                          "--permutations", "20", "--json")
+    assert code == 0, err
+    result = _strict(out)
+    for column in result["columns"]:
+        assert column["ks"]["statistic"] == 0 and column["wasserstein"] == 0
+        assert column["energy"]["distance"] == 0 and column["energy"]["p_value"] == 1
+        assert column["converted_from"] is None
+    assert result["measured"]["sources"][0]["kind"] == "dataset"
+    # the plane's test draws its 2,000 rows of each side independently
+    assert result["plane"]["distance"] < 0.1 and result["plane"]["p_value"] > 0.05
