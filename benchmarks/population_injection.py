@@ -25,8 +25,8 @@ from mcbat.stats.population import fit_population, population_table, simulate_ta
 
 ROOT = Path(__file__).resolve().parents[1]
 TRUTH = {"swing.bat_speed.mean": 69.0, "swing.bat_speed.std": 6.0,
-         "swing.attack_angle.mean": 12.0, "contact.undercut.std": 0.9,
-         "contact.from_barrel_end.mean": 5.5}
+         "swing.attack_angle.mean": 12.0, "swing.attack_angle.std": 7.0,
+         "contact.undercut.std": 0.9}
 
 
 def main():

@@ -4,7 +4,8 @@
 
 The table is simulated once (not timed) from examples/population_game.toml on the real
 pitches of data/statcast_2020-09-03.csv; each run fits it from scratch (template draws,
-two proposal passes, MIGRAD, HESSE, MINOS) with the default draws.
+two proposal passes, MIGRAD, HESSE, MINOS) with the default draws. Wall and CPU time
+are printed: on a shared machine the CPU time is the one that measures the fit.
 """
 
 import argparse
@@ -20,8 +21,8 @@ from mcbat.stats.population import fit_population, population_table, simulate_ta
 
 ROOT = Path(__file__).resolve().parents[1]
 TRUTH = {"swing.bat_speed.mean": 69.0, "swing.bat_speed.std": 6.0,
-         "swing.attack_angle.mean": 12.0, "contact.undercut.std": 0.9,
-         "contact.from_barrel_end.mean": 5.5}
+         "swing.attack_angle.mean": 12.0, "swing.attack_angle.std": 7.0,
+         "contact.undercut.std": 0.9}
 
 
 def main():
@@ -34,15 +35,18 @@ def main():
     pitches, _ = population_table(read(ROOT / "data" / "statcast_2020-09-03.csv"))
     table = simulate_table(study, pitches, args.rows, seed=42, values=TRUTH)
     fit_population(study, table.iloc[:50], ["swing.bat_speed.mean"], draws=2, passes=1)
-    times = []
+    times, cpu = [], []
     for _ in range(args.repeats):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         result = fit_population(study, table, list(TRUTH), engine=args.engine)
         times.append(time.perf_counter() - t0)
-        print(f"  {times[-1]:.1f} s", flush=True)
+        cpu.append(time.process_time() - c0)
+        print(f"  {times[-1]:.1f} s wall, {cpu[-1]:.1f} s CPU", flush=True)
     print(f"population fit, {result.rows} rows, {len(TRUTH)} free, {result.draws:,} draws, "
           f"engine {args.engine}, {numba.get_num_threads()} threads: median "
-          f"{np.median(times):.1f} s of {args.repeats} ({', '.join(f'{t:.1f}' for t in times)})")
+          f"{np.median(times):.1f} s wall of {args.repeats} "
+          f"({', '.join(f'{t:.1f}' for t in times)}); CPU median {np.median(cpu):.1f} s "
+          f"(the wall time on a machine shared with other work overstates it)")
 
 
 if __name__ == "__main__":
