@@ -36,38 +36,57 @@ def main():
     ap.add_argument("--draws", type=int, default=None, help="template draws per row")
     ap.add_argument("--seed", type=int, default=1000)
     ap.add_argument("--out", default=None, help="write every table's fit as JSON lines")
+    ap.add_argument("--combine", nargs="+", default=None, metavar="FIT.jsonl",
+                    help="only summarise the fits of earlier runs' --out files")
     args = ap.parse_args()
+    if args.combine:
+        fits = [json.loads(line) for name in args.combine for line in open(name)]
+        summarise(fits, len(fits), fits[0]["rows"] if fits else 0, [])
+        return
     study = mcbat.load_study(ROOT / "examples" / "population_game.toml")
     pitches, _ = population_table(read(ROOT / "data" / "statcast_2020-09-03.csv"))
-    pulls = {name: [] for name in TRUTH}
-    covered = {name: [] for name in TRUTH}
-    pvalues, seconds = [], []
+    fits, seconds = [], []
     sink = open(args.out, "w") if args.out else None
     for k in range(args.tables):
         table = simulate_table(study, pitches, args.rows, seed=args.seed + k, values=TRUTH)
-        t0 = time.perf_counter()
-        result = fit_population(study, table, list(TRUTH), draws=args.draws, seed=k)
-        seconds.append(time.perf_counter() - t0)
-        pvalues.append(result.p_value)
-        for p in result.parameters:
+        t0 = time.process_time()
+        result = fit_population(study, table, list(TRUTH), draws=args.draws,
+                                seed=args.seed + k)
+        seconds.append(time.process_time() - t0)
+        fits.append(result.to_dict())
+        if sink:
+            sink.write(json.dumps(fits[-1]) + "\n")
+            sink.flush()
+        print(f"table {k + 1}/{args.tables}: {seconds[-1]:.1f} s CPU, "
+              f"p = {result.p_value:.3f}", flush=True)
+    summarise(fits, args.tables, args.rows, seconds)
+
+
+def summarise(fits, tables, rows, seconds):
+    """Print the pulls, coverage and p-values of ``fits`` (``to_dict`` of each)."""
+    pulls = {name: [] for name in TRUTH}
+    covered = {name: [] for name in TRUTH}
+    missing = {name: 0 for name in TRUTH}
+    for fit in fits:
+        for p in fit["parameters"]:
             truth = TRUTH[p["name"]]
             sigma = p["upper_error"] if truth > p["value"] else p["lower_error"]
-            if sigma:
-                pulls[p["name"]].append((p["value"] - truth) / sigma)
-                covered[p["name"]].append(abs(p["value"] - truth) <= sigma)
-        if sink:
-            sink.write(json.dumps(result.to_dict()) + "\n")
-            sink.flush()
-        print(f"table {k + 1}/{args.tables}: {seconds[-1]:.1f} s, p = {result.p_value:.3f}",
-              flush=True)
-    print(f"\n{args.tables} tables of {args.rows} rows (median fit {np.median(seconds):.1f} s)")
-    print(f"{'parameter':32s} {'mean pull':>10s} {'pull sd':>8s} {'coverage':>9s} {'n':>4s}")
+            if not sigma:
+                missing[p["name"]] += 1
+                continue
+            pulls[p["name"]].append((p["value"] - truth) / sigma)
+            covered[p["name"]].append(abs(p["value"] - truth) <= sigma)
+    cpu = f", median fit {np.median(seconds):.1f} s CPU" if seconds else ""
+    print(f"\n{tables} tables of {rows} rows{cpu}")
+    print(f"{'parameter':32s} {'mean pull':>10s} {'pull sd':>8s} {'coverage':>9s} {'n':>4s} "
+          f"{'no interval':>11s}")
     for name in TRUTH:
         x = np.array(pulls[name])
         se = x.std(ddof=1) / np.sqrt(len(x)) if len(x) > 1 else float("nan")
         print(f"{name:32s} {x.mean():+10.3f} {x.std(ddof=1):8.3f} "
-              f"{100 * np.mean(covered[name]):8.1f}% {len(x):4d}   (mean's se {se:.3f})")
-    p = np.array(pvalues)
+              f"{100 * np.mean(covered[name]):8.1f}% {len(x):4d} {missing[name]:11d}"
+              f"   (mean's se {se:.3f})")
+    p = np.array([fit["p_value"] for fit in fits])
     print(f"goodness of fit: p-values' mean {p.mean():.3f} (0.5 expected), "
           f"{100 * np.mean(p < 0.05):.1f} % below 0.05")
 

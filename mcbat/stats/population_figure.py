@@ -55,8 +55,8 @@ def fig_population(path, result):
     axes[0].legend(frameon=False, fontsize=8)
     ax = axes[len(obs)]
     if "launch_speed" in obs and "launch_angle" in obs:
-        es = np.linspace(40, 120, 41)
-        ea = np.linspace(-60, 80, 36)
+        es = np.linspace(0, 125, 51)
+        ea = np.linspace(-90, 90, 46)
         model = model_histogram(result, ("launch_speed", "launch_angle"), [es, ea])
         mesh = ax.pcolormesh(es, ea, model.T, cmap="Blues", shading="flat")
         fig.colorbar(mesh, ax=ax, label="model: balls per cell")

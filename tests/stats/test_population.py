@@ -73,7 +73,9 @@ def test_injected_parameters_are_recovered(study, pitches):
 
 def test_physics_constant_by_grid(study, pitches):
     # e* is fitted through the grid of simulations, not by weights: recovered within 3 sigma
-    values = {"e": 0.50, "swing.bat_speed.mean": 70.0}
+    # (with a parameter launch speed and angle tell apart from it: e* and the bat speed's
+    # mean both set the launch speeds' level)
+    values = {"e": 0.50, "swing.attack_angle.mean": 12.0}
     table = simulate_table(study, pitches, 300, seed=8, values=values)
     result = fit_population(study, table, list(values), draws=30, seed=2)
     for p in result.parameters:
