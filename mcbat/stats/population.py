@@ -565,13 +565,7 @@ def fit_population(study, table, free, *, draws=None, bins=None,
                 break
             phys_width = {p: 2.0 * phys_width[p] if p in edge else max(4.0 * err[p], 0.005)
                           for p in physics}
-        # MINOS from a minimum polished with the careful strategy (its Hessian exact,
-        # not updated): with the default one MINOS found no valid interval for a third of
-        # the widths on 200-row tables
-        mn.strategy = 2
-        mn.migrad()
-        mn.hesse()
-        mn.minos()
+        _minos(mn)
     finally:
         sim.close()
     theta = np.array(mn.values)
@@ -603,6 +597,43 @@ def _minimise(cost, keys, params, physics, centre, phys_centre, nodes):
     _limits(mn, keys, params, physics, nodes)
     mn.migrad()
     return mn
+
+
+def _minos(mn, attempts=3):
+    """MINOS, from a minimum polished with the careful strategy; where MINOS walks into a
+    lower minimum than MIGRAD's (a long, curved valley: the widths of two inputs that both
+    widen the launch angles), MIGRAD restarts from there and MINOS runs again."""
+    mn.strategy = 2
+    mn.tol = 0.01
+    mn.migrad()
+    mn.hesse()
+    for _ in range(attempts):
+        mn.minos()
+        if not _restart_at_new_minimum(mn):
+            return
+    mn.minos()
+
+
+def _restart_at_new_minimum(mn):
+    """Restart MIGRAD from the end of a MINOS walk that found a lower value; True when a
+    lower minimum was found."""
+    best, values = mn.fval, np.array(mn.values)
+    for i, name in enumerate(mn.parameters):
+        me = mn.merrors[name] if name in mn.merrors else None
+        if me is None or not (me.lower_new_min or me.upper_new_min):
+            continue
+        trial = values.copy()
+        trial[i] += me.lower if me.lower_new_min else me.upper
+        lo, hi = mn.limits[i]
+        trial[i] = min(max(trial[i], lo), hi)
+        mn.values = trial
+        mn.migrad()
+        if mn.fval < best - 1e-6:
+            mn.hesse()
+            return True
+        mn.values = values
+        mn.migrad()
+    return False
 
 
 def _at_edge(value, z, physical):
@@ -696,9 +727,15 @@ def _parameters(mn, keys, params, physics, study_values, phys0, warnings):
             study_value = study_values[key][0 if what == "mean" else 1]
         me = mn.merrors[name] if name in mn.merrors else None
         lower = upper = None
+        if me is not None and (me.lower_valid or me.upper_valid):
+            # (one side of an interval is reported when MINOS found only that one)
+            lower = float(-me.lower) if me.lower_valid else None
+            upper = float(me.upper) if me.upper_valid else None
         if me is not None and me.is_valid:
-            lower, upper = float(-me.lower), float(me.upper)
-        elif me is not None:
+            pass
+        elif me is None:
+            warnings.append(f"{name}: no MINOS interval")
+        else:
             why = [k for k in ("lower_new_min", "upper_new_min", "at_lower_max_fcn",
                                "at_upper_max_fcn", "at_lower_limit", "at_upper_limit")
                    if getattr(me, k)]
