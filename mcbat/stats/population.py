@@ -530,7 +530,10 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     source = table.attrs.get("source")
     data, dropped = population_table(table, observables, source)
     rows = len(data)
-    per_axis = bins or max(2, int((rows / ROWS_PER_BIN) ** (1.0 / len(observables))))
+    # about ROWS_PER_BIN rows per bin, but at least 5 bins an axis (3 with three
+    # observables): 100 rows in 3 x 3 bins left 3 degrees of freedom for 5 parameters
+    per_axis = bins or max(5 if len(observables) < 3 else 3,
+                           int((rows / ROWS_PER_BIN) ** (1.0 / len(observables))))
     edges = [_edges(data[o].to_numpy(float), per_axis) for o in observables]
     nbins = int(np.prod([len(e) + 1 for e in edges]))
     n = np.bincount(_bin_index([data[o].to_numpy(float) for o in observables], edges),
@@ -610,16 +613,18 @@ def _minos(mn, attempts=3):
     for _ in range(attempts):
         mn.minos()
         if not _restart_at_new_minimum(mn):
-            return
-    mn.minos()
+            break
+    if any(name not in mn.merrors for name in mn.parameters):
+        mn.minos()  # (a restart that found nothing lower re-ran MIGRAD, which clears them)
 
 
 def _restart_at_new_minimum(mn):
     """Restart MIGRAD from the end of a MINOS walk that found a lower value; True when a
     lower minimum was found."""
     best, values = mn.fval, np.array(mn.values)
+    errors = {name: mn.merrors[name] for name in mn.parameters if name in mn.merrors}
     for i, name in enumerate(mn.parameters):
-        me = mn.merrors[name] if name in mn.merrors else None
+        me = errors.get(name)
         if me is None or not (me.lower_new_min or me.upper_new_min):
             continue
         trial = values.copy()
