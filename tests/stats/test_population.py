@@ -13,7 +13,7 @@ import pytest
 
 import mcbat
 from mcbat.errors import InputError
-from mcbat.statcast import read
+from mcbat.statcast import read, write
 from mcbat.stats.population import fit_population, population_table, simulate_table
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -100,8 +100,10 @@ def test_real_statcast_fit_cli(tmp_path):
     # the shipped day of 2020 games: the fit runs, with strict JSON, finite intervals and
     # a figure; the bat speed it gives is a bat speed (40-90 mph)
     figure = tmp_path / "population.png"
+    # (the fit of docs/population.md, with fewer draws)
     proc = _mcbat("fit", "--population", "--study", str(STUDY), "--data", str(REAL),
-                  "--free", "swing.bat_speed.mean,contact.undercut.std", "--draws", "30",
+                  "--free", "swing.bat_speed.mean,swing.bat_speed.std,swing.attack_angle.mean,"
+                  "swing.attack_angle.std,contact.undercut.std", "--draws", "40",
                   "--json", "--figure", str(figure))
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
@@ -113,9 +115,7 @@ def test_real_statcast_fit_cli(tmp_path):
     assert figure.stat().st_size > 10_000
 
 
-def test_table_without_observables(tmp_path, pitches):
-    path = tmp_path / "no_launch.csv"
-    pitches.drop(columns=["launch_angle"]).to_csv(path, index=False)
+def test_table_without_observables(pitches):
     with pytest.raises(InputError, match="launch_angle"):
         population_table(pitches.drop(columns=["launch_angle"]))
     table = pitches.copy()
@@ -144,11 +144,12 @@ def test_uniform_key_is_refused(study, pitches):
 
 
 def test_template_that_cannot_cover_the_data(tmp_path, pitches):
-    # launch speeds in km/h: the fastest third lies beyond every draw of the study
-    path = tmp_path / "kmh.csv"
+    # launch speeds in km/h: the fastest third lies beyond every draw of the study (the
+    # table written as mcbat's tidy Parquet table, as `mcbat statcast --out` writes it)
+    path = tmp_path / "kmh.parquet"
     table = pitches.copy()
     table["launch_speed"] *= 1.609344 * 1.5
-    table.to_csv(path, index=False)
+    write(table, path)
     proc = _mcbat("fit", "--population", "--study", str(STUDY), "--data", str(path),
                   "--free", "swing.bat_speed.mean", "--draws", "5")
     _one_line_exit_2(proc, "cannot cover the data")
