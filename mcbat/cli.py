@@ -793,7 +793,8 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default); curvature: Hessian errors only (faster)")
     fit.add_argument("--draws", type=_int_arg("--draws"), default=None, metavar="M",
                      help="model draws per row for the nuisance scatter and the input errors "
-                          "(default 48; 128 for a game study)")
+                          "(default 48; 128 for a game study; --population: template draws "
+                          "per row, default 100)")
     fit.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S",
                      help="seed of the draws (default 0)")
     fit.add_argument("--input-prior", choices=("widen", "study"), default="widen",
@@ -810,7 +811,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="fit the study's distributions (--free swing.bat_speed.mean,... "
                           "and e, mu, e_x) to the distribution of --data's batted balls")
     pop.add_argument("--bins", type=_int_arg("--bins"), default=None, metavar="N",
-                     help="bins per observable (default: ~8 rows per bin)")
+                     help="bins per observable (default: ~8 rows per bin, at least 5)")
     pop.add_argument("--observables", default="launch_speed,launch_angle",
                      help="binned observables (default launch_speed,launch_angle; "
                           "spray_angle too)")
