@@ -34,7 +34,7 @@ def main():
     study = mcbat.load_study(ROOT / "examples" / "population_game.toml")
     pitches, _ = population_table(read(ROOT / "data" / "statcast_2020-09-03.csv"))
     table = simulate_table(study, pitches, args.rows, seed=42, values=TRUTH)
-    fit_population(study, table.iloc[:50], ["swing.bat_speed.mean"], draws=2, passes=1)
+    fit_population(study, table.iloc[:50], ["swing.bat_speed.mean"], draws=20, passes=1)
     times, cpu = [], []
     for _ in range(args.repeats):
         t0, c0 = time.perf_counter(), time.process_time()
