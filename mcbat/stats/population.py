@@ -718,7 +718,8 @@ def _check_cover(cost, n, data, observables, edges, source):
         raise InputError("data", f"{int(where.sum())} rows ({ranges}) lie where the study's "
                          "draws give no batted ball, even with its distributions widened: "
                          "the template cannot cover the data (widen the study's contact "
-                         "or swing distributions, raise --draws, or check the table's units)", source)
+                         "or swing distributions, raise --draws, or check the table's "
+                         "units)", source)
 
 
 def _parameters(mn, keys, params, physics, study_values, phys0, warnings):
