@@ -697,7 +697,11 @@ def _limits(mn, keys, params, physics, nodes):
             mn.limits[name] = (k.low if math.isfinite(k.low) else None,
                                k.high if math.isfinite(k.high) else None)
         else:
-            mn.limits[name] = (0.02 * k.std, 5.0 * k.std)
+            # Not below a quarter of the study's width: there the proposal (1.5 times the
+            # study's width) leaves a few effective draws, and on 100-row tables the attack
+            # angle's width (which the undercut's can stand in for) collapsed onto a limit
+            # of 0.02 times it, in a minimum made of a handful of heavy draws.
+            mn.limits[name] = (0.25 * k.std, 5.0 * k.std)
         mn.errors[name] = 0.1 * k.std
     for p in physics:
         mn.limits[p] = (float(nodes[p][0]), float(nodes[p][-1]))
