@@ -384,6 +384,8 @@ def cmd_fit(args) -> int:
 
     if args.flight:
         return _fit_flight(args)
+    if args.population:
+        return _fit_population(args)
     if args.spin_model is not None:
         raise InputError("--spin-model", "applies to --flight only")
     if args.study is None:
@@ -432,6 +434,43 @@ def cmd_fit(args) -> int:
         print(f"  note: {warning}")
     if comparison is not None:
         print("\n".join(comparison.lines()))
+    return EXIT_OK
+
+
+def _fit_population(args) -> int:
+    """``mcbat fit --population``: a game study's distributions against batted balls
+    (docs/population.md)."""
+    from mcbat import load_study
+    from mcbat.statcast import read
+    from mcbat.stats.population import fit_population
+
+    for flag, value in (("--study", args.study), ("--data", args.data),
+                        ("--free", args.free)):
+        if value is None:
+            raise InputError(flag, "required with --population")
+    if args.figure:
+        _check_output(args.figure, "--figure", RESIDUAL_FORMATS)
+    study = load_study(args.study)
+    table = read(args.data)
+    with _flags("free", "draws", "seed", "bins", "observables", "engine"):
+        result = fit_population(study, table, [f for f in args.free.split(",") if f],
+                                draws=args.draws, bins=args.bins, seed=args.seed,
+                                observables=args.observables.split(","), engine=args.engine)
+    if args.figure:
+        from mcbat.stats.population_figure import fig_population
+
+        fig_population(args.figure, result)
+    if args.json:
+        json.dump(_json_value(result.to_dict()), sys.stdout, indent=2, allow_nan=False)
+        sys.stdout.write("\n")
+        return EXIT_OK
+    print(f"population fit of {args.free} to {result.rows} batted balls of {args.data} "
+          f"(study {study.name}; {result.draws:,} template draws, effective "
+          f"{result.effective_draws:,.0f}):")
+    print("\n".join(result.lines()))
+    print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
+    for warning in result.warnings:
+        print(f"  note: {warning}")
     return EXIT_OK
 
 
@@ -821,7 +860,8 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default); curvature: Hessian errors only (faster)")
     fit.add_argument("--draws", type=_int_arg("--draws"), default=None, metavar="M",
                      help="model draws per row for the nuisance scatter and the input errors "
-                          "(default 48; 128 for a game study)")
+                          "(default 48; 128 for a game study; --population: template draws "
+                          "per row, default 100)")
     fit.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S",
                      help="seed of the draws (default 0)")
     fit.add_argument("--input-prior", choices=("widen", "study"), default="widen",
@@ -837,6 +877,20 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--json", action="store_true", help="print the result as JSON")
     fit.add_argument("--no-compare", action="store_true",
                      help="skip the rigid-versus-compliant model comparison")
+    pop = fit.add_argument_group("population fits (--population, docs/population.md)")
+    pop.add_argument("--population", action="store_true",
+                     help="fit the study's distributions (--free swing.bat_speed.mean,... "
+                          "and e, mu, e_x) to the distribution of --data's batted balls")
+    pop.add_argument("--bins", type=_int_arg("--bins"), default=None, metavar="N",
+                     help="bins per observable (default: ~8 rows per bin, at least 5)")
+    pop.add_argument("--observables", default="launch_speed,launch_angle",
+                     help="binned observables (default launch_speed,launch_angle; "
+                          "spray_angle too)")
+    pop.add_argument("--engine", choices=("memory", "local", "dask"), default="memory",
+                     help="where the template draws are solved (default memory)")
+    pop.add_argument("--figure", metavar="FIG.png",
+                     help="data against the fitted model: projections and the launch "
+                          "speed / angle plane")
     fit.set_defaults(func=cmd_fit)
 
     sc = sub.add_parser(
