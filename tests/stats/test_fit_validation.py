@@ -14,8 +14,7 @@ import pytest
 
 from mcbat.study import load_study
 from mcbat.testing.fit_validation import fit_table, summarize
-
-from ..conftest import ROOT
+from tests.conftest import ROOT
 
 
 @pytest.fixture(scope="module")
