@@ -213,6 +213,7 @@ def test_game_study_end_to_end(tmp_path):
                     vertical_bat_angle=row.vertical_bat_angle, pivot=row.pivot,
                     from_barrel_end=row.from_barrel_end, undercut=row.undercut,
                     restitution=Restitution(e_ref=row.e_ref, e_slope=row.e_slope,
-                                            e_speed_ref=row.e_speed_ref, e_x=row.e_x))
+                                            e_speed_ref=row.e_speed_ref, e_x=row.e_x,
+                                            location=study.restitution.location))
     res = solve_game(case)
     assert res.launch_speed == row.launch_speed and res.backspin == row.backspin

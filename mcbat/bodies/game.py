@@ -29,7 +29,8 @@ DEFAULT_PIVOT = 0.1524
 GAME_E_X = 0.35
 
 #: Location tables shipped in ``data/`` (name -> file).
-LOCATION_TABLES = {"illustrative": "restitution_location_illustrative.csv"}
+LOCATION_TABLES = {"illustrative": "restitution_location_illustrative.csv",
+                   "assumed": "restitution_location_assumed.csv"}
 
 
 @dataclass(frozen=True)
