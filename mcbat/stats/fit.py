@@ -115,6 +115,11 @@ MAGNITUDES = ("exit_speed", "launch_speed", "spin_rate")
 MEDIAN_FACTOR = 1.25
 """A magnitude column whose median lies beyond the model's medians over the search grid by
 more than this factor is refused (m/s instead of mph: 2.24; km/h: 1.61; rpm/rad/s: 9.55)."""
+
+MEDIAN_MAXIMUM = {"launch_speed": 125.0}
+"""A magnitude column whose median lies above this (its unit) is in another unit whatever
+the model gives: the fastest batted balls Statcast has measured are near 122 mph, so no
+table of real balls has a median near 125 mph (km/h would put a typical 90 mph at 145)."""
 P_VALUE_TOO_GOOD = 0.995
 """A chi-squared p-value above this is reported: the stated errors are larger than the
 scatter of the data (or a column is in another unit)."""
@@ -538,6 +543,11 @@ class Likelihood:
                 # when the table is small or the unit is close (m/s against mph).
                 median = float(np.median(y))
                 low, high = med_lo[j] / MEDIAN_FACTOR, med_hi[j] * MEDIAN_FACTOR
+                if median > MEDIAN_MAXIMUM.get(col, math.inf):
+                    raise InputError(col, f"the measured median {median:.3g} "
+                                     f"{self.units[col]} is faster than any batted ball "
+                                     f"measured (about 122 mph): {UNITS_HINT[col]}",
+                                     self.source)
                 if not low <= median <= high:
                     raise InputError(col, f"the measured median {median:.3g} "
                                      f"{self.units[col]} lies outside anything the model "
