@@ -93,7 +93,7 @@ def test_a_summary_only_rerun_never_hides_missing_chunks(tmp_path):
     result = mcbat.check(out)
     assert not result.ok and result.missing == [3, 4]
     proc = _cli("check", out)
-    assert proc.returncode == 3 and "6,000 of 10,000 rows" in proc.stdout
+    assert proc.returncode == 2 and "6,000 of 10,000 rows" in proc.stdout
     with pytest.raises(InputError, match="missing"):
         mcbat.load(out)
 
@@ -107,7 +107,7 @@ def test_a_manifest_without_checksums_is_unverified_and_a_rerun_records_them(cop
     report = "\n".join(result.lines())
     assert result.unverified and "CRC-32 of every byte" not in report
     assert "unverified" in report and "ok: complete" not in report
-    assert _cli("check", copy).returncode == 3
+    assert _cli("check", copy).returncode == 2
     with pytest.warns(UserWarning, match="unverified"):
         mcbat.load(copy)
     summary = _run(load_study(EXAMPLE), copy)
@@ -124,7 +124,7 @@ def test_an_unusable_files_record_is_a_clear_error_or_unverified(copy, files):
     manifest["files"] = files
     ds.write_manifest(copy, manifest)
     proc = _cli("check", copy)
-    assert proc.returncode in (2, 3) and "Traceback" not in proc.stderr, proc.stderr
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
     assert "ok: complete" not in proc.stdout
     # a rerun trusts no chunk without a record, recomputes and records them all
     proc = _cli("run", EXAMPLE, "--out", copy, "--samples", SAMPLES, "--seed", 3,
@@ -146,7 +146,7 @@ def test_a_foreign_parquet_file_fails_check_and_is_left_alone(copy):
     result = mcbat.check(copy)
     assert not result.ok and result.foreign == [foreign.name]
     proc = _cli("check", copy)
-    assert proc.returncode == 3 and foreign.name in proc.stdout
+    assert proc.returncode == 2 and foreign.name in proc.stdout
     with pytest.raises(InputError, match=r"\(copy\)"):
         mcbat.load(copy)
     with pytest.raises(InputError, match=r"\(copy\)"):
@@ -299,7 +299,7 @@ def test_a_damaged_summary_of_the_same_size_is_rewritten(tmp_path):
     good = table.read_bytes()
     _flip_middle(table, 16)
     assert len(table.read_bytes()) == len(good)
-    assert _cli("check", out).returncode == 3
+    assert _cli("check", out).returncode == 2
     _run(study, out, summary_only=True)
     assert table.read_bytes() == good
     assert mcbat.check(out).ok
