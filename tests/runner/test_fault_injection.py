@@ -331,6 +331,26 @@ def test_a_huge_description_is_refused_before_anything_is_written(tmp_path):
     assert "study.description" in proc.stderr and not (tmp_path / "ds").exists()
 
 
+def test_a_60_megabyte_description_is_refused_by_the_file_size(tmp_path, capsys):
+    from mcbat.cli import main
+
+    study = tmp_path / "big.toml"
+    text = EXAMPLE.read_text()
+    head, _, rest = text.partition("[study]\n")
+    with open(study, "w") as handle:
+        handle.write(head + "[study]\ndescription = \"")
+        for _ in range(60):
+            handle.write("x" * 1_000_000)
+        handle.write("\"\n" + "\n".join(line for line in rest.splitlines()
+                                         if not line.startswith("description")) + "\n")
+    code = main(["run", str(study), "--out", str(tmp_path / "ds"), "--samples", "100",
+                 "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "a study file is at most 1,048,576 bytes" in err and str(study) in err
+    assert not (tmp_path / "ds").exists()
+
+
 @pytest.mark.parametrize("char", ["\u0085", "\u2028", "\u202e", "\u200b"])
 def test_study_names_with_unicode_controls_are_refused(tmp_path, char):
     study = tmp_path / "u.toml"
@@ -376,3 +396,23 @@ def test_an_unreachable_object_store_is_an_error_in_bounded_time(tmp_path):
                           check=False)
     assert time.monotonic() - t0 < 60
     assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+
+
+def test_an_unreachable_object_store_as_out_is_an_error_in_bounded_time(monkeypatch):
+    """``run --out gs://``: the writer's first request fails once its retries have run
+    for MCBAT_URL_TIMEOUT seconds (in-process: the time of the requests, not of imports)."""
+    from mcbat.dataset import storage
+
+    monkeypatch.setenv("MCBAT_URL_TIMEOUT", "2")
+    study = load_study(EXAMPLE)
+    seconds = []
+    try:
+        for _ in range(2):  # the first also loads what a run loads: the second is timed
+            storage._filesystem.cache_clear()  # no file system made with another limit
+            t0 = time.monotonic()
+            with pytest.raises(InputError, match="out: cannot write"):
+                run_study(study, "gs://mcbat-no-bucket/ds", samples=100, progress=False)
+            seconds.append(time.monotonic() - t0)
+    finally:
+        storage._filesystem.cache_clear()
+    assert seconds[1] < 20, seconds
