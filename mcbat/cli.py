@@ -626,7 +626,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Verify that every chunk the manifest expects is present, recorded and "
                     "unchanged (size, Parquet footer, sample_id range, and the CRC-32 of "
                     "every byte), and that no other chunk file is there. Exit 0 when the "
-                    "dataset is complete and consistent; 2 when it is not (the report on "
+                    "dataset is complete and consistent; 2 when it is not, or its manifest "
+                    "records no checksums to verify it by (the report on "
                     "stdout, each problem on one line; on stderr one line naming the "
                     "first problem's file and what is wrong) or DIR is not a dataset.")
     check.add_argument("directory", metavar="DIR", help="dataset directory or URL")
