@@ -35,7 +35,16 @@ from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
     Accuracy,
 )
-from mcbat.core.cabo2012.impact import ImpactInputs
+from mcbat.core.cabo2012.impact import (
+    INERTIA_RANGE,
+    LENGTH_RANGE,
+    MASS_RANGE,
+    MAX_AXIAL,
+    MAX_MU,
+    MAX_SPEED,
+    MAX_SPIN,
+    ImpactInputs,
+)
 from mcbat.core.cabo2012.trajectory import contact_history
 from mcbat.core.flight import fly as flight_kernel
 from mcbat.core.flight.trajectory import integrate as integrate_flight
@@ -71,6 +80,21 @@ __all__ = ["Ball", "Bat", "Contact", "FlightCase", "FlightResult", "GameCase", "
 
 Vector = tuple[float, float, float]
 
+
+
+#: The largest contact azimuth (rad) taken: beyond it the rounding of the angle itself
+#: (above 1e-10 rad) moves the contact point more than the solver's tolerance.
+MAX_AZIMUTH = 1e6
+
+
+def _attr(case, dotted):
+    """The value at a dotted name of a case (``bat.radius``: at the contact)."""
+    if dotted == "bat.radius":
+        return case.contact_surface()[0]
+    value = case
+    for part in dotted.split("."):
+        value = getattr(value, part)
+    return value
 
 
 @dataclass(frozen=True)
@@ -183,6 +207,41 @@ class ImpactCase:
         return float(impact_parameter_from_angle(self.contact.angle, self.ball.radius,
                                                  radius, slope, approach_azimuth))
 
+    def check_solver_ranges(self) -> None:
+        """Raise :class:`InputError` naming the first input outside the range the solver
+        works in (``docs/physics.md``, "Valid inputs"): beyond it energies and impulses
+        under- or overflow, and the kernel could only answer ``invalid_input``."""
+        radius, _ = self.contact_surface()
+        for name, value, (low, high), unit in (
+                ("ball.mass", self.ball.mass, MASS_RANGE, "kg"),
+                ("ball.radius", self.ball.radius, LENGTH_RANGE, "m"),
+                ("bat.mass", self.bat.mass, MASS_RANGE, "kg"),
+                ("bat.radius", radius, LENGTH_RANGE, "m"),
+                ("bat.transverse_inertia", self.bat.transverse_inertia, INERTIA_RANGE,
+                 "kg m^2"),
+                ("bat.axial_inertia", self.bat.axial_inertia, INERTIA_RANGE, "kg m^2"),
+                ("contact.axial", abs(self.contact.axial), (0.0, MAX_AXIAL), "m"),
+                ("contact.angle", abs(self.contact.angle), (0.0, MAX_AZIMUTH), "rad"),
+                ("mu", self.mu, (0.0, MAX_MU), "")):
+            if not low <= value <= high:
+                shown = f"+-{high:g}" if low == 0.0 and name.startswith("contact") else \
+                    f"{low:g}..{high:g}"
+                raise InputError(name, f"must be within {shown}{' ' + unit if unit else ''} "
+                                 f"(the range the solver works in, docs/physics.md), got "
+                                 f"{_attr(self, name):.6g}")
+        if not 0.0 < self.ball.inertia_factor <= 1.0:
+            raise InputError("ball.inertia_factor", f"must be in (0, 1], got "
+                             f"{self.ball.inertia_factor:.6g}")
+        for name, high, unit in (("ball_velocity", MAX_SPEED, "m/s"),
+                                 ("ball_spin", MAX_SPIN, "rad/s"),
+                                 ("bat_velocity", MAX_SPEED, "m/s"),
+                                 ("bat_spin", MAX_SPIN, "rad/s")):
+            vector = getattr(self, name)
+            if not max(abs(x) for x in vector) <= high:
+                raise InputError(name, f"every component must be within +-{high:g} {unit} "
+                                 "(the range the solver works in, docs/physics.md), got "
+                                 f"[{', '.join(f'{x:.6g}' for x in vector)}]")
+
     def validate_approach(self) -> None:
         """Raise :class:`InputError` unless the contact points approach (``v_n < 0``)."""
         vn = self.normal_approach_speed()
@@ -287,6 +346,7 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         Also if the kernel reports a failure status (inputs whose magnitudes make the
         arithmetic meaningless, non-convergence, degenerate mechanics), naming the status.
     """
+    case.check_solver_ranges()
     case.validate_approach()
     radius, slope = case.contact_surface()
     # Floats only: a Python int reaching the jitted kernel would compile (and cache) an
@@ -463,6 +523,7 @@ def _case_from_dict(data) -> ImpactCase:
                if k in data}
     case = ImpactCase(ball=ball, bat=bat, contact=contact, mu=data["mu"], e=e, e_x=e_x,
                         **vectors)
+    case.check_solver_ranges()
     case.validate_approach()
     return case
 
@@ -481,6 +542,15 @@ _GAME_KEYS = {  # Python parameter -> (JSON section, key)
     "from_barrel_end": ("contact", "from_barrel_end"), "undercut": ("contact", "undercut"),
 }
 _RIGHT_ANGLE = math.pi / 2
+
+
+def _solver_range(value, name, high, unit):
+    """A game input beyond the solver's range (``docs/physics.md``, "Valid inputs"): the
+    impact's velocities and spins scale with it."""
+    if not value <= high:
+        raise InputError(name, f"must be at most {high:g}{' ' + unit if unit else ''} (the "
+                         f"range the solver works in, docs/physics.md), got {value:.6g}"
+                         f"{' ' + unit if unit else ''}")
 
 
 @dataclass(frozen=True)
@@ -533,12 +603,15 @@ class GameCase:
                 raise InputError(name, f"must lie within (-90, 90) deg for a pitch moving "
                                  f"towards the plate, got {math.degrees(value):.6g} deg")
         object.__setattr__(self, "spin_rate", _real(self.spin_rate, "spin_rate", minimum=0.0))
+        _solver_range(self.pitch_speed, "pitch_speed", MAX_SPEED, "m/s")
+        _solver_range(self.spin_rate, "spin_rate", MAX_SPIN, "rad/s")
         object.__setattr__(self, "spin_axis", _real(self.spin_axis, "spin_axis"))
         object.__setattr__(self, "spin_efficiency",
                            _real(self.spin_efficiency, "spin_efficiency", minimum=0.0, maximum=1.0))
         if self.gyro_sign not in (1, -1):
             raise InputError("gyro_sign", f"must be +1 or -1, got {self.gyro_sign!r}")
         object.__setattr__(self, "bat_speed", _real(self.bat_speed, "bat_speed", minimum=0.0))
+        _solver_range(self.bat_speed, "bat_speed", MAX_SPEED, "m/s")
         for name in ("attack_angle", "attack_direction", "vertical_bat_angle"):
             value = _real(getattr(self, name), name)
             if not abs(value) < _RIGHT_ANGLE:
@@ -554,6 +627,7 @@ class GameCase:
                            _real(self.from_barrel_end, "from_barrel_end", minimum=0.0,
                                  maximum=bat.length))
         object.__setattr__(self, "mu", _real(self.mu, "mu", minimum=0.0))
+        _solver_range(self.mu, "mu", MAX_MU, "")
         radius, slope = self.contact_surface()
         reach = radius + self.ball.radius / math.sqrt(1.0 + slope * slope)
         if not abs(_real(self.undercut, "undercut")) <= reach:
@@ -954,14 +1028,14 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
     if f.status == 3:
         raise InputError("landing_height", "the ball never rises to the landing height: it "
                          "reaches the ground first")
-    if f.status != 0:
-        raise InputError("position", "the ball cannot fly from there (below the ground, "
-                         "or no landing within the step limit)")
+    if f.status == 1:  # the launch point: below the ground, or not finite
+        raise InputError("position", "the ball cannot fly from there (below the ground)")
     landing = (f.distance, f.landing_x, f.landing_y, f.hang_time, f.apex)
-    if not all(math.isfinite(value) for value in landing):
+    if f.status != 0 or not all(math.isfinite(value) for value in landing):
         # A successful answer holds numbers only: a ball the model cannot carry (a
         # feather's mass, a balloon's radius, a launch near the speed of light) is the
-        # input's fault, said so, not a null in the output.
+        # input's fault, said so, not a null in the output. A ball that hovers (a 36 km
+        # radius: drag far above its weight) runs out of steps before it lands: the same.
         raise InputError("launch_speed", f"the flight model has no finite landing for a "
                          f"{case.ball.mass:.3g} kg ball of radius {case.ball.radius:.3g} m "
                          f"launched at {case.launch_speed:.3g} m/s (ball.mass, ball.radius, "

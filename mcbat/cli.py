@@ -1,8 +1,9 @@
 """The ``mcbat`` command.
 
-Exit codes: 0 success, 2 user error (one line on stderr, no traceback), 1 internal error,
-3 ``mcbat check`` found a dataset incomplete or inconsistent, 130 interrupted, 141 the
-reader of stdout went away (``| head``). ``--debug`` shows the traceback of any error.
+Exit codes: 0 success, 2 user error (one line on stderr, no traceback; also ``mcbat
+check`` on a dataset incomplete or inconsistent), 1 internal error, 4 the environment
+failed mid-run, 130 interrupted, 141 the reader of stdout went away (``| head``).
+``--debug`` shows the traceback of any error.
 """
 
 from __future__ import annotations
@@ -24,7 +25,6 @@ __all__ = ["build_parser", "main"]
 EXIT_OK = 0
 EXIT_INTERNAL = 1
 EXIT_USER = 2
-EXIT_DATASET_PROBLEMS = 3
 EXIT_ENVIRONMENT = 4  # the environment failed mid-run (a lost Dask scheduler)
 EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a reader that went away
 
@@ -214,8 +214,12 @@ def cmd_check(args) -> int:
     result = check_dataset(args.directory, checksums=not args.quick)
     for line in result.lines():
         print(line)
-    # A dataset whose bytes cannot be verified is not reported as fine.
-    return EXIT_OK if result.ok and not result.unverified else EXIT_DATASET_PROBLEMS
+    # A damaged, incomplete or unverifiable dataset is bad input to every command that
+    # reads it: exit 2, the report above on stdout, its first problem as the error line.
+    problem = result.first_problem()
+    if problem is not None:
+        raise InputError(None, problem, str(result.directory))
+    return EXIT_OK
 
 
 def cmd_reproduce(args) -> int:
@@ -724,12 +728,14 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(func=cmd_run)
 
     check = sub.add_parser(
-        "check", help="check a dataset directory against its manifest (exit 3 if not ok)",
+        "check", help="check a dataset directory against its manifest (exit 2 if not ok)",
         description="Verify that every chunk the manifest expects is present, recorded and "
                     "unchanged (size, Parquet footer, sample_id range, and the CRC-32 of "
                     "every byte), and that no other chunk file is there. Exit 0 when the "
-                    "dataset is complete and consistent, 3 when it is not (each problem on "
-                    "one line), 2 when DIR is not a dataset.")
+                    "dataset is complete and consistent; 2 when it is not, or its manifest "
+                    "records no checksums to verify it by (the report on "
+                    "stdout, each problem on one line; on stderr one line naming the "
+                    "first problem's file and what is wrong) or DIR is not a dataset.")
     check.add_argument("directory", metavar="DIR", help="dataset directory or URL")
     check.add_argument("--quick", action="store_true",
                        help="sizes and footers only (what mcbat.load checks), no checksums")
@@ -966,8 +972,8 @@ def _int_arg(flag):
 
 def main(argv=None) -> int:
     """Run the ``mcbat`` command with ``argv`` (default: ``sys.argv[1:]``); returns the exit
-    code (0 ok, 2 user error, 1 internal error, 3 dataset problems, 4 the environment
-    failed mid-run, 130 interrupted, 141 broken pipe)."""
+    code (0 ok, 2 user error or a dataset ``mcbat check`` finds not ok, 1 internal error,
+    4 the environment failed mid-run, 130 interrupted, 141 broken pipe)."""
     parser = build_parser()
     debug = "--debug" in (sys.argv[1:] if argv is None else argv)
     try:

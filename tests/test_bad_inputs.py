@@ -93,10 +93,18 @@ def test_deep_json_is_a_clear_error():
 def test_one_unsolvable_case_fails_the_call_naming_its_index():
     # Documented choice (docs/errors.md): the whole call fails cleanly (exit 2, nothing on
     # stdout), naming the case; never an internal error.
+    # An approach slower than the rounding of the contact velocity (1e-13 m/s): every
+    # input within its range, and still nothing the solver can answer.
     bad = json.loads(json.dumps(CASE))
-    bad["ball_velocity"] = [-1e300, 0.0, 0.0]
+    bad["ball_velocity"] = [-1e-13, 0.0, 0.0]
     proc = mcbat_cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]).encode())
     assert_one_line_error(proc, "case 1", "status 'invalid_input'")
+    assert proc.stdout == b""
+    # a speed beyond the solver's range is named as such
+    bad["ball_velocity"] = [-1e300, 0.0, 0.0]
+    proc = mcbat_cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]).encode())
+    assert_one_line_error(proc, "case 1", "ball_velocity: every component must be within "
+                          "+-100000 m/s")
     assert proc.stdout == b""
 
 

@@ -76,11 +76,13 @@ def test_synth_rows_are_bounded(capsys):
 @pytest.mark.parametrize("case", [
     {"launch_speed": 45, "launch_angle": 0.5, "ball": {"mass": 1e-9, "radius": 0.037}},
     {"launch_speed": {"value": 2e10, "unit": "mph"}, "launch_angle": 0.5},
-], ids=["feather", "2e10 mph"])
+    {"launch_speed": 45, "launch_angle": 0.5, "ball": {"mass": 0.145, "radius": 36_600}},
+], ids=["feather", "2e10 mph", "36.6 km radius"])
 def test_a_flight_the_model_cannot_carry_is_an_error_not_null(capsys, tmp_path, case):
     path = tmp_path / "f.json"
     path.write_text(json.dumps(case))
-    _one_error(capsys, main(["flight", str(path)]), "launch_speed")
+    _one_error(capsys, main(["flight", str(path)]), "launch_speed", "ball.radius",
+               "outside the range the model is made for")
 
 
 def test_a_trajectory_beyond_its_point_limit_is_an_error(capsys, tmp_path):
@@ -100,3 +102,108 @@ def test_an_error_that_echoes_a_line_break_stays_one_line(capsys, token):
     code = main(["calibrate", token, "1e20"])
     _, err = capsys.readouterr()
     assert code == 2 and len(err.splitlines()) == 1, repr(err)
+
+
+EXAMPLES = {name: json.loads((ROOT / "examples" / name).read_text())
+            for name in ("cabo2012_sec5.json", "game_fastball.json")}
+#: The keys an impact answer documents as null: a contact that never stuck.
+NULL_OK = {"stick_impulse", "stick_criterion"}
+
+
+def _numeric_fields(tree, prefix=()):
+    """Paths to every number of a case (a vector's components, a quantity's value)."""
+    items = tree.items() if isinstance(tree, dict) else enumerate(tree)
+    out = []
+    for key, value in items:
+        if isinstance(value, bool):
+            continue
+        if isinstance(value, int | float):
+            out.append((*prefix, key))
+        elif isinstance(value, dict | list):
+            out.extend(_numeric_fields(value, (*prefix, key)))
+    return out
+
+
+def _with(case, path, value):
+    case = json.loads(json.dumps(case))
+    parent = case
+    for key in path[:-1]:
+        parent = parent[key]
+    parent[path[-1]] = value
+    return case
+
+
+def _field_name(path):
+    """The dotted key an error names (a vector by its name, a quantity without .value)."""
+    keys = [str(k) for k in path if not isinstance(k, int) and k != "value"]
+    return ".".join(keys)
+
+
+IMPACT_FIELDS = [(name, path) for name, case in EXAMPLES.items()
+                 for path in _numeric_fields(case)]
+
+
+def _nulls(value, key=None):
+    if value is None:
+        return [] if key in NULL_OK else [key]
+    if isinstance(value, dict):
+        return [n for k, v in value.items() for n in _nulls(v, k)]
+    if isinstance(value, list):
+        return [n for v in value for n in _nulls(v, key)]
+    return []
+
+
+def _strict(text):
+    def refuse(name):
+        raise AssertionError(f"non-finite number {name} in the answer")
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.mark.parametrize("example,path", IMPACT_FIELDS,
+                         ids=[f"{n.split('_')[0]}-{_field_name(p)}"
+                              f"{''.join(f'[{k}]' for k in p if isinstance(k, int))}"
+                              for n, p in IMPACT_FIELDS])
+def test_every_number_of_an_impact_case_at_the_extremes(capsys, tmp_path, example, path):
+    """1e300, -1e300 and the infinities (1e400 in JSON) in each number of the shipped impact
+    examples: an answer of finite numbers (exit 0), or exit 2 with one line naming the
+    field; never exit 1, a traceback, NaN/inf or null in the answer."""
+    for value in (1e300, -1e300, "INF", "-INF"):
+        text = json.dumps(_with(EXAMPLES[example], path, 0.0 if isinstance(value, str)
+                                else value))
+        if isinstance(value, str):  # JSON has no infinity: 1e400 parses to it
+            text = _replace_number(text, path, "1e400" if value == "INF" else "-1e400",
+                                   EXAMPLES[example])
+        source = tmp_path / "case.json"
+        source.write_text(text)
+        code = main(["impact", str(source)])
+        out, err = capsys.readouterr()
+        assert code in (0, 2), (value, err)
+        if code == 2:
+            line, = err.strip().splitlines()
+            assert _field_name(path) in line, (value, line)
+        else:
+            answer = _strict(out)
+            assert not _nulls(answer), (value, _nulls(answer))
+
+
+def _replace_number(text, path, literal, case):
+    """``text`` (a case with 0.0 at ``path``) with that 0.0 spelled as ``literal``."""
+    marker = 12345.678901234
+    marked = json.dumps(_with(case, path, marker))
+    assert marked.count(repr(marker)) == 1
+    return marked.replace(repr(marker), literal)
+
+
+@pytest.mark.parametrize("example,path", IMPACT_FIELDS,
+                         ids=[f"{n.split('_')[0]}-{_field_name(p)}"
+                              f"{''.join(f'[{k}]' for k in p if isinstance(k, int))}"
+                              for n, p in IMPACT_FIELDS])
+def test_a_nan_in_any_number_of_an_impact_case_is_refused_by_name(example, path):
+    """The Python API takes NaN (JSON cannot carry it): refused, naming the field."""
+    from mcbat.api import case_from_dict, solve_any
+    from mcbat.errors import InputError
+
+    for value in (math.nan, math.inf, -math.inf):
+        with pytest.raises(InputError) as raised:
+            solve_any(case_from_dict(_with(EXAMPLES[example], path, value)), json_keys=True)
+        assert _field_name(path) in str(raised.value), str(raised.value)

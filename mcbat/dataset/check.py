@@ -132,6 +132,33 @@ class DatasetCheck:
             out.append(f"... and {len(self.mismatched) - 3} more mismatched chunk file(s)")
         return out
 
+    def first_problem(self) -> str | None:
+        """The first problem on one line, naming its file and what is wrong (None when
+        :attr:`ok` and verified): the line ``mcbat check`` ends with on stderr."""
+        found = []
+        if self.summary:
+            found.append(self.summary if self.summary.startswith(SUMMARY)
+                         else f"{SUMMARY}: {self.summary}")
+        found += [f"{name}: not a chunk file of the dataset, but Parquet readers of the "
+                  "directory would read it as rows; move it out of the directory"
+                  for name in self.foreign]
+        found += [f"{chunks.chunk_name(k)}: missing ({self.rows_good:,} of "
+                  f"{self.rows_expected:,} rows present); rerun the same `mcbat run` to "
+                  "complete it" for k in self.missing]
+        found += [f"{name}: not part of the dataset (beyond its last chunk, or never "
+                  "recorded); rerun `mcbat run` to recompute it, or remove it"
+                  for name in self.extra]
+        found += [f"{name}: {reason}; rerun `mcbat run` to recompute it"
+                  for name, reason in self.mismatched]
+        if not found and self.unverified:
+            found.append(f"{chunks.MANIFEST}: records no checksums (an older mcbat wrote "
+                         "it), so changed bytes cannot be detected; rerun the same `mcbat "
+                         "run` to recompute and record them")
+        if not found:
+            return None
+        more = len(found) - 1
+        return found[0] + (f" (and {more:,} more problem(s), listed above)" if more else "")
+
     def lines(self) -> list[str]:
         """The report of ``mcbat check``."""
         how = ("sizes and footers only: no checksums recorded" if self.unverified else

@@ -93,7 +93,7 @@ def test_a_summary_only_rerun_never_hides_missing_chunks(tmp_path):
     result = mcbat.check(out)
     assert not result.ok and result.missing == [3, 4]
     proc = _cli("check", out)
-    assert proc.returncode == 3 and "6,000 of 10,000 rows" in proc.stdout
+    assert proc.returncode == 2 and "6,000 of 10,000 rows" in proc.stdout
     with pytest.raises(InputError, match="missing"):
         mcbat.load(out)
 
@@ -107,7 +107,7 @@ def test_a_manifest_without_checksums_is_unverified_and_a_rerun_records_them(cop
     report = "\n".join(result.lines())
     assert result.unverified and "CRC-32 of every byte" not in report
     assert "unverified" in report and "ok: complete" not in report
-    assert _cli("check", copy).returncode == 3
+    assert _cli("check", copy).returncode == 2
     with pytest.warns(UserWarning, match="unverified"):
         mcbat.load(copy)
     summary = _run(load_study(EXAMPLE), copy)
@@ -124,7 +124,7 @@ def test_an_unusable_files_record_is_a_clear_error_or_unverified(copy, files):
     manifest["files"] = files
     ds.write_manifest(copy, manifest)
     proc = _cli("check", copy)
-    assert proc.returncode in (2, 3) and "Traceback" not in proc.stderr, proc.stderr
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
     assert "ok: complete" not in proc.stdout
     # a rerun trusts no chunk without a record, recomputes and records them all
     proc = _cli("run", EXAMPLE, "--out", copy, "--samples", SAMPLES, "--seed", 3,
@@ -146,7 +146,7 @@ def test_a_foreign_parquet_file_fails_check_and_is_left_alone(copy):
     result = mcbat.check(copy)
     assert not result.ok and result.foreign == [foreign.name]
     proc = _cli("check", copy)
-    assert proc.returncode == 3 and foreign.name in proc.stdout
+    assert proc.returncode == 2 and foreign.name in proc.stdout
     with pytest.raises(InputError, match=r"\(copy\)"):
         mcbat.load(copy)
     with pytest.raises(InputError, match=r"\(copy\)"):
@@ -299,7 +299,7 @@ def test_a_damaged_summary_of_the_same_size_is_rewritten(tmp_path):
     good = table.read_bytes()
     _flip_middle(table, 16)
     assert len(table.read_bytes()) == len(good)
-    assert _cli("check", out).returncode == 3
+    assert _cli("check", out).returncode == 2
     _run(study, out, summary_only=True)
     assert table.read_bytes() == good
     assert mcbat.check(out).ok
@@ -329,6 +329,26 @@ def test_a_huge_description_is_refused_before_anything_is_written(tmp_path):
     proc = _cli("run", study, "--out", tmp_path / "ds", "--samples", 1_000, "--quiet")
     assert proc.returncode == 2, proc.stderr
     assert "study.description" in proc.stderr and not (tmp_path / "ds").exists()
+
+
+def test_a_60_megabyte_description_is_refused_by_the_file_size(tmp_path, capsys):
+    from mcbat.cli import main
+
+    study = tmp_path / "big.toml"
+    text = EXAMPLE.read_text()
+    head, _, rest = text.partition("[study]\n")
+    with open(study, "w") as handle:
+        handle.write(head + "[study]\ndescription = \"")
+        for _ in range(60):
+            handle.write("x" * 1_000_000)
+        handle.write("\"\n" + "\n".join(line for line in rest.splitlines()
+                                         if not line.startswith("description")) + "\n")
+    code = main(["run", str(study), "--out", str(tmp_path / "ds"), "--samples", "100",
+                 "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "a study file is at most 1,048,576 bytes" in err and str(study) in err
+    assert not (tmp_path / "ds").exists()
 
 
 @pytest.mark.parametrize("char", ["\u0085", "\u2028", "\u202e", "\u200b"])
@@ -376,3 +396,23 @@ def test_an_unreachable_object_store_is_an_error_in_bounded_time(tmp_path):
                           check=False)
     assert time.monotonic() - t0 < 60
     assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+
+
+def test_an_unreachable_object_store_as_out_is_an_error_in_bounded_time(monkeypatch):
+    """``run --out gs://``: the writer's first request fails once its retries have run
+    for MCBAT_URL_TIMEOUT seconds (in-process: the time of the requests, not of imports)."""
+    from mcbat.dataset import storage
+
+    monkeypatch.setenv("MCBAT_URL_TIMEOUT", "2")
+    study = load_study(EXAMPLE)
+    seconds = []
+    try:
+        for _ in range(2):  # the first also loads what a run loads: the second is timed
+            storage._filesystem.cache_clear()  # no file system made with another limit
+            t0 = time.monotonic()
+            with pytest.raises(InputError, match="out: cannot write"):
+                run_study(study, "gs://mcbat-no-bucket/ds", samples=100, progress=False)
+            seconds.append(time.monotonic() - t0)
+    finally:
+        storage._filesystem.cache_clear()
+    assert seconds[1] < 20, seconds

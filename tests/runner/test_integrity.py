@@ -75,7 +75,7 @@ def test_a_corrupted_chunk_is_refused_by_load_and_recomputed_at_resume(copy, cle
     with pytest.raises(InputError, match="chunk-000001.parquet: checksum mismatch"):
         mcbat.load(copy)
     proc = _cli("check", copy)
-    assert proc.returncode == 3 and "chunk-000001.parquet: checksum mismatch" in proc.stdout
+    assert proc.returncode == 2 and "chunk-000001.parquet: checksum mismatch" in proc.stdout
     summary = _run(copy)
     assert (summary.chunks_computed, summary.chunks_kept) == (1, 3)
     assert summary.redone == [(1, "checksum mismatch (the file was changed or corrupted)")]
@@ -92,7 +92,7 @@ def test_an_interrupted_dataset_is_refused_unless_partial_is_allowed(copy):
     with pytest.warns(UserWarning, match="partial dataset"):
         df = mcbat.load(copy, allow_partial=True)
     assert len(df) == 9_000 and 6_000 not in set(df["sample_id"])
-    assert _cli("check", copy).returncode == 3
+    assert _cli("check", copy).returncode == 2
 
 
 def test_a_chunk_copied_over_another_is_noticed_and_redone(copy, clean):
