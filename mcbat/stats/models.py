@@ -57,7 +57,7 @@ from mcbat.errors import InputError
 __all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "DrawModel", "GAME_TABLE_COLUMNS",
            "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "PRIOR_DEGREE",
            "PriorFamily", "WIDEN_P_VALUE", "beyond_range_test", "draw_model", "prior_range",
-           "solve_study", "table_columns"]
+           "solve_game_inputs", "solve_study", "table_columns"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -657,14 +657,23 @@ def _solve_game(study, rows, seed, params):
     for name, value in params.items():
         if value is not None:
             inputs[GameModel.PARAMETERS[name]] = value
-    frame, out, game_out, status, end = allocate_game_outputs(rows)
+    batted, ok = solve_game_inputs(study, inputs)
+    measured = {name: cols[name].copy() / GameModel.MEASURED[name][1] for name in GAME_WRITTEN}
+    observed = {name: batted[name] for name in ("launch_speed", "launch_angle", "spray_angle",
+                                                "spin_rate")}
+    return measured, observed, ok
+
+
+def solve_game_inputs(study, inputs):
+    """Solve a game kernel's input rows (:data:`mcbat.core.swing.GAME_INPUT_FIELDS` x n)
+    with the study's solver settings: the batted balls' Statcast outputs
+    (:func:`mcbat.dataset.schema.derive_game`) and which rows were solved."""
+    n = inputs.shape[1]
+    frame, out, game_out, status, end = allocate_game_outputs(n)
     solver = study.solver
     solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
                      out, game_out, status, end)
     g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
     batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
                          [g[f"field_ball_w{c}"] for c in "xyz"])
-    measured = {name: cols[name].copy() / GameModel.MEASURED[name][1] for name in GAME_WRITTEN}
-    observed = {name: batted[name] for name in ("launch_speed", "launch_angle", "spray_angle",
-                                                "spin_rate")}
-    return measured, observed, status == 0
+    return batted, status == 0

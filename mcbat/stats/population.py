@@ -60,14 +60,9 @@ import numpy as np
 from scipy import special, stats
 
 from mcbat.bodies.game import GAME_RESTITUTION
-from mcbat.core.swing import (
-    GAME_INPUT_FIELDS,
-    GAME_OUTPUT_FIELDS,
-    allocate_game_outputs,
-    solve_game_batch,
-)
-from mcbat.dataset.schema import derive_game
+from mcbat.core.swing import GAME_INPUT_FIELDS
 from mcbat.errors import InputError
+from mcbat.stats.models import solve_game_inputs
 from mcbat.study import units as u
 from mcbat.study.game import KEYS
 from mcbat.study.spec import Study
@@ -336,16 +331,10 @@ def _solve_memory(study, draws, seed, columns, observables):
 
     study = load_pitches(study)
     inputs = study.sample_inputs(0, draws, seed)
-    frame, out, game_out, status, end = allocate_game_outputs(draws)
-    solver = study.solver
-    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
-                     out, game_out, status, end)
-    g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
-    batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
-                         [g[f"field_ball_w{c}"] for c in "xyz"])
+    batted, ok = solve_game_inputs(study, inputs)
     row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
     return ({c: inputs[row[c]].copy() for c in columns},
-            {c: np.asarray(batted[c], float) for c in observables}, status == 0)
+            {c: np.asarray(batted[c], float) for c in observables}, ok)
 
 
 # ------------------------------------------------------------------ binning
