@@ -68,8 +68,8 @@ from mcbat.study.game import KEYS
 from mcbat.study.spec import Study
 
 __all__ = ["BROADEN", "DEFAULT_DRAWS", "ENGINES", "NODES", "OBSERVABLES", "PHYSICS",
-           "PopulationResult", "fit_population", "fittable_parameters", "population_table",
-           "simulate_table"]
+           "PopulationResult", "fit_population", "fittable_parameters", "grid_corners",
+           "population_table", "simulate_table"]
 
 OBSERVABLES = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg"}
 """The batted-ball observables a population fit can bin (Statcast's names and units)."""
@@ -429,7 +429,7 @@ class _Cost:
         _, phys = self.values(theta)
         t = np.zeros(self.nbins)
         v = np.zeros(self.nbins)
-        for corner, c in _corners(self.nodes, phys):
+        for corner, c in grid_corners(self.nodes, phys):
             idx = self.idx[corner]
             good = idx >= 0
             t += c * np.bincount(idx[good], w[good], self.nbins)
@@ -449,7 +449,7 @@ class _Cost:
         return float(template_chi2_da(self.n, mu, var))
 
 
-def _corners(nodes, phys):
+def grid_corners(nodes, phys):
     """``(node index tuple, coefficient)`` of the multilinear interpolation at ``phys``."""
     if not nodes:
         return [((), 1.0)]

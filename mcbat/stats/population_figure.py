@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcbat.stats.population import OBSERVABLES, _corners
+from mcbat.stats.population import OBSERVABLES, grid_corners
 
 __all__ = ["fig_population", "model_histogram"]
 
@@ -20,7 +20,7 @@ def model_histogram(result, observables, edges):
     axes = [result.observables.index(o) for o in observables]
     total = np.zeros([len(e) - 1 for e in edges])
     norm = 0.0
-    for corner, c in _corners(cost.nodes, phys):
+    for corner, c in grid_corners(cost.nodes, phys):
         values = cost.observed[corner]
         good = np.all(np.isfinite(values), axis=0)
         norm += c * w[good].sum()

@@ -45,9 +45,15 @@ def test_a_second_run_on_the_same_directory_is_refused(tmp_path, second_args):
     out = tmp_path / "ds"
     first = _start(out)
     _wait_for_holder(out, first)
-    second = subprocess.run(
-        [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(out), "--quiet",
-         *second_args], capture_output=True, text=True, cwd=ROOT)
+    # The first run is paused while the second starts: on a loaded machine the second's
+    # start-up (imports) can outlast the first's whole run. A paused process keeps its lock.
+    os.kill(first.pid, signal.SIGSTOP)
+    try:
+        second = subprocess.run(
+            [sys.executable, "-m", "mcbat", "run", str(STUDY), "--out", str(out), "--quiet",
+             *second_args], capture_output=True, text=True, cwd=ROOT)
+    finally:
+        os.kill(first.pid, signal.SIGCONT)
     assert second.returncode == 2, second.stderr
     line, = second.stderr.strip().splitlines()
     assert "--out" in line and f"pid {first.pid}" in line
