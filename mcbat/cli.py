@@ -870,10 +870,13 @@ def build_parser() -> argparse.ArgumentParser:
                           "per row, default 100)")
     fit.add_argument("--seed", type=_int_arg("--seed"), default=0, metavar="S",
                      help="seed of the draws (default 0)")
-    fit.add_argument("--input-prior", choices=("widen", "study"), default="widen",
-                     help="when the measured inputs (columns with _err) reach beyond the "
-                          "study's range of that input: widen: marginalise over the range "
-                          "that fits them, and say so (default); study: refuse the table")
+    fit.add_argument("--input-prior", choices=("cover", "widen", "study"), default=None,
+                     help="the range the true values of a measured input (a column with "
+                          "_err) are marginalised over: cover: the study's range widened to "
+                          "cover the data, with a fitted step in the prior at the study's "
+                          "ends (default with the mixture likelihood); widen: the study's "
+                          "range, widened only when the data reject it (default with the "
+                          "gaussian one); study: refuse a table whose data reject it")
     fit.add_argument("--likelihood", choices=("mixture", "gaussian"), default=None,
                      help="each row's likelihood: mixture: the draws' average of the "
                           "measurement's density (default for a drop test); gaussian: a "

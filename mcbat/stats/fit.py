@@ -102,6 +102,12 @@ STARTS = 2
 SCAN_POINTS = 48
 """Values of mu (log-spaced over its search range, 10 % apart) at which the profile is
 scanned for the start of the local search."""
+FINE_SIMPLEX = 20.0
+"""A local search from a fine scan's point starts with a simplex this many times smaller
+than one from the coarse grid."""
+SHARE_BEYOND_WARNING = 0.05
+"""A fit warns when the fitted prior of a measured input puts this share or more of the
+true values beyond the study's range (or when the measured values reject that range)."""
 ONE_SIGMA = 0.5
 """Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
 LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
@@ -291,24 +297,27 @@ class Likelihood:
         Seed of the draws.
     fixed : dict, optional
         Parameters held at given values (``{"e_x": 0.0}``: the rigid model).
-    input_prior : {"widen", "study"}
-        What to do when the measured values of an input with an ``_err`` column reject the
-        study's range of that input (:func:`mcbat.stats.models.prior_range`): marginalise
-        over the widened range and report it, or refuse the table.
+    input_prior : {"cover", "widen", "study"}, optional
+        The range the true values of an input with an ``_err`` column are marginalised
+        over (:mod:`mcbat.stats.models`): ``"cover"`` the study's range widened to cover
+        the data, with a fitted step in the prior at the study's ends (the mixture
+        likelihood's default); ``"widen"`` the study's range, widened only when the
+        measured values reject it (the normal likelihood's default); ``"study"`` the
+        study's range, refusing a table whose measured values reject it.
     likelihood : {"mixture", "gaussian"}, optional
         The form of each row's likelihood (module docstring); default: the model's
         (``"mixture"`` for a drop test, ``"gaussian"`` for a game).
     """
 
     def __init__(self, study, table, free, draws=None, seed=0, fixed=None,
-                 input_prior="widen", likelihood=None):
+                 input_prior=None, likelihood=None):
         if likelihood is not None and likelihood not in LIKELIHOODS:
             raise InputError("likelihood", f"must be one of {', '.join(LIKELIHOODS)}, got "
                              f"{likelihood!r}")
         self.free = check_free(free)
         draws = None if draws is None else _check_count(draws, "draws", 4)
         seed = _check_count(seed, "seed", 0)
-        self.model = draw_model(study, table, draws, seed, fixed, input_prior)
+        self.model = draw_model(study, table, draws, seed, fixed, input_prior, likelihood)
         for name in self.free:
             if name not in self.model.PARAMETERS:
                 raise InputError("free", f"{name!r} is not a parameter of a "
@@ -337,7 +346,9 @@ class Likelihood:
         blocks = []
         if self.likelihood == "mixture":
             for name, (values, lo, hi) in self.model.prior_draws.items():
-                family = PriorFamily(lo, hi)
+                inner = (self.model.priors[name]["study_range"]
+                         if self.model.input_prior == "cover" else None)
+                family = PriorFamily(lo, hi, inner=inner)
                 self.prior_families[name] = family
                 blocks.append(family.basis_at(values))
         self._prior_basis = np.concatenate(blocks, axis=2) if blocks else None
@@ -433,13 +444,13 @@ class Likelihood:
                          - mean_basis.T @ mean_basis) + PRIOR_RIDGE * np.eye(size)
             at = 0
             for family in families:
-                block = slice(at, at + family.degree)
+                block = slice(at, at + family.size)
                 log_norm, mean_p, cov_p = family.log_norm(alpha[block], second=True)
                 value += rows * log_norm
                 grad[block] += rows * mean_p
                 if hessian:
                     hess[block, block] += rows * cov_p
-                at += family.degree
+                at += family.size
             return value, grad, hess
 
         def newton(alpha):
@@ -453,10 +464,10 @@ class Likelihood:
                 while damping <= 1e12:
                     try:
                         step = -np.linalg.solve(hess + damping * np.eye(size), grad)
-                        if grad @ step < 0 and cost(alpha + step)[0] <= value:
-                            break
-                    except np.linalg.LinAlgError:
-                        pass
+                    except np.linalg.LinAlgError:  # singular: more damping makes it regular
+                        step = None
+                    if step is not None and grad @ step < 0 and cost(alpha + step)[0] <= value:
+                        break
                     damping *= 10.0
                 if damping > 1e12:
                     break
@@ -626,7 +637,7 @@ def default_errors(column, values):
 
 
 def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, start=None,
-        fixed=None, intervals="profile", input_prior="widen", likelihood=None):
+        fixed=None, intervals="profile", input_prior=None, likelihood=None):
     """Maximum-likelihood fit of ``free`` parameters to ``table`` (see the module doc).
 
     Parameters
@@ -651,7 +662,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     intervals : {"profile", "curvature"}
         ``"profile"``: profile-likelihood intervals and limits (:attr:`FitResult.intervals`);
         ``"curvature"``: the Hessian errors only (faster).
-    input_prior : {"widen", "study"}
+    input_prior : {"cover", "widen", "study"}, optional
         See :class:`Likelihood`; the prior used is in :attr:`FitResult.priors`.
     likelihood : {"mixture", "gaussian"}, optional
         See :class:`Likelihood` (default: the model's).
@@ -687,6 +698,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
         like.check_envelope()
         like.envelope = None
         starts = list(grid[np.argsort(values)[:STARTS]])
+        fine = []
         if "mu" in like.free:
             # The valley below the plateau can be narrower than the grid's spacing in mu
             # and out of a local search's reach from the grid (it may drift up the
@@ -695,7 +707,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
             i = like.free.index("mu")
             line = np.repeat(starts[0][None, :], SCAN_POINTS, axis=0)
             line[:, i] = np.geomspace(*like.search["mu"], SCAN_POINTS)
-            starts.append(line[int(np.argmin([like(x) for x in line]))])
+            fine.append(line[int(np.argmin([like(x) for x in line]))])
         if "mu" in like.free and _flat(like, starts[0], "mu"):
             # Where every impact sticks the likelihood is flat in mu, and the best value can
             # lie in a valley narrower than the coarse grid's spacing just below that
@@ -703,16 +715,27 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
             # of -ln L below the plateau, between two grid points). A local search that
             # starts on the plateau drifts along it to the end of the range; a fine scan of
             # the profile in mu finds the valley.
-            starts.append(_profile_scan(like, starts[0], "mu"))
+            fine.append(_profile_scan(like, starts[0], "mu"))
     else:
-        starts = [np.asarray(start, float)]
+        starts, fine = [np.asarray(start, float)], []
         if not like(starts[0]) < _BAD:
             raise like.failure_error() if like.failure else InputError(
                 "start", f"outside the parameter ranges: {list(starts[0])}")
     scale = np.array([0.05 * (like.search[p][1] - like.search[p][0]) for p in like.free])
     # Local searches from the best grid points: the likelihood can have a second basin
     # (e.g. every drop stuck at large mu, with e_x = 0) that one start would settle in.
-    res = min((_minimize(like, x0, scale) for x0 in starts), key=lambda r: r.fun)
+    # A start from a fine scan sits in a valley that may be narrower than the coarse
+    # simplex (a few percent wide in mu): its search starts with a simplex of a twentieth
+    # of the size, which stays in the valley instead of stepping over it onto the plateau.
+    res = min([_minimize(like, x0, scale) for x0 in starts]
+              + [_minimize(like, x0, scale / FINE_SIMPLEX) for x0 in fine],
+              key=lambda r: r.fun)
+    if "mu" in like.free and start is None and _flat(like, res.x, "mu"):
+        # Ended on the plateau: the grid's best point can sit at an e far enough from the
+        # best one that the line in mu misses the valley; a scan of the profile from the
+        # end point re-optimises e at every mu.
+        scanned = _minimize(like, _profile_scan(like, res.x, "mu"), scale / FINE_SIMPLEX)
+        res = min(res, scanned, key=lambda r: r.fun)
     best, nll_min = res.x, float(res.fun)
     err, cov = _curvature_errors(like, best)
     summary = {}
@@ -731,13 +754,19 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
         err[like.free.index(name)] = math.inf
     r = like.residuals(best)
     chi2 = like.chi2(best)
+    priors = {name: dict(prior) for name, prior in like.model.priors.items()}
+    at = 0
+    for name, family in like.prior_families.items():  # coefficients at the best point
+        if family.step:
+            priors[name]["share_beyond_study_range"] = family.share_outside(
+                like.prior_coefficients[at:at + family.size])
+        at += family.size
     dof = int(r.size - len(best))
     result = FitResult(params=dict(zip(like.free, map(float, best))),
                        stderr=dict(zip(like.free, map(float, err))), chi2=chi2, dof=dof,
                        p_value=float(stats.chi2.sf(chi2, dof)) if dof > 0 else math.nan,
                        neg_log_likelihood=nll_min, residuals=r,
-                       unconstrained=unconstrained, intervals=summary,
-                       priors=dict(like.model.priors))
+                       unconstrained=unconstrained, intervals=summary, priors=priors)
     result.warnings = _warnings(like, result)
     if bootstrap:
         result.bootstrap_stderr = _bootstrap(like, best, bootstrap, seed)
@@ -806,12 +835,15 @@ def _warnings(like, result):
     """The sentences of :attr:`FitResult.warnings`."""
     out = []
     for name, prior in result.priors.items():
-        if prior["widened"]:
+        share = prior.get("share_beyond_study_range")
+        if prior.get("rejects_study_range") or (share or 0.0) >= SHARE_BEYOND_WARNING:
             (slo, shi), (lo, hi) = prior["study_range"], prior["range"]
+            fitted = ("" if share is None else f", and the fitted prior puts "
+                      f"{100 * share:.2g} % of them beyond the study's range")
             out.append(f"{name}: the measured values reach beyond the study's range "
                        f"{slo:.4g}..{shi:.4g} (p = {prior['p_value']:.2g} if every true "
                        f"value lay within it); their true values were marginalised over the "
-                       f"widened range {lo:.4g}..{hi:.4g}")
+                       f"widened range {lo:.4g}..{hi:.4g}{fitted}")
     for name, value in result.params.items():
         lo, hi = FREE[name]
         status = result.intervals.get(name, {}).get("status", "measured")
@@ -1131,7 +1163,7 @@ class ModelComparison:
 
 
 def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted=None,
-                   input_prior="widen", likelihood=None):
+                   input_prior=None, likelihood=None):
     """Fit the rigid model (``e_x = 0``) and the compliant one (``e_x`` free) and compare.
 
     Parameters

@@ -18,22 +18,34 @@ measured inputs, their errors) and solves them at any value of the free paramete
 
 Measured inputs with an ``_err`` column are drawn from their posterior given the
 measurement: the prior of the true values times a normal of that width about the measured
-value. Over a bounded range the prior is estimated from the measured values themselves
-(:func:`histogram_prior`: a smooth density fitted by deconvolution, empirical Bayes), so
-that a table whose true values pile up somewhere (at the ends of the range, say) is not
-fitted as if they were spread evenly; over an unbounded range it is flat. The draws are
-*stratified*: draw ``k`` of a row lies in the ``k``-th of ``M`` equal-probability slices of
-that posterior for the first such input (the slices of any further one are shuffled, as in
-a Latin hypercube). The order matters: :func:`mcbat.stats.fit.draw_moments` pairs
-neighbouring slices to measure the Monte Carlo error of the mean.
+value, over a bounded range. The draws come from the posterior under a flat prior over that
+range; the mixture likelihood of :mod:`mcbat.stats.fit` reweights them to a prior it
+estimates with the parameters (:class:`PriorFamily`), so that a table whose true values
+pile up somewhere (at the ends of the range, say) is not fitted as if they were spread
+evenly. The draws are *stratified*: draw ``k`` of a row lies in the ``k``-th of ``M``
+equal-probability slices of that posterior for the first such input (the slices of any
+further one are shuffled, as in a Latin hypercube). The order matters:
+:func:`mcbat.stats.fit.draw_moments` pairs neighbouring slices to measure the Monte Carlo
+error of the mean.
 
-The range of a measured input's prior is the study's range of that input, unless the
-measured values reject it (:func:`beyond_range_test`, :func:`prior_range`): then, with
-``input_prior = "widen"`` (the default), it is the range that best explains the measured
-values (the study's range widened, never narrowed, and never beyond the input's physical
-range), and the fit reports it; with ``input_prior = "study"`` the table is refused.
+The range a measured input's true values are marginalised over depends on
+``input_prior``:
+
+* ``"cover"`` (what the mixture likelihood uses by default): the study's range widened to
+  cover every measured value and :data:`COVER_SIGMA` of its errors (never beyond the
+  input's physical range). The estimated prior has a step at each end of the study's
+  range (:class:`PriorFamily`), fitted with the rest: a table whose true values stay
+  within the study's range fits the step far down (the study's range, in effect), one
+  whose true values reach beyond fits it up, and nothing is truncated.
+* ``"widen"`` (the normal likelihood's default): the study's range, unless the measured
+  values reject it (:func:`beyond_range_test`, :func:`prior_range`): then the range that
+  best explains them (the study's range widened, never narrowed, never beyond the
+  physical range).
+* ``"study"``: the study's range, and a table whose measured values reject it is refused.
+
 Truncating each row's true value to a range the data reach beyond would bias the fit
-without a word (rows measured 2-3 errors beyond the edge forced onto it).
+without a word (rows measured 2-3 errors beyond the edge forced onto it). Every fit
+reports the range it used (:attr:`_DrawModel.priors`).
 """
 
 from __future__ import annotations
@@ -54,10 +66,11 @@ from mcbat.core.swing import (
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 
-__all__ = ["BAT_FRAME_COLUMNS", "BatFrameModel", "DrawModel", "GAME_TABLE_COLUMNS",
-           "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA", "PRIOR_DEGREE",
-           "PriorFamily", "WIDEN_P_VALUE", "beyond_range_test", "draw_model", "prior_range",
-           "solve_game_inputs", "solve_study", "table_columns"]
+__all__ = ["BAT_FRAME_COLUMNS", "COVER_SIGMA", "BatFrameModel", "DrawModel",
+           "GAME_TABLE_COLUMNS", "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA",
+           "PRIOR_DEGREE", "PriorFamily", "WIDEN_P_VALUE", "beyond_range_test",
+           "covering_range", "draw_model", "prior_range", "solve_game_inputs", "solve_study",
+           "table_columns"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -66,8 +79,11 @@ this many of its errors outside the study's range."""
 GRAZING = 0.999
 """A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
 above 87.4 deg) is refused: the ball grazes the bat."""
-INPUT_PRIORS = ("widen", "study")
-"""What a fit does when the measured inputs reject the study's range (module docstring)."""
+INPUT_PRIORS = ("cover", "widen", "study")
+"""The ranges a measured input's true values are marginalised over (module docstring)."""
+COVER_SIGMA = 5.0
+"""With ``input_prior = "cover"`` the range reaches this many errors beyond every measured
+value (the posterior of a row's true value beyond it is below 3e-7 of the whole)."""
 WIDEN_P_VALUE = 0.01
 """The measured values of an input reject the study's range when :func:`beyond_range_test`
 gives a p-value below this: when every true value does lie within the study's range, that
@@ -128,13 +144,21 @@ def table_columns(game: bool) -> dict:
     return GAME_TABLE_COLUMNS if game else BAT_FRAME_COLUMNS
 
 
-def draw_model(study, table, draws, seed, fixed=None, input_prior="widen"):
+def draw_model(study, table, draws, seed, fixed=None, input_prior=None, likelihood=None):
     """The draw model of ``study`` (:class:`GameModel` or :class:`BatFrameModel`);
-    ``draws`` None: the model's :attr:`DEFAULT_DRAWS`."""
-    if input_prior not in INPUT_PRIORS:
+    ``draws`` None: the model's :attr:`DEFAULT_DRAWS`; ``input_prior`` None: ``"cover"``
+    for the mixture likelihood (``likelihood``, default the model's), which estimates the
+    prior, else ``"widen"``."""
+    if input_prior is not None and input_prior not in INPUT_PRIORS:
         raise InputError("input_prior", f"must be one of {', '.join(INPUT_PRIORS)}, got "
                          f"{input_prior!r}")
     kind = getattr(study, "kind", None)
+    form = likelihood or (GameModel if kind == "game" else BatFrameModel).LIKELIHOOD
+    if input_prior is None:
+        input_prior = "cover" if form == "mixture" else "widen"
+    elif input_prior == "cover" and form != "mixture":
+        raise InputError("input_prior", "'cover' needs the mixture likelihood (the normal "
+                         "one cannot estimate the prior's step at the study's range)")
     if kind == "flight":
         from mcbat.stats.flight_model import FlightModel  # it builds on this module
 
@@ -265,6 +289,17 @@ def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
     return (float(res.x[0]), float(res.x[1])), p_value
 
 
+def covering_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
+    """The study's range widened to cover every measured value and :data:`COVER_SIGMA` of
+    its errors, within ``physical`` (SI, as :func:`prior_range`)."""
+    lo, hi = study_range
+    if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
+        return lo, hi
+    lo = max(physical[0], min(lo, float(np.min(value - COVER_SIGMA * sigma))))
+    hi = min(physical[1], max(hi, float(np.max(value + COVER_SIGMA * sigma))))
+    return lo, hi
+
+
 PRIOR_DEGREE = 4
 """Degree of the polynomial in the log-density of a measured input's prior
 (:class:`PriorFamily`)."""
@@ -276,25 +311,45 @@ when the data cannot fix one (true values piled at one end) and is negligible ot
 class PriorFamily:
     """Densities of a measured input's true values over ``[lo, hi]`` whose logarithm is a
     polynomial of degree :data:`PRIOR_DEGREE` (Legendre polynomials of the position in the
-    range): ``g(b) = exp(sum_j alpha_j P_j(t(b))) / N(alpha)``; ``alpha = 0`` is flat
-    (Efron's g-modelling, Biometrika 103, 1 (2016)).
+    range), plus, when the study's range ``inner`` lies within ``[lo, hi]``, a step beyond
+    it: ``g(b) = exp(sum_j alpha_j P_j(t(b)) + alpha_s [b outside inner]) / N(alpha)``;
+    ``alpha = 0`` is flat (Efron's g-modelling, Biometrika 103, 1 (2016)).
 
     A fit estimates ``alpha`` with the other parameters: a flat prior misplaces the true
     values of a table whose values pile up somewhere (at the ends of the range, say) and
     biases the fit, and a prior fixed beforehand from the measured inputs alone would
-    leave its own uncertainty out of the intervals.
+    leave its own uncertainty out of the intervals. The step lets the data say how many
+    true values lie beyond the study's range, from none (``alpha_s`` far below 0, kept
+    finite by :data:`PRIOR_RIDGE`: a share of about 1e-3 beyond) to as many as within.
     """
 
-    def __init__(self, lo, hi, degree=PRIOR_DEGREE):
+    def __init__(self, lo, hi, degree=PRIOR_DEGREE, inner=None):
         self.lo, self.hi, self.degree = lo, hi, degree
-        nodes, weights = np.polynomial.legendre.leggauss(64)
-        self._basis_nodes = self.basis_at(lo + (hi - lo) * (nodes + 1) / 2)
-        self._node_weights = weights * (hi - lo) / 2
+        inner_lo, inner_hi = inner if inner is not None else (lo, hi)
+        self.inner = (max(lo, inner_lo), min(hi, inner_hi))
+        self.step = self.inner[0] > lo or self.inner[1] < hi
+        self.size = degree + int(self.step)
+        """Number of coefficients (the polynomial's, and the step's when there is one)."""
+        # Gauss-Legendre on each piece: the step makes the density jump at the study's ends.
+        cuts = sorted({lo, *self.inner, hi})
+        nodes, weights = [], []
+        for a, b in zip(cuts[:-1], cuts[1:]):
+            x, w = np.polynomial.legendre.leggauss(64)
+            nodes.append(a + (b - a) * (x + 1) / 2)
+            weights.append(w * (b - a) / 2)
+        nodes = np.concatenate(nodes)
+        self._basis_nodes = self.basis_at(nodes)
+        self._node_weights = np.concatenate(weights)
+        self._outside_nodes = (nodes < self.inner[0]) | (nodes > self.inner[1])
 
     def basis_at(self, b):
-        """``P_1..P_degree`` at ``b`` (any shape): an array of shape ``b.shape + (degree,)``."""
+        """The basis functions at ``b`` (any shape): an array of shape ``b.shape + (size,)``."""
         t = 2 * (np.clip(b, self.lo, self.hi) - self.lo) / (self.hi - self.lo) - 1
-        return np.polynomial.legendre.legvander(t, self.degree)[..., 1:]
+        poly = np.polynomial.legendre.legvander(t, self.degree)[..., 1:]
+        if not self.step:
+            return poly
+        outside = ((b < self.inner[0]) | (b > self.inner[1])).astype(float)
+        return np.concatenate([poly, outside[..., None]], axis=-1)
 
     def log_norm(self, alpha, second=False):
         """``ln N(alpha)``, its gradient ``E_g[P_j]`` and, if ``second``, its Hessian
@@ -312,6 +367,14 @@ class PriorFamily:
     def density(self, b, alpha):
         """``g(b)`` (1 / the input's unit)."""
         return np.exp(self.basis_at(b) @ alpha - self.log_norm(alpha)[0])
+
+    def share_outside(self, alpha):
+        """The prior's probability beyond the study's range (0 without a step)."""
+        if not self.step:
+            return 0.0
+        log_g = self._basis_nodes @ alpha
+        w = self._node_weights * np.exp(log_g - log_g.max())
+        return float(w[self._outside_nodes].sum() / w.sum())
 
 
 def rows_text(mask, values=None, limit=5):
@@ -341,15 +404,17 @@ class _DrawModel:
     """Search ranges of the fit's coarse grid that differ from the default
     (:data:`mcbat.stats.fit.SEARCH`)."""
 
-    def __init__(self, study, table, draws, seed, fixed, input_prior="widen"):
+    def __init__(self, study, table, draws, seed, fixed, input_prior="cover"):
         self.source = table.attrs.get("source")
         self.study = study
         self.rows = len(table)
         self.draws = draws
         self.input_prior = input_prior
         self.priors = {}
-        """Measured input -> the flat prior its draws use: ``study_range`` and ``range``
-        (table units), ``widened`` and the ``p_value`` of :func:`prior_range`."""
+        """Measured input -> the range its draws cover: ``study_range`` and ``range``
+        (table units), ``widened`` (the two differ), and whether the measured values reject
+        the study's range (``rejects_study_range``, with the ``p_value`` of
+        :func:`beyond_range_test`)."""
         self.prior_draws = {}
         """Measured input over a bounded range -> ``(draws (rows x M), lo, hi)`` in table
         units: its draws, taken from the posterior under a flat prior over ``[lo, hi]``,
@@ -414,8 +479,8 @@ class _DrawModel:
         recorded in :attr:`priors`; :class:`InputError` when the data reject the study's
         range and ``input_prior`` is ``"study"``."""
         (lo, hi), p_value = prior_range(value, sigma, support, physical)
-        widened = p_value < WIDEN_P_VALUE
-        if widened and self.input_prior == "study":
+        rejected = p_value < WIDEN_P_VALUE
+        if rejected and self.input_prior == "study":
             beyond = (value < support[0] - 2 * sigma) | (value > support[1] + 2 * sigma)
             rows = (f"{rows_text(beyond, value / scale)} lie more than 2 of their errors "
                     if beyond.any() else "the measured values lie ")
@@ -423,12 +488,15 @@ class _DrawModel:
                              f"{support[1] / scale:g}, which the data reject (p = "
                              f"{p_value:.2g} < {WIDEN_P_VALUE:g} if every true value lay "
                              f"within it): widen {key or name} in the study, or let the fit "
-                             f"widen it (--input-prior widen)", self.source)
-        if not widened:
+                             f"marginalise beyond it (--input-prior cover)", self.source)
+        if self.input_prior == "cover":
+            lo, hi = covering_range(value, sigma, support, physical)
+        elif not rejected:
             lo, hi = support
         self.priors[name] = {"study_range": [support[0] / scale, support[1] / scale],
-                             "range": [lo / scale, hi / scale], "widened": bool(widened),
-                             "p_value": p_value}
+                             "range": [lo / scale, hi / scale],
+                             "widened": bool(lo < support[0] or hi > support[1]),
+                             "rejects_study_range": bool(rejected), "p_value": p_value}
         return lo, hi
 
     def support(self, key):
@@ -472,7 +540,7 @@ class BatFrameModel(_DrawModel):
                                          "the bat at the contact: an impact parameter at the "
                                          "reach of ball and bat?)")}
 
-    def __init__(self, study, table, draws, seed, fixed=None, input_prior="widen"):
+    def __init__(self, study, table, draws, seed, fixed=None, input_prior="cover"):
         super().__init__(study, table, draws, seed, fixed, input_prior)
         source, rows = self.source, self.rows
         if "contact.impact_parameter" not in study.inputs:
@@ -575,7 +643,7 @@ class GameModel(_DrawModel):
                                          "bat: an undercut beyond the reach of ball and "
                                          "barrel?)")}
 
-    def __init__(self, study, table, draws, seed, fixed=None, input_prior="widen"):
+    def __init__(self, study, table, draws, seed, fixed=None, input_prior="cover"):
         super().__init__(study, table, draws, seed, fixed, input_prior)
         inputs = study.sample_inputs(0, self.rows * draws, seed)
         cols = {name: inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}

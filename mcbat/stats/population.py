@@ -730,11 +730,9 @@ def _parameters(mn, keys, params, physics, study_values, phys0, warnings):
             # (one side of an interval is reported when MINOS found only that one)
             lower = float(-me.lower) if me.lower_valid else None
             upper = float(me.upper) if me.upper_valid else None
-        if me is not None and me.is_valid:
-            pass
-        elif me is None:
+        if me is None:
             warnings.append(f"{name}: no MINOS interval")
-        else:
+        elif not me.is_valid:
             why = [k for k in ("lower_new_min", "upper_new_min", "at_lower_max_fcn",
                                "at_upper_max_fcn", "at_lower_limit", "at_upper_limit")
                    if getattr(me, k)]

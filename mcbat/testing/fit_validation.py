@@ -59,7 +59,8 @@ def make_table(setting, k, solver="kernel"):
 
 def fit_table(setting, k, study, solver="kernel"):
     """Fit table ``k`` of ``setting`` with ``study``; a JSON-ready record: the truth, and
-    the fit's parameters, chi2, warnings and widened priors, or the refusal's message."""
+    the fit's parameters, chi2, warnings, the inputs whose measured values reject the
+    study's range and the fitted prior's share beyond it, or the refusal's message."""
     from mcbat.errors import InputError
     from mcbat.stats.fit import fit
 
@@ -75,7 +76,11 @@ def fit_table(setting, k, study, solver="kernel"):
     out = r.to_dict()
     rec.update(seconds=time.perf_counter() - t0, chi2=r.chi2, dof=r.dof,
                params=out["params"], warnings=out["warnings"],
-               widened=[k for k, v in out["input_priors"].items() if v["widened"]])
+               rejected=[k for k, v in out["input_priors"].items()
+                         if v.get("rejects_study_range")],
+               share_beyond={k: v["share_beyond_study_range"]
+                             for k, v in out["input_priors"].items()
+                             if "share_beyond_study_range" in v})
     return rec
 
 
@@ -97,7 +102,8 @@ def limit_holds(entry, truth):
 
 
 def summarize(records):
-    """Per setting and parameter: tables, refusals, widened priors, two-sided 68 % coverage
+    """Per setting and parameter: tables, refusals, tables whose measured inputs reject the
+    study's range, the median fitted share of the prior beyond it, two-sided 68 % coverage
     (a table without an interval counts as not covered) and its binomial error, mean pull
     and its error, the pulls' spread, one-sided limits and how often they hold the truth,
     zero-width intervals, and the median seconds a fit took."""
@@ -115,7 +121,10 @@ def summarize(records):
             rows.append({
                 "setting": setting, "param": p, "tables": len(these),
                 "refused": len(these) - len(fitted),
-                "widened": sum(bool(r.get("widened")) for r in fitted),
+                "rejected": sum(bool(r.get("rejected")) for r in fitted),
+                "share_beyond": float(np.median([sum(r["share_beyond"].values())
+                                                 for r in fitted]))
+                if fitted and all("share_beyond" in r for r in fitted) else None,
                 "coverage": float((np.abs(pv) <= 1).sum() / n),
                 "coverage_se": math.sqrt(0.68 * 0.32 / n),
                 "mean_pull": float(pv.mean()) if len(pv) else None,
@@ -137,7 +146,8 @@ def _fmt(value, spec):
 def summary_line(row):
     """One printed line of a :func:`summarize` row."""
     return (f"{row['setting']:7s} {row['param']:3s} tables {row['tables']:4d} refused "
-            f"{row['refused']:3d} widened {row['widened']:3d}  coverage "
+            f"{row['refused']:3d} rejecting the range {row['rejected']:3d} (median share "
+            f"beyond {_fmt(row['share_beyond'], '.3f')})  coverage "
             f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f})  mean pull "
             f"{_fmt(row['mean_pull'], '+.3f')} (+-{_fmt(row['mean_pull_se'], '.3f')})  pull sd "
             f"{_fmt(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "

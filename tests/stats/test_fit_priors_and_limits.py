@@ -136,7 +136,24 @@ def test_inputs_beyond_the_studys_range_widen_the_prior_and_say_so(wide_table, c
     assert prior["widened"] and prior["range"][0] < -0.03 and prior["range"][1] > 0.03
     assert prior["study_range"] == pytest.approx([-0.0254, 0.0254])
     assert any("beyond the study's range" in w for w in r.warnings)
+    # True values uniform in +-4 cm: 36.5 % of them beyond +-2.54 cm.
+    assert 0.2 < prior["share_beyond_study_range"] < 0.55
     assert abs(r.params["mu"] - 0.18) < 4 * r.stderr["mu"]
+
+
+def test_tables_the_range_test_lets_through_are_not_truncated():
+    # A +-4 cm table whose measured values do not reject the study's range (p = 0.035,
+    # above 0.01): with the study's range as the prior, mu came out 13 errors low. The
+    # covering range and the fitted step put a fair share beyond, and mu holds the truth.
+    table = drop_table(60, 1036, impact_parameter=(-0.04, 0.04), solver=kernel_solver)
+    assert beyond_range_test(table["impact_parameter"].to_numpy(),
+                             table["impact_parameter_err"].to_numpy(),
+                             (-0.0254, 0.0254))[1] > WIDEN_P_VALUE
+    r = fit(DROP, table, ("e", "mu"), seed=36, intervals="curvature")
+    prior = r.priors["impact_parameter"]
+    assert not prior["rejects_study_range"] and prior["share_beyond_study_range"] > 0.1
+    assert any("beyond the study's range" in w for w in r.warnings)
+    assert abs(r.params["mu"] - 0.18) < 3 * r.stderr["mu"]
 
 
 def test_inputs_beyond_the_studys_range_are_refused_when_asked(wide_table):
@@ -146,7 +163,7 @@ def test_inputs_beyond_the_studys_range_are_refused_when_asked(wide_table):
     text = str(err.value)
     assert err.value.field == "impact_parameter"
     assert "rows" in text and "-0.0254..0.0254" in text
-    assert "contact.impact_parameter" in text and "--input-prior widen" in text
+    assert "contact.impact_parameter" in text and "--input-prior cover" in text
 
 
 def test_the_cli_refuses_with_one_line_and_exit_2(tmp_path, wide_table):
@@ -223,10 +240,33 @@ def test_the_prior_family_is_a_normalised_density_with_its_gradient():
         assert grad[j] == pytest.approx(numeric, rel=1e-6, abs=1e-9)
 
 
-def _mass_near_the_ends(family, alpha, width=0.007):
-    grid = np.linspace(family.lo, family.hi, 100_001)
+def test_a_prior_with_a_step_at_the_studys_range_is_normalised_with_its_gradient():
+    family = PriorFamily(-0.04, 0.035, inner=(-0.0254, 0.0254))
+    assert family.step and family.size == 5
+    alpha = np.array([0.3, 1.5, -0.4, 0.8, -1.2])
+    grid = np.linspace(-0.04, 0.035, 1_500_001)
     density = family.density(grid, alpha)
-    near = (grid < family.lo + width) | (grid > family.hi - width)
+    assert np.trapezoid(density, grid) == pytest.approx(1.0, rel=1e-5)
+    outside = (grid < -0.0254) | (grid > 0.0254)
+    assert family.share_outside(alpha) == pytest.approx(
+        np.trapezoid(np.where(outside, density, 0.0), grid), rel=1e-4)
+    # Jumps by exp(alpha_s) at each end of the study's range.
+    inner, outer = family.density(np.array([0.0254, np.nextafter(0.0254, 1.0)]), alpha)
+    assert outer / inner == pytest.approx(math.exp(-1.2), rel=1e-9)
+    _, grad = family.log_norm(alpha)
+    for j in range(5):
+        step = np.eye(5)[j] * 1e-6
+        numeric = (family.log_norm(alpha + step)[0] - family.log_norm(alpha - step)[0]) / 2e-6
+        assert grad[j] == pytest.approx(numeric, rel=1e-6, abs=1e-9)
+    assert not PriorFamily(-0.0254, 0.0254, inner=(-0.0254, 0.0254)).step
+
+
+def _mass_near_the_ends(family, alpha, width=0.007):
+    """The prior's mass within ``width`` inside each end of the study's range."""
+    grid = np.linspace(family.lo, family.hi, 200_001)
+    density = family.density(grid, alpha)
+    lo, hi = family.inner
+    near = ((grid >= lo) & (grid < lo + width)) | ((grid <= hi) & (grid > hi - width))
     return float(np.trapezoid(np.where(near, density, 0.0), grid))
 
 
