@@ -1,4 +1,4 @@
-"""Issue 13's accuracy measurement: the kernel against the reference on a hard random mix.
+"""Accuracy of the impact kernel against the scipy reference on a hard random mix.
 
 Run:  .venv/bin/python benchmarks/accuracy_mix.py [--n 520] [--seed S] [--cache FILE]
           [--tolerances 5e-7,5e-8,5e-9,5e-10,5e-11] [--default-only] [--json FILE]
@@ -13,7 +13,7 @@ tolerance of --tolerances (the default tolerance is always included).
 
 Printed:
   1. per mode and overall, the largest error of each column at the default tolerance, the
-     issue's target and pass/fail (columns: mcbat.testing.accuracy_mix, module docstring;
+     target and pass/fail (columns: mcbat.testing.accuracy_mix, module docstring;
      velocity relative to |v_ball_out - v_ball_in|, I_s relative, works and C relative to
      E_in), with the number of cases over the target and the worst cases;
   2. monotone convergence: per column, the (case, tolerance pair) violations, i.e.
@@ -370,7 +370,7 @@ def main():
     print(f"\n1. max error at the default tolerance {DEFAULT_TOLERANCE:.0e} "
           f"(velocity / |dv_ball|, I_s relative, W_n, W_fr, C / E_in)")
     print(text)
-    print(f"issue 13 accuracy targets: {'met' if all(passed.values()) else 'NOT met'}")
+    print(f"accuracy targets: {'met' if all(passed.values()) else 'NOT met'}")
 
     monotone = None
     if len(tolerances) > 1:

@@ -12,8 +12,8 @@ Metrics (medians of several runs; targets in brackets):
   * cold (empty numba cache) and warm start of `mcbat impact`, wall time    [warm <= 1.5 s]
   * peak memory of a 10,000,000-row scan                                   [<= 2 GB]
 
-``--quick`` runs smaller sizes (for a smoke test); the figures in the README come from
-the full run.
+``--quick`` runs smaller sizes (for a smoke test); the figures in
+docs/accuracy-and-speed.md come from the full run.
 """
 
 from __future__ import annotations

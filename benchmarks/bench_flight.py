@@ -1,5 +1,5 @@
 """Speed of the flight: the batch kernel alone, and a game study with flight through
-`mcbat run` (issue 15).
+`mcbat run`.
 
 Run:  .venv/bin/python benchmarks/bench_flight.py [--n N] [--repeats K] [--runs R]
                                                    [--run-samples S]

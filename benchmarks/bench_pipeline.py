@@ -1,4 +1,4 @@
-"""Issue 18's figures: `mcbat run` against the kernel alone, in one session.
+"""`mcbat run` against the kernel alone, measured in one process run after run.
 
 Run:  .venv/bin/python benchmarks/bench_pipeline.py [--samples 2000000] [--repeats 5]
                                                    [--modes all,12,summary]

@@ -14,8 +14,8 @@ table without stated errors: the fit's default errors apply (a measured input ke
 synthesize's (one sigma per table). The errors the fit is given, on the same table and the
 same draws (paired):
 
-  row     the defaults before the sixth session (2026-11-23): max(relative |y_i|, floor),
-          row by row from each row's measured value
+  row     the row-by-row alternative: max(relative |y_i|, floor) from each row's measured
+          value
   mean    the defaults now, mcbat.stats.fit.default_errors: max(relative x mean |y|, floor),
           one per column
   stated  for reference, the table's own _err columns (synthesize's sigmas) kept
@@ -56,7 +56,7 @@ RULES = ("stated", "row", "mean")
 
 
 def row_rule(column, values):
-    """The default errors before the sixth session: ``max(relative |y_i|, floor)`` per row."""
+    """The row-by-row alternative to the default errors: ``max(relative |y_i|, floor)`` per row."""
     from mcbat.stats.measurements import DEFAULT_ERRORS
 
     relative, floor = DEFAULT_ERRORS[column]

@@ -1,4 +1,4 @@
-"""Sensitivities of the carry with the default flight model (docs/flight.md, issue 15).
+"""Sensitivities of the carry with the default flight model (docs/flight.md).
 
 Run:  .venv/bin/python benchmarks/flight_sensitivities.py
 

@@ -1,12 +1,13 @@
-"""Kernel throughput against the baseline kernel of commit 39f1cf7, interleaved.
+"""Kernel throughput against the kernel of another commit (--baseline), interleaved.
 
 Run:  .venv/bin/python benchmarks/kernel_vs_baseline.py [--n 400000] [--rounds 5]
       [--baseline COMMIT]
 
 The machine is shared, so absolute impacts/s drift with the load. This script samples the
 ``studies/throughput.toml`` mix once, then times ``solve_batch`` of this tree and of the
-baseline tree (``git archive 39f1cf7 mcbat`` unpacked into a temporary folder) in
-alternating subprocesses at 2 threads, and reports each round's rates and their ratio.
+baseline tree (``git archive COMMIT mcbat``, default 39f1cf7, unpacked into a temporary
+folder) in alternating subprocesses at 2 threads, and reports each round's rates and their
+ratio.
 """
 
 import argparse

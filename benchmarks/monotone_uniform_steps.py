@@ -1,4 +1,4 @@
-"""Why issue 13's "monotone convergence in every case" is not a property of a step rule.
+"""Why "monotone convergence in every case" is not a property of a step rule.
 
 Run:  .venv/bin/python benchmarks/monotone_uniform_steps.py [--n 520] [--seed S]
           [--cache FILE] [--factors 0.5,0.3,0.15,0.07] [--jobs 2]

@@ -252,7 +252,7 @@ class ImpactCase:
 
     @classmethod
     def from_dict(cls, data) -> ImpactCase:
-        """Build a case from the JSON contract of ``mcbat impact`` (see the README)."""
+        """Build a case from the JSON contract of ``mcbat impact`` (docs/impact.md)."""
         return _case_from_dict(data)
 
 

@@ -1,4 +1,4 @@
-"""Issue 17, items 6-9: every bad input exits 2 with one line naming the key or option,
+"""Every bad input exits 2 with one line naming the key or option,
 without a traceback and without leaving a directory that blocks the corrected rerun."""
 
 import json

@@ -1,4 +1,4 @@
-"""The game layer: pitch + swing + contact in the field frame (issue 14 acceptance)."""
+"""The game layer: pitch + swing + contact in the field frame, end to end."""
 
 import dataclasses
 import json

@@ -92,7 +92,7 @@ def test_mix_is_deterministic_and_cycles_every_mode(mix):
             "free", "small", "zero", "reslip", "creep"}
 
 
-def test_mix_covers_the_issue_ranges(mix):
+def test_mix_covers_the_specified_ranges(mix):
     light = [c["bat_mass"] for c in mix if c["mode"] == "light_bat"]
     heavy = [c["bat_mass"] for c in mix if c["mode"] == "heavy_bat"]
     assert 0.005 <= min(light) < 0.01 and 0.2 < max(light) <= 0.3
@@ -217,7 +217,7 @@ def test_monotone_violations_compare_against_the_floor():
 
 # (c) The kernel on the subset.
 
-def test_kernel_meets_the_issue13_targets_on_the_subset(subset):
+def test_kernel_meets_the_accuracy_targets_on_the_subset(subset):
     cases, refs = subset
     assert all(r["status"] == "ok" for r in refs)
     errors = kernel_errors(cases, refs, DEFAULT_TOLERANCE)
@@ -283,8 +283,8 @@ NEAR_MISS_CASE = {
 
 def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
     """Both solvers define a minimum of the slip speed below ``SLIP_RESOLUTION |v0|`` as a
-    stop (then stick or re-slip). The kernel used to pass through this one (it reported no
-    ``I_s``, the reference one) after 916 steps spent following the direction's turn."""
+    stop (then stick or re-slip). Passing through this one instead means hundreds of steps
+    spent following the direction's turn, and no ``I_s`` where the reference reports one."""
     from mcbat.core.cabo2012.contact import SLIP_RESOLUTION
     from mcbat.testing.cabo2012_reference import SLIP_STOP_FRACTION
 

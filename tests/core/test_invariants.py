@@ -91,8 +91,8 @@ def test_work_bookkeeping_closes_and_converges(case):
     """E_out = E_in + W_n + W_fr, to the works' integration error.
 
     W_n and W_fr are integrated along the slip path (each on its own) while E_out is exact
-    for the final impulse, so the gap measures the works' integration error: within issue
-    13's 1e-8 E_in at the default tolerance, and smaller at a tolerance of 1e-12 (the
+    for the final impulse, so the gap measures the works' integration error: within the
+    target of 1e-8 E_in at the default tolerance, and smaller at a tolerance of 1e-12 (the
     bookkeeping converges).
     """
     gaps = []

@@ -52,7 +52,7 @@ _REFERENCES = {}
 
 
 def local_reference(tmp_path_factory, study_path, samples, seed, chunk_size):
-    """The local engine's dataset for these arguments (computed once per session)."""
+    """The local engine's dataset for these arguments (computed once per test run)."""
     key = (study_path, samples, seed, chunk_size)
     if key not in _REFERENCES:
         out = tmp_path_factory.mktemp("local") / "ds"

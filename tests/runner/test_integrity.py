@@ -1,4 +1,4 @@
-"""The manifest knows the chunks (issue 17, items 3-5): records, checks, resume, load."""
+"""The manifest knows the chunks: records, checks, resume, load."""
 
 import shutil
 import subprocess

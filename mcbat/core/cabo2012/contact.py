@@ -54,19 +54,19 @@ STICK_TOLERANCE = 1e-13
 # resolved: slip that starts below it, or whose speed passes a minimum below it, has
 # stopped there (stick, or re-slip in the re-slip direction). A near miss that close is the
 # same impact as a stop and re-slip to ~1e-11 in every velocity, but passing through it
-# means following a direction that turns at the rate mu K_tt / |v_t|: one case of 1560
-# took 916 steps to do so, and reported no I_s where the reference solver, which uses the
-# same definition (mcbat.testing.cabo2012_reference.SLIP_STOP_FRACTION), reports one.
+# means following a direction that turns at the rate mu K_tt / |v_t|, for hundreds of
+# steps, and reporting no I_s where the reference solver, which uses the same definition
+# (mcbat.testing.cabo2012_reference.SLIP_STOP_FRACTION), reports one.
 SLIP_RESOLUTION = 1e-10
 # Land on v_t = 0 by linear extrapolation once the error of doing so (the impulse left,
 # times the relative change of d|v_t|/dI over the turn the direction has left) is below
 # this fraction of the impulse tolerance. Small, because that estimate is the landing's
 # actual error, while a step's embedded estimate bounds the third-order solution and the
-# kept fourth-order one errs far less: at 0.3 the landing dominated I_s in creeping slip,
-# and since it happens at the first step below the threshold its error jumped up and down
-# as the tolerance changed (I_s converged non-monotonically in 5 of the 520 cases of the
-# accuracy mix). Going to 0.003 cost 0.8 steps per impact on that mix (0.3 on a batting
-# study's).
+# kept fourth-order one errs far less: with a fraction near 1 (0.3, say) the landing
+# dominates I_s in creeping slip, and since it happens at the first step below the
+# threshold its error jumps up and down as the tolerance changes (I_s converges
+# non-monotonically in 5 of the 520 cases of benchmarks/accuracy_mix.py). 0.003 costs 0.8
+# steps per impact on that mix against 0.3 (0.3 steps on a batting study's).
 LANDING_FRACTION = 0.003
 # Largest step in tau times the spectral radius of the Jacobian of the Lawson equation: RK4
 # is stable to ~2.8 on the real and imaginary axes. Once the direction has settled the
