@@ -67,8 +67,8 @@ def grid_points(values):
 
 
 def centre(spec):
-    """The centre of a study value: a truncated normal's mean, a uniform's midpoint, a
-    fixed value unchanged (a scan without scatter puts every input there)."""
+    """The centre of a study value: a (truncated) normal's ``mean`` parameter, a uniform's
+    midpoint, a fixed value unchanged (a scan without scatter puts every input there)."""
     if not isinstance(spec, dict) or "dist" not in spec:
         return spec
     unit = {"unit": spec["unit"]} if "unit" in spec else {}
