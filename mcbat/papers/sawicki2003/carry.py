@@ -21,15 +21,16 @@ FLIGHT_SETTINGS = {**SETTINGS.config(), "ball_mass_kg": BALL.mass,
 _FT = 0.3048
 
 
-def fly(v, w):
+def fly(v, w, settings=SETTINGS):
     """Carry balls launched with field-frame velocity ``v`` (m/s) and spin ``w`` (rad/s),
-    ``float64[3, n]``; returns ``hit_distance``, ``landing_x``, ``landing_y``, ``apex``
-    (ft) and ``hang_time`` (s), NaN where a flight failed."""
+    ``float64[3, n]``, with ``settings`` (a :class:`~mcbat.study.flight.FlightSettings`;
+    default: the reproduction's); returns ``hit_distance``, ``landing_x``, ``landing_y``,
+    ``apex`` (ft) and ``hang_time`` (s), NaN where a flight failed."""
     v = np.ascontiguousarray(v, np.float64)
     w = np.ascontiguousarray(w, np.float64)
-    start = np.repeat(np.asarray(SETTINGS.start, np.float64)[:, None], v.shape[1], axis=1)
+    start = np.repeat(np.asarray(settings.start, np.float64)[:, None], v.shape[1], axis=1)
     out, status = allocate_flight_outputs(v.shape[1])
-    fly_batch(pack_params(SETTINGS.params(BALL.mass, BALL.radius)), start, v, w, out,
+    fly_batch(pack_params(settings.params(BALL.mass, BALL.radius)), start, v, w, out,
               status)
     row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
     bad = status != 0

@@ -8,6 +8,7 @@ results directory::
 
     results/sawicki2003/summary.json     per pitch and model: the optimum and its numbers
     results/sawicki2003/table.txt        the printed table
+    results/sawicki2003/table.md         the same as Markdown (docs/sawicki2003.md's)
     results/sawicki2003/figures/*.png    distance vs undercut; spray chart; distance vs
                                          launch angle coloured by launch speed
 
@@ -26,10 +27,11 @@ import numpy as np
 from mcbat.papers.outputs import ResultsDirectory
 from mcbat.papers.sawicki2003 import figures
 from mcbat.papers.sawicki2003.carry import FLIGHT_SETTINGS, fly
-from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan
+from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan, scan_study
 from mcbat.runner.plan import positive_int, set_threads
 
-__all__ = ["cell_means", "optimum", "reproduce", "verdict"]
+__all__ = ["cell_means", "format_markdown", "format_table", "markdown_row", "optimum",
+           "optimum_cell", "reproduce", "verdict", "verdict_lines"]
 
 _REPORTED = ("launch_speed", "launch_angle", "backspin", "sidespin")
 
@@ -67,6 +69,20 @@ def optimum(means: dict) -> dict:
     return {name: float(values[best]) for name, values in means.items()}
 
 
+def optimum_cell(pitch: str, model: str, attack_angle: float, undercut: float,
+                 per_cell: int = PER_CELL) -> dict:
+    """The numbers of one cell of the scan (as :func:`optimum` gives them for the best
+    cell), solving only that cell's samples: the same draws, hence the same numbers, as
+    in the whole scan."""
+    study = scan_study(pitch, model, per_cell)
+    scan = run_scan(pitch, model, fly, per_cell, study=study,
+                    cell=(attack_angle, undercut))
+    means = cell_means(scan)
+    if means["count"].shape != (1,):
+        raise ValueError("the cell's samples span more than one cell")
+    return optimum(means)
+
+
 def verdict(results: dict) -> dict:
     """Curveball minus fastball, at each one's optimum, per model (ft, with the standard
     error of the difference of two cell means)."""
@@ -96,13 +112,39 @@ def format_table(results: dict, comparison: dict) -> str:
                 f"{r['launch_speed']:9.1f} {r['launch_angle']:6.1f} {r['backspin']:9.0f} "
                 f"{r['distance']:8.1f} ± {r['distance_se']:3.1f}")
     lines.append("")
+    lines += verdict_lines(comparison)
+    return "\n".join(lines)
+
+
+def verdict_lines(comparison: dict) -> list:
+    """One line per model: how much farther or shorter the optimal curveball carries."""
+    lines = []
     for model, v in comparison.items():
         sign = "farther" if v["curveball_farther"] else "shorter"
         lines.append(f"{model}: the optimally hit curveball carries "
                      f"{abs(v['curveball_minus_fastball_ft']):.1f} ± "
                      f"{v['standard_error_ft']:.1f} ft {sign} than the fastball"
                      + ("" if v["significant_2sigma"] else " (within 2 standard errors)"))
+    return lines
+
+
+def format_markdown(results: dict, comparison: dict) -> str:
+    """The table and the verdict as Markdown (the block of ``docs/sawicki2003.md``)."""
+    lines = ["| pitch | model | undercut (in) | attack (°) | launch speed (mph) | "
+             "launch angle (°) | backspin (rpm) | carry (ft, mean ± se) |",
+             "|---|---|---|---|---|---|---|---|"]
+    lines += [markdown_row(pitch, model, results[pitch][model])
+              for pitch in PITCHES for model in MODELS]
+    lines.append("")
+    lines += [f"- {line}" for line in verdict_lines(comparison)]
     return "\n".join(lines)
+
+
+def markdown_row(pitch: str, model: str, r: dict) -> str:
+    """One row of :func:`format_markdown`'s table: ``r`` as :func:`optimum` gives it."""
+    return (f"| {pitch} | {model} | {r['undercut']:.2f} | {r['attack_angle']:.0f} | "
+            f"{r['launch_speed']:.1f} | {r['launch_angle']:.1f} | {r['backspin']:.0f} | "
+            f"{r['distance']:.1f} ± {r['distance_se']:.1f} |")
 
 
 def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print,
@@ -115,7 +157,8 @@ def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print,
     set_threads(threads)
     per_cell = positive_int(per_cell, "per_cell")
     results = ResultsDirectory(Path(out) / "sawicki2003", "sawicki2003",
-                               ("figures", "summary.json", "table.txt"), overwrite=overwrite)
+                               ("figures", "summary.json", "table.md", "table.txt"),
+                               overwrite=overwrite)
     scans, optima = {}, {}
     for pitch in PITCHES:
         optima[pitch] = {}
@@ -147,12 +190,16 @@ def _write(results, scans, optima, comparison, per_cell, echo, t0) -> dict:
                                       json.dumps(summary, indent=2, allow_nan=False) + "\n")
     table = format_table(optima, comparison)
     table_path = results.write_text("table.txt", table + "\n")
+    markdown_path = results.write_text("table.md",
+                                       format_markdown(optima, comparison) + "\n")
     echo("")
     echo(table)
     echo("")
     echo(f"results in {root}/ ({time.perf_counter() - t0:.1f} s):")
     echo(f"  summary  {summary_path}")
     echo(f"  table    {table_path}")
+    echo(f"  markdown {markdown_path}")
     for path in paths:
         echo(f"  figure   {path}")
-    return {"summary": summary_path, "table": table_path, "figures": paths}
+    return {"summary": summary_path, "table": table_path, "markdown": markdown_path,
+            "figures": paths}

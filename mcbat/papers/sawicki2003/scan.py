@@ -30,7 +30,7 @@ from mcbat.study import Study
 from mcbat.study.game import COLUMNS as GAME_COLUMNS
 
 __all__ = ["ATTACK_ANGLES_DEG", "MODELS", "PER_CELL", "PITCHES", "UNDERCUTS_IN", "Scan",
-           "run_scan", "scan_study"]
+           "centre", "run_scan", "scan_study"]
 
 #: The pitches: name -> bundled game study.
 PITCHES = {"fastball": "game_fastball.toml", "curveball": "game_curveball.toml"}
@@ -66,26 +66,52 @@ def grid_points(values):
     return np.linspace(*values)
 
 
-def scan_study(pitch: str, model: str, per_cell: int = PER_CELL) -> Study:
+def centre(spec):
+    """The centre of a study value: a (truncated) normal's ``mean`` parameter, a uniform's
+    midpoint, a fixed value unchanged (a scan without scatter puts every input there)."""
+    if not isinstance(spec, dict) or "dist" not in spec:
+        return spec
+    unit = {"unit": spec["unit"]} if "unit" in spec else {}
+    if spec["dist"] in ("truncnormal", "normal"):
+        return {"value": spec["mean"], **unit}
+    if spec["dist"] == "uniform":
+        return {"value": 0.5 * (spec["low"] + spec["high"]), **unit}
+    raise ValueError(f"no centre for a {spec['dist']} distribution")
+
+
+def scan_study(pitch: str, model: str, per_cell: int = PER_CELL, *, centred: bool = False,
+               edits=(), undercuts=UNDERCUTS_IN, attack_angles=ATTACK_ANGLES_DEG) -> Study:
     """The scan of ``pitch`` with ``model`` as a game study (in memory).
 
     The attack angle is the outer grid, the undercut the inner one; sample ``i`` is in
     cell ``i % cells`` (:class:`~mcbat.study.distributions.Grid` order), so every cell
-    gets ``per_cell`` samples."""
+    gets ``per_cell`` samples. ``centred``: every scattered input at its centre
+    (:func:`centre`), one deterministic case per cell. ``edits``: ``(section, key,
+    value)`` triples applied last (``value`` None removes the key), for variants of the
+    scan (:mod:`~mcbat.papers.sawicki2003.steps`). ``undercuts`` (in) and
+    ``attack_angles`` (deg): ``(start, stop, num)`` grids."""
     with resources.files("mcbat.studies").joinpath(PITCHES[pitch]).open("rb") as fh:
         data = tomllib.load(fh)
     data = copy.deepcopy(data)
-    cells = ATTACK_ANGLES_DEG[2] * UNDERCUTS_IN[2]
+    cells = attack_angles[2] * undercuts[2]
     data["study"] = {"name": f"sawicki2003_{pitch}_{model}", "samples": cells * per_cell,
                      "seed": SEED,
                      "description": f"optimal-swing scan, {pitch}, {model} impact model"}
-    data["swing"]["attack_angle"] = _grid(ATTACK_ANGLES_DEG, "deg")
-    data["contact"]["undercut"] = _grid(UNDERCUTS_IN, "in")
     for (section, key), spec in _NARROWED.items():
         data[section][key] = dict(spec)
     rest = GAME_RESTITUTION
     data["restitution"] = {"e_ref": rest.e_ref, "e_slope": rest.e_slope,
                            "e_speed_ref": rest.e_speed_ref, "e_x": MODELS[model]}
+    if centred:
+        for section in ("pitch", "swing", "contact", "friction"):
+            data[section] = {k: centre(v) for k, v in data[section].items()}
+    data["swing"]["attack_angle"] = _grid(attack_angles, "deg")
+    data["contact"]["undercut"] = _grid(undercuts, "in")
+    for section, key, value in edits:
+        if value is None:
+            data[section].pop(key, None)
+        else:
+            data.setdefault(section, {})[key] = copy.deepcopy(value)
     return Study.from_dict(data, source=f"sawicki2003 scan ({pitch}, {model})")
 
 
@@ -106,12 +132,24 @@ class Scan:
     ok: np.ndarray
 
 
-def run_scan(pitch: str, model: str, fly, per_cell: int = PER_CELL) -> Scan:
-    """Solve the scan of ``pitch`` with ``model``; ``fly(v, w)`` carries the batted balls
-    (field-frame velocity and spin, ``float64[3, n]``) and returns the flight columns."""
-    study = scan_study(pitch, model, per_cell)
+def run_scan(pitch: str, model: str, fly, per_cell: int = PER_CELL, *, study=None,
+             cell=None) -> Scan:
+    """Solve the scan of ``pitch`` with ``model`` (or ``study``, a variant from
+    :func:`scan_study`); ``fly(v, w)`` carries the batted balls (field-frame velocity and
+    spin, ``float64[3, n]``) and returns the flight columns. ``cell``: ``(attack angle
+    (deg), undercut (in))``, solve only that cell's samples (the same draws as in the
+    whole scan)."""
+    if study is None:
+        study = scan_study(pitch, model, per_cell)
     inputs = study.sample_inputs(0, study.samples, study.seed)
-    frame, out, game_out, status, end_state = allocate_game_outputs(study.samples)
+    if cell is not None:
+        col = {name: i for i, name in enumerate(GAME_COLUMNS)}
+        keep = (np.isclose(np.degrees(inputs[col["attack_angle"]]), cell[0], atol=1e-9)
+                & np.isclose(inputs[col["undercut"]] / 0.0254, cell[1], atol=1e-9))
+        if not keep.any():
+            raise ValueError(f"no cell at attack angle {cell[0]} deg, undercut {cell[1]} in")
+        inputs = np.ascontiguousarray(inputs[:, keep])
+    frame, out, game_out, status, end_state = allocate_game_outputs(inputs.shape[1])
     solver = study.solver
     solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
                      frame, out, game_out, status, end_state)

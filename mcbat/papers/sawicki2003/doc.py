@@ -1,0 +1,42 @@
+"""The generated blocks of ``docs/sawicki2003.md``.
+
+A block is the text between ``<!-- begin generated: NAME -->`` and
+``<!-- end generated: NAME -->``; ``benchmarks/sawicki2003_doc.py`` renders it from the
+outputs of ``mcbat reproduce sawicki2003`` (``table.md``) and of the undercut steps
+(:mod:`~mcbat.papers.sawicki2003.steps`), and writes or checks it.
+"""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["blocks", "splice"]
+
+_BLOCK = re.compile(r"<!-- begin generated: (?P<name>[\w-]+) -->\n(?P<body>.*?)"
+                    r"<!-- end generated: (?P=name) -->", re.S)
+
+
+def blocks(text: str) -> dict:
+    """``name -> body`` of every generated block of ``text`` (the body without its
+    trailing newline)."""
+    out = {}
+    for m in _BLOCK.finditer(text):
+        if m["name"] in out:
+            raise ValueError(f"generated block {m['name']!r} appears twice")
+        out[m["name"]] = m["body"].rstrip("\n")
+    return out
+
+
+def splice(text: str, bodies: dict) -> str:
+    """``text`` with the body of each block named in ``bodies`` replaced."""
+    missing = set(bodies) - set(blocks(text))
+    if missing:
+        raise ValueError(f"no generated block named {sorted(missing)}")
+
+    def replace(m):
+        if m["name"] not in bodies:
+            return m[0]
+        return (f"<!-- begin generated: {m['name']} -->\n{bodies[m['name']]}\n"
+                f"<!-- end generated: {m['name']} -->")
+
+    return _BLOCK.sub(replace, text)
