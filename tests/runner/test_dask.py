@@ -128,7 +128,7 @@ class ExternalCluster:
             # process group: close() stops a nanny together with its worker process.
             self.procs.append(subprocess.Popen(
                 [sys.executable, "-m", "dask", *map(str, args)], stdout=log,
-                stderr=subprocess.STDOUT, cwd=self.directory, start_new_session=True))
+                stderr=subprocess.STDOUT, cwd=self.directory, process_group=0))
 
     def log(self, name):
         return (self.directory / f"{name}.log").read_text()
