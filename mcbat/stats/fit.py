@@ -16,7 +16,10 @@ them):
   stated width about the measured value, within the range the study allows for that
   input: :mod:`mcbat.stats.models`), stratified over the ``M`` draws (one draw in each of
   ``M`` equal-probability slices) so that the smear is represented with little Monte Carlo
-  noise; without an ``_err`` column the input is exact.
+  noise; without an ``_err`` column the input is exact. With the mixture likelihood, half
+  of a drop test's draws are then moved near each row's posterior given the observables
+  too, with importance weights (:meth:`Likelihood.refine`): the observables fix a row's
+  true impact parameter far better than its measurement does.
 
 Draws whose impact fails (status not ``ok``, e.g. a nuisance geometry in which the ball does
 not reach the bat) are dropped: the measured rows are impacts. The ``n_i`` good draws
@@ -385,7 +388,8 @@ class Likelihood:
             return None
         sims = np.stack([values[c].reshape(self.rows, self.draws) for c in self.observables],
                         axis=2)
-        mean, cov = draw_moments(sims, ok)
+        plain = self.model.plain_draws  # the draws given the measured inputs alone
+        mean, cov = draw_moments(sims[:, :plain], ok[:, :plain])
         self._draws = (sims, ok)
         return mean, cov, n_ok
 
@@ -418,6 +422,8 @@ class Likelihood:
         Minimising over the coefficients profiles the prior out of the parameters'
         likelihood, so its uncertainty is in their intervals."""
         log_density = -0.5 * ((self.y[:, None, :] - sims) ** 2 / self.s2[:, None, :]).sum(axis=2)
+        if self.model.draw_log_weight is not None:
+            log_density = log_density + self.model.draw_log_weight
         log_density = np.where(ok, log_density, -np.inf)
         const = 0.5 * float(np.log(2 * math.pi * self.s2).sum()) + float(
             np.log(ok.sum(axis=1)).sum())
@@ -483,6 +489,25 @@ class Likelihood:
                            key=lambda found: found[0])
         self.prior_coefficients = alpha
         return float(value) + const
+
+    def refine(self, theta):
+        """With the mixture likelihood, place half of each row's draws of a smeared measured
+        input near its posterior given the observables at ``theta`` (a point near the best
+        fit: :meth:`mcbat.stats.models.BatFrameModel.refine_draws`), and rebuild the
+        prior's basis at the new draws. Call before the local search: the draws stay fixed
+        from then on."""
+        refine = getattr(self.model, "refine_draws", None)
+        if self.likelihood != "mixture" or refine is None:
+            return
+        self.model.set_parameters(dict(zip(self.free, map(float, theta))))
+        if not refine(self.y, self.s2, self.observables):
+            return
+        if self.prior_families:
+            self._prior_basis = np.concatenate(
+                [family.basis_at(self.model.prior_draws[name][0])
+                 for name, family in self.prior_families.items()], axis=2)
+            self.prior_coefficients = np.zeros(self._prior_basis.shape[2])
+        self._draws = None
 
     def __call__(self, theta):
         """``-ln L`` at the free parameters ``theta`` (1e30 outside their ranges or where
@@ -698,6 +723,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
         like.check_envelope()
         like.envelope = None
         starts = list(grid[np.argsort(values)[:STARTS]])
+        like.refine(starts[0])
         fine = []
         if "mu" in like.free:
             # The valley below the plateau can be narrower than the grid's spacing in mu
@@ -718,6 +744,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
             fine.append(_profile_scan(like, starts[0], "mu"))
     else:
         starts, fine = [np.asarray(start, float)], []
+        like.refine(starts[0])
         if not like(starts[0]) < _BAD:
             raise like.failure_error() if like.failure else InputError(
                 "start", f"outside the parameter ranges: {list(starts[0])}")

@@ -57,6 +57,7 @@ from scipy import optimize, stats
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
+from mcbat.core.status import OK
 from mcbat.core.swing import (
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
@@ -182,14 +183,20 @@ BEYOND_COUNT_SIGMA = 2.0
 errors beyond the range."""
 
 
+def _count_distribution(probabilities):
+    """``P(K = j)``, ``j = 0..n``, for ``K`` a sum of independent Bernoulli(``probabilities``):
+    one binomial per distinct probability (rows with the same error share theirs),
+    convolved."""
+    shares, repeats = np.unique(probabilities, return_counts=True)
+    counts = np.ones(1)
+    for p, m in zip(shares, repeats):
+        counts = np.convolve(counts, stats.binom.pmf(np.arange(m + 1), m, p))
+    return counts
+
+
 def _at_least(probabilities, k):
     """``P(K >= k)`` for ``K`` a sum of independent Bernoulli(``probabilities``)."""
-    counts = np.zeros(len(probabilities) + 1)  # P(K = j), the Poisson-binomial by recursion
-    counts[0] = 1.0
-    for i, p in enumerate(probabilities):
-        counts[1:i + 2] = counts[1:i + 2] * (1 - p) + counts[0:i + 1] * p
-        counts[0] *= 1 - p
-    return float(counts[k:].sum())
+    return float(_count_distribution(probabilities)[k:].sum())
 
 
 def beyond_range_test(value, sigma, study_range):
@@ -231,12 +238,7 @@ def beyond_range_test(value, sigma, study_range):
     def beyond(c):
         return stats.norm.sf(c) + stats.norm.sf(c + width)
 
-    positive = beyond(0.0)
-    counts = np.zeros(len(value) + 1)
-    counts[0] = 1.0
-    for i, p in enumerate(positive):
-        counts[1:i + 2] = counts[1:i + 2] * (1 - p) + counts[0:i + 1] * p
-        counts[0] *= 1 - p
+    counts = _count_distribution(beyond(0.0))
     k = np.arange(1, len(value) + 1)
     p_sum = float(np.sum(counts[1:] * stats.chi2.sf(statistic, k)))
     p_count = _at_least(beyond(BEYOND_COUNT_SIGMA), int((z > BEYOND_COUNT_SIGMA).sum()))
@@ -298,6 +300,12 @@ def covering_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
     lo = max(physical[0], min(lo, float(np.min(value - COVER_SIGMA * sigma))))
     hi = min(physical[1], max(hi, float(np.max(value + COVER_SIGMA * sigma))))
     return lo, hi
+
+
+PILOT_POINTS = 61
+"""Values of a measured impact parameter a row's pilot scan solves (:meth:`BatFrameModel.
+refine_draws`), evenly over +-:data:`PILOT_SIGMA` of its errors."""
+PILOT_SIGMA = 6.0
 
 
 PRIOR_DEGREE = 4
@@ -420,6 +428,16 @@ class _DrawModel:
         units: its draws, taken from the posterior under a flat prior over ``[lo, hi]``,
         which a likelihood may reweight to another prior (:mod:`mcbat.stats.fit`)."""
         self._stratified = False
+        self.smeared = {}
+        """Measured input over a bounded range -> ``(value, sigma, lo, hi, scale)`` (SI)."""
+        self.draw_log_weight = None
+        """Importance weights (log, rows x M) of the draws, once :meth:`refine_draws` has
+        drawn some of them near each row's posterior; None: every draw weighs the same."""
+        self.plain_draws = draws
+        """The first ``plain_draws`` draws of a row come from the posterior of its measured
+        inputs given their measurement alone (its mean and covariance estimate the row's
+        predictions); after :meth:`refine_draws`, the rest lie near the posterior given the
+        observables too."""
         known = {c for c in self.COLUMNS} | {f"{c}_err" for c in self.COLUMNS}
         for col in table.columns:
             if col not in known:
@@ -472,6 +490,7 @@ class _DrawModel:
         draws = value[:, None] + sigma[:, None] * z
         if math.isfinite(lo) and math.isfinite(hi):
             self.prior_draws[name] = (draws / scale, lo / scale, hi / scale)
+            self.smeared[name] = (value, sigma, lo, hi, scale)
         return draws.ravel()
 
     def prior(self, name, value, sigma, support, physical, scale, key):
@@ -569,6 +588,7 @@ class BatFrameModel(_DrawModel):
         azimuth = inputs[index["angle"]] - angle0
         angles_from_impact_parameters(b, ball_r, radius, slope, azimuth,
                                       inputs[index["angle"]])
+        self._geometry = (ball_r, radius, slope, azimuth)
         grazing = (np.abs(b_meas) >= GRAZING * reach.reshape(rows, draws).min(axis=1))
         if grazing.any():
             raise InputError("impact_parameter", f"{rows_text(grazing, b_meas)}: at the reach "
@@ -596,11 +616,80 @@ class BatFrameModel(_DrawModel):
             else:
                 self.inputs[self.PARAMETERS[name]] = value
 
+    def refine_draws(self, y, s2, observables):
+        """Move half of each row's draws of the measured impact parameter next to its
+        posterior given the observables, at the current parameters; returns whether it did.
+
+        The draws from the posterior given the measured ``b`` alone (stratified, 5 mm wide
+        in a drop test) resolve badly what the observables say: the scattering angle alone
+        fixes ``b`` to about a millimetre, so a row measured three errors from its true
+        ``b`` had one draw or none near it, and the likelihood of ``mu`` moved by up to four
+        of its errors between 48 and 384 draws. Here a pilot scan of ``b`` (61 values over
+        +-6 errors, the row's first draw otherwise) finds the posterior's mean and spread;
+        the second half of the draws is stratified over a truncated normal there, twice as
+        wide, and every draw is weighted by the ratio of the measurement's posterior to the
+        two halves' mixture (defensive importance sampling: Hesterberg, Technometrics 37,
+        185 (1995)), so the likelihood stays the same integral, better resolved.
+
+        Parameters
+        ----------
+        y, s2 : ndarray, (rows, observables)
+            The measured observables and their variances.
+        observables : list of str
+            Their names (:attr:`observables`).
+        """
+        if "impact_parameter" not in self.smeared or self.draws < 4:
+            return False
+        value, sigma, lo, hi, _ = self.smeared["impact_parameter"]
+        rows, draws, points = self.rows, self.draws, PILOT_POINTS
+        index = {name: i for i, name in enumerate(INPUT_FIELDS)}
+        first = np.arange(rows) * draws
+        z = np.linspace(-PILOT_SIGMA, PILOT_SIGMA, points)
+        b_grid = np.clip(value[:, None] + sigma[:, None] * z, lo, hi)
+        pilot = np.repeat(self.inputs[:, first], points, axis=1)
+        ball_r, radius, slope, azimuth = (np.repeat(g[first], points) for g in self._geometry)
+        angles_from_impact_parameters(b_grid.ravel(), ball_r, radius, slope, azimuth,
+                                      pilot[index["angle"]])
+        values, status = self._solve(pilot, allocate_outputs(rows * points))
+        f = np.stack([values[c].reshape(rows, points) for c in observables], axis=2)
+        log_post = (-0.5 * ((y[:, None, :] - f) ** 2 / s2[:, None, :]).sum(axis=2)
+                    - 0.5 * ((b_grid - value[:, None]) / sigma[:, None]) ** 2)
+        log_post = np.where((status == OK).reshape(rows, points) & np.isfinite(log_post),
+                            log_post, -np.inf)
+        if not np.isfinite(log_post).any(axis=1).all():
+            return False
+        p = np.exp(log_post - log_post.max(axis=1, keepdims=True))
+        p /= p.sum(axis=1, keepdims=True)
+        centre = (p * b_grid).sum(axis=1)
+        spread = np.sqrt((p * (b_grid - centre[:, None]) ** 2).sum(axis=1))
+        width = np.maximum(2.0 * spread, 2.0 * PILOT_SIGMA / (points - 1) * sigma)
+        plain = draws // 2
+        strata = [np.arange(plain), np.arange(draws - plain)]
+        u = [(k + self.rng.uniform(size=(rows, len(k)))) / len(k) for k in strata]
+        posterior = stats.truncnorm(((lo - value) / sigma)[:, None],
+                                    ((hi - value) / sigma)[:, None],
+                                    loc=value[:, None], scale=sigma[:, None])
+        near = stats.truncnorm(((lo - centre) / width)[:, None], ((hi - centre) / width)[:, None],
+                               loc=centre[:, None], scale=width[:, None])
+        b = np.concatenate([posterior.ppf(u[0]), near.ppf(u[1])], axis=1)
+        share = plain / draws
+        log_q = np.logaddexp(math.log(share) + posterior.logpdf(b),
+                             math.log(1.0 - share) + near.logpdf(b))
+        self.draw_log_weight = posterior.logpdf(b) - log_q
+        self.plain_draws = plain
+        angles_from_impact_parameters(b.ravel(), *self._geometry, self.inputs[index["angle"]])
+        scale = self.smeared["impact_parameter"][4]
+        self.prior_draws["impact_parameter"] = (b / scale, lo / scale, hi / scale)
+        return True
+
     def solve(self):
         """Solve every draw: ``{observable: float64[rows * draws]}`` and the status."""
+        return self._solve(self.inputs, self._out)
+
+    def _solve(self, inputs, buffers):
         solver = self.study.solver
-        out, status, end = self._out
-        solve_batch(self.inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
+        out, status, end = buffers
+        solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
                     out, status, end)
         o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
         derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
