@@ -16,12 +16,12 @@ same draws (paired):
 
   row     the row-by-row alternative: max(relative |y_i|, floor) from each row's measured
           value
-  mean    the defaults now, mcbat.stats.fit.default_errors: max(relative x mean |y|, floor),
-          one per column
+  mean    the defaults now, mcbat.stats.measurements.default_errors:
+          max(relative x mean |y|, floor), one per column
   stated  for reference, the table's own _err columns (synthesize's sigmas) kept
 
 The pull of the maximum-likelihood estimate is estimated by one Newton step from the truth:
-the gradient and Hessian of the fit's -ln L (mcbat.stats.fit.Likelihood, draws seeded k as
+the gradient and Hessian of the fit's -ln L (mcbat.stats.likelihood.Likelihood, draws seeded k as
 in the coverage fits) by central differences at the truth, the step -H^-1 g over the
 curvature error sqrt(diag H^-1). docs/fitting.md: on 60 game tables this one-step estimate
 reproduced the profile fits' pulls with correlation 0.999999. ``--check N`` fits the first N

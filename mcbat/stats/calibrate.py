@@ -22,8 +22,10 @@ import numpy as np
 from scipy.optimize import brentq
 
 from mcbat.errors import InputError
+from mcbat.stats.columns import table_columns
 from mcbat.stats.fit import FREE
-from mcbat.stats.models import GameModel, solve_study, table_columns
+from mcbat.stats.models import GameModel
+from mcbat.stats.simulate import solve_study
 
 __all__ = ["CalibrationResult", "calibrate"]
 

@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
+from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
 
 __all__ = ["fig_fit_residuals"]
 

@@ -56,9 +56,11 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.errors import InputError
-from mcbat.stats.models import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GAME_WRITTEN, solve_study
+from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GAME_WRITTEN
+from mcbat.stats.simulate import solve_study
 
-__all__ = ["COLUMNS", "DEFAULT_ERRORS", "read_measurements", "synthesize", "table_error",
+__all__ = ["COLUMNS", "DEFAULT_ERRORS", "default_errors",
+           "read_measurements", "synthesize", "table_error",
            "write_table_atomic"]
 
 COLUMNS = {**{c: u for c, (u, _) in BAT_FRAME_COLUMNS.items()},
@@ -368,3 +370,15 @@ def write_table_atomic(table, path):
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def default_errors(column, values):
+    """1-sigma errors of an observable without an ``_err`` column, one per row of
+    ``values`` (the column's measured values), all equal: ``max(relative x mean |y|,
+    floor)`` with :data:`DEFAULT_ERRORS` (:func:`mcbat.stats.measurements.table_error`; the
+    mean over the finite values). Not ``relative |y|`` row by row: a row's error would then
+    grow with its measured value and tell the fit which rows lie above the model's mean,
+    biasing the estimates (docs/fitting.md)."""
+    relative, floor = DEFAULT_ERRORS[column]
+    values = np.asarray(values, dtype=float)
+    return np.full(values.shape, table_error(values, relative, floor))

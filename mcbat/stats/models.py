@@ -3,7 +3,7 @@
 A fit compares each measured row with ``M`` draws of the model for that row. A *draw
 model* builds those ``rows x M`` cases once (the study's nuisance scatter, the row's
 measured inputs, their errors) and solves them at any value of the free parameters, so that
-:class:`mcbat.stats.fit.Likelihood` never needs to know which kernel it is fitting:
+:class:`mcbat.stats.likelihood.Likelihood` never needs to know which kernel it is fitting:
 
 * :class:`BatFrameModel`: a ball moving across a bat onto its axis, in the bat frame (a
   drop test: ``studies/cross_nathan_2006.toml``); the table gives each row's impact
@@ -25,27 +25,11 @@ pile up somewhere (at the ends of the range, say) is not fitted as if they were 
 evenly. The draws are *stratified*: draw ``k`` of a row lies in the ``k``-th of ``M``
 equal-probability slices of that posterior for the first such input (the slices of any
 further one are shuffled, as in a Latin hypercube). The order matters:
-:func:`mcbat.stats.fit.draw_moments` pairs neighbouring slices to measure the Monte Carlo
+:func:`mcbat.stats.likelihood.draw_moments` pairs neighbouring slices to measure the Monte Carlo
 error of the mean.
-
-The range a measured input's true values are marginalised over depends on
-``input_prior``:
-
-* ``"cover"`` (what the mixture likelihood uses by default): the study's range widened to
-  cover every measured value and :data:`COVER_SIGMA` of its errors (never beyond the
-  input's physical range). The estimated prior has a step at each end of the study's
-  range (:class:`PriorFamily`), fitted with the rest: a table whose true values stay
-  within the study's range fits the step far down (the study's range, in effect), one
-  whose true values reach beyond fits it up, and nothing is truncated.
-* ``"widen"`` (the normal likelihood's default): the study's range, unless the measured
-  values reject it (:func:`beyond_range_test`, :func:`prior_range`): then the range that
-  best explains them (the study's range widened, never narrowed, never beyond the
-  physical range).
-* ``"study"``: the study's range, and a table whose measured values reject it is refused.
-
-Truncating each row's true value to a range the data reach beyond would bias the fit
-without a word (rows measured 2-3 errors beyond the edge forced onto it). Every fit
-reports the range it used (:attr:`_DrawModel.priors`).
+The range and the prior of a measured input's true values are
+:mod:`mcbat.stats.input_priors`'s; every fit reports the range it used
+(:attr:`_DrawModel.priors`).
 """
 
 from __future__ import annotations
@@ -53,7 +37,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import stats
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
@@ -66,12 +50,14 @@ from mcbat.core.swing import (
 )
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
+from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
+from mcbat.stats.input_priors import (
+    WIDEN_P_VALUE,
+    covering_range,
+    prior_range,
+)
 
-__all__ = ["BAT_FRAME_COLUMNS", "COVER_SIGMA", "BatFrameModel", "DrawModel",
-           "GAME_TABLE_COLUMNS", "GAME_WRITTEN", "GameModel", "INPUT_PRIORS", "OUTLIER_SIGMA",
-           "PRIOR_DEGREE", "PriorFamily", "WIDEN_P_VALUE", "beyond_range_test",
-           "covering_range", "draw_model", "prior_range", "solve_game_inputs", "solve_study",
-           "table_columns"]
+__all__ = ["BatFrameModel", "DrawModel", "GameModel", "OUTLIER_SIGMA", "rows_text"]
 
 OUTLIER_SIGMA = 8.0
 """A measured value further than this many sigma beyond every model prediction over the
@@ -80,309 +66,16 @@ this many of its errors outside the study's range."""
 GRAZING = 0.999
 """A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
 above 87.4 deg) is refused: the ball grazes the bat."""
-INPUT_PRIORS = ("cover", "widen", "study")
-"""The ranges a measured input's true values are marginalised over (module docstring)."""
-COVER_SIGMA = 5.0
-"""With ``input_prior = "cover"`` the range reaches this many errors beyond every measured
-value (the posterior of a row's true value beyond it is below 3e-7 of the whole)."""
-WIDEN_P_VALUE = 0.01
-"""The measured values of an input reject the study's range when :func:`beyond_range_test`
-gives a p-value below this: when every true value does lie within the study's range, that
-happens in fewer than 1 % of tables, whatever their size and wherever in the range the
-true values lie (the test is computed at the least favourable place, the range's ends; for
-true values spread over the range, far more rarely). A rejection that is wrong costs
-little (the fit marginalises over a wider range, with the prior's shape estimated), one
-that is missed truncates the true values and biases the fit."""
 _MPH = 0.44704
+
+
 _DEG = math.pi / 180.0
-
-BAT_FRAME_COLUMNS = {
-    # name: (unit, role); role "input" columns are measured inputs, "observable" are fitted
-    "impact_parameter": ("m", "input"),
-    "spin_in": ("rad/s", "input"),
-    "exit_speed": ("m/s", "observable"),
-    "scattering_angle": ("deg", "observable"),
-    "spin_out": ("rad/s", "observable"),
-}
-"""Columns of a bat-frame measurement table (a drop test), with their units."""
-GAME_TABLE_COLUMNS = {
-    "pitch_speed": ("mph", "input"),
-    "bat_speed": ("mph", "input"),
-    "attack_angle": ("deg", "input"),
-    "undercut": ("m", "input"),
-    "from_barrel_end": ("m", "input"),
-    "launch_speed": ("mph", "observable"),
-    "launch_angle": ("deg", "observable"),
-    "spray_angle": ("deg", "observable"),
-    "spin_rate": ("rpm", "observable"),
-    "backspin": ("rpm", "observable"),
-    "sidespin": ("rpm", "observable"),
-}
-"""Columns of a game measurement table (Statcast's names and units where it has them)."""
-
-UNITS_HINT = {
-    "exit_speed": "wrong unit? exit_speed is in m/s (mph would be 2.24 times larger, km/h "
-                  "3.6 times)",
-    "scattering_angle": "wrong unit? scattering_angle is in degrees (radians would be 57 "
-                        "times smaller)",
-    "spin_out": "wrong unit or sign convention? spin_out is in rad/s about the bat axis (rpm "
-                "would be 9.55 times larger)",
-    "launch_speed": "wrong unit? launch_speed is in mph (m/s would be 2.24 times smaller, "
-                    "km/h 1.6 times larger)",
-    "launch_angle": "wrong unit or convention? launch_angle is the elevation in degrees",
-    "spray_angle": "wrong unit or convention? spray_angle is in degrees, positive towards "
-                   "right field (docs/batting.md)",
-    "spin_rate": "wrong unit? spin_rate is in rpm (rad/s would be 9.55 times smaller)",
-    "backspin": "wrong unit or sign? backspin is in rpm, positive for backspin",
-    "sidespin": "wrong unit or sign? sidespin is in rpm (docs/batting.md)",
-    "hit_distance_sc": "wrong unit? hit_distance_sc is in ft (m would be 3.28 times smaller)",
-}
-"""What to check when a column lies far outside anything the model gives."""
-
-
-def table_columns(game: bool) -> dict:
-    """The measurement columns of a game (True) or a bat-frame (False) study."""
-    return GAME_TABLE_COLUMNS if game else BAT_FRAME_COLUMNS
-
-
-def draw_model(study, table, draws, seed, fixed=None, input_prior=None, likelihood=None):
-    """The draw model of ``study`` (:class:`GameModel` or :class:`BatFrameModel`);
-    ``draws`` None: the model's :attr:`DEFAULT_DRAWS`; ``input_prior`` None: ``"cover"``
-    for the mixture likelihood (``likelihood``, default the model's), which estimates the
-    prior, else ``"widen"``."""
-    if input_prior is not None and input_prior not in INPUT_PRIORS:
-        raise InputError("input_prior", f"must be one of {', '.join(INPUT_PRIORS)}, got "
-                         f"{input_prior!r}")
-    kind = getattr(study, "kind", None)
-    form = likelihood or (GameModel if kind == "game" else BatFrameModel).LIKELIHOOD
-    if input_prior is None:
-        input_prior = "cover" if form == "mixture" else "widen"
-    elif input_prior == "cover" and form != "mixture":
-        raise InputError("input_prior", "'cover' needs the mixture likelihood (the normal "
-                         "one cannot estimate the prior's step at the study's range)")
-    if kind == "flight":
-        from mcbat.stats.flight_model import FlightModel  # it builds on this module
-
-        # A flight table has no measured inputs with errors: no prior to choose.
-        return FlightModel(study, table, FlightModel.DEFAULT_DRAWS if draws is None else draws,
-                           seed, fixed)
-    cls = GameModel if kind == "game" else BatFrameModel
-    return cls(study, table, cls.DEFAULT_DRAWS if draws is None else draws, seed, fixed,
-               input_prior)
-
-
-def _range_log_likelihood(value, sigma, lo, hi):
-    """``sum_i ln p(x_i)`` of measured values ``x_i +- sigma_i`` whose true values are
-    uniform over ``[lo, hi]``: ``p(x) = (Phi((hi - x)/s) - Phi((lo - x)/s)) / (hi - lo)``."""
-    mass = stats.norm.cdf((hi - value) / sigma) - stats.norm.cdf((lo - value) / sigma)
-    return float(np.sum(np.log(np.maximum(mass, 1e-300))) - len(value) * math.log(hi - lo))
-
-
-BEYOND_COUNT_SIGMA = 2.0
-"""The count statistic of :func:`beyond_range_test` counts rows more than this many of their
-errors beyond the range."""
-
-
-def _count_distribution(probabilities):
-    """``P(K = j)``, ``j = 0..n``, for ``K`` a sum of independent Bernoulli(``probabilities``):
-    one binomial per distinct probability (rows with the same error share theirs),
-    convolved."""
-    shares, repeats = np.unique(probabilities, return_counts=True)
-    counts = np.ones(1)
-    for p, m in zip(shares, repeats):
-        counts = np.convolve(counts, stats.binom.pmf(np.arange(m + 1), m, p))
-    return counts
-
-
-def _at_least(probabilities, k):
-    """``P(K >= k)`` for ``K`` a sum of independent Bernoulli(``probabilities``)."""
-    return float(_count_distribution(probabilities)[k:].sum())
-
-
-def beyond_range_test(value, sigma, study_range):
-    """How far measured values reach beyond a range, and the p-value of that reach if
-    every true value lay within it.
-
-    Row ``i`` lies ``z_i = max(0, (x_i - hi) / s_i, (lo - x_i) / s_i)`` of its errors beyond
-    the range. Whatever the true values inside the range, ``z_i`` is largest in
-    distribution when the true value sits at an end: then ``P(z_i > c) = Phi(-c) +
-    Phi(-c - w_i)`` (``w_i`` the range's width in errors), and a positive ``z_i`` is no
-    larger in distribution than ``|N(0, 1)|``. Three statistics, each with its exact
-    p-value at that least favourable truth, catch three ways of reaching beyond:
-
-    * the sum ``T = sum z_i^2`` (many rows a little beyond): ``P(T >= t) <= sum_k P(K = k)
-      P(chi2_k >= t)``, ``K`` the number of positive terms (a chi-bar-squared);
-    * the number of rows more than :data:`BEYOND_COUNT_SIGMA` errors beyond (some rows well
-      beyond: true values spread past the range; the sum is swamped by the rows at the ends);
-    * the largest ``z_i`` (one row far beyond).
-
-    The p-value is three times the smallest of theirs (Bonferroni), so a table whose true
-    values all lie within the range gets ``p < alpha`` in fewer than a share ``alpha`` of
-    cases, wherever in the range they lie and whatever the table's size.
-
-    Returns
-    -------
-    statistic : float
-        ``T``.
-    p_value : float
-        The combined p-value (1 when no row lies beyond the range).
-    """
-    lo, hi = study_range
-    value, sigma = np.asarray(value, float), np.asarray(sigma, float)
-    z = np.maximum(0.0, np.maximum(value - hi, lo - value) / sigma)
-    statistic = float(np.sum(z * z))
-    if statistic == 0.0:
-        return 0.0, 1.0
-    width = (hi - lo) / sigma
-
-    def beyond(c):
-        return stats.norm.sf(c) + stats.norm.sf(c + width)
-
-    counts = _count_distribution(beyond(0.0))
-    k = np.arange(1, len(value) + 1)
-    p_sum = float(np.sum(counts[1:] * stats.chi2.sf(statistic, k)))
-    p_count = _at_least(beyond(BEYOND_COUNT_SIGMA), int((z > BEYOND_COUNT_SIGMA).sum()))
-    p_max = float(-np.expm1(np.sum(np.log1p(-beyond(float(z.max()))))))
-    return statistic, min(3.0 * min(p_sum, p_count, p_max), 1.0)
-
-
-def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
-    """The range of the flat prior of a measured input, and whether the data reject the
-    study's.
-
-    Parameters
-    ----------
-    value, sigma : ndarray
-        The rows' measured values and their 1-sigma errors (SI).
-    study_range : (float, float)
-        The study's range of the input (its distribution's support).
-    physical : (float, float)
-        The input's physical range (``|b|`` below the reach of ball and bat, ...): a widened
-        range never goes beyond it.
-
-    Returns
-    -------
-    (lo, hi) : tuple of float
-        The study's range, or, when the data reject it (:func:`beyond_range_test` below
-        :data:`WIDEN_P_VALUE`), the range that best explains the measured values with
-        ``lo <= study lo`` and ``hi >= study hi`` (the maximum likelihood of true values
-        uniform over it, :func:`_range_log_likelihood`), within ``physical``.
-    p_value : float
-        The p-value of :func:`beyond_range_test` (1 for an unbounded range).
-    """
-    lo, hi = study_range
-    if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
-        return (lo, hi), 1.0
-    _, p_value = beyond_range_test(value, sigma, study_range)
-    if p_value >= WIDEN_P_VALUE:
-        return (lo, hi), p_value
-    # The widened edges lie between the study's and the farthest measurement plus ten of
-    # its errors (farther never helps), within the physical range.
-    far_lo = max(physical[0], min(lo, float(np.min(value - 10 * sigma))))
-    far_hi = min(physical[1], max(hi, float(np.max(value + 10 * sigma))))
-    if far_lo >= lo and far_hi <= hi:
-        return (lo, hi), p_value
-
-    def cost(edges):
-        return -_range_log_likelihood(value, sigma, edges[0], edges[1])
-
-    x0 = [max(far_lo, min(lo, float(np.min(value)))), min(far_hi, max(hi, float(np.max(value))))]
-    res = optimize.minimize(cost, x0, method="L-BFGS-B", bounds=[(far_lo, lo), (hi, far_hi)])
-    return (float(res.x[0]), float(res.x[1])), p_value
-
-
-def covering_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
-    """The study's range widened to cover every measured value and :data:`COVER_SIGMA` of
-    its errors, within ``physical`` (SI, as :func:`prior_range`)."""
-    lo, hi = study_range
-    if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
-        return lo, hi
-    lo = max(physical[0], min(lo, float(np.min(value - COVER_SIGMA * sigma))))
-    hi = min(physical[1], max(hi, float(np.max(value + COVER_SIGMA * sigma))))
-    return lo, hi
 
 
 PILOT_POINTS = 61
 """Values of a measured impact parameter a row's pilot scan solves (:meth:`BatFrameModel.
 refine_draws`), evenly over +-:data:`PILOT_SIGMA` of its errors."""
 PILOT_SIGMA = 6.0
-
-
-PRIOR_DEGREE = 4
-"""Degree of the polynomial in the log-density of a measured input's prior
-(:class:`PriorFamily`)."""
-PRIOR_RIDGE = 1e-2
-"""Penalty ``ridge |alpha|^2 / 2`` on that polynomial's coefficients: it keeps them finite
-when the data cannot fix one (true values piled at one end) and is negligible otherwise."""
-
-
-class PriorFamily:
-    """Densities of a measured input's true values over ``[lo, hi]`` whose logarithm is a
-    polynomial of degree :data:`PRIOR_DEGREE` (Legendre polynomials of the position in the
-    range), plus, when the study's range ``inner`` lies within ``[lo, hi]``, a step beyond
-    it: ``g(b) = exp(sum_j alpha_j P_j(t(b)) + alpha_s [b outside inner]) / N(alpha)``;
-    ``alpha = 0`` is flat (Efron's g-modelling, Biometrika 103, 1 (2016)).
-
-    A fit estimates ``alpha`` with the other parameters: a flat prior misplaces the true
-    values of a table whose values pile up somewhere (at the ends of the range, say) and
-    biases the fit, and a prior fixed beforehand from the measured inputs alone would
-    leave its own uncertainty out of the intervals. The step lets the data say how many
-    true values lie beyond the study's range, from none (``alpha_s`` far below 0, kept
-    finite by :data:`PRIOR_RIDGE`: a share of about 1e-3 beyond) to as many as within.
-    """
-
-    def __init__(self, lo, hi, degree=PRIOR_DEGREE, inner=None):
-        self.lo, self.hi, self.degree = lo, hi, degree
-        inner_lo, inner_hi = inner if inner is not None else (lo, hi)
-        self.inner = (max(lo, inner_lo), min(hi, inner_hi))
-        self.step = self.inner[0] > lo or self.inner[1] < hi
-        self.size = degree + int(self.step)
-        """Number of coefficients (the polynomial's, and the step's when there is one)."""
-        # Gauss-Legendre on each piece: the step makes the density jump at the study's ends.
-        cuts = sorted({lo, *self.inner, hi})
-        nodes, weights = [], []
-        for a, b in zip(cuts[:-1], cuts[1:]):
-            x, w = np.polynomial.legendre.leggauss(64)
-            nodes.append(a + (b - a) * (x + 1) / 2)
-            weights.append(w * (b - a) / 2)
-        nodes = np.concatenate(nodes)
-        self._basis_nodes = self.basis_at(nodes)
-        self._node_weights = np.concatenate(weights)
-        self._outside_nodes = (nodes < self.inner[0]) | (nodes > self.inner[1])
-
-    def basis_at(self, b):
-        """The basis functions at ``b`` (any shape): an array of shape ``b.shape + (size,)``."""
-        t = 2 * (np.clip(b, self.lo, self.hi) - self.lo) / (self.hi - self.lo) - 1
-        poly = np.polynomial.legendre.legvander(t, self.degree)[..., 1:]
-        if not self.step:
-            return poly
-        outside = ((b < self.inner[0]) | (b > self.inner[1])).astype(float)
-        return np.concatenate([poly, outside[..., None]], axis=-1)
-
-    def log_norm(self, alpha, second=False):
-        """``ln N(alpha)``, its gradient ``E_g[P_j]`` and, if ``second``, its Hessian
-        ``Cov_g[P_j, P_l]``."""
-        log_g = self._basis_nodes @ alpha
-        top = log_g.max()
-        w = self._node_weights * np.exp(log_g - top)
-        total = w.sum()
-        mean = (w @ self._basis_nodes) / total
-        if not second:
-            return top + math.log(total), mean
-        cov = (self._basis_nodes.T * w) @ self._basis_nodes / total - np.outer(mean, mean)
-        return top + math.log(total), mean, cov
-
-    def density(self, b, alpha):
-        """``g(b)`` (1 / the input's unit)."""
-        return np.exp(self.basis_at(b) @ alpha - self.log_norm(alpha)[0])
-
-    def share_outside(self, alpha):
-        """The prior's probability beyond the study's range (0 without a step)."""
-        if not self.step:
-            return 0.0
-        log_g = self._basis_nodes @ alpha
-        w = self._node_weights * np.exp(log_g - log_g.max())
-        return float(w[self._outside_nodes].sum() / w.sum())
 
 
 def rows_text(mask, values=None, limit=5):
@@ -410,7 +103,7 @@ class _DrawModel:
     (:mod:`mcbat.stats.fit`): a normal of the draws' mean and covariance."""
     SEARCH: dict = {}
     """Search ranges of the fit's coarse grid that differ from the default
-    (:data:`mcbat.stats.fit.SEARCH`)."""
+    (:data:`mcbat.stats.likelihood.SEARCH`)."""
 
     def __init__(self, study, table, draws, seed, fixed, input_prior="cover"):
         self.source = table.attrs.get("source")
@@ -763,74 +456,3 @@ class GameModel(_DrawModel):
         batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
                              [g[f"field_ball_w{c}"] for c in "xyz"])
         return {c: batted[c] for c in self.observables}, status
-
-
-GAME_WRITTEN = ("pitch_speed", "bat_speed", "attack_angle", "undercut")
-"""The measured inputs :func:`mcbat.stats.measurements.synthesize` writes into a game
-table."""
-
-
-def solve_study(study, rows, seed, params):
-    """Solve the study's first ``rows`` samples (seed ``seed``) with ``params`` (``{"e": ...,
-    "mu": ..., "e_x": ...}``, None: the study's) overriding its values.
-
-    Returns
-    -------
-    measured, observed : dict of str -> ndarray
-        The measured inputs a table of this kind carries and its observables, in the
-        table's units (:data:`BAT_FRAME_COLUMNS`, :data:`GAME_TABLE_COLUMNS`).
-    ok : ndarray of bool
-        Rows whose impact was solved.
-    """
-    if getattr(study, "kind", None) == "game":
-        return _solve_game(study, rows, seed, params)
-    return _solve_drop_test(study, rows, seed, params)
-
-
-def _solve_drop_test(study, rows, seed, params):
-    """A drop test's true inputs (table units), observables and good rows."""
-    cols = study.sample(0, rows, seed)
-    for name, value in params.items():
-        if value is not None:
-            cols[name] = np.full(rows, float(value))
-    inputs = np.stack([np.asarray(cols[name], np.float64) for name in INPUT_FIELDS])
-    out, status, end = allocate_outputs(rows)
-    solver = study.solver
-    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
-                end)
-    o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
-    derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
-    measured = {"impact_parameter": cols["impact_parameter"], "spin_in": cols["ball_wz_in"]}
-    observed = {"exit_speed": derived["exit_speed"],
-                "scattering_angle": derived["scattering_angle"],
-                "spin_out": derived["spin_axial"]}
-    return measured, observed, status == 0
-
-
-def _solve_game(study, rows, seed, params):
-    """A game's true measured inputs (table units), batted balls and good rows."""
-    inputs = study.sample_inputs(0, rows, seed)
-    cols = {name: inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
-    for name, value in params.items():
-        if value is not None:
-            inputs[GameModel.PARAMETERS[name]] = value
-    batted, ok = solve_game_inputs(study, inputs)
-    measured = {name: cols[name].copy() / GameModel.MEASURED[name][1] for name in GAME_WRITTEN}
-    observed = {name: batted[name] for name in ("launch_speed", "launch_angle", "spray_angle",
-                                                "spin_rate")}
-    return measured, observed, ok
-
-
-def solve_game_inputs(study, inputs):
-    """Solve a game kernel's input rows (:data:`mcbat.core.swing.GAME_INPUT_FIELDS` x n)
-    with the study's solver settings: the batted balls' Statcast outputs
-    (:func:`mcbat.dataset.schema.derive_game`) and which rows were solved."""
-    n = inputs.shape[1]
-    frame, out, game_out, status, end = allocate_game_outputs(n)
-    solver = study.solver
-    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
-                     out, game_out, status, end)
-    g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
-    batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
-                         [g[f"field_ball_w{c}"] for c in "xyz"])
-    return batted, status == 0

@@ -62,7 +62,7 @@ from scipy import special, stats
 from mcbat.bodies.game import GAME_RESTITUTION
 from mcbat.core.swing import GAME_INPUT_FIELDS
 from mcbat.errors import InputError
-from mcbat.stats.models import solve_game_inputs
+from mcbat.stats.simulate import solve_game_inputs
 from mcbat.study import units as u
 from mcbat.study.game import KEYS
 from mcbat.study.spec import Study

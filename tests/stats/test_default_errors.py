@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mcbat.stats.fit import Likelihood, default_errors, fit
-from mcbat.stats.measurements import DEFAULT_ERRORS, synthesize, table_error
+from mcbat.stats.fit import Likelihood, fit
+from mcbat.stats.measurements import DEFAULT_ERRORS, default_errors, synthesize, table_error
 from mcbat.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats.fit import compare_models, fit
+from mcbat.stats.fit import fit
 from mcbat.stats.measurements import synthesize
+from mcbat.stats.model_choice import compare_models
 from mcbat.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -135,7 +136,7 @@ def test_impact_parameter_error_is_marginalised():
 
 
 def test_a_non_positive_curvature_is_not_clipped_to_zero():
-    from mcbat.stats.fit import _curvature_errors
+    from mcbat.stats.intervals import curvature_errors
 
     class Saddle:
         free = ["e", "mu"]
@@ -143,12 +144,13 @@ def test_a_non_positive_curvature_is_not_clipped_to_zero():
         def __call__(self, x):
             return (x[0] - 0.5) ** 2 - (x[1] - 0.5) ** 2
 
-    err, cov = _curvature_errors(Saddle(), [0.5, 0.5])
+    err, cov = curvature_errors(Saddle(), [0.5, 0.5])
     assert err[0] > 0 and math.isnan(err[1]) and np.isnan(cov).all()
 
 
 def test_flat_on_both_sides_is_reported_unidentified_with_null_errors():
-    from mcbat.stats.fit import FitResult, _entry
+    from mcbat.stats.fit import FitResult
+    from mcbat.stats.intervals import _entry
 
     side = {"error": None, "physical": False, "edge": 2.0, "root": None}
     entry = _entry(dict(side, edge=1e-3), side, limit=None)

@@ -10,7 +10,8 @@ import pandas as pd
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats.fit import draw_moments, fit
+from mcbat.stats.fit import fit
+from mcbat.stats.likelihood import draw_moments
 from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
 

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats import fit as fitting
+from mcbat.stats import intervals as fitting
 from mcbat.stats.fit import FitResult, Likelihood, fit
+from mcbat.stats.input_priors import WIDEN_P_VALUE, PriorFamily, beyond_range_test, prior_range
 from mcbat.stats.measurements import read_measurements, synthesize
-from mcbat.stats.models import WIDEN_P_VALUE, PriorFamily, beyond_range_test, prior_range
 from mcbat.study import load_study
 from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
 
@@ -42,7 +42,7 @@ def test_a_valley_narrower_than_the_grid_is_found_and_holds_the_truth(case_fit):
 
 
 def test_the_best_fit_is_below_the_plateau_where_every_drop_sticks(case_fit):
-    like = fitting.Likelihood(DROP, read_measurements(CASE), ("e", "mu"), seed=0)
+    like = Likelihood(DROP, read_measurements(CASE), ("e", "mu"), seed=0)
     best = np.array([case_fit.params["e"], case_fit.params["mu"]])
     plateau = like(np.array([case_fit.params["e"], 2.0]))
     assert like(best) < plateau - 10  # the old answer, mu = 2, is 29 units of -ln L worse

@@ -1,0 +1,289 @@
+"""Intervals of a fit: profile likelihood, one-sided limits, curvature and bootstrap errors.
+
+A profile-likelihood interval ends where ``-ln L``, minimised over the other parameters,
+rises by :data:`ONE_SIGMA` above its minimum; on a side where it stays flat up to the end
+of the parameter's range, a one-sided 95 % limit (a rise of :data:`LIMIT_95`) is given
+instead, and a side that ends at a physical edge (:data:`PHYSICAL_EDGES`) ends the interval
+there. Each function takes the likelihood (:class:`mcbat.stats.likelihood.Likelihood`) and
+the best fit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import optimize, stats
+
+from mcbat.stats.likelihood import FREE
+
+__all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "bootstrap_errors", "curvature_errors",
+           "flat_to_edge", "hessian", "profile_intervals"]
+
+PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3),
+                  ("lift_scale", 0.0)}
+"""Ends of :data:`FREE` that are physical limits (an interval may end there); the other
+ends (``mu = 2``, ...) only end the search, and a likelihood still flat there means the data
+do not bound the parameter on that side."""
+ONE_SIGMA = 0.5
+"""Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
+LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
+"""Rise of ``-ln L`` (1.353) that sets a one-sided 95 % limit."""
+
+
+def curvature_errors(like, best):
+    """Curvature errors and covariance (NaN where the Hessian is not positive definite)."""
+    hess = hessian(like, best, [FREE[p] for p in like.free])
+    n = len(best)
+    try:
+        np.linalg.cholesky(hess)
+        cov = np.linalg.inv(hess)
+        return np.sqrt(np.diag(cov)), cov
+    except np.linalg.LinAlgError:
+        diag = np.diag(hess)
+        err = np.where(diag > 0, 1.0 / np.sqrt(np.abs(diag)), np.nan)
+        return err, np.full((n, n), np.nan)
+
+
+def flat_to_edge(like, best, nll_min):
+    """Parameters whose likelihood stays within 2 of the minimum up to a search edge."""
+    flat = []
+    for i, name in enumerate(like.free):
+        for edge in like.search[name]:
+            if edge in FREE[name]:
+                continue  # a physical bound (e_x = 0), not the end of the search
+            probe = best.copy()
+            probe[i] = edge
+            if abs(edge - best[i]) > 1e-9 and like(probe) - nll_min < 2.0:
+                flat.append(name)
+                break
+    return flat
+
+
+def profile_intervals(like, best, nll_min, err, cov):
+    """Profile-likelihood intervals of every free parameter.
+
+    Returns the per-parameter summary (:attr:`FitResult.intervals`) and a better point if
+    the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
+    """
+    n = len(best)
+    # Steps of the profile: the curvature error, but never more than a twentieth of the
+    # search range (in a flat region the curvature error is huge, and an inner search that
+    # starts that far away lands anywhere, which made the profile jump at the best fit).
+    widths = np.array([0.05 * (like.search[p][1] - like.search[p][0]) for p in like.free])
+    finite = np.isfinite(err) & (err > 0)
+    scale = np.where(finite, np.minimum(np.where(finite, err, 0.0), widths), widths)
+    # The covariance's line is a good start for the other parameters only where the
+    # curvature describes the likelihood: every error finite and within its step.
+    on_line = bool(np.all(np.isfinite(cov)) and np.all(finite) and np.all(err <= widths))
+    found = {"x": None, "nll": nll_min - 1e-3}
+
+    def profile(i, t):
+        """Min over the other parameters of -ln L with parameter i at t; the point."""
+        others = [j for j in range(n) if j != i]
+        x = best.copy()
+        x[i] = t
+        if others and on_line:  # start on the line of the covariance
+            x[others] += cov[others, i] / cov[i, i] * (t - best[i])
+            for j in others:
+                lo, hi = FREE[like.free[j]]
+                x[j] = min(max(x[j], lo), hi)
+        if not others:
+            value = like(x)
+        elif len(others) == 1:  # Brent's method along the one other parameter
+            j = others[0]
+
+            def sub1(y):
+                x[j] = y
+                return like(x)
+            y0, s = x[j], scale[j]
+            lo, hi = FREE[like.free[j]]
+            y0 = min(max(y0, lo + s), hi - s) if hi - lo > 2 * s else y0
+            r = optimize.minimize_scalar(sub1, bracket=(y0 - s, y0 + s), method="brent",
+                                         options={"xtol": 0.01 * s / max(abs(y0), s),
+                                                  "maxiter": 60})
+            x[j] = r.x
+            value = float(r.fun)
+        else:
+            def sub(y):
+                x[others] = y
+                return like(x)
+            y0 = x[others].copy()
+            simplex = np.vstack([y0] + [y0 + np.eye(len(others))[k] * scale[j] *
+                                        (1 if y0[k] + scale[j] <= FREE[like.free[j]][1]
+                                         else -1)
+                                        for k, j in enumerate(others)])
+            r = optimize.minimize(sub, y0, method="Nelder-Mead",
+                                  options={"xatol": 0.01 * scale[others].min(), "fatol": 1e-4,
+                                           "maxiter": 400, "initial_simplex": simplex})
+            x[others] = r.x
+            value = float(r.fun)
+        if value < found["nll"]:
+            found["x"], found["nll"] = x.copy(), value
+        return value - nll_min
+
+    summary = {}
+    for i, name in enumerate(like.free):
+        lo_edge, hi_edge = FREE[name]
+        sides = {}
+        for sign, edge in ((-1, lo_edge), (1, hi_edge)):
+            sides[sign] = _side(lambda t, i=i: profile(i, t), best[i], sign, edge,
+                                scale[i], (name, edge) in PHYSICAL_EDGES)
+        summary[name] = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
+            lambda t: profile(i, t), best[i], sign, side["edge"], scale[i], side["root"]))
+    return summary, found["x"]
+
+
+def _entry(lower, upper, limit):
+    """The :attr:`FitResult.intervals` entry of one parameter from its two sides;
+    ``limit(sign, side)`` computes a one-sided 95 % limit."""
+    entry = {"lower_error": lower["error"], "upper_error": upper["error"],
+             "status": "measured", "limit": None, "at_bound": None}
+    if lower.get("failed") or upper.get("failed"):
+        entry.update(lower_error=None, upper_error=None, status="profile_failed")
+        return entry
+    for side in (lower, upper):
+        if side["physical"]:
+            entry["at_bound"] = side["edge"]
+    if lower["error"] is None and upper["error"] is None:
+        entry["status"] = "unidentified"
+    elif upper["error"] is None or lower["error"] is None:
+        sign, side = (-1, lower) if upper["error"] is None else (1, upper)
+        entry["status"] = "lower_limit" if sign < 0 else "upper_limit"
+        # The bounded side's 95 % limit, or the physical edge its interval reaches.
+        entry["limit"] = limit(sign, side) if side["root"] is not None else side["edge"]
+    return entry
+
+
+def _side(delta, best, sign, edge, scale, physical):
+    """One side of a profile interval: where ``delta`` (the rise of ``-ln L``) reaches 1/2.
+
+    ``error`` is the distance from ``best`` (None if the rise stays below 1/2 up to a
+    non-physical ``edge``; the distance to the edge if it is a physical limit);
+    ``root`` is where the rise is 1/2.
+    """
+    result = {"error": None, "physical": False, "edge": edge, "root": None}
+    room = abs(edge - best)
+    if room < 1e-12:
+        if physical:
+            result.update(error=0.0, physical=True)
+        return result
+    steps = [1.3, 2.0, 3.0, 5.0, 8.0, 13.0, 21.0, 40.0, 80.0]
+    last_t, last_d = best, 0.0
+    points = []
+    for k in steps:
+        t = best + sign * min(k * scale, room)
+        d = delta(t)
+        points.append((t, d))
+        if d >= ONE_SIGMA:
+            break
+        last_t, last_d = t, d
+        if abs(t - best) >= room:
+            break
+    t, d = points[-1]
+    if d < ONE_SIGMA:  # flat up to the edge (or beyond the scan)
+        if abs(t - best) >= room and physical:
+            result.update(error=room, physical=True)
+        return result
+    root = _crossing(delta, ONE_SIGMA, (last_t, last_d), (t, d), 0.005 * scale)
+    if abs(root - best) < 1e-3 * scale:
+        # A rise of 1/2 within a thousandth of the step is a jump of the profile, not an
+        # interval: the profile could not be computed there (FitResult: "profile_failed").
+        result["failed"] = True
+        return result
+    result["error"] = abs(root - best)
+    result["root"] = root
+    return result
+
+
+def _limit(delta, best, sign, edge, scale, root):
+    """Where the rise of ``-ln L`` reaches :data:`LIMIT_95` beyond ``root`` (towards
+    ``edge``): the one-sided 95 % limit; None if it stays below up to the edge."""
+    room = abs(edge - best)
+    lo, hi = root, root
+    d = ONE_SIGMA
+    while d < LIMIT_95:
+        if abs(hi - best) >= room:
+            return None
+        lo, hi = hi, best + sign * min(abs(hi - best) * 1.6, room)
+        d = delta(hi)
+    return _crossing(delta, LIMIT_95, (lo, delta(lo) if lo != root else ONE_SIGMA), (hi, d),
+                     0.005 * scale)
+
+
+def _crossing(delta, level, a, b, xtol):
+    """Where ``delta`` reaches ``level`` between ``a = (t, delta(t))`` below it and ``b``
+    above: regula falsi (Illinois) on ``sqrt(2 delta)``, which is nearly linear in ``t``
+    near a likelihood maximum, so a few evaluations suffice."""
+    target = math.sqrt(2 * level)
+
+    def g(d):
+        return math.sqrt(2 * max(d, 0.0)) - target
+
+    (ta, fa), (tb, fb) = (a[0], g(a[1])), (b[0], g(b[1]))
+    side = 0
+    for _ in range(60):
+        t = tb - fb * (tb - ta) / (fb - fa) if fb != fa else 0.5 * (ta + tb)
+        ft = g(delta(t))
+        if abs(ft) < 1e-4 or abs(tb - ta) < xtol:
+            return float(t)
+        if (ft < 0) == (fa < 0):
+            ta, fa = t, ft
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        else:
+            tb, fb = t, ft
+            if side == 1:
+                fa *= 0.5
+            side = 1
+    return float(t)
+
+
+def hessian(f, x, bounds, rel=1e-3):
+    """Central finite-difference Hessian of ``f`` at ``x``.
+
+    A parameter within a step of an edge of its range (``e_x = 0``, the rigid model, is
+    one) gets its stencil shifted inside the range: the curvature one step away.
+    """
+    n = len(x)
+    h = np.maximum(np.abs(x) * rel, 1e-4)
+    x = np.array(x, float)
+    for i, (lo, hi) in enumerate(bounds):
+        x[i] = min(max(x[i], lo + h[i]), hi - h[i])
+    hess = np.empty((n, n))
+    f0 = f(x)
+    for i in range(n):
+        for j in range(i, n):
+            if i == j:
+                xp, xm = x.copy(), x.copy()
+                xp[i] += h[i]
+                xm[i] -= h[i]
+                hess[i, i] = (f(xp) - 2 * f0 + f(xm)) / h[i] ** 2
+            else:
+                vals = []
+                for si, sj in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+                    xx = x.copy()
+                    xx[i] += si * h[i]
+                    xx[j] += sj * h[j]
+                    vals.append(f(xx))
+                hess[i, j] = hess[j, i] = (vals[0] - vals[1] - vals[2] + vals[3]) / (
+                    4 * h[i] * h[j])
+    return hess
+
+
+def bootstrap_errors(like, best, n, seed):
+    """Parametric bootstrap: refit tables simulated at the best fit; std of the refits."""
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31 + 11,)))
+    y_saved = like.y
+    fits = []
+    try:
+        for _ in range(n):
+            like.y = like.simulate(best, rng)
+            res = optimize.minimize(like, best, method="Nelder-Mead",
+                                    options={"xatol": 1e-5, "fatol": 1e-6, "maxiter": 1000})
+            fits.append(res.x)
+    finally:
+        like.y = y_saved
+    fits = np.array(fits)
+    return dict(zip(like.free, map(float, fits.std(axis=0, ddof=1))))

@@ -1,0 +1,44 @@
+"""The textbook fit of drop tables (every input known, plain maximum likelihood): an
+independent check on the fit's intervals."""
+
+import pytest
+
+from mcbat.testing.drop_tables import drop_table, kernel_solver
+from mcbat.testing.textbook_fit import mu_information_share, textbook_fit
+
+
+def exact_table(k):
+    """Table ``k`` of the drop test with exact impact parameters (seed as the validation's)."""
+    return drop_table(60, 1000 + k, solver=kernel_solver, impact_parameter_err=0.0)
+
+
+@pytest.mark.parametrize("k", [0, 3])
+def test_textbook_interval_agrees_with_the_cramer_rao_error(k):
+    table = exact_table(k)
+    r = textbook_fit(table)
+    share, fisher_error = mu_information_share(table)
+    width = 0.5 * (r["lower_error"] + r["upper_error"])
+    # Two independent routes to mu's error: the profile's rise of 1/2 at the best fit and
+    # the Fisher matrix from the Jacobian at the truth. They agree where the likelihood is
+    # near quadratic; they cannot differ by much on 60 rows with 3 observables each.
+    assert 0.7 < width / fisher_error < 1.3
+    assert abs(r["mu"] - 0.18) < 4 * width
+    assert abs(r["e"] - 0.6) < 0.01
+    # Each row's share is non-negative, so three of sixty rows carry at least 3/60.
+    assert 3 / 60 <= share <= 1.0
+
+
+@pytest.mark.slow
+def test_fit_with_exact_inputs_matches_the_textbook_fit():
+    """mcbat's fit (axial contact marginalised over the study's range) and the textbook fit
+    (the true contact points) of the same exact-b table agree within half an error."""
+    from pathlib import Path
+
+    from mcbat.stats.fit import fit
+    from mcbat.study import load_study
+
+    study = load_study(Path(__file__).resolve().parents[2] / "studies" / "cross_nathan_2006.toml")
+    table = exact_table(2)
+    ours = fit(study, table, ("e", "mu"), seed=2).params["mu"]
+    r = textbook_fit(table)
+    assert abs(ours - r["mu"]) < 0.5 * 0.5 * (r["lower_error"] + r["upper_error"])
