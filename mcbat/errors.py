@@ -3,6 +3,11 @@
 Library code names Python parameters (``out``, ``samples``) or study keys (``ball.mass``)
 in ``field``, and writes other parameters it mentions in call syntax (``overwrite=True``,
 ``scheduler=ADDRESS``); the command line (:mod:`mcbat.cli`) renders both as its flags.
+
+The input checks that raise these errors are in :mod:`mcbat.checks`. Two of them,
+:func:`check_real` and :func:`check_vector`, are defined here, with the error they raise:
+:mod:`mcbat.checks` builds on this module, so this module cannot import from it, and code
+that imported them from here keeps working.
 """
 
 import math
