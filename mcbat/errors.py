@@ -3,11 +3,6 @@
 Library code names Python parameters (``out``, ``samples``) or study keys (``ball.mass``)
 in ``field``, and writes other parameters it mentions in call syntax (``overwrite=True``,
 ``scheduler=ADDRESS``); the command line (:mod:`mcbat.cli`) renders both as its flags.
-
-The input checks that raise these errors are in :mod:`mcbat.checks`. Two of them,
-:func:`check_real` and :func:`check_vector`, are defined here, with the error they raise:
-:mod:`mcbat.checks` builds on this module, so this module cannot import from it, and code
-that imported them from here keeps working.
 """
 
 import math
@@ -67,6 +62,9 @@ def _one_line(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+# The other input checks are in mcbat.checks, which re-exports these two. They stay here,
+# beside the error they raise, because mcbat.checks builds on this module: defining them
+# there and re-exporting them here would make the two modules import each other.
 def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
     """``value`` as a finite float, or :class:`InputError` naming ``name``.
 

@@ -67,9 +67,9 @@ _OPTIONAL_SECTIONS = ("ball_spin", "bat_velocity", "bat_spin", "restitution", "s
 class Study:
     """A validated study: bodies, input distributions, sampling defaults, solver settings.
 
-    Build it with :func:`load_study` (a TOML file) or :meth:`from_dict` (parsed TOML).
-    Everything is validated on construction; :meth:`sample` then never raises for input
-    reasons.
+    Build it with :func:`mcbat.study.load_study` (a TOML file) or :meth:`from_dict`
+    (parsed TOML). Everything is validated on construction; :meth:`sample` then never
+    raises for input reasons.
 
     Attributes
     ----------
@@ -99,14 +99,15 @@ class Study:
     kind = "impact"
     #: Sections whose presence makes :meth:`from_dict` build this subclass of Study.
     marker_sections: tuple[str, ...] = ()
-    # The subclasses with marker sections, registered as they are defined. mcbat.study's
-    # __init__ imports every kind of study (through mcbat.study.spec), and it runs before
-    # any module of the package, so the registry is complete whenever Study is usable.
+    # The subclasses that declare marker sections, registered as they are defined (a
+    # registry, so that this module need not import the kinds of study built on it).
+    # mcbat.study's __init__ imports every kind (through mcbat.study.spec), and it runs
+    # before any module of the package, so the registry is complete whenever Study is.
     _variants: list[type[Study]] = []
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
-        if cls.marker_sections:
+        if cls.__dict__.get("marker_sections"):
             Study._variants.append(cls)
 
     def __init__(self, data, source=None, text=None):
@@ -127,7 +128,7 @@ class Study:
         Parameters
         ----------
         data : dict
-            The study, as in the file format (module docstring).
+            The study, as in the file format (``docs/study-format.md``).
         source : str, optional
             Where it came from (for error messages).
         text : str, optional
