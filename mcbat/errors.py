@@ -62,6 +62,9 @@ def _one_line(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+# The other input checks are in mcbat.checks, which re-exports these two. They stay here,
+# beside the error they raise, because mcbat.checks builds on this module: defining them
+# there and re-exporting them here would make the two modules import each other.
 def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
     """``value`` as a finite float, or :class:`InputError` naming ``name``.
 

@@ -32,6 +32,8 @@ import pandas as pd
 
 from mcbat.bodies import BALL_PRESETS, Ball, Bat, bat_preset
 from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution, location_table
+from mcbat.checks import check_real as _real
+from mcbat.checks import check_tolerance
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.contact_inference import (
     INFER_BAT_SPEED,
@@ -46,8 +48,6 @@ from mcbat.core.geometry import profile_table
 from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
-from mcbat.errors import check_real as _real
-from mcbat.study.spec import check_tolerance
 
 __all__ = ["CARRIED_COLUMNS", "INPUT_COLUMNS", "METADATA_KEY", "OPTIONAL_COLUMNS",
            "OUTPUT_UNITS", "STATUS_NAMES", "InferenceOptions", "SpinAssumptions", "infer_spin",

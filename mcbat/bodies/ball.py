@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mcbat.errors import check_real
+from mcbat.checks import check_real
 
 __all__ = ["Ball"]
 

@@ -8,8 +8,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mcbat.checks import check_real
 from mcbat.core.geometry import ball_centre_radial_distance
-from mcbat.errors import InputError, check_real
+from mcbat.errors import InputError
 
 OVERLAP_TOLERANCE = 1e-5
 """Largest overlap (m) of a touching ball with a profiled bat away from the contact that

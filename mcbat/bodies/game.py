@@ -12,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mcbat.bodies.tables import data_file
-from mcbat.errors import InputError, check_real
+from mcbat.checks import check_real
+from mcbat.errors import InputError
 
 __all__ = ["DEFAULT_PIVOT", "GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution",
            "location_table"]

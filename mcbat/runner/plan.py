@@ -29,6 +29,7 @@ import numba
 import numpy as np
 
 from mcbat.bodies.presets import ball_preset, bat_preset
+from mcbat.checks import positive_int
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
@@ -68,13 +69,6 @@ __all__ = ["DEFAULT_CHUNK_SIZE", "ChunkJob", "ChunkSummary", "chunks_to_compute"
 #: to chunk: 2**18 rows took fresh pages (page faults) for every chunk, and ran summary-only
 #: scans ~5 % slower.
 DEFAULT_CHUNK_SIZE = 131_072
-
-
-def positive_int(value, name: str) -> int:
-    """``value`` as an int, or :class:`InputError` naming ``name`` unless it is >= 1."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise InputError(name, f"must be an integer >= 1, got {value!r}")
-    return int(value)
 
 
 def set_threads(threads):

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mcbat.checks import check_keys, number
 from mcbat.core.flight import (
     DEFAULT_TOLERANCE,
     FLIGHT_FIELDS,
@@ -45,7 +46,7 @@ from mcbat.core.flight import (
 )
 from mcbat.errors import InputError
 from mcbat.study import units as u
-from mcbat.study.distributions import check_keys, number, parse
+from mcbat.study.distributions import parse
 
 __all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FLIGHT_PRESETS", "SCALE_RANGES",
            "FlightSettings", "fly_launches", "launch_vectors", "parse_flight"]

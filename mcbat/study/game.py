@@ -40,13 +40,15 @@ from types import MappingProxyType
 import numpy as np
 
 from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, LOCATION_TABLES, Restitution
+from mcbat.checks import check_keys, check_string
 from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError
 from mcbat.study import units as u
-from mcbat.study.distributions import check_keys, check_range, parse
+from mcbat.study.distributions import check_range, parse
 from mcbat.study.flight import parse_flight
+from mcbat.study.impact import Study
 from mcbat.study.pitches import IDENTIFIERS, PitchRows, PitchTable, parse_pitches, select_rows
-from mcbat.study.spec import Study, check_solver, check_string, fill_bodies, parse_ball, parse_bat
+from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
@@ -137,9 +139,10 @@ def _check_sections(data):
 
 class GameStudy(Study):
     """A validated game study (see the module docstring). Sampling, overrides and the
-    config hash work as for :class:`~mcbat.study.spec.Study`."""
+    config hash work as for :class:`~mcbat.study.impact.Study`."""
 
     kind = "game"
+    marker_sections = ("pitch", "swing", "pitches")
 
     def _parse(self, data):
         _check_sections(data)

@@ -30,9 +30,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from mcbat.checks import check_keys, integer, number
 from mcbat.errors import InputError
 from mcbat.study import units as u
-from mcbat.study.distributions import check_keys, integer, number
 
 __all__ = ["COMPRESSIONS", "MAX_BY", "MAX_SUMMARY_BINS", "PRECISIONS", "OutputSpec",
            "SummaryAxis", "SummarySpec", "parse_columns", "parse_output", "parse_summary"]

@@ -42,9 +42,10 @@ from types import MappingProxyType
 
 import numpy as np
 
+from mcbat.checks import check_keys, integer
 from mcbat.errors import InputError
 from mcbat.study import units as u
-from mcbat.study.distributions import Uniform, check_keys, integer, parse
+from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import compile_program, draw
 
 __all__ = ["FILTERS", "IDENTIFIERS", "PITCH_KEYS", "PITCH_SOURCE_COLUMNS", "ROW_STREAM",

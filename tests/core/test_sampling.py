@@ -169,7 +169,7 @@ def test_the_truncated_normal_cdf_matches_scipy_ndtr():
     """TruncNormal's bounds go through its own normal CDF (no scipy.special at start-up):
     scipy's ndtr to 1e-13 relative, deep into the lower tail (the C library's erfc and
     cephes' differ by up to ~6e-14 in the far tail)."""
-    from mcbat.study.distributions import _normal_cdf
+    from mcbat.study.dist_types import _normal_cdf
 
     x = np.concatenate([np.linspace(-38.0, 9.0, 20_001), [0.0, -0.0, 1e-300, -1e-300]])
     ours = np.array([_normal_cdf(v) for v in x])
