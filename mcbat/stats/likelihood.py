@@ -56,6 +56,7 @@ import math
 
 import numpy as np
 
+from mcbat.checks import check_count
 from mcbat.core.status import OK, STATUS_NAMES
 from mcbat.errors import InputError
 from mcbat.stats.flight_model import FlightModel
@@ -100,12 +101,6 @@ def check_free(free):
     return free
 
 
-def _check_count(value, name, minimum):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InputError(name, f"must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 class Likelihood:
     """``-ln L(theta)`` of a measurement table under a study's model (see module doc).
 
@@ -145,8 +140,8 @@ class Likelihood:
             raise InputError("likelihood", f"must be one of {', '.join(LIKELIHOODS)}, got "
                              f"{likelihood!r}")
         self.free = check_free(free)
-        draws = None if draws is None else _check_count(draws, "draws", 4)
-        seed = _check_count(seed, "seed", 0)
+        draws = None if draws is None else check_count(draws, "draws", 4)
+        seed = check_count(seed, "seed", 0)
         self.model = draw_model(study, table, draws, seed, fixed, input_prior, likelihood)
         for name in self.free:
             if name not in self.model.PARAMETERS:
