@@ -11,7 +11,7 @@ Example
 >>> case = FlightCase(launch_speed=103 * 0.44704, launch_angle=math.radians(27),
 ...                   backspin=2000 * 2 * math.pi / 60)
 >>> result = solve_flight(case)
->>> 380 < result.hit_distance < 420           # ft
+>>> 400 < result.hit_distance < 450           # ft
 True
 >>> result.to_dict()["units"]["hit_distance"]
 'ft'
