@@ -58,17 +58,17 @@ class FlightCase:
     mph, deg and rpm of Statcast and of :class:`~mcbat.api.GameResult` (for a game's ball
     use :meth:`from_result`, which converts them).
 
-    ===================================  ======  =========================================
-    parameter                            unit    meaning
-    ===================================  ======  =========================================
-    ``launch_speed``                     m/s     > 0
-    ``launch_angle``                     rad     elevation of the velocity, in
-                                                 [-pi/2, pi/2]
-    ``spray_angle``                      rad     ``atan2(v_x, v_y)``, > 0 towards right
-                                                 field, in [-pi, pi]
-    ``backspin``, ``sidespin``,          rad/s   spin along ``b = unit(v x z)``,
-    ``gyrospin``                                 ``s = b x unit(v)`` and ``unit(v)``
-    ===================================  ======  =========================================
+    ========================================  ======  =====================================
+    parameter                                 unit    meaning
+    ========================================  ======  =====================================
+    ``launch_speed``                          m/s     > 0
+    ``launch_angle``                          rad     the velocity's elevation, within
+                                                      [-pi/2, pi/2]
+    ``spray_angle``                           rad     ``atan2(v_x, v_y)``, > 0 towards
+                                                      right field, within [-pi, pi]
+    ``backspin``, ``sidespin``, ``gyrospin``  rad/s   the spin along ``b = unit(v x z)``,
+                                                      ``s = b x unit(v)`` and ``unit(v)``
+    ========================================  ======  =====================================
 
     ``ball`` (default the ``baseball`` preset) and ``settings``
     (:class:`mcbat.study.flight.FlightSettings`: atmosphere, model, launch point, wind,

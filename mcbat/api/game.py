@@ -87,23 +87,23 @@ class GameCase:
     mph, deg and rpm of Statcast and of a study's ``{value, unit}`` tables (convert with
     ``math.radians``, ``mph * 0.44704``, ``rpm * 2 pi / 60``; ``docs/batting.md``).
 
-    ================================  ======  ==============================================
-    parameter                         unit    meaning
-    ================================  ======  ==============================================
-    ``pitch_speed``, ``bat_speed``    m/s     the pitch; the sweet spot's speed
-    ``vertical_approach_angle``       rad     < 0 descending; within (-pi/2, pi/2)
-    ``horizontal_approach_angle``     rad     > 0 moving towards ``+x``; within (-pi/2, pi/2)
-    ``spin_rate``                     rad/s   the pitch's spin
-    ``spin_axis``                     rad     Statcast's: pi backspin, 0 topspin
-    ``spin_efficiency``               1       transverse fraction, in [0, 1]
-    ``gyro_sign``                     1       +1 or -1: the sense of the gyro part
-    ``attack_angle``                  rad     the swing's; within (-pi/2, pi/2)
-    ``attack_direction``              rad     > 0 towards the opposite field
-    ``vertical_bat_angle``            rad     within (-pi/2, pi/2)
-    ``pivot``                         m       the pivot's distance from the knob
-    ``from_barrel_end``, ``undercut`` m       the contact; undercut > 0: ball centre above
-    ``mu``                            1       Coulomb friction, >= 0
-    ================================  ======  ==============================================
+    ==================================  ======  ==============================================
+    parameter                           unit    meaning
+    ==================================  ======  ==============================================
+    ``pitch_speed``, ``bat_speed``      m/s     the pitch; the sweet spot's speed
+    ``vertical_approach_angle``         rad     < 0 descending; within (-pi/2, pi/2)
+    ``horizontal_approach_angle``       rad     > 0 moving towards ``+x``; within (-pi/2, pi/2)
+    ``spin_rate``                       rad/s   the pitch's spin
+    ``spin_axis``                       rad     Statcast's: pi backspin, 0 topspin
+    ``spin_efficiency``                 1       transverse fraction, in [0, 1]
+    ``gyro_sign``                       1       +1 or -1: the sense of the gyro part
+    ``attack_angle``                    rad     the swing's; within (-pi/2, pi/2)
+    ``attack_direction``                rad     > 0 towards the opposite field
+    ``vertical_bat_angle``              rad     within (-pi/2, pi/2)
+    ``pivot``                           m       the pivot's distance from the knob
+    ``from_barrel_end``, ``undercut``   m       the contact; undercut > 0: ball centre above
+    ``mu``                              1       Coulomb friction, >= 0
+    ==================================  ======  ==============================================
 
     The field frame: ``x`` to first base, ``y`` to the pitcher, ``z`` up. ``handedness``
     "R" or "L" (mirror image in ``x``). ``restitution`` gives ``e*`` and ``e_x``
