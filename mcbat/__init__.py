@@ -105,19 +105,18 @@ def solve(case, *, settings=None):
     import os
 
     from mcbat import api
-    from mcbat.api.contract import any_case_from_dict
     from mcbat.errors import InputError
 
     if isinstance(case, (str, os.PathLike)):
         data = _read_json(case)
         try:
             if isinstance(data, list):
-                return [solve(any_case_from_dict(item), settings=settings) for item in data]
-            return solve(any_case_from_dict(data), settings=settings)
+                return [solve(api.any_case_from_dict(item), settings=settings) for item in data]
+            return solve(api.any_case_from_dict(data), settings=settings)
         except InputError as err:
             raise err.within(source=os.fspath(case)) from None
     if isinstance(case, dict):
-        case = any_case_from_dict(case)
+        case = api.any_case_from_dict(case)
     if isinstance(case, api.FlightCase):
         if settings is not None:
             raise InputError("settings", "a flight has no impact solver settings (its own "

@@ -3,6 +3,9 @@ read the result (or its JSON answer, with units).
 
 One job per module:
 
+:mod:`mcbat.api.contract`  the JSON of ``mcbat impact`` and ``mcbat flight``: the
+                           answers (a result -> JSON with a ``units`` block), the units,
+                           the readers of shared parts (numbers with units, balls, bats)
 :mod:`mcbat.api.impact`    one impact in the bat frame (SI): :class:`ImpactCase`,
                            :func:`solve` -> :class:`ImpactResult`; :class:`SolverSettings`
 :mod:`mcbat.api.game`      one pitch and swing in the field frame (SI in; the batted ball
@@ -11,9 +14,9 @@ One job per module:
 :mod:`mcbat.api.flight`    one batted ball's flight (SI in; ft and m out):
                            :class:`FlightCase` (:meth:`FlightCase.from_result` for a game's
                            ball), :func:`solve_flight` -> :class:`FlightResult`
-:mod:`mcbat.api.contract`  the JSON of ``mcbat impact`` and ``mcbat flight``: a JSON object
-                           -> a case; a result -> JSON with a ``units`` block
 
+Each case type reads its own JSON (``impact_case_from_dict``, ``game_case_from_dict``,
+``flight_case_from_dict``); :func:`case_from_dict` and :func:`any_case_from_dict` pick one.
 :func:`mcbat.solve` takes any of the three cases, a JSON object or a JSON file.
 
 Example
@@ -28,9 +31,14 @@ Example
 'stuck'
 """
 
-from mcbat.api.contract import case_from_dict, flight_case_from_dict
-from mcbat.api.flight import MAX_TRAJECTORY_POINTS, FlightCase, FlightResult, solve_flight
-from mcbat.api.game import GAME_JSON_KEYS, GameCase, GameResult, solve_game
+from mcbat.api.flight import (
+    MAX_TRAJECTORY_POINTS,
+    FlightCase,
+    FlightResult,
+    flight_case_from_dict,
+    solve_flight,
+)
+from mcbat.api.game import GAME_JSON_KEYS, GameCase, GameResult, game_case_from_dict, solve_game
 from mcbat.api.impact import (
     MAX_AZIMUTH,
     Contact,
@@ -40,15 +48,18 @@ from mcbat.api.impact import (
     Vector,
     contact_problem,
     history,
+    impact_case_from_dict,
     solve,
 )
 from mcbat.bodies import Ball, Bat
 from mcbat.bodies.game import Restitution
 from mcbat.errors import InputError
+from mcbat.study.game import is_game
 
 __all__ = ["MAX_AZIMUTH", "MAX_TRAJECTORY_POINTS", "Ball", "Bat", "Contact", "FlightCase",
            "FlightResult", "GameCase", "GameResult", "ImpactCase", "ImpactResult",
-           "Restitution", "SolverSettings", "Vector", "case_from_dict", "contact_problem",
+           "Restitution", "SolverSettings", "Vector", "any_case_from_dict", "case_from_dict",
+           "contact_problem",
            "flight_case_from_dict", "history", "solve", "solve_any", "solve_flight",
            "solve_game"]
 
@@ -68,3 +79,19 @@ def solve_any(case, settings: SolverSettings = SolverSettings(), *,  # noqa: B00
                 raise InputError(".".join(GAME_JSON_KEYS[err.field]), err.message) from None
             raise
     return solve(case, settings)
+
+
+def case_from_dict(data):
+    """A :class:`GameCase` for a JSON case of ``mcbat impact`` with ``pitch``/``swing`` keys,
+    else an :class:`ImpactCase`."""
+    return game_case_from_dict(data) if is_game(data) else impact_case_from_dict(data)
+
+
+def any_case_from_dict(data):
+    """The case of any JSON object ``mcbat impact`` or ``mcbat flight`` reads: a
+    :class:`FlightCase` for one with ``launch_speed`` (a game's answer among them), else
+    :func:`case_from_dict`."""
+    if isinstance(data, dict) and not is_game(data) and ("launch_speed" in data
+                                                         or "bat_frame" in data):
+        return flight_case_from_dict(data)
+    return case_from_dict(data)

@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from mcbat.api.contract import FT, check_object, fixed_value, flight_result_to_dict, located
 from mcbat.api.game import GameResult
 from mcbat.bodies import BALL_PRESETS, Ball
 from mcbat.core.flight import fly as flight_kernel
@@ -31,12 +32,12 @@ from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.study import units as u
-from mcbat.study.flight import FlightSettings, launch_vectors
+from mcbat.study.flight import FLIGHT_KEYS, FlightSettings, launch_vectors, parse_flight
+from mcbat.study.spec import parse_ball
 
-__all__ = ["FT", "MAX_TRAJECTORY_POINTS", "FlightCase", "FlightResult", "solve_flight"]
+__all__ = ["MAX_TRAJECTORY_POINTS", "FlightCase", "FlightResult", "flight_case_from_dict",
+           "solve_flight"]
 
-#: One foot in metres: Statcast gives distances in ft.
-FT = 0.3048
 #: Statcast's unit of each launch number of a :class:`~mcbat.api.GameResult`, and its
 #: quantity (for :func:`mcbat.study.units.to_si`).
 _STATCAST_UNITS = {"launch_speed": ("mph", u.SPEED), "launch_angle": ("deg", u.ANGLE),
@@ -169,9 +170,90 @@ class FlightResult:
     def to_dict(self) -> dict:
         """JSON-ready dictionary (the output of ``mcbat flight``), with a ``units`` block:
         see :func:`mcbat.api.contract.flight_result_to_dict`."""
-        from mcbat.api.contract import flight_result_to_dict
-
         return flight_result_to_dict(self)
+
+_LAUNCH_KEYS = {"launch_speed": (u.SPEED, None), "launch_angle": (u.ANGLE, None),
+                "spray_angle": (u.ANGLE, 0.0), "backspin": (u.SPIN, 0.0),
+                "sidespin": (u.SPIN, 0.0), "gyrospin": (u.SPIN, 0.0)}
+#: The keys of a game's answer that a flight does not read (its ball comes from
+#: ``bat_frame_case.ball``).
+_GAME_ANSWER_KEYS = {"status", "end_state", "spin_rate", "collision_efficiency", "field",
+                     "bat_frame_case", "bat_frame"}
+
+
+def _launch_units(data, game_answer) -> dict:
+    """The ``units`` block of a flight's input: the unit of each plain-number launch key."""
+    if "units" not in data:
+        if game_answer:
+            raise InputError("units", "missing: the answer of a game gives launch_speed, "
+                             "launch_angle and the spins in mph, deg and rpm, and its units "
+                             "block says so; keep it (or write each value as "
+                             "{value, unit})")
+        return {}
+    units = data["units"]
+    if not isinstance(units, dict):
+        raise InputError("units", f"must be an object, got {type(units).__name__}")
+    out = {}
+    for key, unit in units.items():
+        if key in _LAUNCH_KEYS:
+            u.factor(unit, _LAUNCH_KEYS[key][0], f"units.{key}")  # validates the unit
+            out[key] = unit
+        elif not (game_answer and key in _GAME_ANSWER_KEYS):
+            raise InputError(f"units.{key}", "a units block names the units of the launch "
+                             f"numbers only ({', '.join(_LAUNCH_KEYS)}); write other values "
+                             "as {value, unit}")
+    return out
+
+
+def flight_case_from_dict(data) -> FlightCase:
+    """A :class:`FlightCase` from a ``mcbat flight`` JSON object: values in SI, or as
+    ``{"value": ..., "unit": ...}``, or plain numbers in the units a ``units`` block names
+    (``{"launch_speed": "mph", ...}``).
+
+    The answer of ``mcbat impact`` for a game case is such an object: its launch numbers
+    are read in its units (mph, deg, rpm), its ball is the game's (``bat_frame_case.ball``,
+    unless ``ball`` is given), its other keys are ignored.
+
+    Raises
+    ------
+    InputError
+        Naming the key.
+    """
+    game_answer = isinstance(data, dict) and "bat_frame" in data
+    allowed = set(_LAUNCH_KEYS) | {"ball", "units"} | set(FLIGHT_KEYS)
+    check_object(data, "", allowed | (_GAME_ANSWER_KEYS if game_answer else set()),
+                 ("launch_speed", "launch_angle"))
+    if game_answer and data.get("status", "ok") != "ok":
+        raise InputError("status", f"the game was not solved (status {data['status']!r})")
+    units = _launch_units(data, game_answer)
+    launch = {}
+    for key, (quantity, default) in _LAUNCH_KEYS.items():
+        spec = data.get(key, default)
+        if key in units and not isinstance(spec, dict):
+            spec = {"value": spec, "unit": units[key]}
+        value = fixed_value(spec, key, quantity) if key in data else default
+        if not math.isfinite(value):
+            raise InputError(key, f"must be a finite number, got {data[key]!r}")
+        launch[key] = value
+    if not launch["launch_speed"] > 0.0:
+        raise InputError("launch_speed", f"must be > 0, got {data['launch_speed']!r}")
+    if not abs(launch["launch_angle"]) <= math.pi / 2:
+        raise InputError("launch_angle", f"must be within [-90, 90] deg, got "
+                         f"{data['launch_angle']!r}"
+                         f"{' ' + units['launch_angle'] if 'launch_angle' in units else ''}")
+    if "ball" in data:
+        ball = parse_ball(data["ball"])
+    elif game_answer:
+        case = data.get("bat_frame_case")
+        if not isinstance(case, dict) or "ball" not in case:
+            raise InputError("bat_frame_case.ball", "missing: a game's answer names its ball "
+                             "there (or give 'ball')")
+        ball = located("bat_frame_case", parse_ball, case["ball"])
+    else:
+        ball = BALL_PRESETS["baseball"]
+    settings = parse_flight({k: v for k, v in data.items() if k in FLIGHT_KEYS}, field="")
+    return FlightCase(ball=ball, settings=settings, **launch)
+
 
 #: Most points of a sampled trajectory (``mcbat flight --trajectory DT``); a flight is also
 #: sampled over at most its first 120 s.

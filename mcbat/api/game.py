@@ -28,8 +28,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mcbat.api.contract import (
+    ball_from_dict,
+    bat_from_dict,
+    check_object,
+    fixed_value,
+    game_result_to_dict,
+    located,
+)
 from mcbat.api.impact import Contact, ImpactCase, ImpactResult, SolverSettings, Vector
-from mcbat.bodies import Ball, Bat
+from mcbat.bodies import BALL_PRESETS, Ball, Bat
 from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
 from mcbat.core import status as st
 from mcbat.core.batch import OUTPUT_FIELDS
@@ -46,9 +54,10 @@ from mcbat.core.swing import (
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
+from mcbat.study.game import KEYS as GAME_KEYS
 from mcbat.study.game import check_swing_angles, parse_handedness
 
-__all__ = ["GAME_JSON_KEYS", "GameCase", "GameResult", "solve_game"]
+__all__ = ["GAME_JSON_KEYS", "GameCase", "GameResult", "game_case_from_dict", "solve_game"]
 
 GAME_JSON_KEYS = {  # Python parameter -> (JSON section, key)
     "pitch_speed": ("pitch", "speed"),
@@ -216,9 +225,7 @@ class GameCase:
     def from_dict(cls, data) -> GameCase:
         """Build a game case from the JSON contract of ``mcbat impact`` (``docs/batting.md``;
         there ``{value, unit}`` tables give other units): see
-        :func:`mcbat.api.contract.game_case_from_dict`."""
-        from mcbat.api.contract import game_case_from_dict
-
+        :func:`game_case_from_dict`."""
         return game_case_from_dict(data)
 
 
@@ -268,8 +275,6 @@ class GameResult:
         """JSON-ready dictionary (the output of ``mcbat impact`` for a game case), with a
         ``units`` block: see :func:`mcbat.api.contract.game_result_to_dict`. ``mcbat flight``
         reads it as it is (``docs/flight.md``)."""
-        from mcbat.api.contract import game_result_to_dict
-
         return game_result_to_dict(self)
 
 
@@ -335,3 +340,41 @@ def solve_game(case: GameCase,
         undercut_impact_parameter=float(go["impact_parameter"]))
 
 
+def game_case_from_dict(data) -> GameCase:
+    """A game case of ``mcbat impact`` (``docs/batting.md``): numbers in SI or as
+    ``{"value": ..., "unit": ...}``; errors name the JSON keys (``pitch.speed``)."""
+    allowed = {"handedness", "ball", "bat", "pitch", "swing", "contact", "mu", "restitution"}
+    check_object(data, "", allowed, ("bat", "pitch", "swing", "mu"))
+    ball = (BALL_PRESETS["baseball"] if "ball" not in data
+            else located("ball", ball_from_dict, data["ball"]))
+    bat = located("bat", bat_from_dict, data["bat"], game=True)
+    values = {}
+    for section in ("pitch", "swing", "contact"):
+        keys = GAME_KEYS[section]
+        table = check_object(data.get(section, {}), section, set(keys),
+                             [k for k, spec in keys.items() if spec[1] is None])
+        for key, spec in table.items():
+            values[keys[key][2].removeprefix("pitch_") if section == "pitch" else
+                   keys[key][2]] = fixed_value(spec, f"{section}.{key}", keys[key][0])
+    values["pitch_speed"] = values.pop("speed")
+    mu = fixed_value(data["mu"], "mu", "dimensionless")
+    restitution = GAME_RESTITUTION
+    if "restitution" in data:
+        keys = GAME_KEYS["restitution"]
+        rest = check_object(data["restitution"], "restitution", set(keys) | {"location"}, ())
+        if ("e" in rest) == ("e_ref" in rest):
+            raise InputError("restitution", "give exactly one of 'e' (a constant e*) or "
+                             "'e_ref' (with e_slope and e_speed_ref)")
+        kw = {("e_ref" if k == "e" else k): (fixed_value(v, f"restitution.{k}", keys[k][0])
+                                                         if k != "location" else v)
+              for k, v in rest.items()}
+        restitution = located("restitution", Restitution, **kw)
+    handedness = data.get("handedness", "R")
+    try:
+        return GameCase(ball=ball, bat=bat, mu=mu, handedness=handedness,
+                        restitution=restitution, **values)
+    except InputError as err:
+        if err.field in GAME_JSON_KEYS:
+            section, key = GAME_JSON_KEYS[err.field]
+            raise InputError(f"{section}.{key}", err.message) from None
+        raise

@@ -25,6 +25,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mcbat.api.contract import (
+    bat_from_dict,
+    check_object,
+    impact_result_to_dict,
+    located,
+)
 from mcbat.bodies import Ball, Bat
 from mcbat.core import status as st
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
@@ -58,7 +64,7 @@ from mcbat.errors import check_vector as _vector
 from mcbat.study.spec import check_tolerance
 
 __all__ = ["MAX_AZIMUTH", "Contact", "ImpactCase", "ImpactResult", "SolverSettings",
-           "Vector", "contact_problem", "history", "solve"]
+           "Vector", "contact_problem", "history", "impact_case_from_dict", "solve"]
 
 Vector = tuple[float, float, float]
 """Three components ``(x, y, z)`` of a velocity (m/s) or a spin (rad/s)."""
@@ -243,9 +249,7 @@ class ImpactCase:
     @classmethod
     def from_dict(cls, data) -> ImpactCase:
         """Build a case from the JSON contract of ``mcbat impact`` (docs/impact.md): see
-        :func:`mcbat.api.contract.impact_case_from_dict`."""
-        from mcbat.api.contract import impact_case_from_dict
-
+        :func:`impact_case_from_dict`."""
         return impact_case_from_dict(data)
 
 
@@ -306,8 +310,6 @@ class ImpactResult:
         """JSON-ready dictionary (the output contract of ``mcbat impact``), with a ``units``
         block naming the unit of every quantity: see
         :func:`mcbat.api.contract.impact_result_to_dict`."""
-        from mcbat.api.contract import impact_result_to_dict
-
         return impact_result_to_dict(self)
 
 
@@ -423,3 +425,60 @@ def history(case: ImpactCase, impulses, settings: SolverSettings = SolverSetting
             "stick_impulse": float(i_s), "energy_in": float(e_in)}
 
 
+# ---- the JSON case of `mcbat impact` ----
+
+_CASE_KEYS = {"ball", "bat", "contact", "ball_velocity", "ball_spin", "bat_velocity",
+              "bat_spin", "mu", "restitution"}
+_REQUIRED = ("ball", "bat", "contact", "ball_velocity", "mu")
+
+
+def impact_case_from_dict(data) -> ImpactCase:
+    """A bat-frame case of ``mcbat impact`` (``docs/impact.md``; SI), checked against the
+    solver's ranges and for bodies approaching at the contact."""
+    check_object(data, "", _CASE_KEYS, _REQUIRED)
+    ball_d = check_object(data["ball"], "ball", {"mass", "radius", "inertia_factor"},
+                          ("mass", "radius"))
+    ball = located("ball", Ball, **ball_d)
+    if isinstance(data["bat"], dict) and "preset" in data["bat"]:
+        bat = located("bat", bat_from_dict, data["bat"])
+    else:
+        bat_d = check_object(data["bat"], "bat",
+                             {"mass", "radius", "transverse_inertia", "axial_inertia"},
+                             ("mass", "radius", "transverse_inertia", "axial_inertia"))
+        bat = located("bat", Bat, **bat_d)
+    contact_d = check_object(data["contact"], "contact",
+                             {"axial", "angle", "impact_parameter", "approach_azimuth"}, ("axial",))
+    if ("angle" in contact_d) == ("impact_parameter" in contact_d):
+        raise InputError("contact", "give exactly one of 'angle' or 'impact_parameter'")
+    if "angle" in contact_d:
+        if "approach_azimuth" in contact_d:
+            raise InputError("contact.approach_azimuth", "only valid with 'impact_parameter'")
+        contact = located("contact", Contact, **contact_d)
+    else:
+        axial = located("contact", _real, contact_d["axial"], "axial")
+        contact = located("contact", Contact.from_impact_parameter, axial=axial,
+                          impact_parameter=contact_d["impact_parameter"], ball=ball, bat=bat,
+                          approach_azimuth=contact_d.get("approach_azimuth", 0.0))
+    e, e_x = 1.0, 0.0
+    if "restitution" in data:
+        rest = dict(check_object(data["restitution"], "restitution",
+                                 {"e", "loss_fraction", "e_x"}, ()))
+        if "e_x" in rest:  # tangential restitution (optional; alone it keeps e* = 1)
+            e_x = located("restitution", _real, rest.pop("e_x"), "e_x", minimum=0.0,
+                          maximum=1.0)
+        elif len(rest) != 1:
+            raise InputError("restitution", "give exactly one of 'e' or 'loss_fraction'")
+        if len(rest) > 1:
+            raise InputError("restitution", "give exactly one of 'e' or 'loss_fraction'")
+        if "e" in rest:
+            e = located("restitution", _real, rest["e"], "e", minimum=0.0, maximum=1.0)
+        elif "loss_fraction" in rest:
+            e = located("restitution", ImpactCase.e_from_loss_fraction,
+                        loss_fraction=rest["loss_fraction"])
+    vectors = {k: data[k] for k in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin")
+               if k in data}
+    case = ImpactCase(ball=ball, bat=bat, contact=contact, mu=data["mu"], e=e, e_x=e_x,
+                        **vectors)
+    case.check_solver_ranges()
+    case.validate_approach()
+    return case

@@ -7,8 +7,14 @@ import sys
 
 import pytest
 
-from mcbat.api import FlightCase, case_from_dict, flight_case_from_dict, solve_any, solve_flight
-from mcbat.api.contract import any_case_from_dict
+from mcbat.api import (
+    FlightCase,
+    any_case_from_dict,
+    case_from_dict,
+    flight_case_from_dict,
+    solve_any,
+    solve_flight,
+)
 from mcbat.errors import InputError
 from tests.conftest import ROOT
 
