@@ -143,6 +143,10 @@ class GameCase:
     restitution: Restitution = GAME_RESTITUTION
 
     def __post_init__(self):  # noqa: C901 - one check per key, in the contract's order
+        for name, kind in (("ball", Ball), ("bat", Bat), ("restitution", Restitution)):
+            if not isinstance(getattr(self, name), kind):
+                raise InputError(name, f"must be a {kind.__module__}.{kind.__name__}, got "
+                                 f"{getattr(self, name)!r}")
         bat = self.bat
         if bat.length is None or bat.cm_from_barrel_end is None:
             raise InputError("bat", "a game needs the bat's length and CM (cm_from_knob), "

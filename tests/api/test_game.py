@@ -77,6 +77,16 @@ def test_out_of_range_values_are_refused_naming_the_field_and_the_value(field, v
     assert f"got {shown}" in info.value.message
 
 
+@pytest.mark.parametrize("field, value", [("ball", "baseball"), ("bat", "r161"),
+                                          ("restitution", 0.5)])
+def test_bodies_of_the_wrong_type_are_refused_by_name(field, value):
+    kw = dict(ball=BALL_PRESETS["baseball"], bat=bat_preset("r161"), **SI)
+    kw[field] = value
+    with pytest.raises(InputError) as info:
+        GameCase(**kw)
+    assert info.value.field == field and repr(value) in info.value.message
+
+
 def test_a_json_case_error_names_the_json_key():
     bad = json.loads(json.dumps(JSON_CASE))
     bad["swing"]["attack_angle"] = {"value": 100, "unit": "deg"}
