@@ -25,6 +25,8 @@ True
 
 from __future__ import annotations
 
+import copy
+
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.dataset.schema import UNITS as COLUMN_UNITS
 from mcbat.errors import InputError
@@ -83,6 +85,7 @@ FLIGHT_UNITS = {
     "flight_steps": "1",
 }
 """The unit of every quantity of a flight's answer (:func:`flight_result_to_dict`)."""
+# (each answer gets its own copy of these tables: a caller may edit an answer)
 _TRAJECTORY_UNITS = {"t": "s", "x": "m", "y": "m", "z": "m"}
 
 # ---- results -> JSON ----
@@ -112,7 +115,7 @@ def impact_result_to_dict(result) -> dict:
         "scattering_angle": result.scattering_angle,
         "impact_parameter": result.case.impact_parameter(),
         "rk4_steps": result.rk4_steps,
-        "units": IMPACT_UNITS,
+        "units": copy.deepcopy(IMPACT_UNITS),
     }
 
 
@@ -135,7 +138,7 @@ def game_result_to_dict(result) -> dict:
                   "bat_spin_in": list(result.bat_spin_in)},
         "bat_frame_case": impact_case_to_dict(result.impact.case),
         "bat_frame": impact_result_to_dict(result.impact),
-        "units": GAME_UNITS,
+        "units": copy.deepcopy(GAME_UNITS),
     }
 
 
@@ -147,10 +150,10 @@ def flight_result_to_dict(result) -> dict:
            "landing_y": result.landing_y_m / FT, "hit_distance_m": result.hit_distance_m,
            "apex_m": result.apex_m, "landing_x_m": result.landing_x_m,
            "landing_y_m": result.landing_y_m, "flight_steps": result.steps,
-           "units": dict(FLIGHT_UNITS)}
+           "units": copy.deepcopy(FLIGHT_UNITS)}
     if result.trajectory is not None:
         out["trajectory"] = result.trajectory
-        out["units"]["trajectory"] = _TRAJECTORY_UNITS
+        out["units"]["trajectory"] = dict(_TRAJECTORY_UNITS)
     return out
 
 

@@ -196,6 +196,8 @@ def _launch_units(data, game_answer) -> dict:
     out = {}
     for key, unit in units.items():
         if key in _LAUNCH_KEYS:
+            if not isinstance(unit, str):
+                raise InputError(f"units.{key}", f"must be a unit's name, got {unit!r}")
             u.factor(unit, _LAUNCH_KEYS[key][0], f"units.{key}")  # validates the unit
             out[key] = unit
         elif not (game_answer and key in _GAME_ANSWER_KEYS):
@@ -226,6 +228,12 @@ def flight_case_from_dict(data) -> FlightCase:
     if game_answer and data.get("status", "ok") != "ok":
         raise InputError("status", f"the game was not solved (status {data['status']!r})")
     units = _launch_units(data, game_answer)
+
+    def shown(key):  # the value as written, with the unit the units block gives it
+        value = data[key]
+        return f"{value!r} {units[key]}" if key in units and not isinstance(value, dict) \
+            else repr(value)
+
     launch = {}
     for key, (quantity, default) in _LAUNCH_KEYS.items():
         spec = data.get(key, default)
@@ -233,14 +241,13 @@ def flight_case_from_dict(data) -> FlightCase:
             spec = {"value": spec, "unit": units[key]}
         value = fixed_value(spec, key, quantity) if key in data else default
         if not math.isfinite(value):
-            raise InputError(key, f"must be a finite number, got {data[key]!r}")
+            raise InputError(key, f"must be a finite number, got {shown(key)}")
         launch[key] = value
     if not launch["launch_speed"] > 0.0:
-        raise InputError("launch_speed", f"must be > 0, got {data['launch_speed']!r}")
+        raise InputError("launch_speed", f"must be > 0, got {shown('launch_speed')}")
     if not abs(launch["launch_angle"]) <= math.pi / 2:
         raise InputError("launch_angle", f"must be within [-90, 90] deg, got "
-                         f"{data['launch_angle']!r}"
-                         f"{' ' + units['launch_angle'] if 'launch_angle' in units else ''}")
+                         f"{shown('launch_angle')}")
     if "ball" in data:
         ball = parse_ball(data["ball"])
     elif game_answer:

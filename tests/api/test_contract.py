@@ -65,7 +65,8 @@ def test_a_units_block_names_launch_units_only_and_valid_ones():
     assert by_block == by_tables
     for units, field in (({"launch_speed": "furlong"}, "units.launch_speed"),
                          ({"launch_angle": "mph"}, "units.launch_angle"),
-                         ({"wind": "mph"}, "units.wind")):
+                         ({"wind": "mph"}, "units.wind"),
+                         ({"launch_speed": {"unit": "mph"}}, "units.launch_speed")):
         with pytest.raises(InputError) as info:
             flight_case_from_dict({"launch_speed": 40, "launch_angle": 0.4, "units": units})
         assert info.value.field == field
@@ -78,6 +79,10 @@ def test_a_launch_angle_in_degrees_without_units_is_refused_with_its_value():
     with pytest.raises(InputError) as info:
         flight_case_from_dict({"launch_speed": 40, "launch_angle": 27})
     assert info.value.field == "launch_angle" and "got 27" in info.value.message
+    with pytest.raises(InputError) as info:
+        flight_case_from_dict({"launch_speed": -90, "launch_angle": 27,
+                               "units": {"launch_speed": "mph", "launch_angle": "deg"}})
+    assert info.value.field == "launch_speed" and "got -90 mph" in info.value.message
 
 
 def test_mcbat_impact_piped_into_mcbat_flight(tmp_path):
