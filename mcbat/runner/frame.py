@@ -10,8 +10,9 @@ from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAUL
 from mcbat.core.geometry import impact_parameters_from_angles
 from mcbat.dataset.chunks import build_table
 from mcbat.dataset.load import units_of
-from mcbat.errors import InputError
+from mcbat.errors import InputError, check_real
 from mcbat.runner.plan import positive_int
+from mcbat.study.spec import check_tolerance
 
 __all__ = ["solve_frame"]
 
@@ -33,7 +34,8 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
         ``sample_id`` are kept when present (else NaN, and numbered from 0). Other columns
         are ignored.
     steps, tolerance, max_steps
-        The kernel's accuracy settings (see :class:`mcbat.api.SolverSettings`).
+        The kernel's accuracy settings (see :class:`mcbat.api.SolverSettings`; ``tolerance``
+        finite with ``0 < tolerance < 1``, as everywhere).
     threads : int, optional
         Numba threads for the kernel (default: the current setting).
 
@@ -55,9 +57,8 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
                          f"{', '.join(INPUT_FIELDS)})")
     steps = positive_int(steps, "steps")
     max_steps = positive_int(max_steps, "max_steps")
-    tolerance = float(tolerance)
-    if not tolerance > 0.0:
-        raise InputError("tolerance", f"must be > 0, got {tolerance!r}")
+    # The one rule of every tolerance (studies, SolverSettings, mcbat impact --tolerance).
+    tolerance = check_tolerance(check_real(tolerance, "tolerance"), "tolerance")
     n = len(frame)
     inputs = np.stack([np.asarray(frame[name], np.float64) for name in INPUT_FIELDS]) \
         if n else np.empty((len(INPUT_FIELDS), 0))

@@ -144,3 +144,82 @@ def test_contact_where_the_ball_overlaps_a_tapered_bat_is_refused():
     for distance in (0.0, 0.15, 0.4, 0.6, 0.79):
         assert bat.overlap(ball.radius, bat.axial_from_barrel_end(distance)) == 0.0
         assert solve(case(distance)).status == "ok"
+
+
+def _case_dict():
+    return {"ball": {"mass": 0.145, "radius": 0.036},
+            "bat": {"mass": 0.989, "radius": 0.03335, "transverse_inertia": 0.046,
+                    "axial_inertia": 4.39e-4},
+            "contact": {"axial": 0.115, "angle": 0.1}, "ball_velocity": [-4.0, 0.0, 0.0],
+            "ball_spin": [0.0, 0.0, 79.0], "mu": 0.5, "restitution": {"e": 0.62}}
+
+
+def test_front_door_solves_an_impact_as_object_dict_and_file(tmp_path):
+    import json
+
+    import mcbat
+    from mcbat.api import ImpactResult
+
+    expected = solve(_case())
+    by_object = mcbat.solve(_case())
+    by_dict = mcbat.solve(_case_dict())
+    path = tmp_path / "impact.json"
+    path.write_text(json.dumps(_case_dict()))
+    by_file = mcbat.solve(path)
+    by_name = mcbat.solve(str(path))
+    for result in (by_object, by_dict, by_file, by_name):
+        assert type(result) is ImpactResult
+        assert result.to_dict() == expected.to_dict()
+    settings = SolverSettings(max_steps=2)  # the settings reach the solver
+    with pytest.raises(InputError, match="max_steps"):
+        mcbat.solve(_case(ball_spin=(0.0, 200.0, 300.0)), settings=settings)
+
+
+def test_front_door_reads_an_array_and_names_the_file_of_a_bad_case(tmp_path):
+    import json
+
+    import mcbat
+
+    path = tmp_path / "cases.json"
+    path.write_text(json.dumps([_case_dict(), _case_dict()]))
+    assert [r.to_dict() for r in mcbat.solve(path)] == [solve(_case()).to_dict()] * 2
+    bad = _case_dict()
+    bad["ball"]["mass"] = -1.0
+    path.write_text(json.dumps(bad))
+    with pytest.raises(InputError) as info:
+        mcbat.solve(path)
+    assert info.value.field == "ball.mass" and info.value.source == str(path)
+    path.write_text('{"mu": NaN}')
+    with pytest.raises(InputError, match="NaN"):
+        mcbat.solve(path)
+    with pytest.raises(InputError) as info:
+        mcbat.solve(42)
+    assert info.value.field == "case" and "int" in info.value.message
+
+
+def test_every_impact_quantity_has_its_unit_in_the_json_answer():
+    d = solve(_case()).to_dict()
+    units = d.pop("units")
+    numeric = {k for k, v in d.items() if not isinstance(v, str)}
+    assert numeric == set(units)
+    assert units["ball_velocity"] == "m/s" and units["ball_spin"] == "rad/s"
+    assert units["normal_impulse"] == "kg m/s" and units["energy_in"] == "J"
+    assert units["scattering_angle"] == "deg" and units["impact_parameter"] == "m"
+
+
+def test_one_tolerance_rule_for_settings_frames_and_studies():
+    import pandas as pd
+
+    import mcbat
+    from mcbat.core.batch import INPUT_FIELDS
+    from mcbat.study.spec import check_tolerance
+
+    frame = pd.DataFrame({name: [0.0] for name in INPUT_FIELDS})
+    for bad in (1.0, 0.0, -1e-9, 2.5, math.inf):
+        with pytest.raises(InputError) as rule:
+            check_tolerance(bad, "tolerance")
+        with pytest.raises(InputError) as settings:
+            SolverSettings(tolerance=bad)
+        with pytest.raises(InputError) as frame_error:
+            mcbat.solve_frame(frame, tolerance=bad)
+        assert str(settings.value) == str(frame_error.value) == str(rule.value)

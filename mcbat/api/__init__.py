@@ -1,0 +1,97 @@
+"""Python API for single cases: build an impact, a game situation or a flight, solve it,
+read the result (or its JSON answer, with units).
+
+One job per module:
+
+:mod:`mcbat.api.contract`  the JSON of ``mcbat impact`` and ``mcbat flight``: the
+                           answers (a result -> JSON with a ``units`` block), the units,
+                           the readers of shared parts (numbers with units, balls, bats)
+:mod:`mcbat.api.impact`    one impact in the bat frame (SI): :class:`ImpactCase`,
+                           :func:`solve` -> :class:`ImpactResult`; :class:`SolverSettings`
+:mod:`mcbat.api.game`      one pitch and swing in the field frame (SI in; the batted ball
+                           in mph, deg, rpm out): :class:`GameCase`, :func:`solve_game`
+                           -> :class:`GameResult`
+:mod:`mcbat.api.flight`    one batted ball's flight (SI in; ft and m out):
+                           :class:`FlightCase` (:meth:`FlightCase.from_result` for a game's
+                           ball), :func:`solve_flight` -> :class:`FlightResult`
+
+Each case type reads its own JSON (``impact_case_from_dict``, ``game_case_from_dict``,
+``flight_case_from_dict``); :func:`case_from_dict` and :func:`any_case_from_dict` pick one.
+:func:`mcbat.solve` takes any of the three cases, a JSON object or a JSON file.
+
+Example
+-------
+>>> from mcbat.api import Ball, Bat, Contact, ImpactCase, solve
+>>> case = ImpactCase(
+...     ball=Ball(mass=0.145, radius=0.036),
+...     bat=Bat(mass=0.989, radius=0.03335, transverse_inertia=0.046, axial_inertia=4.39e-4),
+...     contact=Contact(axial=0.115, angle=0.0),
+...     ball_velocity=(-4.0, 0.0, 0.0), mu=0.5, e=0.618)
+>>> solve(case).end_state
+'stuck'
+"""
+
+from mcbat.api.flight import (
+    MAX_TRAJECTORY_POINTS,
+    FlightCase,
+    FlightResult,
+    flight_case_from_dict,
+    solve_flight,
+)
+from mcbat.api.game import GAME_JSON_KEYS, GameCase, GameResult, game_case_from_dict, solve_game
+from mcbat.api.impact import (
+    MAX_AZIMUTH,
+    Contact,
+    ImpactCase,
+    ImpactResult,
+    SolverSettings,
+    Vector,
+    contact_problem,
+    history,
+    impact_case_from_dict,
+    solve,
+)
+from mcbat.bodies import Ball, Bat
+from mcbat.bodies.game import Restitution
+from mcbat.errors import InputError
+from mcbat.study.game import is_game
+
+__all__ = ["MAX_AZIMUTH", "MAX_TRAJECTORY_POINTS", "Ball", "Bat", "Contact", "FlightCase",
+           "FlightResult", "GameCase", "GameResult", "ImpactCase", "ImpactResult",
+           "Restitution", "SolverSettings", "Vector", "any_case_from_dict", "case_from_dict",
+           "contact_problem",
+           "flight_case_from_dict", "history", "solve", "solve_any", "solve_flight",
+           "solve_game"]
+
+
+# Defined here rather than in a submodule: it finds ``solve`` and ``solve_game`` by their
+# names in this package, so that whoever replaces ``mcbat.api.solve`` (a test standing in
+# a broken solver) reaches every caller of solve_any, the command line among them.
+def solve_any(case, settings: SolverSettings = SolverSettings(), *,  # noqa: B008 (frozen)
+              json_keys=False):
+    """:func:`solve` for an :class:`ImpactCase`, :func:`solve_game` for a :class:`GameCase`
+    (with ``json_keys``, a game's errors name the JSON keys, ``pitch.speed``)."""
+    if isinstance(case, GameCase):
+        try:
+            return solve_game(case, settings)
+        except InputError as err:
+            if json_keys and err.field in GAME_JSON_KEYS:
+                raise InputError(".".join(GAME_JSON_KEYS[err.field]), err.message) from None
+            raise
+    return solve(case, settings)
+
+
+def case_from_dict(data):
+    """A :class:`GameCase` for a JSON case of ``mcbat impact`` with ``pitch``/``swing`` keys,
+    else an :class:`ImpactCase`."""
+    return game_case_from_dict(data) if is_game(data) else impact_case_from_dict(data)
+
+
+def any_case_from_dict(data):
+    """The case of any JSON object ``mcbat impact`` or ``mcbat flight`` reads: a
+    :class:`FlightCase` for one with ``launch_speed`` (a game's answer among them), else
+    :func:`case_from_dict`."""
+    if isinstance(data, dict) and not is_game(data) and ("launch_speed" in data
+                                                         or "bat_frame" in data):
+        return flight_case_from_dict(data)
+    return case_from_dict(data)

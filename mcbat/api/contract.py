@@ -1,0 +1,248 @@
+"""The JSON contract of ``mcbat impact`` and ``mcbat flight``, shared by the case types:
+the units of every answer, the answers themselves (a result -> a JSON-ready dict whose
+``units`` block names the unit of every quantity), and the readers of the parts the JSON
+cases share (``{"value": ..., "unit": ...}`` numbers, balls, bats, key checks).
+
+Each case type reads its own JSON with these (:func:`mcbat.api.impact.impact_case_from_dict`,
+:func:`mcbat.api.game.game_case_from_dict`, :func:`mcbat.api.flight.flight_case_from_dict`;
+:func:`mcbat.api.case_from_dict` picks one), and its result's ``to_dict()`` is the answer
+written here. This module imports none of them: the types build on the contract, never
+the other way round.
+
+>>> import mcbat
+>>> from mcbat.api import case_from_dict, flight_case_from_dict
+>>> game = case_from_dict({"bat": {"preset": "r161"}, "mu": 0.5,
+...                        "pitch": {"speed": {"value": 90, "unit": "mph"}},
+...                        "swing": {"bat_speed": {"value": 70, "unit": "mph"},
+...                                  "attack_angle": {"value": 10, "unit": "deg"}}})
+>>> answer = game_result_to_dict(mcbat.solve(game))
+>>> answer["units"]["launch_speed"], answer["units"]["backspin"]
+('mph', 'rpm')
+>>> flight = flight_case_from_dict(answer)              # mph, deg, rpm -> SI
+>>> abs(flight.launch_speed - answer["launch_speed"] * 0.44704) < 1e-9
+True
+"""
+
+from __future__ import annotations
+
+import copy
+
+from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
+from mcbat.dataset.schema import UNITS as COLUMN_UNITS
+from mcbat.errors import InputError
+from mcbat.study.distributions import parse
+
+__all__ = ["FLIGHT_UNITS", "FT", "GAME_UNITS", "IMPACT_CASE_UNITS", "IMPACT_UNITS",
+           "ball_from_dict", "bat_from_dict", "check_object", "fixed_value",
+           "flight_result_to_dict", "game_result_to_dict", "impact_case_to_dict",
+           "impact_result_to_dict", "located"]
+
+#: One foot in metres: Statcast gives distances in ft.
+FT = 0.3048
+
+# ---- units: the dataset schema's, for the quantities the answers share with datasets ----
+
+_VECTORS = {"ball_velocity": COLUMN_UNITS["ball_vx"], "ball_spin": COLUMN_UNITS["ball_wx"],
+            "bat_velocity": COLUMN_UNITS["bat_vx"], "bat_spin": COLUMN_UNITS["bat_wx"]}
+
+IMPACT_UNITS = {
+    **_VECTORS,
+    **{k: COLUMN_UNITS[k] for k in ("normal_impulse", "stick_impulse", "compression_impulse")},
+    "tangential_impulse": COLUMN_UNITS["tangential_impulse_1"],
+    **{k: COLUMN_UNITS[k] for k in ("compression_work", "normal_work", "friction_work")},
+    "restitution_loss": COLUMN_UNITS["normal_work"],
+    **{k: COLUMN_UNITS[k] for k in ("energy_in", "energy_out", "stick_criterion", "exit_speed",
+                                    "scattering_angle", "impact_parameter", "rk4_steps")},
+}
+"""The unit of every quantity of an impact's answer (:func:`impact_result_to_dict`)."""
+
+IMPACT_CASE_UNITS = {
+    "ball": {"mass": "kg", "radius": "m", "inertia_factor": "1"},
+    "bat": {"mass": "kg", "radius": "m", "transverse_inertia": "kg m^2",
+            "axial_inertia": "kg m^2"},
+    "contact": {"axial": "m", "angle": "rad"}, **_VECTORS, "mu": "1",
+    "restitution": {"e": "1", "e_x": "1"},
+}
+"""The units of a bat-frame JSON case (:func:`impact_case_to_dict`): SI throughout."""
+
+GAME_UNITS = {
+    **{k: COLUMN_UNITS[k] for k in ("launch_speed", "launch_angle", "spray_angle",
+                                    "spin_rate", "backspin", "sidespin", "gyrospin",
+                                    "collision_efficiency")},
+    "field": {**_VECTORS, "pitch_velocity": COLUMN_UNITS["field_ball_vx_in"],
+              "pitch_spin": COLUMN_UNITS["field_ball_wx_in"],
+              "bat_velocity_in": COLUMN_UNITS["field_bat_vx_in"],
+              "bat_spin_in": COLUMN_UNITS["field_bat_wx_in"]},
+    "bat_frame_case": IMPACT_CASE_UNITS,
+}
+"""The unit of every quantity of a game's answer (:func:`game_result_to_dict`; its
+``bat_frame``, an impact's answer, carries its own ``units``)."""
+
+FLIGHT_UNITS = {
+    **{k: COLUMN_UNITS[k] for k in ("hit_distance", "hang_time", "apex", "landing_x",
+                                    "landing_y", "hit_distance_m", "apex_m", "landing_x_m",
+                                    "landing_y_m")},
+    "flight_steps": "1",
+}
+"""The unit of every quantity of a flight's answer (:func:`flight_result_to_dict`)."""
+# (each answer gets its own copy of these tables: a caller may edit an answer)
+_TRAJECTORY_UNITS = {"t": "s", "x": "m", "y": "m", "z": "m"}
+
+# ---- results -> JSON ----
+
+
+def impact_result_to_dict(result) -> dict:
+    """An impact's answer (the output contract of ``mcbat impact``, ``docs/impact.md``)."""
+    return {
+        "status": result.status,
+        "end_state": result.end_state,
+        "ball_velocity": list(result.ball_velocity),
+        "ball_spin": list(result.ball_spin),
+        "bat_velocity": list(result.bat_velocity),
+        "bat_spin": list(result.bat_spin),
+        "normal_impulse": result.normal_impulse,
+        "stick_impulse": result.stick_impulse,
+        "compression_impulse": result.compression_impulse,
+        "tangential_impulse": list(result.tangential_impulse),
+        "compression_work": result.compression_work,
+        "normal_work": result.normal_work,
+        "friction_work": result.friction_work,
+        "restitution_loss": result.restitution_loss,
+        "energy_in": result.energy_in,
+        "energy_out": result.energy_out,
+        "stick_criterion": result.stick_criterion,
+        "exit_speed": result.exit_speed,
+        "scattering_angle": result.scattering_angle,
+        "impact_parameter": result.case.impact_parameter(),
+        "rk4_steps": result.rk4_steps,
+        "units": copy.deepcopy(IMPACT_UNITS),
+    }
+
+
+def game_result_to_dict(result) -> dict:
+    """A game's answer (the output of ``mcbat impact`` for a game case): the batted ball
+    in Statcast's units (mph, deg, rpm), the field-frame vectors (SI), the bat-frame case
+    and its answer. ``mcbat flight`` reads it as it is
+    (:func:`mcbat.api.flight.flight_case_from_dict`)."""
+    return {
+        "status": result.impact.status, "end_state": result.impact.end_state,
+        **result.batted_ball,
+        "collision_efficiency": result.collision_efficiency,
+        "field": {"ball_velocity": list(result.ball_velocity),
+                  "ball_spin": list(result.ball_spin),
+                  "bat_velocity": list(result.bat_velocity),
+                  "bat_spin": list(result.bat_spin),
+                  "pitch_velocity": list(result.pitch_velocity),
+                  "pitch_spin": list(result.pitch_spin),
+                  "bat_velocity_in": list(result.bat_velocity_in),
+                  "bat_spin_in": list(result.bat_spin_in)},
+        "bat_frame_case": impact_case_to_dict(result.impact.case),
+        "bat_frame": impact_result_to_dict(result.impact),
+        "units": copy.deepcopy(GAME_UNITS),
+    }
+
+
+def flight_result_to_dict(result) -> dict:
+    """A flight's answer (the output of ``mcbat flight``, ``docs/flight.md``): distances in
+    ft as Statcast gives them and in m."""
+    out = {"hit_distance": result.hit_distance, "hang_time": result.hang_time,
+           "apex": result.apex_m / FT, "landing_x": result.landing_x_m / FT,
+           "landing_y": result.landing_y_m / FT, "hit_distance_m": result.hit_distance_m,
+           "apex_m": result.apex_m, "landing_x_m": result.landing_x_m,
+           "landing_y_m": result.landing_y_m, "flight_steps": result.steps,
+           "units": copy.deepcopy(FLIGHT_UNITS)}
+    if result.trajectory is not None:
+        out["trajectory"] = result.trajectory
+        out["units"]["trajectory"] = dict(_TRAJECTORY_UNITS)
+    return out
+
+
+def impact_case_to_dict(case) -> dict:
+    """An :class:`ImpactCase` as a bat-frame JSON case of ``mcbat impact`` (SI units,
+    :data:`IMPACT_CASE_UNITS`)."""
+    bat = case.bat
+    bat_d = ({"preset": bat.preset} if bat.profile is not None else
+             {"mass": bat.mass, "radius": bat.radius,
+              "transverse_inertia": bat.transverse_inertia,
+              "axial_inertia": bat.axial_inertia})
+    return {"ball": {"mass": case.ball.mass, "radius": case.ball.radius,
+                     "inertia_factor": case.ball.inertia_factor},
+            "bat": bat_d, "contact": {"axial": case.contact.axial, "angle": case.contact.angle},
+            "ball_velocity": list(case.ball_velocity), "ball_spin": list(case.ball_spin),
+            "bat_velocity": list(case.bat_velocity), "bat_spin": list(case.bat_spin),
+            "mu": case.mu, "restitution": {"e": case.e, "e_x": case.e_x}}
+
+
+# ---- readers of the parts the JSON cases share ----
+
+
+def check_object(data, name, allowed, required):
+    """``data`` if it is a JSON object with only ``allowed`` keys and every ``required``
+    one, else :class:`InputError` naming ``name`` or the key."""
+    if not isinstance(data, dict):
+        raise InputError(name, f"must be an object, got {type(data).__name__}")
+    unknown = sorted(set(data) - set(allowed))
+    if unknown:
+        where = f"{name}." if name else ""
+        raise InputError(f"{where}{unknown[0]}",
+                         f"unknown key (expected one of: {', '.join(sorted(allowed))})")
+    for key in required:
+        if key not in data:
+            where = f"{name}." if name else ""
+            raise InputError(f"{where}{key}", "missing required key")
+    return data
+
+
+def located(prefix, builder, *args, **kwargs):
+    """``builder(*args, **kwargs)``, with input errors located inside ``prefix``."""
+    try:
+        return builder(*args, **kwargs)
+    except InputError as err:
+        raise err.within(prefix) from None
+
+
+def fixed_value(spec, field, quantity):
+    """A number in SI, or ``{"value": ..., "unit": ...}`` converted to SI (a ``quantity`` of
+    :mod:`mcbat.study.units`)."""
+    return parse(spec, field, quantity, kinds=("fixed",)).value
+
+
+def ball_from_dict(data) -> Ball:
+    """A ball from ``{"preset": name}`` or ``{"mass", "radius"[, "inertia_factor"]}``."""
+    if isinstance(data, dict) and "preset" in data:
+        check_object(data, "", {"preset"}, ())
+        if data["preset"] not in BALL_PRESETS:
+            raise InputError("preset", f"unknown ball preset {data['preset']!r}")
+        return BALL_PRESETS[data["preset"]]
+    check_object(data, "", {"mass", "radius", "inertia_factor"}, ("mass", "radius"))
+    return Ball(**data)
+
+
+def bat_from_dict(data, game=False) -> Bat:
+    """A bat from ``{"preset": name}`` or a cylinder's values (a game bat also needs
+    ``length`` and ``cm_from_knob``)."""
+    if isinstance(data, dict) and "preset" in data:
+        check_object(data, "", {"preset"}, ())
+        if data["preset"] not in BAT_PRESETS:
+            raise InputError("preset", f"unknown bat preset {data['preset']!r} (expected one "
+                             f"of: {', '.join(BAT_PRESETS)})")
+        return bat_preset(data["preset"])
+    keys = {"mass", "radius", "transverse_inertia", "axial_inertia"}
+    required = ["mass", "radius", "transverse_inertia", "axial_inertia"]
+    if game:
+        keys |= {"length", "cm_from_knob"}
+        required += ["length", "cm_from_knob"]
+    check_object(data, "", keys, required)
+    values = {k: fixed_value(v, k, _BAT_QUANTITIES[k]) for k, v in data.items()}
+    if game:
+        length = values["length"]
+        cm = values.pop("cm_from_knob")
+        if not 0.0 <= cm <= length:
+            raise InputError("cm_from_knob", f"must lie on the bat, within [0, {length:.6g}] "
+                             f"m, got {cm!r}")
+        values["cm_from_barrel_end"] = length - cm
+    return Bat(**values)
+
+
+_BAT_QUANTITIES = {"mass": "mass", "radius": "length", "transverse_inertia": "inertia",
+                   "axial_inertia": "inertia", "length": "length", "cm_from_knob": "length"}

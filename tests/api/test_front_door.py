@@ -1,0 +1,70 @@
+"""The front door, ``mcbat``: real signatures, the case types on first use, the doctests."""
+
+import doctest
+import importlib
+import inspect
+import pydoc
+
+import pytest
+
+import mcbat
+
+KEYWORD_ONLY = inspect.Parameter.KEYWORD_ONLY
+
+
+def _options(function):
+    return {name: p.default for name, p in inspect.signature(function).parameters.items()
+            if p.kind is KEYWORD_ONLY}
+
+
+def _no_hidden_parameters(function):
+    kinds = {p.kind for p in inspect.signature(function).parameters.values()}
+    return inspect.Parameter.VAR_KEYWORD not in kinds and \
+        inspect.Parameter.VAR_POSITIONAL not in kinds
+
+
+@pytest.mark.parametrize("front, library, extra", [
+    ("run", "mcbat.runner.study_run:run_study", {"columns": None}),
+    ("solve_frame", "mcbat.runner.frame:solve_frame", {}),
+    ("load", "mcbat.dataset.load:load", {}),
+    ("check", "mcbat.dataset.check:check_dataset", {}),
+])
+def test_the_front_door_shows_the_library_options_as_keywords(front, library, extra):
+    module, name = library.split(":")
+    target = getattr(importlib.import_module(module), name)
+    function = getattr(mcbat, front)
+    assert _no_hidden_parameters(function)
+    expected = {n: p.default for n, p in inspect.signature(target).parameters.items()
+                if p.default is not inspect.Parameter.empty}
+    if front == "check":  # the front door checks every byte unless told otherwise
+        expected["checksums"] = True
+    assert _options(function) == {**expected, **extra}
+
+
+def test_help_of_run_lists_its_options():
+    text = pydoc.render_doc(mcbat.run, renderer=pydoc.plaintext)
+    for shown in ("samples=None", "seed=None", "engine='local'", "tolerance=None",
+                  "columns=None", "progress=True"):
+        assert shown in text
+    assert "**" not in str(inspect.signature(mcbat.run))
+    assert list(_options(mcbat.solve)) == ["settings"]
+    assert _no_hidden_parameters(mcbat.solve) and _no_hidden_parameters(mcbat.load_study)
+    assert _no_hidden_parameters(mcbat.load_summary)
+
+
+def test_the_case_and_result_types_load_on_first_use():
+    from mcbat import api
+
+    for name in ("ImpactCase", "ImpactResult", "GameCase", "GameResult", "FlightCase",
+                 "FlightResult", "SolverSettings"):
+        assert getattr(mcbat, name) is getattr(api, name)
+        assert name in mcbat.__all__ and name in dir(mcbat)
+    with pytest.raises(AttributeError):
+        mcbat.NoSuchName  # noqa: B018
+
+
+@pytest.mark.parametrize("name", ["mcbat", "mcbat.api", "mcbat.api.impact", "mcbat.api.game",
+                                  "mcbat.api.flight", "mcbat.api.contract"])
+def test_the_doctests_hold(name):
+    result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0
