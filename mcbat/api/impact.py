@@ -32,6 +32,7 @@ from mcbat.api.contract import (
     located,
 )
 from mcbat.bodies import Ball, Bat
+from mcbat.checks import check_tolerance
 from mcbat.core import status as st
 from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 from mcbat.core.cabo2012.contact import (
@@ -61,7 +62,6 @@ from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.errors import check_vector as _vector
-from mcbat.study.spec import check_tolerance
 
 __all__ = ["MAX_AZIMUTH", "Contact", "ImpactCase", "ImpactResult", "SolverSettings",
            "Vector", "contact_problem", "history", "impact_case_from_dict", "solve"]
@@ -124,7 +124,7 @@ class SolverSettings:
     velocity and to ``I_scale`` in the impulse (default 5e-9; ``solve_contact``); it must
     be finite with ``0 < tolerance < 1``: the one rule of a study's ``[solver] tolerance``,
     ``mcbat impact --tolerance`` and :func:`mcbat.solve_frame`
-    (:func:`mcbat.study.spec.check_tolerance`); :class:`~mcbat.errors.InputError` names
+    (:func:`mcbat.checks.check_tolerance`); :class:`~mcbat.errors.InputError` names
     ``tolerance`` otherwise.
 
     >>> SolverSettings(tolerance=1e-10).tolerance

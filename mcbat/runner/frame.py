@@ -5,6 +5,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from mcbat.checks import check_tolerance
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.geometry import impact_parameters_from_angles
@@ -12,7 +13,6 @@ from mcbat.dataset.chunks import build_table
 from mcbat.dataset.load import units_of
 from mcbat.errors import InputError, check_real
 from mcbat.runner.plan import positive_int
-from mcbat.study.spec import check_tolerance
 
 __all__ = ["solve_frame"]
 

@@ -80,7 +80,9 @@ SEARCH = {"e": (0.05, 0.98), "mu": (0.01, 1.0), "ball_inertia_factor": (0.1, 0.8
 impacts slide, the likelihood changes fast with mu; where all stick it is flat)."""
 LIKELIHOODS = ("mixture", "gaussian")
 """The forms of a row's likelihood (module docstring)."""
-_BAD = 1e30
+BAD_NLL = 1e30
+"""``-ln L`` of a point the model cannot evaluate (outside the ranges, too few good draws):
+finite, so that the optimisers step back from it."""
 
 
 def check_free(free):
@@ -337,10 +339,10 @@ class Likelihood:
         for name, value in zip(self.free, theta):
             lo, hi = FREE[name]
             if not lo <= value <= hi:
-                return _BAD
+                return BAD_NLL
         got = self._evaluate(theta)
         if got is None:
-            return _BAD
+            return BAD_NLL
         nll, _, total, mean = got
         if self.envelope is not None:  # the range of predictions over the search grid
             lo, hi, sd, med_lo, med_hi = self.envelope
@@ -350,7 +352,7 @@ class Likelihood:
             med = np.median(mean, axis=0)
             np.minimum(med_lo, med, out=med_lo)
             np.maximum(med_hi, med, out=med_hi)
-        return nll if math.isfinite(nll) else _BAD
+        return nll if math.isfinite(nll) else BAD_NLL
 
     def chi2(self, theta):
         """``sum_i r_i^T T_i^-1 r_i`` at ``theta`` (``r_i`` the residuals of row ``i``, ``T_i``

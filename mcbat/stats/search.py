@@ -13,7 +13,7 @@ import numpy as np
 from scipy import optimize
 
 from mcbat.errors import InputError
-from mcbat.stats.likelihood import _BAD, FREE
+from mcbat.stats.likelihood import BAD_NLL, FREE
 from mcbat.stats.unit_guard import check_units
 
 __all__ = ["FINE_SIMPLEX", "GRID_EVALUATIONS", "SCAN_POINTS", "STARTS", "local_minimum",
@@ -133,7 +133,7 @@ def search(like, start=None):
         like.envelope = (np.full(shape, np.inf), np.full(shape, -np.inf), np.zeros(shape),
                          np.full(n_obs, np.inf), np.full(n_obs, -np.inf))
         values = np.array([like(x) for x in grid])
-        if not (values < _BAD).any():
+        if not (values < BAD_NLL).any():
             raise like.failure_error()
         check_units(like)
         like.envelope = None
@@ -160,7 +160,7 @@ def search(like, start=None):
     else:
         starts, fine = [np.asarray(start, float)], []
         like.refine(starts[0])
-        if not like(starts[0]) < _BAD:
+        if not like(starts[0]) < BAD_NLL:
             raise like.failure_error() if like.failure else InputError(
                 "start", f"outside the parameter ranges: {list(starts[0])}")
     scale = search_scale(like)
