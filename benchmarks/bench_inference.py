@@ -7,9 +7,9 @@ presets', written with ``mcbat.statcast.write`` and timed through ``mcbat.statca
 + ``mcbat.inference.infer_spin``. Each run is one read and one inference of all balls;
 the median over runs is reported (the first, compiling run is left out).
 
-    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5
-    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5 --bat-speed
-    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5 --fly
+    .venv/bin/python -m benchmarks inference --n 100000 --runs 5
+    .venv/bin/python -m benchmarks inference --n 100000 --runs 5 --bat-speed
+    .venv/bin/python -m benchmarks inference --n 100000 --runs 5 --fly
 """
 
 import argparse
@@ -73,7 +73,7 @@ def simulate(n, seed, with_bat_speed):
     return tidy
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100_000)
     parser.add_argument("--runs", type=int, default=5)
@@ -83,7 +83,7 @@ def main():
     parser.add_argument("--bat-speed", action="store_true",
                         help="measured bat speed and attack angle (the contact position is "
                              "inferred)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     tidy = simulate(args.n, args.seed, args.bat_speed)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "balls.parquet"

@@ -1,8 +1,8 @@
 """`mcbat run` against the kernel alone, measured in one process run after run.
 
-Run:  .venv/bin/python benchmarks/bench_pipeline.py [--samples 2000000] [--repeats 5]
+Run:  .venv/bin/python -m benchmarks pipeline [--samples 2000000] [--repeats 5]
                                                    [--modes all,12,summary]
-      .venv/bin/python benchmarks/bench_pipeline.py --scan 1000000000   # the big summary scan
+      .venv/bin/python -m benchmarks pipeline --scan 1000000000   # the big summary scan
 
 Measured on ``studies/throughput.toml`` (2 threads), each run a fresh process into an empty
 directory (one unmeasured warm-up run first), medians over ``--repeats``:
@@ -98,7 +98,7 @@ def run(study, samples, extra, work):
     return rate, wall, peak, size
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=2_000_000)
     parser.add_argument("--repeats", type=int, default=5)
@@ -107,7 +107,7 @@ def main():
     parser.add_argument("--modes", default="all,12,summary",
                         help="which runs, comma-separated: all (every column), 12 (the "
                              "12 columns), summary (summary-only); default all three")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     work = Path(tempfile.mkdtemp(prefix="mcbat-pipeline-"))
     try:
         summary_study = work / "throughput_summary.toml"
