@@ -111,23 +111,31 @@ ROWS = {"overview": _overview, "kernel": _kernel, "run": _run, "flight": _flight
 
 
 def _machines(results: dict, names) -> list[str]:
-    lines = []
+    """One line per machine and set of versions: the benchmarks measured on it, the load
+    averages and the dates."""
+    groups: dict[str, list[str]] = {}
     for name in names:
-        m = results[name]["machine"]
-        line = (f"{harness.machine_line(m)}, load average {m['load_average_1min']}"
-                if "load_average_1min" in m else harness.machine_line(m))
-        lines.append(f"`{name}`: {line}; {results[name]['date']}")
+        groups.setdefault(harness.machine_line(results[name]["machine"]), []).append(name)
+    lines = []
+    for line, members in groups.items():
+        loads = [results[n]["machine"].get("load_average_1min") for n in members]
+        loads = [x for x in loads if x is not None]
+        dates = sorted({results[n]["date"] for n in members})
+        load = f"; load average {min(loads):g}-{max(loads):g}" if loads else ""
+        lines.append(f"{line}{load}; {', '.join(dates)} "
+                     f"({', '.join(f'`{n}`' for n in members)})")
     return lines
 
 
 def speed_table(results: dict) -> str:
     names = [n for n in ROWS if n in results]
-    lines = ["| metric | measured | target | command |", "|---|---|---|---|"]
+    lines = ["| metric | measured | target (full size, quiet machine) | command |",
+             "|---|---|---|---|"]
     for name in names:
         command = results[name]["command"]
         for metric, measured, target in ROWS[name](results[name]):
             lines.append(f"| {metric} | {measured} | {target} | `{command}` |")
-    lines += ["", "Machines (CPU, cores, versions, numba threads, load when measured):", ""]
+    lines += ["", "Measured on (CPU, cores, versions, numba threads, load while measured):", ""]
     lines += [f"- {line}" for line in _machines(results, names)]
     return "\n".join(lines)
 
@@ -139,16 +147,19 @@ def short_table(results: dict) -> str:
         rows += [("impact kernel, 2 threads", f"{sig(m['kernel_2_threads'])} impacts/s"),
                  ("`mcbat run`, every column to Parquet, 2 threads",
                   f"{sig(m['end_to_end_rows_per_s'])} rows/s"),
-                 ("accuracy against an independent scipy reference",
-                  f"{m['accuracy_max']:.0e} of the speed, at most")]
+                 ("velocities against an independent scipy reference",
+                  f"within {m['accuracy_max']:.0e} of the approach speed")]
     if "flight" in results:
         rows.append(("flight kernel, 2 threads",
                      f"{sig(results['flight']['metrics']['flights_per_s'])} flights/s"))
     lines = ["| what | measured |", "|---|---|"] + [f"| {a} | {b} |" for a, b in rows]
     cpus = sorted({f"{r['machine']['cpu']}, {r['machine']['cores']} cores"
                    for r in results.values()})
-    lines += ["", f"Measured on {'; '.join(cpus)} by `python -m benchmarks --quick all` (small "
-              "sizes); commands and settings in "
+    loads = [r["machine"]["load_average_1min"] for r in results.values()
+             if "load_average_1min" in r["machine"]]
+    load = (f" (load average {min(loads):g}-{max(loads):g} while measured: the machine "
+            "was shared)" if loads else "")
+    lines += ["", f"Measured on {'; '.join(cpus)}{load}; commands, sizes and settings in "
               "[docs/accuracy-and-speed.md](docs/accuracy-and-speed.md#speed)."]
     return "\n".join(lines)
 
@@ -162,8 +173,8 @@ def render_blocks(results: dict) -> dict[str, str]:
 
 
 def _pattern(name: str) -> re.Pattern:
-    return re.compile(rf"(<!-- begin generated: {re.escape(name)} -->\n)(.*?)"
-                      rf"(\n<!-- end generated: {re.escape(name)} -->)", re.S)
+    return re.compile(rf"(<!-- begin generated: {re.escape(name)} -->\n)(.*?)\n?"
+                      rf"(<!-- end generated: {re.escape(name)} -->)", re.S)
 
 
 def read_block(text: str, name: str) -> str:
@@ -176,7 +187,7 @@ def read_block(text: str, name: str) -> str:
 
 def replace_block(text: str, name: str, body: str) -> str:
     read_block(text, name)  # the markers must be there
-    return _pattern(name).sub(lambda m: m.group(1) + body + m.group(3), text, count=1)
+    return _pattern(name).sub(lambda m: m.group(1) + body + "\n" + m.group(3), text, count=1)
 
 
 def main(argv=None) -> int:
@@ -193,7 +204,11 @@ def main(argv=None) -> int:
     for name, body in render_blocks(results).items():
         path = TARGETS[name]
         text = path.read_text()
-        if read_block(text, name) == body:
+        try:
+            current = read_block(text, name)
+        except KeyError as error:
+            parser.error(f"{path.relative_to(ROOT)}: {error.args[0]}")
+        if current == body:
             continue
         stale.append(path)
         if not args.check:

@@ -58,6 +58,9 @@ def test_a_block_without_its_markers_is_an_error():
         render.replace_block("no markers here\n", "speed", "| a |")
     text = "x\n<!-- begin generated: speed -->\nold\n<!-- end generated: speed -->\ny\n"
     assert render.replace_block(text, "speed", "new") == text.replace("old", "new")
+    empty = "x\n<!-- begin generated: speed -->\n<!-- end generated: speed -->\n"
+    assert render.read_block(empty, "speed") == ""
+    assert render.read_block(render.replace_block(empty, "speed", "| a |"), "speed") == "| a |"
 
 
 def test_record_writes_json_only_under_a_results_directory(tmp_path, monkeypatch):
