@@ -178,6 +178,8 @@ def main(package: str, argv: list[str] | None = None, doc: str = "") -> int:
             run_args = list(getattr(module, "QUICK_ARGS", [])) + run_args
         _COMMAND = shlex.join(["python", "-m", package, name, *run_args])
         print(f"== {package} {name}: {_COMMAND}", flush=True)
+        # argparse names the program after argv[0]: the command, not __main__.py.
+        sys.argv = [f"python -m {package} {name}", *run_args]
         code = module.main(run_args)
         status = status or (code or 0)
     return status
