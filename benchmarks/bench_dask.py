@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -91,6 +93,12 @@ def main(argv=None):
     print()
     print(f"dask / local, run rows/s: {med['dask'][0] / med['local'][0]:.1%}; "
           f"whole process: {med['local'][1] / med['dask'][1]:.1%}")
+    harness.record("dask", {
+        **{f"{name}_rows_per_s": float(m[0]) for name, m in med.items()},
+        **{f"{name}_process_wall_s": float(m[1]) for name, m in med.items()},
+        "dask_over_local": float(med["dask"][0] / med["local"][0]),
+    }, {"study": Path(args.study).name, "samples": args.samples, "repeats": args.repeats,
+        "workers": args.workers, "chunk_size": args.chunk_size})
 
 
 if __name__ == "__main__":

@@ -22,12 +22,16 @@ import numba
 import numpy as np
 import pandas as pd
 
+from benchmarks import harness
 from mcbat import statcast
 from mcbat.bodies.presets import BALL_PRESETS
 from mcbat.inference import infer_spin, predict_batted_balls
 from mcbat.study.flight import FlightSettings, fly_launches
 
 MPH, DEG, RPM = 0.44704, np.pi / 180, np.pi / 30
+
+#: python -m benchmarks --quick inference
+QUICK_ARGS = ["--n", "5000", "--runs", "3"]
 
 
 def fly(df, spin):
@@ -119,6 +123,12 @@ def main(argv=None):
     print(f"CPU time: median {cpu:,.0f} balls per CPU-second "
           f"(x {numba.get_num_threads()} threads = {cpu * numba.get_num_threads():,.0f} "
           "balls/s on as many idle cores)")
+    harness.record("inference", {
+        "balls_per_s": statistics.median(rates), "runs_balls_per_s": rates,
+        "balls_per_cpu_s": cpu, "iterations_mean": float(it.mean()),
+        "status_counts": {str(k): int(v) for k, v in out.attrs["status_counts"].items()}},
+        {"balls": args.n, "runs": args.runs, "seed": args.seed, "fly": args.fly,
+         "bat_speed_measured": args.bat_speed, "threads": numba.get_num_threads()})
 
 
 if __name__ == "__main__":

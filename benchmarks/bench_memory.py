@@ -24,6 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -75,6 +77,10 @@ def main(argv=None):
     ratio = peaks[max(counts)] / peaks[min(counts)]
     print(f"peak at {max(counts):,} / peak at {min(counts):,}: {ratio:.3f} "
           f"(limit {args.limit})")
+    harness.record("memory", {"peak_memory_mb": {str(n): p for n, p in peaks.items()},
+                              "ratio": ratio},
+                   {"study": args.study.name, "samples": counts, "extra": args.extra,
+                    "limit": args.limit})
     return 0 if ratio <= args.limit else 1
 
 

@@ -35,6 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
 THROUGHPUT = ROOT / "studies" / "throughput.toml"
 SUMMARY = """
@@ -119,6 +121,10 @@ def main(argv=None):
             print(f"summary-only scan of {samples:,} samples: {wall / 60:.1f} min wall, "
                   f"{rate:,.0f} rows/s within the run, {size / 1e6:.2f} MB on disk, peak "
                   f"memory {peak / 1024:,.0f} MB", flush=True)
+            harness.record(f"pipeline_scan_{samples}", {
+                "rows_per_s": rate, "wall_s": wall, "peak_memory_mb": peak / 1024,
+                "bytes_on_disk": size}, {"samples": samples, "mode": "summary only",
+                                         "study": "studies/throughput.toml + [summary]"})
         if scans:
             return
         kernel_alone = KernelAlone(args.samples)
@@ -136,6 +142,7 @@ def main(argv=None):
             for name, (study, extra) in modes.items():
                 results[name].append(run(study, args.samples, extra, work))
         kernel = float(np.median(kernels))
+        metrics = {"kernel_impacts_per_s": kernel}
         import numba
 
         print(f"machine: {os.cpu_count()} cores, python {sys.version.split()[0]}, numba "
@@ -154,6 +161,13 @@ def main(argv=None):
                   f"{args.samples / wall:,.0f} rows/s, "
                   f"peak {peak / 1024:,.0f} MB, {size / 1e6:,.1f} MB on disk "
                   f"(runs: {', '.join(f'{r[0]:,.0f}' for r in rows)})")
+            metrics[name.replace(" ", "_")] = {
+                "rows_per_s": float(rate), "share_of_kernel": float(share),
+                "process_wall_s": float(wall), "peak_memory_mb": peak / 1024,
+                "bytes_on_disk": float(size)}
+        harness.record("pipeline", metrics, {"samples": args.samples, "repeats": args.repeats,
+                                             "threads": 2, "modes": args.modes,
+                                             "study": "studies/throughput.toml"})
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

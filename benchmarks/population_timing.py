@@ -16,6 +16,7 @@ import numba
 import numpy as np
 
 import mcbat
+from benchmarks import harness
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table, simulate_table
 
@@ -47,6 +48,11 @@ def main(argv=None):
           f"{np.median(times):.1f} s wall of {args.repeats} "
           f"({', '.join(f'{t:.1f}' for t in times)}); CPU median {np.median(cpu):.1f} s "
           f"(the wall time on a machine shared with other work overstates it)")
+    harness.record("population_timing", {
+        "wall_s": float(np.median(times)), "cpu_s": float(np.median(cpu)),
+        "times_s": times, "draws": result.draws},
+        {"rows": args.rows, "repeats": args.repeats, "engine": args.engine,
+         "free": list(TRUTH), "threads": numba.get_num_threads()})
 
 
 if __name__ == "__main__":

@@ -105,9 +105,18 @@ def _statcast(r):
              f"({s['megabytes']:.1f} MB)", f"{sig(m['rows_per_s'])} rows/s", "—")]
 
 
+def _inference(r):
+    m, s = r["metrics"], r["settings"]
+    stages = "read + infer + fly" if s["fly"] else "read + infer"
+    return [(f"spin inference, {stages}: a Parquet table of {s['balls']:,} simulated balls "
+             f"in play, {s['threads']} threads (median of {s['runs']})",
+             f"{sig(m['balls_per_s'])} balls/s ({sig(m['balls_per_cpu_s'])} per CPU-second; "
+             f"{m['iterations_mean']:.1f} Newton iterations a ball)", "—")]
+
+
 #: The rows each benchmark contributes to the long table, in this order.
 ROWS = {"overview": _overview, "kernel": _kernel, "run": _run, "flight": _flight,
-        "game": _game, "statcast": _statcast}
+        "game": _game, "inference": _inference, "statcast": _statcast}
 
 
 def _machines(results: dict, names) -> list[str]:
