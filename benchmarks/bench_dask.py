@@ -1,6 +1,6 @@
 """Throughput of `mcbat run` with the Dask engine against the local engine.
 
-Run:  .venv/bin/python benchmarks/bench_dask.py [--samples 2000000] [--repeats 5]
+Run:  .venv/bin/python -m benchmarks dask [--samples 2000000] [--repeats 5]
       [--workers 2] [--study studies/throughput.toml] [--chunk-size C]
 
 Each repeat runs, in fresh processes and alternating which goes first,
@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -45,14 +47,14 @@ def run(cmd):
     return rate, wall
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--study", default=str(ROOT / "studies" / "throughput.toml"))
     parser.add_argument("--samples", type=int, default=2_000_000)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--chunk-size", type=int, default=None)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     work = Path(tempfile.mkdtemp(prefix="mcbat-bench-dask-"))
     base = [sys.executable, "-m", "mcbat.cli", "run", args.study, "--samples",
             str(args.samples), "--quiet"]
@@ -91,6 +93,12 @@ def main():
     print()
     print(f"dask / local, run rows/s: {med['dask'][0] / med['local'][0]:.1%}; "
           f"whole process: {med['local'][1] / med['dask'][1]:.1%}")
+    harness.record("dask", {
+        **{f"{name}_rows_per_s": float(m[0]) for name, m in med.items()},
+        **{f"{name}_process_wall_s": float(m[1]) for name, m in med.items()},
+        "dask_over_local": float(med["dask"][0] / med["local"][0]),
+    }, {"study": Path(args.study).name, "samples": args.samples, "repeats": args.repeats,
+        "workers": args.workers, "chunk_size": args.chunk_size})
 
 
 if __name__ == "__main__":

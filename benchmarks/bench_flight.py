@@ -1,7 +1,7 @@
 """Speed of the flight: the batch kernel alone, and a game study with flight through
 `mcbat run`.
 
-Run:  .venv/bin/python benchmarks/bench_flight.py [--n N] [--repeats K] [--runs R]
+Run:  .venv/bin/python -m benchmarks flight [--n N] [--repeats K] [--runs R]
                                                    [--run-samples S]
 
 1. ``fly_batch`` on N random launches (60-120 mph, -10..60 deg, spray +-45 deg, 0-4000 rpm
@@ -19,17 +19,19 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numba
 import numpy as np
 
+from benchmarks import harness
 from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
 from mcbat.study.flight import FlightSettings, launch_vectors
 
 ROOT = Path(__file__).resolve().parents[1]
 MPH, DEG, RPM = 0.44704, math.pi / 180, 2 * math.pi / 60
+#: python -m benchmarks --quick flight
+QUICK_ARGS = ["--n", "100000", "--repeats", "3", "--runs", "0"]
 
 
 def launches(n, seed=1):
@@ -46,17 +48,12 @@ def kernel(n, repeats):
     start = np.repeat(np.asarray(settings.start)[:, None], n, axis=1)
     params = pack_params(settings.params(0.145, 0.036))
     out, status = allocate_flight_outputs(n)
-    fly_batch(params, start, v, w, out, status)
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fly_batch(params, start, v, w, out, status)
-        times.append(time.perf_counter() - t0)
-    rate = n / statistics.median(times)
+    timing = harness.median_time(lambda: fly_batch(params, start, v, w, out, status), repeats)
+    rate = n / timing.median
     print(f"flight kernel: {rate:,.0f} flights/s ({numba.get_num_threads()} threads, {n:,} "
           f"launches, median of {repeats}; mean {out[5].mean():.2f} steps, "
           f"{(status == 0).mean():.0%} ok)")
-    return rate
+    return rate, float(out[5].mean()), float((status == 0).mean())
 
 
 def runs(n, count):
@@ -87,9 +84,14 @@ def main(argv=None):
     parser.add_argument("--run-samples", type=int, default=400_000,
                         help="samples of each mcbat run (default 400,000)")
     args = parser.parse_args(argv)
-    kernel(args.n, args.repeats)
+    rate, steps, ok = kernel(args.n, args.repeats)
+    metrics = {"flights_per_s": rate, "steps_mean": steps, "ok_fraction": ok}
     if args.runs:
-        runs(args.run_samples, args.runs)
+        metrics["game_run_rows_per_s"] = runs(args.run_samples, args.runs)
+    harness.record("flight", metrics, {
+        "launches": args.n, "repeats": args.repeats, "threads": numba.get_num_threads(),
+        "runs": args.runs, "run_samples": args.run_samples if args.runs else None,
+        "launch_ranges": "60-120 mph, -10..60 deg, 0-4000 rpm backspin, seed 1"})
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@
    medians of the rows/s each run reports), and gives the transform's share of the game
    run: the kernel difference of part 1 over the game run's time per row.
 
-    .venv/bin/python benchmarks/bench_game.py [--n N] [--repeats K] [--runs R]
+    .venv/bin/python -m benchmarks game [--n N] [--repeats K] [--runs R]
 """
 
 import argparse
@@ -25,6 +25,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
+from benchmarks import harness
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.swing import (
     GAME_INPUT_FIELDS,
@@ -37,6 +38,8 @@ from mcbat.study import load_study
 ROOT = Path(__file__).resolve().parents[1]
 STUDIES = {"game_fastball": ROOT / "studies" / "game_fastball.toml",
            "throughput": ROOT / "studies" / "throughput.toml"}
+#: python -m benchmarks --quick game
+QUICK_ARGS = ["--n", "50000", "--repeats", "3"]
 
 
 def kernels(n, repeats):
@@ -99,6 +102,8 @@ def main(argv=None):
     parser.add_argument("--runs", type=int, default=0)
     args = parser.parse_args(argv)
     g, b = kernels(args.n, args.repeats)
+    metrics = {"game_kernel_rows_per_s": 1 / g, "bat_frame_kernel_rows_per_s": 1 / b,
+               "transform_ns_per_row": 1e9 * (g - b), "transform_fraction": g / b - 1}
     if args.runs:
         rates = runs(args.n, args.runs)
         print(f"mcbat run, {args.n:,} samples, 2 threads, {args.runs} interleaved runs "
@@ -108,6 +113,10 @@ def main(argv=None):
         share = (g - b) * rates["game_fastball"]
         print(f"  the transform's share of the game run: {100 * share:.1f} % "
               f"({1e9 * (g - b):.0f} ns of {1e9 / rates['game_fastball']:.0f} ns per row)")
+        metrics.update(run_rows_per_s=rates, transform_share_of_run=share)
+    harness.record("game", metrics, {"rows": args.n, "repeats": args.repeats,
+                                     "threads": numba.get_num_threads(), "runs": args.runs,
+                                     "study": "studies/game_fastball.toml"})
 
 
 if __name__ == "__main__":

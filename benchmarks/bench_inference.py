@@ -7,9 +7,9 @@ presets', written with ``mcbat.statcast.write`` and timed through ``mcbat.statca
 + ``mcbat.inference.infer_spin``. Each run is one read and one inference of all balls;
 the median over runs is reported (the first, compiling run is left out).
 
-    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5
-    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5 --bat-speed
-    .venv/bin/python benchmarks/bench_inference.py --n 100000 --runs 5 --fly
+    .venv/bin/python -m benchmarks inference --n 100000 --runs 5
+    .venv/bin/python -m benchmarks inference --n 100000 --runs 5 --bat-speed
+    .venv/bin/python -m benchmarks inference --n 100000 --runs 5 --fly
 """
 
 import argparse
@@ -22,12 +22,16 @@ import numba
 import numpy as np
 import pandas as pd
 
+from benchmarks import harness
 from mcbat import statcast
 from mcbat.bodies.presets import BALL_PRESETS
 from mcbat.inference import infer_spin, predict_batted_balls
 from mcbat.study.flight import FlightSettings, fly_launches
 
 MPH, DEG, RPM = 0.44704, np.pi / 180, np.pi / 30
+
+#: python -m benchmarks --quick inference
+QUICK_ARGS = ["--n", "5000", "--runs", "3"]
 
 
 def fly(df, spin):
@@ -73,7 +77,7 @@ def simulate(n, seed, with_bat_speed):
     return tidy
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100_000)
     parser.add_argument("--runs", type=int, default=5)
@@ -83,7 +87,7 @@ def main():
     parser.add_argument("--bat-speed", action="store_true",
                         help="measured bat speed and attack angle (the contact position is "
                              "inferred)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     tidy = simulate(args.n, args.seed, args.bat_speed)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "balls.parquet"
@@ -119,6 +123,12 @@ def main():
     print(f"CPU time: median {cpu:,.0f} balls per CPU-second "
           f"(x {numba.get_num_threads()} threads = {cpu * numba.get_num_threads():,.0f} "
           "balls/s on as many idle cores)")
+    harness.record("inference", {
+        "balls_per_s": statistics.median(rates), "runs_balls_per_s": rates,
+        "balls_per_cpu_s": cpu, "iterations_mean": float(it.mean()),
+        "status_counts": {str(k): int(v) for k, v in out.attrs["status_counts"].items()}},
+        {"balls": args.n, "runs": args.runs, "seed": args.seed, "fly": args.fly,
+         "bat_speed_measured": args.bat_speed, "threads": numba.get_num_threads()})
 
 
 if __name__ == "__main__":

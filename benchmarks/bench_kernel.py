@@ -1,6 +1,6 @@
 """Single-thread throughput of the impact kernel on a randomized mix, default accuracy.
 
-Run:  .venv/bin/python benchmarks/bench_kernel.py [--n 200000] [--repeats 5]
+Run:  .venv/bin/python -m benchmarks kernel [--n 200000] [--repeats 5]
 
 The mix: the Sec. V bat and ball, contact 0-30 cm towards the barrel from the CM and at
 any azimuth within +-70 deg, ball speed 2-40 m/s with a random transverse component, spins
@@ -9,13 +9,10 @@ figure is the median of ``--repeats`` timed runs after a warm-up (compilation ex
 """
 
 import argparse
-import os
-import platform
-import time
 
-import numba
 import numpy as np
 
+from benchmarks import harness
 from mcbat.core.cabo2012 import solve_impact
 from mcbat.core.cabo2012.contact import (
     DEFAULT_MAX_STEPS,
@@ -25,6 +22,9 @@ from mcbat.core.cabo2012.contact import (
 )
 from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.jit import njit
+
+#: python -m benchmarks --quick kernel
+QUICK_ARGS = ["--n", "20000", "--repeats", "3"]
 
 
 @njit
@@ -50,29 +50,30 @@ def random_mix(n, seed=20261121):
         e=rng.uniform(0.0, 1.0, n))
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=200_000)
     parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     mix = random_mix(args.n)
     status = np.empty(args.n, np.int64)
     steps = np.empty(args.n, np.int64)
     small = {k: v[:100] for k, v in mix.items()}
     _solve_all(**small, out_status=status[:100], out_steps=steps[:100])  # compile / load
-    times = []
-    for _ in range(args.repeats):
-        t0 = time.perf_counter()
-        _solve_all(**mix, out_status=status, out_steps=steps)
-        times.append(time.perf_counter() - t0)
-    med = float(np.median(times))
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}")
+    timing = harness.median_time(
+        lambda: _solve_all(**mix, out_status=status, out_steps=steps), args.repeats, warmup=0)
+    times, med = timing.times, timing.median
+    print(f"machine: {harness.machine_line()}")
     print(f"impacts: {args.n}, repeats: {args.repeats}, median {med:.3f} s "
           f"(min {min(times):.3f}, max {max(times):.3f})")
     print(f"single-thread kernel throughput: {args.n / med:,.0f} impacts/s")
     print(f"status ok: {np.mean(status == 0):.4f}, RK4 steps per impact: mean "
           f"{steps.mean():.1f}, max {steps.max()}")
+    harness.record("kernel", {
+        "impacts_per_s": args.n / med, "median_s": med, "times_s": list(times),
+        "ok_fraction": float(np.mean(status == 0)), "steps_mean": float(steps.mean()),
+    }, {"impacts": args.n, "repeats": args.repeats, "threads": 1,
+        "mix": "uniform random, Sec. V bodies, seed 20261121"})
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Peak memory of ``mcbat run`` against ``--samples``: flat for every kind of study.
 
-Run:  nice -n 19 .venv/bin/python benchmarks/bench_memory.py
+Run:  nice -n 19 .venv/bin/python -m benchmarks memory
           [--study studies/game_fastball.toml] [--samples 1000000,10000000] [--limit 1.2]
           [--extra "--summary-only"]
 
@@ -24,6 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -46,7 +48,7 @@ def peak_of_run(study, samples, work, extra=()):
     return usage.ru_maxrss / 1024, wall, size, (work / "stdout").read_text()
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--study", type=Path, default=ROOT / "studies" / "game_fastball.toml")
     parser.add_argument("--samples", default="1000000,10000000",
@@ -56,7 +58,7 @@ def main():
                         help="largest allowed ratio of the peaks (default 1.2)")
     parser.add_argument("--work", type=Path, default=None,
                         help="scratch directory (default: a new one under /tmp)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     counts = [int(float(n)) for n in args.samples.split(",")]
     work = Path(tempfile.mkdtemp(prefix="mcbat-memory-", dir=args.work))
     peaks = {}
@@ -75,6 +77,10 @@ def main():
     ratio = peaks[max(counts)] / peaks[min(counts)]
     print(f"peak at {max(counts):,} / peak at {min(counts):,}: {ratio:.3f} "
           f"(limit {args.limit})")
+    harness.record("memory", {"peak_memory_mb": {str(n): p for n, p in peaks.items()},
+                              "ratio": ratio},
+                   {"study": args.study.name, "samples": counts, "extra": args.extra,
+                    "limit": args.limit})
     return 0 if ratio <= args.limit else 1
 
 

@@ -1,8 +1,8 @@
 """`mcbat run` against the kernel alone, measured in one process run after run.
 
-Run:  .venv/bin/python benchmarks/bench_pipeline.py [--samples 2000000] [--repeats 5]
+Run:  .venv/bin/python -m benchmarks pipeline [--samples 2000000] [--repeats 5]
                                                    [--modes all,12,summary]
-      .venv/bin/python benchmarks/bench_pipeline.py --scan 1000000000   # the big summary scan
+      .venv/bin/python -m benchmarks pipeline --scan 1000000000   # the big summary scan
 
 Measured on ``studies/throughput.toml`` (2 threads), each run a fresh process into an empty
 directory (one unmeasured warm-up run first), medians over ``--repeats``:
@@ -34,6 +34,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from benchmarks import harness
 
 ROOT = Path(__file__).resolve().parents[1]
 THROUGHPUT = ROOT / "studies" / "throughput.toml"
@@ -98,7 +100,7 @@ def run(study, samples, extra, work):
     return rate, wall, peak, size
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=2_000_000)
     parser.add_argument("--repeats", type=int, default=5)
@@ -107,7 +109,7 @@ def main():
     parser.add_argument("--modes", default="all,12,summary",
                         help="which runs, comma-separated: all (every column), 12 (the "
                              "12 columns), summary (summary-only); default all three")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     work = Path(tempfile.mkdtemp(prefix="mcbat-pipeline-"))
     try:
         summary_study = work / "throughput_summary.toml"
@@ -119,6 +121,10 @@ def main():
             print(f"summary-only scan of {samples:,} samples: {wall / 60:.1f} min wall, "
                   f"{rate:,.0f} rows/s within the run, {size / 1e6:.2f} MB on disk, peak "
                   f"memory {peak / 1024:,.0f} MB", flush=True)
+            harness.record(f"pipeline_scan_{samples}", {
+                "rows_per_s": rate, "wall_s": wall, "peak_memory_mb": peak / 1024,
+                "bytes_on_disk": size}, {"samples": samples, "mode": "summary only",
+                                         "study": "studies/throughput.toml + [summary]"})
         if scans:
             return
         kernel_alone = KernelAlone(args.samples)
@@ -136,6 +142,7 @@ def main():
             for name, (study, extra) in modes.items():
                 results[name].append(run(study, args.samples, extra, work))
         kernel = float(np.median(kernels))
+        metrics = {"kernel_impacts_per_s": kernel}
         import numba
 
         print(f"machine: {os.cpu_count()} cores, python {sys.version.split()[0]}, numba "
@@ -154,6 +161,13 @@ def main():
                   f"{args.samples / wall:,.0f} rows/s, "
                   f"peak {peak / 1024:,.0f} MB, {size / 1e6:,.1f} MB on disk "
                   f"(runs: {', '.join(f'{r[0]:,.0f}' for r in rows)})")
+            metrics[name.replace(" ", "_")] = {
+                "rows_per_s": float(rate), "share_of_kernel": float(share),
+                "process_wall_s": float(wall), "peak_memory_mb": peak / 1024,
+                "bytes_on_disk": float(size)}
+        harness.record("pipeline", metrics, {"samples": args.samples, "repeats": args.repeats,
+                                             "threads": 2, "modes": args.modes,
+                                             "study": "studies/throughput.toml"})
     finally:
         shutil.rmtree(work, ignore_errors=True)
 

@@ -1,6 +1,6 @@
 """End-to-end throughput of `mcbat run` (sampling, solving, Parquet writing) and peak memory.
 
-Run:  .venv/bin/python benchmarks/bench_run.py [--samples 2000000] [--threads 2] [--repeats 3]
+Run:  .venv/bin/python -m benchmarks run [--samples 2000000] [--threads 2] [--repeats 3]
       [--study studies/throughput.toml]
 
 Each repeat runs ``mcbat run`` in a fresh process into an empty directory. Reported per run:
@@ -22,17 +22,21 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
+#: python -m benchmarks --quick run
+QUICK_ARGS = ["--samples", "200000", "--repeats", "2"]
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--study", default=str(ROOT / "studies" / "throughput.toml"))
     parser.add_argument("--samples", type=int, default=2_000_000)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--chunk-size", type=int, default=None)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     work = Path(tempfile.mkdtemp(prefix="mcbat-bench-"))
     run_rates, walls, peaks = [], [], []
     try:
@@ -67,6 +71,13 @@ def main():
     print(f"whole process incl. start-up: {np.median(walls):.2f} s wall, "
           f"{args.samples / np.median(walls):,.0f} rows/s")
     print(f"peak memory (max RSS of the runs): {max(peaks) / 1024:,.0f} MB")
+    harness.record("run", {
+        "rows_per_s": float(np.median(run_rates)), "runs_rows_per_s": run_rates,
+        "process_wall_s": float(np.median(walls)), "peak_memory_mb": max(peaks) / 1024,
+    }, {"study": Path(args.study).relative_to(ROOT).as_posix()
+        if Path(args.study).resolve().is_relative_to(ROOT) else Path(args.study).name,
+        "samples": args.samples, "threads": args.threads, "repeats": args.repeats,
+        "chunk_size": args.chunk_size})
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Kernel throughput against the kernel of another commit (--baseline), interleaved.
 
-Run:  .venv/bin/python benchmarks/kernel_vs_baseline.py [--n 400000] [--rounds 5]
+Run:  .venv/bin/python -m benchmarks kernel_vs_baseline [--n 400000] [--rounds 5]
       [--baseline COMMIT]
 
 The machine is shared, so absolute impacts/s drift with the load. This script samples the
@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+#: It needs --baseline COMMIT: not a run of `python -m benchmarks all`.
+IN_ALL = False
 BASELINE = "39f1cf7"
 
 TIMER = r"""
@@ -56,7 +58,7 @@ def run(tree, data, tolerance, repeats):
     return float(rate), float(steps)
 
 
-def main():
+def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--n", type=int, default=400_000)
     p.add_argument("--rounds", type=int, default=5)
@@ -64,7 +66,7 @@ def main():
     p.add_argument("--tolerance", type=float, default=None)
     p.add_argument("--baseline", default=BASELINE,
                    help=f"commit whose kernel is the baseline (default {BASELINE})")
-    args = p.parse_args()
+    args = p.parse_args(argv)
     from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
 
     tol = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance

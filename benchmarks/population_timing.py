@@ -1,6 +1,6 @@
 """Time of a population fit: 500 rows, 5 free parameters (median of 3 runs).
 
-    NUMBA_NUM_THREADS=2 nice -n 15 .venv/bin/python benchmarks/population_timing.py
+    NUMBA_NUM_THREADS=2 nice -n 15 .venv/bin/python -m benchmarks population_timing
 
 The table is simulated once (not timed) from examples/population_game.toml on the real
 pitches of data/statcast_2020-09-03.csv; each run fits it from scratch (template draws,
@@ -15,22 +15,23 @@ from pathlib import Path
 import numba
 import numpy as np
 
-# The same five parameters and true values as the injection benchmark, from the same place.
-from population_injection import TRUTH  # benchmarks/ is the script's folder
-
 import mcbat
+from benchmarks import harness
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table, simulate_table
+
+# The same five parameters and true values as the injection benchmark, from the same place.
+from validation.population_injection import TRUTH
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rows", type=int, default=500)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--engine", default="memory")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     study = mcbat.load_study(ROOT / "examples" / "population_game.toml")
     pitches, _ = population_table(read(ROOT / "data" / "statcast_2020-09-03.csv"))
     table = simulate_table(study, pitches, args.rows, seed=42, values=TRUTH)
@@ -47,6 +48,11 @@ def main():
           f"{np.median(times):.1f} s wall of {args.repeats} "
           f"({', '.join(f'{t:.1f}' for t in times)}); CPU median {np.median(cpu):.1f} s "
           f"(the wall time on a machine shared with other work overstates it)")
+    harness.record("population_timing", {
+        "wall_s": float(np.median(times)), "cpu_s": float(np.median(cpu)),
+        "times_s": times, "draws": result.draws},
+        {"rows": args.rows, "repeats": args.repeats, "engine": args.engine,
+         "free": list(TRUTH), "threads": numba.get_num_threads()})
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """The kernel's accuracy instrument: its random mix and its error measure.
 
 ``mcbat.testing.accuracy_mix`` draws a hard mix of impacts and measures the kernel against
-the scipy reference; ``benchmarks/accuracy_mix.py`` runs it on 520 cases. Here:
+the scipy reference; ``validation/accuracy_mix.py`` runs it on 520 cases. Here:
 
 * the mix is what the accuracy targets are stated on (every mode, deterministic, creeping slip at
   ``|f|/mu ~ 1``, re-slip that the reference confirms, bats of 5 g to 5000 kg, spins up to
@@ -10,7 +10,7 @@ the scipy reference; ``benchmarks/accuracy_mix.py`` runs it on 520 cases. Here:
 * on the first 40 cases of the benchmark's mix (5 per mode), the kernel meets the
   accuracy targets at the default tolerance and converges monotonically (the benchmark
   measures the whole mix);
-* ``benchmarks/monotone_uniform_steps.py``, the evidence that monotone convergence in
+* ``validation/monotone_uniform_steps.py``, the evidence that monotone convergence in
   every case needs the asymptotic regime, solves the stick impulse correctly and counts
   violations as that requirement defines them.
 """
@@ -233,7 +233,7 @@ def test_kernel_meets_the_accuracy_targets_on_the_subset(subset):
 def test_monotone_convergence_on_the_subset(subset):
     """Monotone convergence on the subset. (On the whole 520-case mix a few
     cases still violate it where an error changes sign between two tolerances:
-    ``benchmarks/accuracy_mix.py`` counts them.)"""
+    ``validation/accuracy_mix.py`` counts them.)"""
     cases, refs = subset
     runs = {tol: kernel_errors(cases, refs, tol) for tol in TOLERANCES}
     violations = {}
@@ -311,25 +311,19 @@ def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
 
 
 # (d) The instrument behind monotone convergence in every case:
-# benchmarks/monotone_uniform_steps.py.
+# validation/monotone_uniform_steps.py.
 
 @pytest.fixture(scope="module")
 def uniform_steps():
-    """The benchmark script as a module (it imports its sibling ``accuracy_mix.py``)."""
-    import importlib.util
+    """The validation script as a module (it imports ``validation.accuracy_mix``)."""
+    import importlib
     import sys
     from pathlib import Path
 
-    benchmarks = Path(__file__).resolve().parents[2] / "benchmarks"
-    sys.path.insert(0, str(benchmarks))
-    try:
-        spec = importlib.util.spec_from_file_location(
-            "monotone_uniform_steps", benchmarks / "monotone_uniform_steps.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-    finally:
-        sys.path.remove(str(benchmarks))
-    return module
+    root = str(Path(__file__).resolve().parents[2])
+    if root not in sys.path:
+        sys.path.insert(0, root)
+    return importlib.import_module("validation.monotone_uniform_steps")
 
 
 def test_uniform_step_sequence_converges_at_fourth_order_to_the_reference(subset,

@@ -10,7 +10,7 @@ friction or normal work) and linear momentum conserved; any other status means N
 velocities, so a NaN never passes for a result. NaN, inf or out-of-range inputs give
 ``invalid_input``. The parallel batch kernel must agree bitwise with the scalar one.
 
-``benchmarks/fuzz_kernel.py`` runs the same ranges at scale (10^6 rows: the slow test; a
+``validation/fuzz_kernel.py`` runs the same ranges at scale (10^6 rows: the slow test; a
 20,000-row variant runs in CI).
 """
 
@@ -54,7 +54,7 @@ BODY_KEYS = ("ball_mass", "ball_radius", "ball_inertia_factor", "bat_mass",
 
 def load_fuzz_script():
     spec = importlib.util.spec_from_file_location(
-        "fuzz_kernel", ROOT / "benchmarks" / "fuzz_kernel.py")
+        "fuzz_kernel", ROOT / "validation" / "fuzz_kernel.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

@@ -2,7 +2,7 @@
 
 One error per column, not a fraction of each row's measured value: per-row errors tell the
 fit which rows lie above the model's mean (larger error, less weight) and bias the estimates
-(docs/fitting.md, benchmarks/default_errors_bias.py).
+(docs/fitting.md, validation/default_errors_bias.py).
 """
 
 import math
@@ -69,7 +69,7 @@ def test_fit_without_error_columns_is_not_biased():
     (value - truth over the curvature error) of an unbiased fit has a standard error
     1/sqrt(N) (the pull's spread is 1: docs/fitting.md, setting a, and 0.99-1.06 with the
     defaults): it must lie within 3 of those. A per-row rule pulls e* by -0.75 and mu by
-    +1.17 on average (600 tables, benchmarks/default_errors_bias.py --setting a) and fails
+    +1.17 on average (600 tables, validation/default_errors_bias.py --setting a) and fails
     here (on these 16 tables it gives e* -0.83 and mu +1.57, the per-column rule -0.03 and
     +0.10). The fits start at the truth, not on the
     coarse grid (3 times faster): this checks where the likelihood's maximum lies, not the

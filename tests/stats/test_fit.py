@@ -67,7 +67,7 @@ def test_fit_cli_json(tmp_path):
 def test_model_comparison_identifies_tangential_compliance_only_when_present(seed):
     """Acceptance 2: tables made with Cross & Nathan's e_x = 0.16 prefer the compliant
     model (and recover e_x); tables made with the rigid model (e_x = 0) do not.
-    (benchmarks/model_comparison.py runs 30 tables per e_x for the rates.)"""
+    (validation/model_comparison.py runs 30 tables per e_x for the rates.)"""
     truth = {"e": 0.6, "mu": 0.15}
     verdicts = {}
     for e_x in (0.0, 0.16):
@@ -102,8 +102,8 @@ def test_synth_rejects_out_of_range_parameters():
 def test_injection_and_recovery():
     # 150 tables: with 50, the binomial spread of the coverage (+-6.6 %) is as wide as the
     # 60-76 % window itself (a 50-table run gave 52 % and 84 %, pull std 1.05 and 0.95).
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from injection_recovery import run
+    sys.path.insert(0, str(ROOT))
+    from validation.injection_recovery import run
 
     coverage, bias, times = run(tables=150, rows=60, log=print)
     assert max(times) < 30.0
@@ -165,11 +165,11 @@ def test_flat_on_both_sides_is_reported_unidentified_with_null_errors():
 @pytest.mark.slow
 @pytest.mark.parametrize("setting", ["a", "c", "g"])
 def test_interval_coverage_small(tmp_path, setting):
-    """A small run of benchmarks/interval_coverage.py (the full one: >= 400 tables per
+    """A small run of validation/interval_coverage.py (the full one: >= 400 tables per
     setting, docs/fitting.md). With 60 tables the binomial spread of a coverage is 6 %, so
     this checks within 3 of those spreads, and the mean pull within 3 standard errors."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import interval_coverage as ic
+    sys.path.insert(0, str(ROOT))
+    import validation.interval_coverage as ic
 
     ic.worker((0, 1, 60, setting, str(tmp_path)))
     for row in ic.summary(tmp_path, log=print):

@@ -25,7 +25,7 @@ def test_game_fit_recovers_e_and_e_x(seed):
     """Launch speed, launch and spray angle and spin rate (Statcast's units), each row with
     its measured pitch speed, bat speed, attack angle and an undercut known to 2 mm: e* and
     e_x come back within their stated errors (two of them: a 1-sigma interval misses a
-    third of the time; benchmarks/interval_coverage.py setting g measures the coverage)."""
+    third of the time; validation/interval_coverage.py setting g measures the coverage)."""
     table = synthesize(GAME, 100, seed=seed, **TRUTH, input_noise={"undercut": 0.002})
     assert {"launch_speed", "launch_angle", "spin_rate", "undercut_err"} <= set(table)
     assert 80 < table["launch_speed"].median() < 120  # mph

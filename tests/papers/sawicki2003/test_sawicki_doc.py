@@ -96,7 +96,7 @@ def test_the_doc_describes_the_scan_that_runs():
 
 def _doc_script():
     spec = importlib.util.spec_from_file_location("sawicki2003_doc",
-                                                  ROOT / "benchmarks" / "sawicki2003_doc.py")
+                                                  ROOT / "validation" / "sawicki2003_doc.py")
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module
     spec.loader.exec_module(module)

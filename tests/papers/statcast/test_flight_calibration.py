@@ -74,7 +74,7 @@ def test_injected_scales_are_recovered(launches):
 
 
 def test_intervals_have_the_width_of_the_scatter_of_the_fits(launches):
-    # Reduced coverage check (the full one: benchmarks/flight_calibration_coverage.py,
+    # Reduced coverage check (the full one: validation/flight_calibration_coverage.py,
     # 200 tables): on 10 tables of 40 balls the pulls (fit - truth) / error are centred
     # and of unit width, within what 10 tables can tell.
     truth = {"drag_scale": 0.9, "lift_scale": 1.2}

@@ -1,6 +1,6 @@
 """Model comparison: is tangential compliance (e_x > 0) identified, and only when present?
 
-Run:  .venv/bin/python benchmarks/model_comparison.py [--tables 30] [--rows 60]
+Run:  .venv/bin/python -m validation model_comparison [--tables 30] [--rows 60]
 
 For each true e_x (0, the rigid model, then 0.02, 0.05, 0.16 = Cross & Nathan's value),
 ``--tables`` synthetic tables (`mcbat synth` of studies/cross_nathan_2006.toml at e* = 0.6,
@@ -48,11 +48,11 @@ def run(tables=30, rows=60, values=(0.0, 0.02, 0.05, 0.16), log=print):
     return rates
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=30)
     parser.add_argument("--rows", type=int, default=60)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     rates = run(args.tables, args.rows)
     ok = rates[0.0] <= 0.1 and rates[0.16] >= 0.9
     print("PASS" if ok else "FAIL")

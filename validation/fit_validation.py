@@ -1,9 +1,9 @@
 """The drop-test fit against tables it did not simulate: pulls, coverage, limits, refusals.
 
-Run:  .venv/bin/python benchmarks/fit_validation.py --settings inside,edges --tables 400 \
+Run:  .venv/bin/python -m validation fit_validation --settings inside,edges --tables 400 \
           --workers 2 --out fit-validation
-      .venv/bin/python benchmarks/fit_validation.py --summary fit-validation
-      .venv/bin/python benchmarks/fit_validation.py --crosscheck 3
+      .venv/bin/python -m validation fit_validation --summary fit-validation
+      .venv/bin/python -m validation fit_validation --crosscheck 3
 
 The tables, the fit and the summary are :mod:`mcbat.testing.fit_validation` (its docstring
 lists the settings). The impacts of the tables are solved by the kernel, because the
@@ -72,7 +72,7 @@ def crosscheck(n):
     return worst
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=400)
     parser.add_argument("--workers", type=int, default=1)
@@ -82,7 +82,7 @@ def main():
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
     parser.add_argument("--crosscheck", type=int, metavar="N",
                         help="compare N tables made by the reference and by the kernel")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.crosscheck:
         crosscheck(args.crosscheck)
         return

@@ -1,6 +1,6 @@
 """Sensitivities of the carry with the default flight model (docs/flight.md).
 
-Run:  .venv/bin/python benchmarks/flight_sensitivities.py
+Run:  .venv/bin/python -m validation flight_sensitivities
 
 At 103 mph, 27 deg, 2000 rpm of backspin (no sidespin), standard conditions (70 degF,
 29.92 inHg, 50 % RH, sea level), from (0, 2, 3) ft, Nathan's model with 30 s spin decay:
@@ -9,6 +9,7 @@ and the launch angle of greatest carry at 90, 100 and 110 mph with the calculato
 average spin model (backspin = -763 + 120 LA rpm, sidespin = -849 rpm at spray 0).
 """
 
+import argparse
 import dataclasses
 import math
 
@@ -32,7 +33,8 @@ def with_(**kw):
     return dataclasses.replace(BASE, **kw)
 
 
-def main():
+def main(argv=None):
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
     base = carry(103, 27, 2000)
     per_mph = (carry(104, 27, 2000) - carry(102, 27, 2000)) / 2
     t = BASE.temperature

@@ -1,12 +1,12 @@
 """Bias of fits to tables without error columns: the fit's default errors, old rule vs new.
 
-Run:  .venv/bin/python benchmarks/default_errors_bias.py --setting g --tables 600 --out FILE
-      .venv/bin/python benchmarks/default_errors_bias.py --summary FILE [FILE ...]
-      .venv/bin/python benchmarks/default_errors_bias.py --setting g --check 10 --out FILE
+Run:  .venv/bin/python -m validation default_errors_bias --setting g --tables 600 --out FILE
+      .venv/bin/python -m validation default_errors_bias --summary FILE [FILE ...]
+      .venv/bin/python -m validation default_errors_bias --setting g --check 10 --out FILE
       (--rules stated,row,mean: which errors; FILEs of the same tables are merged)
 
 Table k is ``synthesize(..., seed=1000 + k)`` of a setting of
-benchmarks/interval_coverage.py (g: a game, 100 rows of studies/game_fastball.toml, e* and
+validation/interval_coverage.py (g: a game, 100 rows of studies/game_fastball.toml, e* and
 e_x free, truth 0.5 and 0.3; a: a drop test, 60 rows of studies/cross_nathan_2006.toml, e*
 and mu free, truth 0.6 and 0.15) with the observables' ``_err`` columns removed, as a real
 table without stated errors: the fit's default errors apply (a measured input keeps its
@@ -227,7 +227,7 @@ def summary(paths, log=print):
                     + " (mean over rows and tables)")
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--setting", choices=sorted(SETTINGS), default="g")
     parser.add_argument("--tables", type=int, default=400)
@@ -238,7 +238,7 @@ def main():
                         help="comma-separated, from stated,row,mean")
     parser.add_argument("--out")
     parser.add_argument("--summary", nargs="+", metavar="FILE")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.summary:
         summary(args.summary)
         return

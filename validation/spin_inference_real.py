@@ -8,7 +8,7 @@ for the same balls (right-handed batter: backspin ~ -763 + 120 LA + 21 phi,
 sidespin ~ -849 - 94 phi, rpm, phi the spray angle in deg; a left-handed batter's ball
 is compared in the mirror image: phi -> -phi, sidespin -> -sidespin). Nothing is tuned.
 
-    .venv/bin/python benchmarks/spin_inference_real.py
+    .venv/bin/python -m validation spin_inference_real
 """
 
 import argparse
@@ -25,9 +25,9 @@ FILES = ("statcast_2020-09-03.csv", "statcast_2019_darvish.csv", "statcast_2014_
 BINS = (-90, -20, -10, 0, 10, 20, 30, 40, 50, 90)
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.parse_args()
+    parser.parse_args(argv)
     frames = []
     for name in FILES:
         pitches = statcast.read(ROOT / "data" / name)

@@ -8,7 +8,7 @@ same launch numbers once with the true assumptions (it must give the truth back)
 per changed assumption; the table gives the median change of the inferred backspin,
 sidespin and spin rate against the truth, and the fraction of balls still reproduced.
 
-    .venv/bin/python benchmarks/spin_inference_sensitivity.py --n 400
+    .venv/bin/python -m validation spin_inference_sensitivity --n 400
 """
 
 import argparse
@@ -70,11 +70,11 @@ def variants():
                dataclasses.replace(base, from_barrel_end=base.from_barrel_end + d * 0.0254))
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=400)
     parser.add_argument("--seed", type=int, default=7)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     table, truth = simulate(args.n, args.seed)
     print(f"{len(table)} simulated balls; median launch angle "
           f"{table['launch_angle'].median():.1f} deg, backspin {truth['backspin'].median():.0f} "

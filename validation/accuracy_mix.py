@@ -1,6 +1,6 @@
 """Accuracy of the impact kernel against the scipy reference on a hard random mix.
 
-Run:  .venv/bin/python benchmarks/accuracy_mix.py [--n 520] [--seed S] [--cache FILE]
+Run:  .venv/bin/python -m validation accuracy_mix [--n 520] [--seed S] [--cache FILE]
           [--tolerances 5e-7,5e-8,5e-9,5e-10,5e-11] [--default-only] [--json FILE]
           [--jobs 2] [--reference-check]
 
@@ -299,7 +299,7 @@ def _plain(x):
     return x
 
 
-def _parse_args():
+def _parse_args(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=520)
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
@@ -314,7 +314,7 @@ def _parse_args():
                         help="also solve the references with each knob tightened "
                         "(CHECK_REFERENCES) and print how far they move: the instrument's "
                         "own resolution")
-    return parser.parse_args()
+    return parser.parse_args(argv)
 
 
 def _print_header(args, cases, refs, cached):
@@ -333,8 +333,8 @@ def _print_header(args, cases, refs, cached):
     return failed_refs, phases
 
 
-def main():
-    args = _parse_args()
+def main(argv=None):
+    args = _parse_args(argv)
     t_start = time.perf_counter()
     tolerances = [DEFAULT_TOLERANCE]
     if not args.default_only:

@@ -1,6 +1,6 @@
 """Injection and recovery: fit e* and mu to many synthetic tables generated at known values.
 
-Run:  .venv/bin/python benchmarks/injection_recovery.py [--tables 150] [--rows 60]
+Run:  .venv/bin/python -m validation injection_recovery [--tables 150] [--rows 60]
 
 Each table: `mcbat synth` of studies/cross_nathan_2006.toml at the truth (default e* = 0.6,
 mu = 0.15, where part of the impacts slide so that mu is measurable), noise 5 % on speed,
@@ -48,11 +48,11 @@ def run(tables=50, rows=60, truth=None, log=print):
     return coverage, bias, times
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=150)
     parser.add_argument("--rows", type=int, default=60)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     coverage, bias, times = run(args.tables, args.rows)
     ok = np.all((coverage >= 0.60) & (coverage <= 0.76)) and np.all(np.abs(bias) < 0.3)
     print("PASS" if ok else "FAIL")

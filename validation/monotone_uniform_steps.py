@@ -1,6 +1,6 @@
 """Why "monotone convergence in every case" is not a property of a step rule.
 
-Run:  .venv/bin/python benchmarks/monotone_uniform_steps.py [--n 520] [--seed S]
+Run:  .venv/bin/python -m validation monotone_uniform_steps [--n 520] [--seed S]
           [--cache FILE] [--factors 0.5,0.3,0.15,0.07] [--jobs 2]
 
 The criterion: for every case of the accuracy mix, tightening the tolerance 10-fold never
@@ -29,7 +29,7 @@ trade: the steps it takes, against the kernel's.
 Printed, per step rule (the kernel's adaptive one, then each --factors): the cases
 measured, the cases with a violation of the criterion in ``I_s`` between consecutive
 tolerances 5e-7 ... 5e-11, the largest ``I_s`` error per tolerance and the mean steps.
-The references come from the same cache as ``benchmarks/accuracy_mix.py``.
+The references come from the same cache as ``validation/accuracy_mix.py``.
 """
 
 import argparse
@@ -38,7 +38,6 @@ import sys
 import time
 
 import numpy as np
-from accuracy_mix import DEFAULT_TOLERANCES, load_or_compute_references
 
 from mcbat.core.cabo2012.contact import (
     DEFAULT_STEPS,
@@ -57,6 +56,7 @@ from mcbat.testing.accuracy_mix import (
     draw_mix,
     kernel_errors,
 )
+from validation.accuracy_mix import DEFAULT_TOLERANCES, load_or_compute_references
 
 MAX_STEPS = 20_000
 

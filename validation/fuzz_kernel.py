@@ -1,6 +1,6 @@
 """Fuzz the parallel batch kernel with extreme but valid impacts (plus invalid ones).
 
-Run:  .venv/bin/python benchmarks/fuzz_kernel.py [--n 1000000] [--chunk 50000] [--seed 20260601]
+Run:  .venv/bin/python -m validation fuzz_kernel [--n 1000000] [--chunk 50000] [--seed 20260601]
       [--timeout 120]
 
 Rows are drawn by a numpy ``Generator`` with a fixed seed. Every extreme dimension is

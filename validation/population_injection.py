@@ -1,7 +1,7 @@
 """Injection check of `mcbat fit --population`: tables simulated at known distribution
 parameters, fitted back; prints the pulls and the MINOS intervals' coverage.
 
-    NUMBA_NUM_THREADS=1 nice -n 15 .venv/bin/python benchmarks/population_injection.py \\
+    NUMBA_NUM_THREADS=1 nice -n 15 .venv/bin/python -m validation population_injection \\
         --tables 200 --rows 500          # the full check (hours on 2 cores)
     ... --tables 20 --rows 200 --draws 40   # a reduced one
 
@@ -29,7 +29,7 @@ TRUTH = {"swing.bat_speed.mean": 69.0, "swing.bat_speed.std": 6.0,
          "contact.undercut.std": 0.9}
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--tables", type=int, default=20)
     ap.add_argument("--rows", type=int, default=200)
@@ -38,7 +38,7 @@ def main():
     ap.add_argument("--out", default=None, help="write every table's fit as JSON lines")
     ap.add_argument("--combine", nargs="+", default=None, metavar="FIT.jsonl",
                     help="only summarise the fits of earlier runs' --out files")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     if args.combine:
         fits = [json.loads(line) for name in args.combine for line in open(name)]
         summarise(fits, len(fits), fits[0]["rows"] if fits else 0, [])

@@ -18,7 +18,7 @@ datasets damaged (chunks removed, truncated, flipped, foreign files, odd manifes
 Everything runs in-process (``mcbat.cli.main``), one input after the other, under
 ``nice`` if asked; each input gets an alarm of ``--timeout`` seconds.
 
-    nice -n 19 .venv/bin/python benchmarks/fuzz_cli.py --n 10000 --seed 1 --report fuzz.json
+    nice -n 19 .venv/bin/python -m validation fuzz_cli --n 10000 --seed 1 --report fuzz.json
 
 Prints a table of inputs and exit codes per command, the slowest input, and every
 violation (command line and the first lines of its output); exits 1 if there is any.
@@ -45,7 +45,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.cli import main  # noqa: E402
+from mcbat.cli import main as cli_main  # noqa: E402
 
 EXAMPLES = {name: json.loads((ROOT / "examples" / name).read_text())
             for name in ("cabo2012_sec5.json", "game_fastball.json")}
@@ -257,7 +257,7 @@ class Inputs:
         if len(self.datasets) < 3 or rng.random() < 0.02:
             out = self.scratch / f"ds{len(self.datasets)}"
             with contextlib.redirect_stdout(io.StringIO()):
-                code = main(["run", str(ROOT / "studies" / "example.toml"), "--out",
+                code = cli_main(["run", str(ROOT / "studies" / "example.toml"), "--out",
                              str(out), "--samples", "900", "--chunk-size", "300", "--quiet",
                              "--seed", str(len(self.datasets))])
             if code == 0:
@@ -457,7 +457,7 @@ def run_one(argv, timeout):
     try:
         sys.stdin = stdin
         with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
-            code = main(argv)
+            code = cli_main(argv)
     except Hang:
         code = "hang"
     except SystemExit as err:
@@ -489,10 +489,10 @@ def warm_up(scratch: Path):
                   "--intervals", "curvature", "--no-compare", "--draws", "4"]):
         with contextlib.redirect_stdout(io.StringIO()), \
                 contextlib.redirect_stderr(io.StringIO()):
-            main(argv)
+            cli_main(argv)
 
 
-def main_fuzz(argv=None):
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--n", type=int, default=10_000, help="inputs (default 10,000)")
     parser.add_argument("--seed", type=int, default=1)
@@ -583,4 +583,4 @@ def _write_report(args, done, seconds, codes, slowest, violations):
 
 
 if __name__ == "__main__":
-    sys.exit(main_fuzz())
+    sys.exit(main())

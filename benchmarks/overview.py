@@ -1,6 +1,6 @@
 """The whole benchmark suite in one command; prints the machine and every metric.
 
-Run:  .venv/bin/python benchmarks/bench_all.py [--quick]
+Run:  .venv/bin/python -m benchmarks [--results DIR] overview [--quick]
 
 Metrics (medians of several runs; targets in brackets):
   * kernel impacts/s on the studies/throughput.toml mix, 1 and 2 threads   [>= 1,000,000 at 2]
@@ -19,9 +19,7 @@ docs/accuracy-and-speed.md come from the full run.
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import platform
 import re
 import resource
 import shutil
@@ -33,27 +31,13 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import harness
+
 ROOT = Path(__file__).resolve().parents[1]
 THROUGHPUT = ROOT / "studies" / "throughput.toml"
 EXAMPLE_CASE = ROOT / "examples" / "cabo2012_sec5.json"
-
-
-def machine_line():
-    import numba
-    import pyarrow
-    import scipy
-
-    cpu = "unknown CPU"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return (f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.machine()}, "
-            f"Python {platform.python_version()}, numpy {np.__version__}, numba "
-            f"{numba.__version__}, scipy {scipy.__version__}, pyarrow {pyarrow.__version__}")
+#: python -m benchmarks --quick overview
+QUICK_ARGS = ["--quick"]
 
 
 def kernel_throughput(n, repeats):
@@ -183,15 +167,14 @@ def end_to_end(samples, repeats):
     return float(np.median(rates)), float(np.median(walls)), peak
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small sizes, for a smoke test")
-    parser.add_argument("--json", metavar="FILE", help="also write the figures as JSON")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     quick = args.quick
     n_kernel = 200_000 if quick else 2_000_000
     repeats = 2 if quick else 5
-    print(f"machine: {machine_line()}", flush=True)
+    print(f"machine: {harness.machine_line()}", flush=True)
 
     rates, inputs, out = kernel_throughput(n_kernel, repeats)
     efficiency = rates[2] / (2 * rates[1])
@@ -230,15 +213,20 @@ def main():
     print(f"{'metric':<{width}}  {'measured':<{vwidth}}  target")
     for name, value, target in rows:
         print(f"{name:<{width}}  {value:<{vwidth}}  {target}")
-    if args.json:
-        Path(args.json).write_text(json.dumps({
-            "machine": machine_line(), "kernel_1_thread": rates[1],
-            "kernel_2_threads": rates[2], "efficiency": efficiency,
-            "end_to_end_rows_per_s": e2e_rate, "accuracy_max": float(errors.max()),
-            "accuracy_median": float(np.median(errors)), "speedup": speedup,
-            "impact_cold_s": cold, "impact_warm_s": warm,
-            "peak_memory_mb": big_peak / 1024}, indent=2))
-
+    harness.record("overview", {
+        "kernel_1_thread": rates[1], "kernel_2_threads": rates[2], "efficiency": efficiency,
+        "end_to_end_rows_per_s": e2e_rate, "end_to_end_wall_s": e2e_wall,
+        "accuracy_max": float(errors.max()), "accuracy_median": float(np.median(errors)),
+        "speedup": speedup, "reference_s_per_impact": ref_per_impact,
+        "impact_cold_s": cold, "impact_warm_s": warm, "peak_memory_mb": big_peak / 1024,
+        "peak_memory_wall_s": big_wall,
+    }, {
+        "kernel_impacts": n_kernel, "repeats": repeats, "reference_impacts": len(errors),
+        "impact_repeats": 2 if quick else 5,
+        "end_to_end_samples": 200_000 if quick else 2_000_000,
+        "end_to_end_runs": 1 if quick else 3, "memory_scan_samples": big,
+        "study": "studies/throughput.toml",
+    })
 
 if __name__ == "__main__":
     main()

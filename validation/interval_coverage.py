@@ -1,14 +1,14 @@
 """Coverage of the fit's intervals: many synthetic tables per setting, fitted like users do.
 
-Run:  .venv/bin/python benchmarks/interval_coverage.py --tables 400 [--workers 2] [--out DIR]
-      .venv/bin/python benchmarks/interval_coverage.py --summary DIR
+Run:  .venv/bin/python -m validation interval_coverage --tables 400 [--workers 2] [--out DIR]
+      .venv/bin/python -m validation interval_coverage --summary DIR
 
 Settings (studies/cross_nathan_2006.toml, 60 rows a table, truth e* = 0.6, mu = 0.15, where
 part of the drops slide so that mu is measurable; noise 5 % on speed, 3 deg on angle, 10 %
 on spin):
 
   a  e*, mu free; the impact parameter b written exactly (the setting of
-     benchmarks/injection_recovery.py)
+     validation/injection_recovery.py)
   b  as a, with 2 mm of error on b (the table has b + noise and impact_parameter_err)
   c  as a, with 5 mm of error on b
   d  e*, mu, e_x free, tables made with e_x = 0.16 (Cross & Nathan's tangential restitution)
@@ -127,14 +127,14 @@ def summary(out, log=print):
     return rows
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=400)
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--settings", default="abcdg")
     parser.add_argument("--out", default="coverage-results")
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.summary:
         summary(args.summary)
         return

@@ -1,7 +1,7 @@
 """The generated tables of ``docs/sawicki2003.md``: write them, or check them.
 
-    NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/sawicki2003_doc.py           # check
-    NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/sawicki2003_doc.py --write   # update
+    NUMBA_NUM_THREADS=1 .venv/bin/python -m validation sawicki2003_doc           # check
+    NUMBA_NUM_THREADS=1 .venv/bin/python -m validation sawicki2003_doc --write   # update
 
 Two blocks:
 

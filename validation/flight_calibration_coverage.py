@@ -9,7 +9,7 @@ plus normal scatter of ``--sigma`` ft; each table is fitted as a real one is
 (:func:`mcbat.papers.statcast.calibrate.fit_scales`: the scatter estimated from the
 residuals, then the profile intervals).
 
-    .venv/bin/python benchmarks/flight_calibration_coverage.py --tables 200
+    .venv/bin/python -m validation flight_calibration_coverage --tables 200
 
 One kernel thread by default (``--threads``): a fit flies ~130 balls at a time, too few to
 gain from threads on a busy machine.
@@ -81,7 +81,7 @@ def coverage(tables, truth, sigma, seed=0, rows=None, intervals="profile", echo=
     return {p: hits[p] / tables for p in truth}, {p: np.array(v) for p, v in pulls.items()}
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--tables", type=int, default=200)
     parser.add_argument("--drag", type=float, default=0.9, help="true drag_scale")
@@ -89,7 +89,7 @@ def main():
     parser.add_argument("--sigma", type=float, default=15.0, help="scatter per ball, ft")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--threads", type=int, default=1)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     numba.set_num_threads(args.threads)
     truth = {"drag_scale": args.drag, "lift_scale": args.lift}
     t0 = time.perf_counter()

@@ -13,8 +13,8 @@ the study text) is deliberately not hashed: it may change with the package.
 
 Usage::
 
-    python benchmarks/data_fingerprint.py --record benchmarks/data_fingerprint.json
-    python benchmarks/data_fingerprint.py --check benchmarks/data_fingerprint.json
+    python -m validation data_fingerprint --record validation/data_fingerprint.json
+    python -m validation data_fingerprint --check validation/data_fingerprint.json
 
 ``--check`` exits 1 and lists every column whose hash differs (a column that exists on one
 side only is listed too).
@@ -64,12 +64,12 @@ def run_and_fingerprint(name: str) -> dict:
         return fingerprint(out)
 
 
-def main() -> int:
+def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument("--record", metavar="JSON", help="write the fingerprints here")
     mode.add_argument("--check", metavar="JSON", help="compare with the fingerprints here")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     current = {name: run_and_fingerprint(name) for name in DATASETS}
     if args.record:
         Path(args.record).write_text(json.dumps(current, indent=1, sort_keys=True) + "\n")

@@ -1,0 +1,1 @@
+"""Speed benchmarks of mcbat: ``python -m benchmarks NAME|all|list|render`` (README.md)."""

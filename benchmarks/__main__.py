@@ -1,0 +1,13 @@
+"""``python -m benchmarks NAME|all|list [ARGS]``; ``python -m benchmarks render`` writes the
+speed tables of README.md and docs/accuracy-and-speed.md from a results directory."""
+
+import sys
+
+from benchmarks import harness
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["render"]:
+        from benchmarks import render
+
+        sys.exit(render.main(sys.argv[2:]))
+    sys.exit(harness.main("benchmarks", sys.argv[1:], doc=__doc__))
