@@ -1,7 +1,7 @@
 """The generated blocks of ``docs/sawicki2003.md``.
 
 A block is the text between ``<!-- begin generated: NAME -->`` and
-``<!-- end generated: NAME -->``; ``benchmarks/sawicki2003_doc.py`` renders it from the
+``<!-- end generated: NAME -->``; ``validation/sawicki2003_doc.py`` renders it from the
 outputs of ``mcbat reproduce sawicki2003`` (``table.md``) and of the undercut steps
 (:mod:`~mcbat.papers.sawicki2003.steps`), and writes or checks it.
 """
