@@ -17,6 +17,8 @@ sliding to rolling, where the observables turn steeply with ``mu``.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy import optimize
 
@@ -50,7 +52,10 @@ def textbook_fit(table, mu_range=(0.01, 1.0), e_range=(0.3, 0.95)):
     -------
     dict
         ``mu``, ``e`` (the best fit), ``lower_error``, ``upper_error`` (``mu``'s 68 %
-        profile-likelihood interval) and ``neg_log_likelihood`` at the best fit.
+        profile-likelihood interval; ``inf`` on a side that stays below the rise of 1/2
+        up to the end of ``mu_range``), ``neg_log_likelihood`` at the best fit and
+        ``plateau_rise``, how far ``-ln L`` lies above it where every drop sticks (the end
+        of ``mu_range``).
     """
     b, spin, axial, e_x, y, s = _arrays(table)
 
@@ -62,9 +67,11 @@ def textbook_fit(table, mu_range=(0.01, 1.0), e_range=(0.3, 0.95)):
         return optimize.minimize_scalar(lambda e: nll(e, mu), bounds=e_range,
                                         method="bounded", options={"xatol": 1e-7}).fun
 
-    grid = np.geomspace(*mu_range, 40)
-    start = grid[int(np.argmin([profile(m) for m in grid]))]
-    lo, hi = max(mu_range[0], start / 1.2), min(mu_range[1], start * 1.2)
+    # Above the mu at which every drop sticks the likelihood is flat, and its maximum can
+    # lie in a valley a few per cent wide just below that plateau: a fine grid finds it.
+    grid = np.geomspace(*mu_range, 160)
+    i = int(np.argmin([profile(m) for m in grid]))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
     best = optimize.minimize_scalar(profile, bounds=(lo, hi), method="bounded",
                                     options={"xatol": 1e-7})
     mu0, nll0 = float(best.x), float(best.fun)
@@ -72,15 +79,19 @@ def textbook_fit(table, mu_range=(0.01, 1.0), e_range=(0.3, 0.95)):
                                   options={"xatol": 1e-7}).x
 
     def error(sign):
+        """The distance to the rise of 1/2 on one side; inf if none within ``mu_range``."""
         def rise(d):
             return profile(mu0 + sign * d) - nll0 - 0.5
-        step = 1e-3
+        room = (mu_range[1] - mu0) if sign > 0 else (mu0 - mu_range[0])
+        step = min(1e-3, room)
         while rise(step) < 0:
-            step *= 2
+            if step >= room:
+                return math.inf
+            step = min(2 * step, room)
         return optimize.brentq(rise, 0.0, step, xtol=1e-8)
 
     return {"mu": mu0, "e": float(e0), "lower_error": error(-1), "upper_error": error(1),
-            "neg_log_likelihood": nll0}
+            "neg_log_likelihood": nll0, "plateau_rise": profile(mu_range[1]) - nll0}
 
 
 def mu_information_share(table, rows=3, step=1e-4):
