@@ -1,0 +1,121 @@
+"""`mcbat run`: library errors named by their flags, `--tolerance`, bad game studies, and
+the line that a first run compiles the kernels."""
+
+import json
+import subprocess
+import sys
+import tomllib
+
+import pytest
+
+from mcbat.cli import main
+from tests.conftest import ROOT
+
+
+def _mcbat(*args, stdin=None):
+    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
+                          capture_output=True, text=True, cwd=ROOT)
+
+
+def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys):
+    from mcbat.errors import InputError
+    from mcbat.runner import run_study
+    from mcbat.study import load_study
+
+    study = load_study(ROOT / "studies" / "example.toml")
+    (tmp_path / "foreign.txt").write_text("not mcbat's")
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path, samples=10, progress=False)
+    assert info.value.field == "out"
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path / "new", chunk_size=0, progress=False)
+    assert info.value.field == "chunk_size"
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path / "new", workers=2, progress=False)
+    assert info.value.field == "workers" and "--" not in str(info.value)
+    # The same errors through the command line name the flags.
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
+                 "--chunk-size", "0", "--quiet"]) == 2
+    assert "error: --chunk-size: must be an integer >= 1" in capsys.readouterr().err
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
+                 "--workers", "2", "--quiet"]) == 2
+    assert "error: --workers: only with --engine dask" in capsys.readouterr().err
+    out = tmp_path / "other"
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
+                 "--samples", "50", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
+                 "--samples", "60", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "--out: holds a dataset written with" in err and "pass --overwrite to" in err
+
+
+def _with_solver_tolerance(tmp_path, tolerance):
+    """studies/example.toml with ``[solver] tolerance`` written in."""
+    path = tmp_path / f"example_{tolerance}.toml"
+    text = (ROOT / "studies" / "example.toml").read_text()
+    assert "solver" not in tomllib.loads(text)
+    path.write_text(f"{text}\n[solver]\ntolerance = {tolerance}\n")
+    return path
+
+
+def test_run_tolerance_flag_is_the_studys_solver_tolerance(tmp_path, capsys):
+    """``mcbat run --tolerance T`` writes the rows of the study with ``[solver] tolerance =
+    T``, records T in the dataset's config, and is part of it: resuming with another
+    tolerance (or none) is refused, with the same one it resumes."""
+    import pandas as pd
+
+    import mcbat
+
+    study = str(ROOT / "studies" / "example.toml")
+    common = ["--samples", "60", "--quiet"]
+    flagged, in_toml, default = tmp_path / "flag", tmp_path / "toml", tmp_path / "default"
+    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
+    assert main(["run", str(_with_solver_tolerance(tmp_path, 1e-11)), "--out", str(in_toml),
+                 *common]) == 0
+    assert main(["run", study, "--out", str(default), *common]) == 0
+    capsys.readouterr()
+
+    manifest = json.loads((flagged / "_mcbat.json").read_text())
+    assert manifest["study"]["solver"]["tolerance"] == 1e-11
+    reference = json.loads((in_toml / "_mcbat.json").read_text())
+    assert manifest["config_hash"] == reference["config_hash"]
+    rows = mcbat.load(flagged)
+    pd.testing.assert_frame_equal(rows, mcbat.load(in_toml))
+    steps, default_steps = rows["rk4_steps"], mcbat.load(default)["rk4_steps"]
+    assert (steps >= default_steps).all() and (steps > default_steps).any()  # T was used
+
+    for again in (["--tolerance", "1e-10"], []):
+        assert main(["run", study, "--out", str(flagged), *again, *common]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "Traceback" not in err
+        assert "--out: holds a dataset written with a different study config" in err, err
+    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
+    assert "0 computed, 1 kept from before" in capsys.readouterr().out
+    assert main(["run", study, "--out", str(tmp_path / "bad"), "--tolerance", "1", *common]) == 2
+    assert "mcbat: error: --tolerance: must be > 0 and < 1, got 1.0" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()
+
+
+@pytest.mark.parametrize("edit,key", [
+    (("[swing]", '[swing]\nvertical_bat_angle = { value = -60, unit = "deg" }\n'
+      'attack_angle = { value = 40, unit = "deg" }\n'), "swing.attack_angle"),
+    (('undercut = { dist = "uniform", low = -1.5, high = 1.5, unit = "in" }',
+      'undercut = { dist = "uniform", low = -1.5, high = 3.5, unit = "in" }'),
+     "contact.undercut.high"),
+])
+def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key):
+    text = (ROOT / "studies" / "game_fastball.toml").read_text()
+    if edit[0] == "[swing]":  # replace the swing section's angles
+        text = text.replace("attack_angle = {", "x_attack = {").replace(
+            "vertical_bat_angle = {", "x_vertical = {")
+        text = text.replace("x_attack = {", "#").replace("x_vertical = {", "#")
+    assert edit[0] in text
+    text = text.replace(edit[0], edit[1], 1)
+    study = tmp_path / "bad.toml"
+    study.write_text(text)
+    proc = _mcbat("run", str(study), "--out", str(tmp_path / "o"), "--quiet")
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0], lines
+    assert not (tmp_path / "o").exists()
