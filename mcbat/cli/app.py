@@ -7,7 +7,19 @@ import argparse
 import sys
 
 from mcbat import __version__
-from mcbat.cli import calibrate, compare, fit, flight, impact, reproduce, run, statcast, synth
+from mcbat.cli import (
+    calibrate,
+    check,
+    compare,
+    fit,
+    flight,
+    impact,
+    infer,
+    reproduce,
+    run,
+    statcast,
+    synth,
+)
 from mcbat.cli.common import (
     EXIT_BROKEN_PIPE,
     EXIT_ENVIRONMENT,
@@ -36,12 +48,14 @@ def build_parser() -> argparse.ArgumentParser:
     # the papers, the statistics, Statcast.
     impact.add_parser(sub)
     flight.add_parser(sub)
-    run.add_parsers(sub)  # run, check
+    run.add_parser(sub)
+    check.add_parser(sub)
     reproduce.add_parser(sub)
     calibrate.add_parser(sub)
     synth.add_parser(sub)
     fit.add_parser(sub)
-    statcast.add_parsers(sub)  # statcast, infer
+    statcast.add_parser(sub)
+    infer.add_parser(sub)
     compare.add_parser(sub)
     return parser
 

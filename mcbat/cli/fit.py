@@ -85,7 +85,6 @@ def add_parser(sub) -> None:
     fit.set_defaults(func=cmd_fit)
 
 
-
 def _fit_flight(args) -> int:
     from mcbat.papers.statcast.calibrate import calibrate_file
 

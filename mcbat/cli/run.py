@@ -1,4 +1,4 @@
-"""``mcbat run`` and ``mcbat check``: a study into a dataset, and a dataset checked."""
+"""``mcbat run``: a study into a Parquet dataset."""
 
 from __future__ import annotations
 
@@ -7,15 +7,15 @@ from pathlib import Path
 from mcbat.cli.common import EXIT_OK, flags, int_arg
 from mcbat.errors import InputError
 
-__all__ = ["RUN_PARAMETERS", "add_parsers", "cmd_check", "cmd_run"]
+__all__ = ["RUN_PARAMETERS", "add_parser", "cmd_run"]
 
 #: The parameters of :func:`mcbat.runner.run_study` that are flags of ``mcbat run``.
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
                   "workers", "overwrite", "summary_only", "columns", "tolerance")
 
 
-def add_parsers(sub) -> None:
-    """Add ``mcbat run`` and ``mcbat check`` to the subparsers ``sub``."""
+def add_parser(sub) -> None:
+    """Add ``mcbat run`` to the subparsers ``sub``."""
     run = sub.add_parser(
         "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
         description="Sample the study's inputs, solve every impact with the parallel kernel "
@@ -61,20 +61,6 @@ def add_parsers(sub) -> None:
                           "the kernels)")
     run.set_defaults(func=cmd_run)
 
-    check = sub.add_parser(
-        "check", help="check a dataset directory against its manifest (exit 2 if not ok)",
-        description="Verify that every chunk the manifest expects is present, recorded and "
-                    "unchanged (size, Parquet footer, sample_id range, and the CRC-32 of "
-                    "every byte), and that no other chunk file is there. Exit 0 when the "
-                    "dataset is complete and consistent; 2 when it is not, or its manifest "
-                    "records no checksums to verify it by (the report on "
-                    "stdout, each problem on one line; on stderr one line naming the "
-                    "first problem's file and what is wrong) or DIR is not a dataset.")
-    check.add_argument("directory", metavar="DIR", help="dataset directory or URL")
-    check.add_argument("--quick", action="store_true",
-                       help="sizes and footers only (what mcbat.load checks), no checksums")
-    check.set_defaults(func=cmd_check)
-
 
 def cmd_run(args) -> int:
     """Run the study ``args.study`` into a dataset and print the run's report."""
@@ -102,19 +88,4 @@ def cmd_run(args) -> int:
                             tolerance=args.tolerance)
     for line in summary.lines():
         print(line)
-    return EXIT_OK
-
-
-def cmd_check(args) -> int:
-    """Check the dataset ``args.directory``; a dataset not ok is exit 2."""
-    from mcbat.dataset.check import check_dataset
-
-    result = check_dataset(args.directory, checksums=not args.quick)
-    for line in result.lines():
-        print(line)
-    # A damaged, incomplete or unverifiable dataset is bad input to every command that
-    # reads it: exit 2, the report above on stdout, its first problem as the error line.
-    problem = result.first_problem()
-    if problem is not None:
-        raise InputError(None, problem, str(result.directory))
     return EXIT_OK

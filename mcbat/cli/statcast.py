@@ -1,16 +1,16 @@
-"""``mcbat statcast`` and ``mcbat infer``: a Baseball Savant export read, summarised,
-written as mcbat's tidy table, and its balls' spin inferred."""
+"""``mcbat statcast``: a Baseball Savant export read, summarised, and written as mcbat's
+tidy table."""
 
 from __future__ import annotations
 
 from mcbat.cli.common import EXIT_OK, check_output, print_json
 from mcbat.errors import InputError
 
-__all__ = ["add_parsers", "cmd_infer", "cmd_statcast", "statcast_lines"]
+__all__ = ["add_parser", "cmd_statcast", "statcast_lines"]
 
 
-def add_parsers(sub) -> None:
-    """Add ``mcbat statcast`` and ``mcbat infer`` to the subparsers ``sub``."""
+def add_parser(sub) -> None:
+    """Add ``mcbat statcast`` to the subparsers ``sub``."""
     sc = sub.add_parser(
         "statcast", help="read a Baseball Savant (Statcast) export: counts, plate speeds, "
                          "and the tidy table in mcbat's frame and units",
@@ -24,16 +24,6 @@ def add_parsers(sub) -> None:
     sc.add_argument("--out", metavar="TABLE.parquet", help="write the tidy table (Parquet, "
                     "units in the schema metadata)")
     sc.set_defaults(func=cmd_statcast)
-
-    inf = sub.add_parser(
-        "infer", help="infer the spin of a Statcast export's balls in play",
-        description="Read a Savant export (or mcbat's tidy table), infer each ball in "
-                    "play's contact and spin through the game model under the default "
-                    "assumptions (docs/spin_inference.md), print the counts.")
-    inf.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
-    inf.add_argument("--out", metavar="TABLE.parquet",
-                     help="write the balls and their inferred contact and spin (Parquet)")
-    inf.set_defaults(func=cmd_infer)
 
 
 def cmd_statcast(args) -> int:
@@ -55,34 +45,6 @@ def cmd_statcast(args) -> int:
         print_json(summary)
         return EXIT_OK
     print("\n".join(statcast_lines(summary)))
-    return EXIT_OK
-
-
-def cmd_infer(args) -> int:
-    """Infer the spin of the export's balls in play; print the counts."""
-    from mcbat.inference import infer_spin, write
-    from mcbat.statcast import balls_in_play, read
-
-    if args.out:
-        check_output(args.out, "--out", (".parquet", ".pq"))
-    pitches = read(args.file)
-    balls = pitches[balls_in_play(pitches)]
-    spin = infer_spin(balls)
-    if args.out:
-        try:
-            write(balls, spin, args.out)
-        except OSError as err:
-            raise InputError("--out", f"cannot write: {err.strerror or err}",
-                             args.out) from None
-    counts = ", ".join(f"{k} {v:,}" for k, v in spin.attrs["status_counts"].items() if v)
-    ok = spin["inference_status"] == "converged"
-    print(f"{args.file}: {len(balls):,} balls in play: {counts or 'none'}")
-    if ok.any():
-        print(f"  median backspin {spin.loc[ok, 'backspin'].median():.0f} rpm, spin rate "
-              f"{spin.loc[ok, 'spin_rate'].median():.0f} rpm (assumptions: "
-              "docs/spin_inference.md)")
-    if args.out:
-        print(f"  written: {args.out}")
     return EXIT_OK
 
 

@@ -266,5 +266,5 @@ def test_help_describes_both_kinds_of_case(capsys):
     assert info.value.code == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "lab frame" not in text
-    assert "bat-frame case" in text and "bat's frame" in text
+    assert "bat-frame case" in text and "bat's CM at the origin" in text
     assert "game case" in text and "field frame" in text and "launch_speed mph" in text

@@ -119,3 +119,79 @@ def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and key in lines[0], lines
     assert not (tmp_path / "o").exists()
+
+
+# ---------------------------------------------------------------- compiling the kernels
+
+KERNEL_MODULE = '''
+import numba
+
+
+@numba.njit(cache=True)
+def twice(x):
+    return 2.0 * x
+'''
+
+
+def _cache_state(tmp_path, cache_dir=None):
+    """``is_cold`` of a cached numba function in a fresh process (before its first call),
+    with ``NUMBA_CACHE_DIR`` set to ``cache_dir``; the process then calls it."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    if cache_dir is not None:
+        env["NUMBA_CACHE_DIR"] = str(cache_dir)
+    # (compiling.py is loaded alone: the runner's package imports pandas and pyarrow, seconds
+    # a process on a loaded machine)
+    code = ("import importlib.util, sys; sys.path.insert(0, sys.argv[1]); "
+            "import kernel_for_test as k; "
+            "spec = importlib.util.spec_from_file_location('compiling', sys.argv[2]); "
+            "c = importlib.util.module_from_spec(spec); spec.loader.exec_module(c); "
+            "print(c.is_cold(k.twice)); k.twice(1.0); print(c.is_cold(k.twice))")
+    proc = subprocess.run([sys.executable, "-c", code, str(tmp_path),
+                           str(ROOT / "mcbat" / "runner" / "compiling.py")],
+                          capture_output=True, text=True, cwd=ROOT, env=env, check=True)
+    return proc.stdout.split()
+
+
+def test_a_cold_cache_is_told_from_a_warm_one(tmp_path):
+    """Cold before the first call with an empty cache directory; warm after it in the
+    process; warm in the next process, which loads the machine code from the cache."""
+    (tmp_path / "kernel_for_test.py").write_text(KERNEL_MODULE)
+    cache = tmp_path / "cache"
+    assert _cache_state(tmp_path, cache) == ["True", "False"]
+    assert _cache_state(tmp_path, cache) == ["False", "False"]
+
+
+def test_the_run_says_it_is_compiling_before_its_progress_bar(tmp_path, capsys, monkeypatch):
+    """One line on stderr before the bar when a kernel is cold; none with --quiet, none
+    when the kernels are compiled, and none before a refusal (the error stays the one
+    line)."""
+    import mcbat.runner.compiling as compiling
+
+    study = str(ROOT / "studies" / "example.toml")
+    monkeypatch.setattr(compiling, "is_cold", lambda kernel: True)
+    assert main(["run", study, "--out", str(tmp_path / "a"), "--samples", "60"]) == 0
+    err = capsys.readouterr().err
+    assert err.splitlines()[0] == compiling.COMPILING and err.count(compiling.COMPILING) == 1
+    assert main(["run", study, "--out", str(tmp_path / "b"), "--samples", "60",
+                 "--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["run", study, "--out", str(tmp_path / "c"), "--samples", "60",
+                 "--chunk-size", "0"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    monkeypatch.setattr(compiling, "is_cold", lambda kernel: False)
+    assert main(["run", study, "--out", str(tmp_path / "d"), "--samples", "60"]) == 0
+    assert "compil" not in capsys.readouterr().err
+
+
+def test_the_kernels_of_a_run_are_those_of_its_study():
+    from mcbat.core.batch import solve_batch
+    from mcbat.core.flight import fly_batch
+    from mcbat.core.swing import solve_game_batch
+    from mcbat.runner.compiling import kernels_for
+    from mcbat.study import load_study
+
+    assert kernels_for(load_study(ROOT / "studies" / "example.toml")) == [solve_batch]
+    game = load_study(ROOT / "studies" / "game_fastball.toml")  # (with [flight])
+    assert kernels_for(game) == [solve_game_batch, fly_batch]
