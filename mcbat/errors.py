@@ -1,15 +1,18 @@
 """User-facing errors: one line that names the source, the field and the offending value.
 
 Library code names Python parameters (``out``, ``samples``) or study keys (``ball.mass``)
-in ``field``, and writes other parameters it mentions in call syntax (``overwrite=True``,
-``scheduler=ADDRESS``); the command line (:mod:`mcbat.cli`) renders both as its flags.
+in ``field``. Other parameters a message mentions are data too, in ``mentions``: the message
+holds a ``{name}`` placeholder for each, written in call syntax by ``str(error)``
+(``overwrite=True``, ``scheduler=ADDRESS``) and as its flag by the command line
+(:mod:`mcbat.cli`: ``--overwrite``, ``--scheduler ADDRESS``).
 """
 
 import math
 
 import numpy as np
 
-__all__ = ["EnvironmentFailure", "InputError", "check_real", "check_vector"]
+__all__ = ["EnvironmentFailure", "InputError", "Metavar", "call_syntax", "check_real",
+           "check_vector"]
 
 
 class InputError(ValueError):
@@ -23,13 +26,40 @@ class InputError(ValueError):
         What is wrong, including the offending value.
     source : str, optional
         File name (or ``"<stdin>"``) the input came from.
+    mentions : dict, optional
+        Other parameters the message refers to, each with the value it would be given
+        (``{"overwrite": True}``, ``{"scheduler": Metavar("ADDRESS")}``); the message
+        marks where each goes with ``{name}``. ``message`` is the text in Python's call
+        syntax; :meth:`render_message` spells the mentions another way (as flags).
+
+    Attributes
+    ----------
+    field, source, mentions
+        As given.
+    template : str
+        The message as given, with its ``{name}`` placeholders.
+    message : str
+        The message with each mention in call syntax (``overwrite=True``).
     """
 
-    def __init__(self, field, message, source=None):
+    def __init__(self, field, message, source=None, *, mentions=None):
         self.field = field
-        self.message = message
+        self.template = message
+        self.mentions = dict(mentions or {})
+        self.message = self.render_message(call_syntax)
         self.source = source
         super().__init__(self._render())
+
+    def render_message(self, spell) -> str:
+        """The message with each mention written by ``spell(name, value)``.
+
+        Only the placeholders of the names in ``mentions`` are replaced, so braces in the
+        rest of the message (a user's value, a dict) are left as they are.
+        """
+        text = self.template
+        for name, value in self.mentions.items():
+            text = text.replace("{" + name + "}", spell(name, value))
+        return text
 
     def _render(self):
         where = f"{self.source}: " if self.source else ""
@@ -41,7 +71,24 @@ class InputError(ValueError):
         field = self.field
         if prefix:
             field = f"{prefix}.{field}" if field else prefix
-        return InputError(field, self.message, source or self.source)
+        return InputError(field, self.template, source or self.source,
+                          mentions=self.mentions)
+
+
+class Metavar(str):
+    """A placeholder for a value in a message (``ADDRESS``, ``N``): written as it is, not
+    quoted like a string value."""
+
+    __slots__ = ()
+
+    def __repr__(self):
+        return str(self)
+
+
+def call_syntax(name, value) -> str:
+    """A parameter as a Python call would give it: ``overwrite=True``, ``engine='dask'``,
+    ``scheduler=ADDRESS`` (a :class:`Metavar`)."""
+    return f"{name}={value!r}"
 
 
 class EnvironmentFailure(RuntimeError):

@@ -69,8 +69,9 @@ def load(directory, columns=None, labels=False, allow_partial=False):
     directory, manifest = check.directory, check.manifest
     if not check.ok:
         if not allow_partial:
-            raise InputError(None, f"{check.problems()[0]} (allow_partial=True reads what is "
-                             "there; `mcbat check` lists every problem)", str(directory))
+            raise InputError(None, f"{check.problems()[0]} ({{allow_partial}} reads what is "
+                             "there; `mcbat check` lists every problem)", str(directory),
+                             mentions={"allow_partial": True})
         warnings.warn(f"{directory}: partial dataset: " + "; ".join(check.problems()),
                       stacklevel=2)
     if check.unverified:
@@ -87,8 +88,8 @@ def load(directory, columns=None, labels=False, allow_partial=False):
         except (OSError, ValueError, pa.ArrowException) as err:
             if not allow_partial:
                 raise InputError(None, f"{name}: {err}; rerun `mcbat run` to recompute it "
-                                 "(allow_partial=True reads the other chunks)",
-                                 str(directory)) from None
+                                 "({allow_partial} reads the other chunks)", str(directory),
+                                 mentions={"allow_partial": True}) from None
             warnings.warn(f"{directory}: {name} left out: {err}", stacklevel=2)
     if not tables:
         if check.summary_only:

@@ -54,8 +54,8 @@ class ResultsDirectory:
                    if (self.root / name).exists() and name not in owned]
         if foreign and not overwrite:
             raise InputError("out", f"holds {foreign[0]!r}, which mcbat did not write; "
-                             "pass overwrite=True to replace it, or choose another directory",
-                             str(self.root))
+                             "pass {overwrite} to replace it, or choose another directory",
+                             str(self.root), mentions={"overwrite": True})
 
     def _recorded(self) -> list:
         try:

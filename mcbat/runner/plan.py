@@ -299,8 +299,8 @@ def prepare_directory(out, manifest: dict, chunk_size: int, overwrite: bool, *,
                         if not same else
                         f"chunk size {existing.get('chunk_size')}")
                 raise InputError("out", f"holds a dataset written with {what}; "
-                                 "pass overwrite=True to replace it, or choose another "
-                                 "directory", str(out))
+                                 "pass {overwrite} to replace it, or choose another "
+                                 "directory", str(out), mentions={"overwrite": True})
             if foreign:
                 raise InputError("out", f"holds files mcbat did not write "
                                  f"({foreign[0]!r}); refusing to overwrite", str(out))

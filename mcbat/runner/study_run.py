@@ -25,6 +25,7 @@ from mcbat.dataset.lock import dataset_lock
 from mcbat.dataset.streaming import streamed_percentiles
 from mcbat.dataset.summary import SUMMARY, SummaryState, write_summary
 from mcbat.errors import InputError
+from mcbat.runner.compiling import announce_compiling, kernels_for
 from mcbat.runner.engines.dask import DaskEngine
 from mcbat.runner.engines.local import LocalEngine
 from mcbat.runner.memory import reuse_freed_memory
@@ -154,7 +155,7 @@ def make_engine(engine="local", threads=None, scheduler=None, workers=None):
         return DaskEngine(scheduler=scheduler, workers=workers, threads=threads)
     for name, value in (("scheduler", scheduler), ("workers", workers)):
         if value is not None:
-            raise InputError(name, 'only with engine="dask"')
+            raise InputError(name, "only with {engine}", mentions={"engine": "dask"})
     return LocalEngine(threads)
 
 
@@ -221,7 +222,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     if -(-samples // chunk_size) > MAX_CHUNKS:
         raise InputError("chunk_size", f"{samples:,} samples in chunks of {chunk_size:,} make "
                          f"{-(-samples // chunk_size):,} chunk files, at most {MAX_CHUNKS:,}: "
-                         f"choose chunk_size={-(-samples // MAX_CHUNKS)} or more")
+                         "choose {chunk_size} or more",
+                         mentions={"chunk_size": -(-samples // MAX_CHUNKS)})
     runner = make_engine(engine, threads, scheduler, workers)
 
     try:
@@ -281,6 +283,8 @@ def _compute(study, job, display, on_disk, runner, progress):
             # if any, are rewritten with the same bytes).
             todo = sorted(set(todo) | set(range(state.merged, job.chunks)))
     job = replace(job, metadata={**job.metadata, "study_toml": on_disk["study_toml"]})
+    if progress and todo:  # (a first run compiles for 20-30 s at 0 %: say so)
+        announce_compiling(kernels_for(study))
     bar = _progress_bar(study.name, sum(job.rows(k) for k in todo)) \
         if progress and todo else None
     counts = np.zeros(len(st.STATUS_NAMES), np.int64)

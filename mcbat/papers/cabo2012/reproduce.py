@@ -51,7 +51,8 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
     run = run_study(study, dataset_dir, samples=samples, threads=threads, progress=progress,
                     overwrite=overwrite)
     for line in run.lines():
-        echo(line)
+        if not line.startswith("time: "):  # one time is reported: the whole job's, at the end
+            echo(line)
     with results.writing():
         return _results(results, dataset_dir, echo, t0)
 
@@ -63,9 +64,6 @@ def _results(results, dataset_dir, echo, t0) -> dict:
     calibration_path = results.write_text("calibration.json", json.dumps(
         {**calibration.to_dict(), "paper_loss_fraction": sec5.LOSS_FRACTION,
          "paper_e_star": sec5.e_star_paper()}, indent=2) + "\n")
-    echo(f"calibration: e* = {calibration.e_star:.7f} (e^2 = {calibration.loss_fraction:.7f}; "
-         f"the paper: {sec5.LOSS_FRACTION}) for an exit speed of "
-         f"{calibration.target_speed} m/s")
 
     df = load(dataset_dir)
     e_star = sec5.e_star_paper()  # the study's restitution, so curves and cloud agree

@@ -38,7 +38,7 @@ import uuid
 import numba
 
 from mcbat.dataset import chunks
-from mcbat.errors import EnvironmentFailure, InputError
+from mcbat.errors import EnvironmentFailure, InputError, Metavar
 from mcbat.runner.plan import positive_int, remove_temporary_files, write_error
 
 __all__ = ["INSTALL_HINT", "RETRIES", "DaskEngine", "require_distributed"]
@@ -84,8 +84,10 @@ class DaskEngine:
     def __init__(self, *, scheduler=None, workers=None, threads=None):
         require_distributed()  # first: without Dask, the install hint is what helps
         if scheduler is not None and workers is not None:
-            raise InputError("workers", "give either scheduler=ADDRESS (join a running "
-                             "cluster) or workers=N (start a local one), not both")
+            raise InputError("workers", "give either {scheduler} (join a running cluster) or "
+                             "{workers} (start a local one), not both",
+                             mentions={"scheduler": Metavar("ADDRESS"),
+                                       "workers": Metavar("N")})
         if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
             raise InputError("scheduler", "must be a scheduler address like "
                              f"tcp://host:8786, got {scheduler!r}")

@@ -48,6 +48,10 @@ def test_every_file_is_produced_and_non_empty(run):
     assert json.dumps(headline)  # plain JSON
     text = "\n".join(lines)
     assert str(out) in text and "fig8_spin_vs_impact_parameter.png" in text
+    # One e*, the dataset's (the paper's e^2), and one time, the whole job's.
+    assert text.count("e* =") == 1 and f"e* = {E_STAR:.7f}" in text
+    assert not any(line.startswith("time: ") for line in lines)
+    assert sum(line.startswith(f"results in {out}/ (") for line in lines) == 1
 
 
 def test_summary_numbers(run):

@@ -5,15 +5,13 @@ import json
 import math
 import subprocess
 import sys
-import tomllib
-from pathlib import Path
 
 import pytest
 
 from mcbat.api import ImpactCase, solve
 from mcbat.cli import main
+from tests.conftest import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "cabo2012_sec5.json"
 GOOD = json.loads(EXAMPLE.read_text())
 
@@ -178,68 +176,6 @@ def test_impact_parameter_contact_matches_angle(capsys, monkeypatch):
     assert r_a["impact_parameter"] == pytest.approx(b, rel=1e-12)
 
 
-def test_internal_error_exits_1_and_debug_shows_the_traceback(capsys, monkeypatch):
-    import mcbat.api
-
-    def broken(*args, **kwargs):
-        raise RuntimeError("simulated bug")
-
-    monkeypatch.setattr(mcbat.api, "solve", broken)
-    code, out, err = run_cli(capsys, monkeypatch, GOOD)
-    assert code == 1 and out == ""
-    assert err.strip() == ("mcbat: internal error: RuntimeError: simulated bug "
-                           "(run with --debug for a traceback)")
-    monkeypatch.setattr(sys, "stdin", __import__("io").StringIO(json.dumps(GOOD)))
-    code = main(["--debug", "impact", "-"])
-    err = capsys.readouterr().err
-    assert code == 1 and "Traceback" in err and "simulated bug" in err
-
-
-def test_version_and_python_dash_m():
-    import mcbat
-
-    for command in ([sys.executable, "-m", "mcbat", "--version"],):
-        proc = subprocess.run(command, capture_output=True, text=True, check=False)
-        assert proc.returncode == 0 and proc.stdout.strip() == f"mcbat {mcbat.__version__}"
-    proc = subprocess.run([sys.executable, "-m", "mcbat", "impact",
-                           str(ROOT / "examples" / "cabo2012_sec5.json")],
-                          capture_output=True, text=True, check=False)
-    assert proc.returncode == 0 and json.loads(proc.stdout)["status"] == "ok"
-
-
-def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys):
-    from mcbat.errors import InputError
-    from mcbat.runner import run_study
-    from mcbat.study import load_study
-
-    study = load_study(ROOT / "studies" / "example.toml")
-    (tmp_path / "foreign.txt").write_text("not mcbat's")
-    with pytest.raises(InputError) as info:
-        run_study(study, tmp_path, samples=10, progress=False)
-    assert info.value.field == "out"
-    with pytest.raises(InputError) as info:
-        run_study(study, tmp_path / "new", chunk_size=0, progress=False)
-    assert info.value.field == "chunk_size"
-    with pytest.raises(InputError) as info:
-        run_study(study, tmp_path / "new", workers=2, progress=False)
-    assert info.value.field == "workers" and "--" not in str(info.value)
-    # The same errors through the command line name the flags.
-    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
-                 "--chunk-size", "0", "--quiet"]) == 2
-    assert "error: --chunk-size: must be an integer >= 1" in capsys.readouterr().err
-    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
-                 "--workers", "2", "--quiet"]) == 2
-    assert "error: --workers: only with --engine dask" in capsys.readouterr().err
-    out = tmp_path / "other"
-    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
-                 "--samples", "50", "--quiet"]) == 0
-    capsys.readouterr()
-    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
-                 "--samples", "60", "--quiet"]) == 2
-    err = capsys.readouterr().err
-    assert "--out: holds a dataset written with" in err and "pass --overwrite to" in err
-
-
 # ---------------------------------------------------------------- --tolerance
 
 
@@ -278,48 +214,57 @@ def test_impact_bad_tolerance_one_line_exit_2(capsys, monkeypatch, value):
     assert ("finite" if value in ("nan", "inf") else "> 0 and < 1") in lines[0]
 
 
-def _with_solver_tolerance(tmp_path, tolerance):
-    """studies/example.toml with ``[solver] tolerance`` written in."""
-    path = tmp_path / f"example_{tolerance}.toml"
-    text = (ROOT / "studies" / "example.toml").read_text()
-    assert "solver" not in tomllib.loads(text)
-    path.write_text(f"{text}\n[solver]\ntolerance = {tolerance}\n")
-    return path
+# ---------------------------------------------------------------- game cases
+
+BASE = {"bat": {"preset": "r161"}, "mu": 0.5, "pitch": {"speed": 40}, "swing": {"bat_speed": 30}}
 
 
-def test_run_tolerance_flag_is_the_studys_solver_tolerance(tmp_path, capsys):
-    """``mcbat run --tolerance T`` writes the rows of the study with ``[solver] tolerance =
-    T``, records T in the dataset's config, and is part of it: resuming with another
-    tolerance (or none) is refused, with the same one it resumes."""
-    import pandas as pd
+def _mcbat(*args, stdin=None):
+    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
+                          capture_output=True, text=True, cwd=ROOT)
 
-    import mcbat
 
-    study = str(ROOT / "studies" / "example.toml")
-    common = ["--samples", "60", "--quiet"]
-    flagged, in_toml, default = tmp_path / "flag", tmp_path / "toml", tmp_path / "default"
-    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
-    assert main(["run", str(_with_solver_tolerance(tmp_path, 1e-11)), "--out", str(in_toml),
-                 *common]) == 0
-    assert main(["run", study, "--out", str(default), *common]) == 0
-    capsys.readouterr()
+def _with(section, **values):
+    case = json.loads(json.dumps(BASE))
+    case.setdefault(section, {}).update(values)
+    return case
 
-    manifest = json.loads((flagged / "_mcbat.json").read_text())
-    assert manifest["study"]["solver"]["tolerance"] == 1e-11
-    reference = json.loads((in_toml / "_mcbat.json").read_text())
-    assert manifest["config_hash"] == reference["config_hash"]
-    rows = mcbat.load(flagged)
-    pd.testing.assert_frame_equal(rows, mcbat.load(in_toml))
-    steps, default_steps = rows["rk4_steps"], mcbat.load(default)["rk4_steps"]
-    assert (steps >= default_steps).all() and (steps > default_steps).any()  # T was used
 
-    for again in (["--tolerance", "1e-10"], []):
-        assert main(["run", study, "--out", str(flagged), *again, *common]) == 2
-        err = capsys.readouterr().err
-        assert err.count("\n") == 1 and "Traceback" not in err
-        assert "--out: holds a dataset written with a different study config" in err, err
-    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
-    assert "0 computed, 1 kept from before" in capsys.readouterr().out
-    assert main(["run", study, "--out", str(tmp_path / "bad"), "--tolerance", "1", *common]) == 2
-    assert "mcbat: error: --tolerance: must be > 0 and < 1, got 1.0" in capsys.readouterr().err
-    assert not (tmp_path / "bad").exists()
+@pytest.mark.parametrize("case,key", [
+    (_with("swing", attack_angle={"value": 50, "unit": "deg"},
+           vertical_bat_angle={"value": -45, "unit": "deg"}), "swing.vertical_bat_angle"),
+    (_with("contact", undercut={"value": 3, "unit": "in"}), "contact.undercut"),
+    (_with("contact", from_barrel_end={"value": 40, "unit": "in"}), "contact.from_barrel_end"),
+    (_with("pitch", horizontal_approach_angle={"value": 120, "unit": "deg"}),
+     "pitch.horizontal_approach_angle"),
+    (_with("pitch", speed=-40), "pitch.speed"),
+])
+def test_bad_game_case_exits_2_naming_the_key(case, key):
+    proc = _mcbat("impact", "-", stdin=json.dumps(case))
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"case 0: {key}:" in lines[0]
+    assert proc.stdout == ""
+
+
+def test_game_case_and_bat_frame_case_in_one_file(tmp_path):
+    game = json.loads((ROOT / "examples" / "game_fastball.json").read_text())
+    bat_frame = json.loads((ROOT / "examples" / "cabo2012_sec5.json").read_text())
+    path = tmp_path / "cases.json"
+    path.write_text(json.dumps([game, bat_frame]))
+    proc = _mcbat("impact", str(path))
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert 90 < out[0]["launch_speed"] < 120 and "exit_speed" in out[1]
+
+
+def test_help_describes_both_kinds_of_case(capsys):
+    """A bat-frame case is SI in the bat's frame; a game case has units and the field
+    frame, and its batted ball comes out in Statcast's units."""
+    with pytest.raises(SystemExit) as info:
+        main(["impact", "--help"])
+    assert info.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "lab frame" not in text
+    assert "bat-frame case" in text and "bat's CM at the origin" in text
+    assert "game case" in text and "field frame" in text and "launch_speed mph" in text

@@ -5,13 +5,12 @@ import json
 import math
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
 from mcbat.api import flight_case_from_dict, solve_flight
+from tests.conftest import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 BALL = {"launch_speed": {"value": 103, "unit": "mph"},
         "launch_angle": {"value": 27, "unit": "deg"},
         "backspin": {"value": 2000, "unit": "rpm"}}

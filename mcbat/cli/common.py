@@ -1,0 +1,170 @@
+"""What every subcommand shares: exit codes, the parser class, flags for library
+parameters, JSON input and output, and output-path checks."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import math
+import sys
+import unicodedata
+from pathlib import Path
+
+from mcbat.errors import InputError, call_syntax
+
+__all__ = ["EXIT_BROKEN_PIPE", "EXIT_ENVIRONMENT", "EXIT_INTERNAL", "EXIT_OK", "EXIT_USER",
+           "FIGURE_FORMATS", "ArgumentParser", "UsageError", "as_flags", "check_output",
+           "flag_of", "flags", "int_arg", "json_value", "located", "one_line", "print_json",
+           "read_cases"]
+
+EXIT_OK = 0
+EXIT_INTERNAL = 1
+EXIT_USER = 2
+EXIT_ENVIRONMENT = 4  # the environment failed mid-run (a lost Dask scheduler)
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a reader that went away
+
+#: The file types a figure can be written as.
+FIGURE_FORMATS = (".png", ".pdf", ".svg")
+
+
+class UsageError(Exception):
+    """A command-line usage error (bad flag or value): exit code 2."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse that reports usage errors on one line with exit code 2."""
+
+    def error(self, message):
+        """Raise :class:`UsageError` (argparse would print the usage and exit)."""
+        raise UsageError(message)
+
+
+def one_line(text: str) -> str:
+    r"""``text`` with every line break and control character escaped (``\x85``,
+    ``\u2028``): an error message that echoes the user's input stays one line."""
+    return "".join(
+        ch if ch == " " or unicodedata.category(ch) not in ("Cc", "Cf", "Zl", "Zp")
+        else ch.encode("unicode_escape").decode("ascii") for ch in text)
+
+
+def int_arg(flag):
+    """An argparse ``type`` reading an integer, naming ``flag`` when it is not one."""
+    def parse(text):
+        try:
+            return int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{flag} must be an integer, got {text!r}") \
+                from None
+    return parse
+
+
+def flag_of(parameter: str) -> str:
+    """The flag of a library parameter: ``chunk_size`` -> ``--chunk-size``."""
+    return "--" + parameter.replace("_", "-")
+
+
+def as_flags(error: InputError, parameters) -> InputError:
+    """``error`` with the library parameters in ``parameters`` written as their flags.
+
+    Both the field the error is about (``error.field``) and the other parameters its
+    message mentions (``error.mentions``) are data: a mention of ``overwrite=True``
+    becomes ``--overwrite``, ``scheduler=ADDRESS`` becomes ``--scheduler ADDRESS``, and
+    a parameter without a flag keeps its call syntax.
+    """
+    names = {name: flag_of(name) for name in parameters}
+
+    def spell(name, value):
+        if name not in names:
+            return call_syntax(name, value)
+        if value is True:
+            return names[name]
+        return f"{names[name]} {value}"
+
+    return InputError(names.get(error.field, error.field), error.render_message(spell),
+                      error.source)
+
+
+@contextlib.contextmanager
+def flags(*parameters):
+    """Report the library's errors about these Python parameters as their flags
+    (:func:`as_flags`)."""
+    try:
+        yield
+    except InputError as err:
+        raise as_flags(err, parameters) from None
+
+
+def located(error: InputError, source: str) -> InputError:
+    """``error`` as found in ``source`` (``FILE: case 3``), its mentions kept."""
+    return InputError(error.field, error.template, source, mentions=error.mentions)
+
+
+def reject_constant(name):
+    """``json.loads``'s ``parse_constant``: NaN and Infinity are not JSON (RFC 8259)."""
+    raise ValueError(f"non-finite number {name} is not allowed")
+
+
+def read_cases(path):
+    """Parse ``path`` (or ``-`` for stdin) as one JSON case or a JSON array of cases;
+    returns ``(source, cases, single)``."""
+    source = "<stdin>" if path == "-" else path
+    try:
+        if path == "-":  # bytes: the encoding is checked below (a text stdin has none)
+            stream = getattr(sys.stdin, "buffer", None)
+            raw = stream.read() if stream is not None else sys.stdin.read().encode()
+        else:
+            with open(path, "rb") as handle:
+                raw = handle.read()
+        text = raw.decode("utf-8-sig")  # JSON is UTF-8 (RFC 8259); a BOM is tolerated
+    except OSError as err:
+        raise InputError(None, f"cannot read input: {err.strerror}", source) from None
+    except UnicodeDecodeError as err:
+        raise InputError(None, f"not UTF-8 text (byte {err.start}); JSON input must be UTF-8",
+                         source) from None
+    try:
+        data = json.loads(text, parse_constant=reject_constant)
+    except ValueError as err:
+        raise InputError(None, f"not valid JSON: {err}", source) from None
+    except RecursionError:
+        raise InputError(None, "not valid JSON: nested too deeply", source) from None
+    single = isinstance(data, dict)
+    cases = [data] if single else data
+    if not isinstance(cases, list) or not cases:
+        raise InputError(None, "expected a JSON object (one case) or a non-empty array of "
+                         "cases", source)
+    return source, cases, single
+
+
+def json_value(value):
+    """``value`` with non-finite floats (also inside lists and dicts) as None: strict JSON."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, (list, tuple)):
+        return [json_value(v) for v in value]
+    if isinstance(value, dict):
+        return {k: json_value(v) for k, v in value.items()}
+    return value
+
+
+def print_json(value) -> None:
+    """Print ``value`` as strict JSON (non-finite numbers as null), indented."""
+    json.dump(json_value(value), sys.stdout, indent=2, allow_nan=False)
+    sys.stdout.write("\n")
+
+
+def check_output(path, flag, suffixes):
+    """Refuse an output path that cannot be written, before any work is done."""
+    import os
+
+    target = Path(path)
+    if target.suffix.lower() not in suffixes:
+        raise InputError(flag, f"unsupported file type {target.suffix or '(none)'!r} for "
+                         f"{path} (use one of: {', '.join(suffixes)})")
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(flag, f"cannot write {path}: no such directory {str(parent)!r}")
+    if target.is_dir():
+        raise InputError(flag, f"cannot write {path}: it is a directory")
+    if not os.access(parent, os.W_OK):
+        raise InputError(flag, f"cannot write {path}: the directory is not writable")

@@ -1,0 +1,117 @@
+"""``mcbat compare``: a simulated dataset against measured rows."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from mcbat.cli.common import EXIT_OK, FIGURE_FORMATS, check_output, flags, int_arg, print_json
+from mcbat.errors import InputError
+
+__all__ = ["COMPARE_PARAMETERS", "add_parser", "cmd_compare"]
+
+
+def add_parser(sub) -> None:
+    """Add ``mcbat compare`` to the subparsers ``sub``."""
+    cmp = sub.add_parser(
+        "compare", help="a simulated dataset against measured rows: per-column and "
+                        "launch-plane two-sample statistics",
+        description="Compare DATASET (mcbat run) with MEASURED (a Baseball Savant export, its "
+                    "balls in play; a CSV or Parquet table in the dataset's column names; "
+                    "or another dataset; several are concatenated) on their shared columns: "
+                    "Kolmogorov-Smirnov distance and p-value, Wasserstein distance, energy "
+                    "distance with a permutation p-value, and the energy distance in the "
+                    "launch speed / launch angle plane (docs/compare.md).")
+    cmp.add_argument("dataset", metavar="DATASET", help="the simulated dataset directory")
+    cmp.add_argument("measured", metavar="MEASURED", nargs="+",
+                     help="measured table(s): .csv, .csv.gz, .parquet, or a dataset directory")
+    cmp.add_argument("--columns", metavar="A,B,...",
+                     help="compare only these columns (default: every shared column of a "
+                          "physical unit)")
+    cmp.add_argument("--units", action="append", default=[], metavar="COLUMN=UNIT",
+                     help="the unit of a measured column the table does not state (a CSV "
+                          "states none: its columns are read in the dataset's units); "
+                          "repeatable")
+    cmp.add_argument("--permutations", type=int_arg("--permutations"), default=1000,
+                     metavar="N", help="relabellings of each permutation test (default "
+                                       "1000: p-values to 1/1001)")
+    cmp.add_argument("--seed", type=int_arg("--seed"), default=0, metavar="S",
+                     help="seed of the permutations and subsamples (default 0)")
+    cmp.add_argument("--max-rows", type=int_arg("--max-rows"), default=20000, metavar="N",
+                     help="rows a side in a column's energy test, subsampled beyond "
+                          "(default 20000)")
+    cmp.add_argument("--plane-rows", type=int_arg("--plane-rows"), default=2000,
+                     metavar="N", help="rows a side in the plane's test (default 2000, at "
+                                       "most 5000)")
+    cmp.add_argument("--figure", metavar="FIG.png", help="write the figure (.png, .pdf or "
+                     ".svg)")
+    cmp.add_argument("--json", action="store_true", help="print one JSON object")
+    cmp.set_defaults(func=cmd_compare)
+
+
+COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns", "units")
+
+
+def cmd_compare(args) -> int:
+    """Compare the dataset with the measured tables; print the statistics."""
+    from mcbat.stats.compare import (
+        check_settings,
+        compare,
+        fig_compare,
+        read_measured,
+        read_simulated,
+    )
+
+    if args.figure:
+        check_output(args.figure, "--figure", FIGURE_FORMATS)
+    for path in (args.dataset, *args.measured):  # before the readers' imports (seconds)
+        if "://" not in path and not Path(path).exists():
+            raise InputError(None, "no such file or directory", path)
+    units = {}
+    for item in args.units:
+        name, sep, unit = (part.strip() for part in item.partition("="))
+        if not (sep and name and unit):
+            raise InputError("--units", f"expected COLUMN=UNIT, got {item!r}")
+        units[name] = unit
+    columns = None if args.columns is None else \
+        [c.strip() for c in args.columns.split(",") if c.strip()]
+    with flags(*COMPARE_PARAMETERS):
+        check_settings(args.permutations, args.seed, args.max_rows, args.plane_rows, units)
+        if columns == []:
+            raise InputError("columns", "no column given")
+    simulated = read_simulated(args.dataset)
+    measured = read_measured(args.measured, units)
+    try:
+        with flags(*COMPARE_PARAMETERS):
+            result = compare(simulated, measured, columns, permutations=args.permutations,
+                             seed=args.seed, max_rows=args.max_rows,
+                             plane_rows=args.plane_rows)
+    except InputError as err:  # a column's problem: name the measured table(s)
+        # (mcbat.stats.compare writes its advice on a column's unit in call syntax, twice
+        # over with two values: the one message still rewritten here.)
+        message = re.sub(r"units=\{'([^']+)': '([^']+)'\}", r"--units \1=\2", err.message)
+        where = args.dataset if "of the simulated dataset" in message else \
+            ", ".join(args.measured)
+        raise InputError(err.field, message, err.source or where) from None
+    result.simulated = {"path": args.dataset, "rows": len(simulated),
+                        "study": simulated.attrs.get("mcbat", {}).get("study_name")}
+    result.measured = {"rows": len(measured), "sources": measured.attrs["sources"]}
+    if args.figure:
+        fig_compare(args.figure, simulated, measured, result)
+    if args.json:
+        out = result.to_dict()
+        if args.figure:
+            out["figure"] = args.figure
+        print_json(out)
+        return EXIT_OK
+    study = result.simulated["study"]
+    print(f"simulated: {args.dataset} ({f'study {study}, ' if study else ''}"
+          f"{len(simulated):,} rows)")
+    for source in measured.attrs["sources"]:
+        what = (f"{source['rows']:,} balls in play of {source['pitches']:,} pitches"
+                if source["kind"] == "statcast" else f"{source['rows']:,} rows")
+        print(f"measured: {source['path']} ({source['kind']}, {what})")
+    print("\n".join(result.lines()))
+    if args.figure:
+        print(f"figure: {args.figure}")
+    return EXIT_OK

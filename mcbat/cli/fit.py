@@ -1,0 +1,220 @@
+"""``mcbat fit``: model parameters fitted to a measurement table; the flight model's
+scales to measured distances (``--flight``); a game study's distributions to batted balls
+(``--population``)."""
+
+from __future__ import annotations
+
+import sys
+
+from mcbat.cli.common import EXIT_OK, FIGURE_FORMATS, check_output, flags, int_arg, print_json
+from mcbat.errors import InputError
+
+__all__ = ["add_parser", "cmd_fit"]
+
+
+def add_parser(sub) -> None:
+    """Add ``mcbat fit`` to the subparsers ``sub``."""
+    fit = sub.add_parser(
+        "fit", help="fit model parameters to a measurement table",
+        description="Maximum-likelihood fit of the free parameters (any of e, mu, "
+                    "ball_inertia_factor, axial, e_x) to a measurement table, with the "
+                    "study's nuisance scatter and the errors of measured inputs "
+                    "(impact_parameter_err, spin_in_err) marginalised by the kernel; "
+                    "profile-likelihood intervals (asymmetric; one-sided 95 % limits where "
+                    "the data bound a parameter on one side only), the curvature error, and "
+                    "--bootstrap N refits; chi2/dof and its p-value. "
+                    "Then a model comparison: the rigid model (e_x = 0) against tangential "
+                    "compliance (e_x free, Cross & Nathan 2006), by BIC, with AIC and the "
+                    "likelihood ratio.")
+    fit.add_argument("--study", default=None, metavar="S.toml",
+                     help="the study (required, but with --flight)")
+    fit.add_argument("--data", default=None, metavar="M.csv",
+                     help="the measurement table (required; with --flight a Baseball Savant "
+                          "CSV export, default the samples shipped in data/)")
+    fit.add_argument("--flight", action="store_true",
+                     help="fit the flight model's drag_scale and lift_scale to the measured "
+                          "distances of --data's outfield catches and home runs "
+                          "(docs/flight.md)")
+    fit.add_argument("--spin-model", default=None, metavar="NAME",
+                     help="with --flight: the spin the balls are flown with, nathan (his "
+                          "average model; default) or inferred (mcbat.inference)")
+    fit.add_argument("--free", default=None,
+                     help="comma-separated (default: e,mu; with --flight "
+                          "drag_scale,lift_scale)")
+    fit.add_argument("--bootstrap", type=int_arg("--bootstrap"), default=0, metavar="N",
+                     help="parametric bootstrap refits (default 0)")
+    fit.add_argument("--intervals", choices=("profile", "curvature"), default="profile",
+                     help="profile: profile-likelihood intervals and one-sided limits "
+                          "(default); curvature: Hessian errors only (faster)")
+    fit.add_argument("--draws", type=int_arg("--draws"), default=None, metavar="M",
+                     help="model draws per row for the nuisance scatter and the input errors "
+                          "(default 48; 128 for a game study; --population: template draws "
+                          "per row, default 100)")
+    fit.add_argument("--seed", type=int_arg("--seed"), default=0, metavar="S",
+                     help="seed of the draws (default 0)")
+    fit.add_argument("--input-prior", choices=("cover", "widen", "study"), default=None,
+                     help="the range the true values of a measured input (a column with "
+                          "_err) are marginalised over: cover: the study's range widened to "
+                          "cover the data, with a fitted step in the prior at the study's "
+                          "ends (default with the mixture likelihood); widen: the study's "
+                          "range, widened only when the data reject it (default with the "
+                          "gaussian one); study: refuse a table whose data reject it")
+    fit.add_argument("--likelihood", choices=("mixture", "gaussian"), default=None,
+                     help="each row's likelihood: mixture: the draws' average of the "
+                          "measurement's density (default for a drop test); gaussian: a "
+                          "normal of the draws' mean and covariance (default for a game)")
+    fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure "
+                     "(.png, .pdf or .svg)")
+    fit.add_argument("--json", action="store_true", help="print the result as JSON")
+    fit.add_argument("--no-compare", action="store_true",
+                     help="skip the rigid-versus-compliant model comparison")
+    pop = fit.add_argument_group("population fits (--population, docs/population.md)")
+    pop.add_argument("--population", action="store_true",
+                     help="fit the study's distributions (--free swing.bat_speed.mean,... "
+                          "and e, mu, e_x) to the distribution of --data's batted balls")
+    pop.add_argument("--bins", type=int_arg("--bins"), default=None, metavar="N",
+                     help="bins per observable (default: ~8 rows per bin, at least 5)")
+    pop.add_argument("--observables", default="launch_speed,launch_angle",
+                     help="binned observables (default launch_speed,launch_angle; "
+                          "spray_angle too)")
+    pop.add_argument("--engine", choices=("memory", "local", "dask"), default="memory",
+                     help="where the template draws are solved (default memory)")
+    pop.add_argument("--figure", metavar="FIG.png",
+                     help="data against the fitted model: projections and the launch "
+                          "speed / angle plane")
+    fit.set_defaults(func=cmd_fit)
+
+
+def _fit_flight(args) -> int:
+    from mcbat.papers.statcast.calibrate import calibrate_file
+
+    for flag in ("study", "residuals", "draws"):
+        if getattr(args, flag) is not None:
+            raise InputError(f"--{flag}", "not with --flight (the flight fit flies each "
+                             "ball of --data once)")
+    if args.bootstrap:
+        raise InputError("--bootstrap", "not with --flight")
+    with flags("free", "intervals", "spin_model"):
+        result = calibrate_file(args.data, free=args.free, intervals=args.intervals,
+                                spin_model=args.spin_model or "nathan")
+    if args.json:
+        print_json(result.to_dict())
+        return EXIT_OK
+    print(f"fit of {', '.join(result.result.params)} to {result.balls} outfield catches and "
+          f"home runs of {result.source} (flight model nathan, spin model "
+          f"{result.spin_model}):")
+    for line in result.lines():
+        print(line)
+    return EXIT_OK
+
+
+def cmd_fit(args) -> int:
+    """Fit the study's free parameters to the table (or --flight, --population)."""
+    from mcbat import load_study  # (a game study's [pitches] file is read too)
+    from mcbat.stats.fit import check_bootstrap, fit
+    from mcbat.stats.likelihood import check_free
+    from mcbat.stats.model_choice import compare_models
+    from mcbat.stats.measurements import read_measurements
+
+    if args.flight:
+        return _fit_flight(args)
+    if args.population:
+        return _fit_population(args)
+    if args.spin_model is not None:
+        raise InputError("--spin-model", "applies to --flight only")
+    if args.study is None:
+        raise InputError("--study", "required (or --flight: the flight model's drag and "
+                         "lift against measured distances)")
+    if args.data is None:
+        raise InputError("--data", "required")
+    free = _fit_options(args, check_free, check_bootstrap)
+    if args.residuals:
+        check_output(args.residuals, "--residuals", FIGURE_FORMATS)
+    study = load_study(args.study)
+    table = read_measurements(args.data)
+    if "statcast" in table.attrs:  # a Savant export: say which rows the fit uses
+        kept = table.attrs["statcast"]
+        print(f"mcbat: {args.data}: Statcast export: {kept['used']:,} of {kept['rows']:,} "
+              f"pitches used (balls in play with launch speed, angle, spray and plate "
+              f"speed{' and bat tracking' if 'bat_speed' in table else ''}); dropped: "
+              f"{kept['not_in_play']:,} not in play, {kept['no_launch']:,} without launch, "
+              f"{kept['foul_territory']:,} fielded in foul territory, "
+              f"{kept['no_plate_speed']:,} without plate speed, {kept['no_bat_tracking']:,} "
+              f"without bat tracking", file=sys.stderr)
+    with flags("free", "bootstrap", "draws", "seed", "intervals"):
+        result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
+                     seed=args.seed, intervals=args.intervals, input_prior=args.input_prior,
+                     likelihood=args.likelihood)
+        comparison = None if args.no_compare else compare_models(
+            study, table, free, draws=args.draws, seed=args.seed, fitted=result,
+            input_prior=args.input_prior, likelihood=args.likelihood)
+    if args.residuals:
+        from mcbat.stats.figures import fig_fit_residuals
+
+        fig_fit_residuals(args.residuals, table, result)
+    if args.json:
+        out = result.to_dict()
+        if comparison is not None:
+            out["model_comparison"] = comparison.to_dict()
+        print_json(out)
+        return EXIT_OK
+    print(f"fit of {', '.join(free)} to {len(table)} rows of {args.data} "
+          f"(study {study.name}):")
+    for line in result.lines():
+        print(line)
+    print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
+    for warning in result.warnings:
+        print(f"  note: {warning}")
+    if comparison is not None:
+        print("\n".join(comparison.lines()))
+    return EXIT_OK
+
+
+def _fit_population(args) -> int:
+    """``mcbat fit --population``: a game study's distributions against batted balls
+    (docs/population.md)."""
+    from mcbat import load_study
+    from mcbat.statcast import read
+    from mcbat.stats.population import fit_population
+
+    for flag, value in (("--study", args.study), ("--data", args.data),
+                        ("--free", args.free)):
+        if value is None:
+            raise InputError(flag, "required with --population")
+    if args.figure:
+        check_output(args.figure, "--figure", FIGURE_FORMATS)
+    study = load_study(args.study)
+    table = read(args.data)
+    with flags("free", "draws", "seed", "bins", "observables", "engine"):
+        result = fit_population(study, table, [f for f in args.free.split(",") if f],
+                                draws=args.draws, bins=args.bins, seed=args.seed,
+                                observables=args.observables.split(","), engine=args.engine)
+    if args.figure:
+        from mcbat.stats.population_figure import fig_population
+
+        fig_population(args.figure, result)
+    if args.json:
+        print_json(result.to_dict())
+        return EXIT_OK
+    print(f"population fit of {args.free} to {result.rows} batted balls of {args.data} "
+          f"(study {study.name}; {result.draws:,} template draws, effective "
+          f"{result.effective_draws:,.0f}):")
+    print("\n".join(result.lines()))
+    print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
+    for warning in result.warnings:
+        print(f"  note: {warning}")
+    return EXIT_OK
+
+
+def _fit_options(args, check_free, check_bootstrap):
+    """The fit's free parameters; every option checked before any work."""
+    with flags("free", "bootstrap", "draws", "seed"):
+        free = tuple(check_free(args.free or "e,mu"))
+        check_bootstrap(args.bootstrap)
+        if args.draws is not None and args.draws < 4:
+            raise InputError("draws", f"must be an integer >= 4, got {args.draws}")
+        if args.seed < 0:
+            raise InputError("seed", f"must be an integer >= 0, got {args.seed}")
+        if args.seed > 2**63 - 1:
+            raise InputError("seed", f"must be <= 2**63 - 1, got {args.seed}")
+    return free

@@ -1,0 +1,61 @@
+"""``mcbat impact``: single impacts given as JSON."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from mcbat.cli.common import EXIT_OK, flags, json_value, located, read_cases
+from mcbat.errors import InputError
+
+__all__ = ["add_parser", "cmd_impact"]
+
+
+def add_parser(sub) -> None:
+    """Add ``mcbat impact`` to the subparsers ``sub``."""
+    impact = sub.add_parser(
+        "impact", help="solve impacts given as JSON (one case or an array of cases)",
+        description="Read one JSON case, or a JSON array of cases, from FILE (or '-' for "
+                    "stdin) and print the results as JSON in the same order. A bat-frame "
+                    "case (ball, bat, contact, velocities; docs/impact.md): SI units, in "
+                    "the bat frame (an inertial frame with the bat's CM at the origin and z "
+                    "along its axis at contact), and so are its results. A game case "
+                    "(pitch and swing keys; docs/batting.md): "
+                    "values with units as in studies ({\"value\": 94, \"unit\": \"mph\"}; "
+                    "a bare number is SI), in the field frame (x towards first base, y "
+                    "towards the pitcher, z up); its results are the batted ball in "
+                    "Statcast's units (launch_speed mph, angles deg, spins rpm), the "
+                    "field-frame velocities and spins in SI (\"field\"), and the bat-frame "
+                    "case and impact (\"bat_frame_case\", \"bat_frame\").")
+    impact.add_argument("file", nargs="?", default="-", metavar="FILE|-")
+    impact.add_argument("--tolerance", type=float, default=None, metavar="T",
+                        help="the kernel's tolerance: the local error allowed per slip "
+                             "step, relative to the impact's speed and impulse scales, "
+                             "0 < T < 1 (default 5e-9)")
+    impact.set_defaults(func=cmd_impact)
+
+
+def cmd_impact(args) -> int:
+    """Solve the cases of ``args.file`` and print their results as JSON."""
+    from mcbat.api import SolverSettings, case_from_dict, solve_any
+
+    with flags("tolerance"):  # checked before the input is read
+        settings = SolverSettings() if args.tolerance is None else \
+            SolverSettings(tolerance=args.tolerance)
+    source, raw_cases, single = read_cases(args.file)
+    cases = []
+    for index, raw in enumerate(raw_cases):
+        try:
+            cases.append(case_from_dict(raw))  # a game case has pitch/swing keys
+        except InputError as err:
+            raise located(err, f"{source}: case {index}") from None
+    results = []
+    for index, case in enumerate(cases):
+        try:
+            result = solve_any(case, settings, json_keys=True).to_dict()
+        except InputError as err:
+            raise located(err, f"{source}: case {index}") from None
+        results.append({k: json_value(v) for k, v in result.items()})
+    json.dump(results[0] if single else results, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+    return EXIT_OK

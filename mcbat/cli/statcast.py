@@ -1,0 +1,87 @@
+"""``mcbat statcast``: a Baseball Savant export read, summarised, and written as mcbat's
+tidy table."""
+
+from __future__ import annotations
+
+from mcbat.cli.common import EXIT_OK, check_output, print_json
+from mcbat.errors import InputError
+
+__all__ = ["add_parser", "cmd_statcast", "statcast_lines"]
+
+
+def add_parser(sub) -> None:
+    """Add ``mcbat statcast`` to the subparsers ``sub``."""
+    sc = sub.add_parser(
+        "statcast", help="read a Baseball Savant (Statcast) export: counts, plate speeds, "
+                         "and the tidy table in mcbat's frame and units",
+        description="Read a Savant pitch-level CSV export (any season; or a pybaseball "
+                    "table saved as CSV/Parquet) into mcbat's tidy table (docs/statcast.md): "
+                    "print the rows, seasons, pitches by type, balls in play, rows with a "
+                    "distance and with bat tracking, and the plate speed and approach angles "
+                    "per pitch type.")
+    sc.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
+    sc.add_argument("--json", action="store_true", help="print one JSON object")
+    sc.add_argument("--out", metavar="TABLE.parquet", help="write the tidy table (Parquet, "
+                    "units in the schema metadata)")
+    sc.set_defaults(func=cmd_statcast)
+
+
+def cmd_statcast(args) -> int:
+    """Read the export; print its summary (or JSON), write the tidy table with --out."""
+    from mcbat.statcast import read, summarize, write
+
+    if args.out:
+        check_output(args.out, "--out", (".parquet", ".pq"))
+    table = read(args.file)
+    summary = summarize(table)
+    if args.out:
+        try:
+            write(table, args.out)
+        except OSError as err:
+            raise InputError("--out", f"cannot write: {err.strerror or err}",
+                             args.out) from None
+        summary["out"] = args.out
+    if args.json:
+        print_json(summary)
+        return EXIT_OK
+    print("\n".join(statcast_lines(summary)))
+    return EXIT_OK
+
+
+def statcast_lines(summary):
+    """The summary of ``mcbat statcast`` as text lines."""
+    seasons = ", ".join(str(y) for y in summary["seasons"]) or "none"
+    types = ", ".join(f"{k} {v:,}" for k, v in summary["pitch_types"].items())
+    lines = [f"{summary['source']}: {summary['rows']:,} pitches, seasons {seasons}",
+             f"  pitches by type: {types or 'none'}",
+             f"  balls in play: {summary['balls_in_play']:,} ({summary['with_launch']:,} "
+             "with launch speed and angle)",
+             f"  rows with a distance (hit_distance_sc): {summary['with_distance']:,}",
+             f"  rows with bat tracking (bat_speed): {summary['with_bat_tracking']:,}"]
+    for kind, entry in summary["plate"].items():
+        if entry["pitch_speed"] is None or entry["pitches"] < 10:
+            continue
+        parts = [f"{entry[c]['median']:.1f}" + (f" (sd {entry[c]['sd']:.1f})"
+                                                  if entry[c]["sd"] is not None else "")
+                 for c in ("pitch_speed", "vertical_approach_angle",
+                           "horizontal_approach_angle")]
+        lines.append(f"  {kind} at the plate (median): {parts[0]} mph, vertical approach "
+                     f"{parts[1]} deg, horizontal {parts[2]} deg")
+    check = summary.get("attack_direction_check")
+    if check:
+        lines.append(f"  attack_direction vs spray towards the opposite field: correlation "
+                     f"{check['correlation']:+.2f} over {check['rows']:,} balls in play "
+                     "(> 0: the sign convention of docs/statcast.md holds)")
+    if summary.get("missing_columns"):
+        lines.append(f"  columns this export lacks (NaN): {', '.join(summary['missing_columns'])}")
+    for column, bad in summary.get("non_numeric", {}).items():
+        where = f" (first at line {bad['line']}: {bad['value']!r})" if "line" in bad else ""
+        lines.append(f"  {column}: {bad['cells']:,} non-numeric cell(s) set to NaN{where}")
+    if summary.get("elevation_missing"):
+        teams = ", ".join(f"{k} {v:,}" for k, v in summary["elevation_missing"].items())
+        unknown = ", ".join(summary.get("unknown_home_teams", {}))
+        lines.append(f"  rows without a park elevation (NaN), by home_team: {teams}"
+                     + (f"; not in the park table: {unknown}" if unknown else ""))
+    if summary.get("out"):
+        lines.append(f"  tidy table written to {summary['out']}")
+    return lines

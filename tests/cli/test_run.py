@@ -1,0 +1,197 @@
+"""`mcbat run`: library errors named by their flags, `--tolerance`, bad game studies, and
+the line that a first run compiles the kernels."""
+
+import json
+import subprocess
+import sys
+import tomllib
+
+import pytest
+
+from mcbat.cli import main
+from tests.conftest import ROOT
+
+
+def _mcbat(*args, stdin=None):
+    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
+                          capture_output=True, text=True, cwd=ROOT)
+
+
+def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys):
+    from mcbat.errors import InputError
+    from mcbat.runner import run_study
+    from mcbat.study import load_study
+
+    study = load_study(ROOT / "studies" / "example.toml")
+    (tmp_path / "foreign.txt").write_text("not mcbat's")
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path, samples=10, progress=False)
+    assert info.value.field == "out"
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path / "new", chunk_size=0, progress=False)
+    assert info.value.field == "chunk_size"
+    with pytest.raises(InputError) as info:
+        run_study(study, tmp_path / "new", workers=2, progress=False)
+    assert info.value.field == "workers" and "--" not in str(info.value)
+    # The same errors through the command line name the flags.
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
+                 "--chunk-size", "0", "--quiet"]) == 2
+    assert "error: --chunk-size: must be an integer >= 1" in capsys.readouterr().err
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(tmp_path / "n"),
+                 "--workers", "2", "--quiet"]) == 2
+    assert "error: --workers: only with --engine dask" in capsys.readouterr().err
+    out = tmp_path / "other"
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
+                 "--samples", "50", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["run", str(ROOT / "studies" / "example.toml"), "--out", str(out),
+                 "--samples", "60", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "--out: holds a dataset written with" in err and "pass --overwrite to" in err
+
+
+def _with_solver_tolerance(tmp_path, tolerance):
+    """studies/example.toml with ``[solver] tolerance`` written in."""
+    path = tmp_path / f"example_{tolerance}.toml"
+    text = (ROOT / "studies" / "example.toml").read_text()
+    assert "solver" not in tomllib.loads(text)
+    path.write_text(f"{text}\n[solver]\ntolerance = {tolerance}\n")
+    return path
+
+
+def test_run_tolerance_flag_is_the_studys_solver_tolerance(tmp_path, capsys):
+    """``mcbat run --tolerance T`` writes the rows of the study with ``[solver] tolerance =
+    T``, records T in the dataset's config, and is part of it: resuming with another
+    tolerance (or none) is refused, with the same one it resumes."""
+    import pandas as pd
+
+    import mcbat
+
+    study = str(ROOT / "studies" / "example.toml")
+    common = ["--samples", "60", "--quiet"]
+    flagged, in_toml, default = tmp_path / "flag", tmp_path / "toml", tmp_path / "default"
+    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
+    assert main(["run", str(_with_solver_tolerance(tmp_path, 1e-11)), "--out", str(in_toml),
+                 *common]) == 0
+    assert main(["run", study, "--out", str(default), *common]) == 0
+    capsys.readouterr()
+
+    manifest = json.loads((flagged / "_mcbat.json").read_text())
+    assert manifest["study"]["solver"]["tolerance"] == 1e-11
+    reference = json.loads((in_toml / "_mcbat.json").read_text())
+    assert manifest["config_hash"] == reference["config_hash"]
+    rows = mcbat.load(flagged)
+    pd.testing.assert_frame_equal(rows, mcbat.load(in_toml))
+    steps, default_steps = rows["rk4_steps"], mcbat.load(default)["rk4_steps"]
+    assert (steps >= default_steps).all() and (steps > default_steps).any()  # T was used
+
+    for again in (["--tolerance", "1e-10"], []):
+        assert main(["run", study, "--out", str(flagged), *again, *common]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "Traceback" not in err
+        assert "--out: holds a dataset written with a different study config" in err, err
+    assert main(["run", study, "--out", str(flagged), "--tolerance", "1e-11", *common]) == 0
+    assert "0 computed, 1 kept from before" in capsys.readouterr().out
+    assert main(["run", study, "--out", str(tmp_path / "bad"), "--tolerance", "1", *common]) == 2
+    assert "mcbat: error: --tolerance: must be > 0 and < 1, got 1.0" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()
+
+
+@pytest.mark.parametrize("edit,key", [
+    (("[swing]", '[swing]\nvertical_bat_angle = { value = -60, unit = "deg" }\n'
+      'attack_angle = { value = 40, unit = "deg" }\n'), "swing.attack_angle"),
+    (('undercut = { dist = "uniform", low = -1.5, high = 1.5, unit = "in" }',
+      'undercut = { dist = "uniform", low = -1.5, high = 3.5, unit = "in" }'),
+     "contact.undercut.high"),
+])
+def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key):
+    text = (ROOT / "studies" / "game_fastball.toml").read_text()
+    if edit[0] == "[swing]":  # replace the swing section's angles
+        text = text.replace("attack_angle = {", "x_attack = {").replace(
+            "vertical_bat_angle = {", "x_vertical = {")
+        text = text.replace("x_attack = {", "#").replace("x_vertical = {", "#")
+    assert edit[0] in text
+    text = text.replace(edit[0], edit[1], 1)
+    study = tmp_path / "bad.toml"
+    study.write_text(text)
+    proc = _mcbat("run", str(study), "--out", str(tmp_path / "o"), "--quiet")
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0], lines
+    assert not (tmp_path / "o").exists()
+
+
+# ---------------------------------------------------------------- compiling the kernels
+
+KERNEL_MODULE = '''
+import numba
+
+
+@numba.njit(cache=True)
+def twice(x):
+    return 2.0 * x
+'''
+
+
+def _cache_state(tmp_path, cache_dir=None):
+    """``is_cold`` of a cached numba function in a fresh process (before its first call),
+    with ``NUMBA_CACHE_DIR`` set to ``cache_dir``; the process then calls it."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    if cache_dir is not None:
+        env["NUMBA_CACHE_DIR"] = str(cache_dir)
+    # (compiling.py is loaded alone: the runner's package imports pandas and pyarrow, seconds
+    # a process on a loaded machine)
+    code = ("import importlib.util, sys; sys.path.insert(0, sys.argv[1]); "
+            "import kernel_for_test as k; "
+            "spec = importlib.util.spec_from_file_location('compiling', sys.argv[2]); "
+            "c = importlib.util.module_from_spec(spec); spec.loader.exec_module(c); "
+            "print(c.is_cold(k.twice)); k.twice(1.0); print(c.is_cold(k.twice))")
+    proc = subprocess.run([sys.executable, "-c", code, str(tmp_path),
+                           str(ROOT / "mcbat" / "runner" / "compiling.py")],
+                          capture_output=True, text=True, cwd=ROOT, env=env, check=True)
+    return proc.stdout.split()
+
+
+def test_a_cold_cache_is_told_from_a_warm_one(tmp_path):
+    """Cold before the first call with an empty cache directory; warm after it in the
+    process; warm in the next process, which loads the machine code from the cache."""
+    (tmp_path / "kernel_for_test.py").write_text(KERNEL_MODULE)
+    cache = tmp_path / "cache"
+    assert _cache_state(tmp_path, cache) == ["True", "False"]
+    assert _cache_state(tmp_path, cache) == ["False", "False"]
+
+
+def test_the_run_says_it_is_compiling_before_its_progress_bar(tmp_path, capsys, monkeypatch):
+    """One line on stderr before the bar when a kernel is cold; none with --quiet, none
+    when the kernels are compiled, and none before a refusal (the error stays the one
+    line)."""
+    import mcbat.runner.compiling as compiling
+
+    study = str(ROOT / "studies" / "example.toml")
+    monkeypatch.setattr(compiling, "is_cold", lambda kernel: True)
+    assert main(["run", study, "--out", str(tmp_path / "a"), "--samples", "60"]) == 0
+    err = capsys.readouterr().err
+    assert err.splitlines()[0] == compiling.COMPILING and err.count(compiling.COMPILING) == 1
+    assert main(["run", study, "--out", str(tmp_path / "b"), "--samples", "60",
+                 "--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["run", study, "--out", str(tmp_path / "c"), "--samples", "60",
+                 "--chunk-size", "0"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    monkeypatch.setattr(compiling, "is_cold", lambda kernel: False)
+    assert main(["run", study, "--out", str(tmp_path / "d"), "--samples", "60"]) == 0
+    assert "compil" not in capsys.readouterr().err
+
+
+def test_the_kernels_of_a_run_are_those_of_its_study():
+    from mcbat.core.batch import solve_batch
+    from mcbat.core.flight import fly_batch
+    from mcbat.core.swing import solve_game_batch
+    from mcbat.runner.compiling import kernels_for
+    from mcbat.study import load_study
+
+    assert kernels_for(load_study(ROOT / "studies" / "example.toml")) == [solve_batch]
+    game = load_study(ROOT / "studies" / "game_fastball.toml")  # (with [flight])
+    assert kernels_for(game) == [solve_game_batch, fly_batch]
