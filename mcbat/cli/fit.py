@@ -113,8 +113,8 @@ def cmd_fit(args) -> int:
     from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.fit import check_bootstrap, fit
     from mcbat.stats.likelihood import check_free
-    from mcbat.stats.model_choice import compare_models
     from mcbat.stats.measurements import read_measurements
+    from mcbat.stats.model_choice import compare_models
 
     if args.flight:
         return _fit_flight(args)
