@@ -100,8 +100,7 @@ def test_run_tolerance_flag_is_the_studys_solver_tolerance(tmp_path, capsys):
 @pytest.mark.parametrize("edit,key", [
     (("[swing]", '[swing]\nvertical_bat_angle = { value = -60, unit = "deg" }\n'
       'attack_angle = { value = 40, unit = "deg" }\n'), "swing.attack_angle"),
-    (('undercut = { dist = "uniform", low = -1.5, high = 1.5, unit = "in" }',
-      'undercut = { dist = "uniform", low = -1.5, high = 3.5, unit = "in" }'),
+    (('low = -2, high = 2, unit = "in" }', 'low = -2, high = 3.5, unit = "in" }'),
      "contact.undercut.high"),
 ])
 def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key):

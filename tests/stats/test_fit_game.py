@@ -16,7 +16,7 @@ from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]
-GAME = load_study(ROOT / "studies" / "game_fastball.toml")
+GAME = load_study(Path(__file__).parent / "data" / "game_fit_fastball.toml")
 TRUTH = {"e": 0.5, "e_x": 0.3}
 
 
@@ -62,7 +62,7 @@ def test_game_fit_refuses_what_its_model_cannot_use():
 
 
 def test_game_synth_and_fit_from_the_command_line(tmp_path):
-    study = str(ROOT / "studies" / "game_fastball.toml")
+    study = str(Path(__file__).parent / "data" / "game_fit_fastball.toml")
     data = tmp_path / "statcast_like.csv"
     made = subprocess.run([sys.executable, "-m", "mcbat", "synth", "--study", study, "--rows",
                            "40", "--e", "0.5", "--e-x", "0.3", "--input-noise",

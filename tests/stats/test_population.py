@@ -137,8 +137,8 @@ def test_parameters_the_study_does_not_have(free, words):
 
 
 def test_uniform_key_is_refused(study, pitches):
-    # studies/game_fastball.toml draws the undercut uniformly: no mean and std to fit
-    game = mcbat.load_study(ROOT / "studies" / "game_fastball.toml")
+    # studies/real_pitches.toml draws the undercut uniformly: no mean and std to fit
+    game = mcbat.load_study(ROOT / "studies" / "real_pitches.toml")
     with pytest.raises(InputError, match="uniform distribution"):
         fit_population(game, pitches, ["contact.undercut.mean"])
 
