@@ -7,7 +7,7 @@ pop-ups (> 50 deg) on both sides, and the median backspin per 5 deg of launch an
 15-40 deg against Nathan's average spin model evaluated on the same balls
 (``docs/batting.md``, "Presets fitted to real balls in play")::
 
-    NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/presets_vs_statcast.py --samples 20000
+    NUMBA_NUM_THREADS=1 .venv/bin/python -m validation presets_vs_statcast --samples 20000
 
 The game presets meet one pitch type each; they are compared with the balls in play of
 that type too (four-seamers and sinkers; curveballs and knuckle curves).
