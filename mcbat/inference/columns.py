@@ -42,7 +42,6 @@ OUTPUT_UNITS = {
 """Columns of :func:`infer_spin`'s result and their units."""
 
 
-
 def read_column(table, name, n, required=True):
     """A column as an array (None if optional and absent)."""
     if name not in table:

@@ -113,7 +113,6 @@ class Comparison:
         return out
 
 
-
 def compare(simulated, measured, columns=None, *, units=None, permutations=PERMUTATIONS,
             seed=0, max_rows=MAX_ROWS, plane_rows=PLANE_ROWS, plane=PLANE):
     """Two-sample statistics of ``simulated`` against ``measured`` on their shared columns.
@@ -266,8 +265,6 @@ def _why_not(name, simulated, measured, sim_units, meas_units):
         return (f"units differ: measured {stated} ({UNIT_FACTORS[stated][0]}), simulated "
                 f"{unit} ({UNIT_FACTORS[unit][0]})")
     return None
-
-
 
 
 def _compare_column(name, sim_series, meas_series, sim_unit, meas_unit, permutations, seed,

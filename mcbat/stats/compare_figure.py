@@ -81,7 +81,6 @@ def fig_compare(path, simulated, measured, comparison):
     return path
 
 
-
 def _shown_range(a, b):
     """From the lower to the upper 0.5 % quantile of whichever side reaches further."""
     low = min(np.quantile(a, 0.005), np.quantile(b, 0.005))

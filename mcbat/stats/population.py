@@ -140,7 +140,6 @@ class PopulationResult:
                 "warnings": self.warnings}
 
 
-
 def fit_population(study, table, free, *, draws=None, bins=None,
                    observables=("launch_speed", "launch_angle"), seed=0, engine="memory",
                    workdir=None, passes=2):

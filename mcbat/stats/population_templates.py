@@ -25,7 +25,6 @@ __all__ = ["ENGINES", "TemplateSimulator", "simulate_table"]
 ENGINES = ("memory", "local", "dask")
 
 
-
 class TemplateSimulator:
     """The study rewritten for the table (its pitches, proposals, physics nodes), solved
     on an engine; returns the draws' free-key columns and observables."""

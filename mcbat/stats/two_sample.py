@@ -197,7 +197,6 @@ def _finite(values, name):
     return values
 
 
-
 def format_p(p, resolution):
     """A p-value as printed: ``"-"`` for none, ``"<=0.001"`` at a permutation test's
     resolution (the smallest p-value it can give), else three significant digits."""

@@ -159,7 +159,6 @@ def integrate(rhs, span, y, events, rtol, atol):
     return t, sol.y_events[j][0], events[j].__name__
 
 
-
 def tangential_rebound(bodies, basis, y0, y_stick, y, mu, e_x):
     """Reverse the incoming slip by ``e_x`` with a tangential impulse of the stick phase.
 
