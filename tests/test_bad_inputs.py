@@ -178,13 +178,13 @@ def test_huge_weights_keep_their_ratio(tmp_path):
 def test_a_failed_first_run_does_not_block_the_corrected_rerun(tmp_path, monkeypatch):
     # The run fails in its first chunk (a kernel error injected here): the directory it
     # created is gone, so the corrected rerun is not "a dataset of another config".
-    from mcbat.runner import plan, run_study
+    from mcbat.runner import chunk_run, run_study
     from mcbat.study import load_study
 
     def broken(*args, **kwargs):
         raise MemoryError("injected")
 
-    monkeypatch.setattr(plan, "solve_batch", broken)
+    monkeypatch.setattr(chunk_run, "solve_batch", broken)
     study = load_study(EXAMPLE)
     with pytest.raises(MemoryError):
         run_study(study, tmp_path / "ds", samples=100, progress=False)

@@ -49,7 +49,7 @@ import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
-from mcbat.testing import accuracy_mix, cabo2012_reference
+from mcbat.testing import accuracy_mix, cabo2012_reference, impact_mix, reference_parts
 from mcbat.testing.accuracy_mix import (
     DEFAULT_SEED,
     ERROR_COLUMNS,
@@ -81,7 +81,7 @@ def _fingerprint(cases):
     belongs to exactly these cases, solved by exactly this reference."""
     values = np.array([[c[name] for name in INPUT_FIELDS] for c in cases], dtype=np.float64)
     digest = hashlib.sha256(values.tobytes())
-    for module in (cabo2012_reference, accuracy_mix):
+    for module in (cabo2012_reference, reference_parts, impact_mix, accuracy_mix):
         digest.update(inspect.getsource(module).encode())
     return digest.hexdigest()
 

@@ -42,6 +42,8 @@ import numpy as np
 from mcbat.core.cabo2012.contact import (
     DEFAULT_STEPS,
     DEFAULT_TOLERANCE,
+    LAND_ACTION,
+    STOP_ACTION,
     Contact,
     impulse_step_cap,
     slip_control,
@@ -72,11 +74,11 @@ def uniform_step_stick_impulse(case, tolerance, factor):
     w1, w2, imp, wfr = c.v01, c.v02, 0.0, 0.0
     for steps in range(MAX_STEPS):
         pt = tau_point(c, w1, w2)
-        # The kernel's landing (1) and stop (2) rules; its step proposal is not used.
+        # The kernel's landing and stop rules; its step proposal is not used.
         action, _, _, _ = step_plan(ctl, pt, imp, math.inf, steps == 0)
-        if action == 2:
+        if action == STOP_ACTION:
             return imp, steps
-        if action == 1:
+        if action == LAND_ACTION:
             return imp + pt.s / (-pt.rate), steps  # the landing: v_t linear in I to zero
         lam = -pt.rate
         h = scale / max(abs(lam), abs(pt.turn), pt.stiffness, 1e-300)

@@ -46,6 +46,7 @@ from mcbat.dataset.schema import (
     derive,
     derive_game,
 )
+from mcbat.study.units import UNITS
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
            "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "foreign_entries",
@@ -186,7 +187,7 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, der
     return names, cols
 
 
-_FT = 0.3048  # m per ft (Statcast reports distances in ft)
+_FT = UNITS["length"]["ft"]  # m per ft (Statcast reports distances in ft)
 
 
 def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None,

@@ -45,6 +45,7 @@ import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
+from mcbat.study import units as study_units
 from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
 
 __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
@@ -131,7 +132,7 @@ FLIGHT_COLUMNS = ("hit_distance", "hang_time", "apex", "landing_x", "landing_y",
 """The flight columns of a game dataset with a ``[flight]`` section (after
 :data:`GAME_COLUMNS`): Statcast's ft and s, then SI."""
 
-_MPH = 0.44704
+_MPH = study_units.UNITS["speed"]["mph"]
 _RPM = 60.0 / (2.0 * np.pi)
 
 

@@ -1,6 +1,8 @@
 """Running studies: the plan, the engines, and :func:`run_study`.
 
-Imports go one way: :mod:`~mcbat.runner.plan` (the chunks, :func:`run_chunk`) <-
+Imports go one way: :mod:`~mcbat.runner.plan` (the chunks; with
+:mod:`~mcbat.runner.job`, :mod:`~mcbat.runner.directory` and
+:mod:`~mcbat.runner.chunk_run`, :func:`run_chunk`) <-
 :mod:`~mcbat.runner.engines` (local, dask) <- :mod:`~mcbat.runner.study_run`
 (:func:`run_study`). :mod:`~mcbat.runner.frame` solves a DataFrame in memory.
 

@@ -18,7 +18,6 @@ scatter is the row's ``hit_distance_sc_err``.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
@@ -26,10 +25,12 @@ from mcbat.bodies import BALL_PRESETS
 from mcbat.errors import InputError
 from mcbat.stats.models import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
+from mcbat.study.units import UNITS
 
 __all__ = ["FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
 
-_FT, _MPH, _DEG, _RPM = 0.3048, 0.44704, math.pi / 180.0, 2.0 * math.pi / 60.0
+_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
+                          UNITS["spin"]["rpm"])
 
 FLIGHT_TABLE_COLUMNS = {
     "launch_speed": ("mph", "input"),

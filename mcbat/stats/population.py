@@ -41,6 +41,12 @@ The method (``docs/population.md`` has the reasons and the checks):
   freedom), which is the goodness of fit reported.
 * **Intervals.** MINOS profile-likelihood intervals (a rise of 1 in the chi2-like cost).
 
+Beside this module (the fit): :mod:`~mcbat.stats.population_table` (the rows used),
+:mod:`~mcbat.stats.population_parameters` (the free parameters),
+:mod:`~mcbat.stats.population_templates` (the draws) and
+:mod:`~mcbat.stats.population_likelihood` (bins and cost); the names a caller needs are
+importable from here.
+
 Where the template draws run: ``engine="memory"`` solves them in this process (numba
 threads, nothing written); ``"local"`` and ``"dask"`` run the derived studies with
 :func:`mcbat.runner.study_run.run_study` into a directory and read the datasets back, so
@@ -50,41 +56,33 @@ the draws of a season's fit scale out on a cluster. The draws are the same on ev
 
 from __future__ import annotations
 
-import copy
 import math
-import tempfile
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
-from scipy import special, stats
+from scipy import stats
 
 from mcbat.bodies.game import GAME_RESTITUTION
-from mcbat.core.swing import GAME_INPUT_FIELDS
 from mcbat.errors import InputError
-from mcbat.stats.simulate import solve_game_inputs
-from mcbat.study import units as u
-from mcbat.study.game import KEYS
-from mcbat.study.spec import Study
+from mcbat.stats.population_likelihood import (
+    BinnedCost,
+    bin_index,
+    equal_count_edges,
+    grid_corners,
+)
+from mcbat.stats.population_parameters import (
+    PHYSICS,
+    PHYSICS_RANGE,
+    fittable_parameters,
+    parse_free,
+)
+from mcbat.stats.population_table import OBSERVABLES, population_table
+from mcbat.stats.population_templates import ENGINES, TemplateSimulator, simulate_table
 
 __all__ = ["BROADEN", "DEFAULT_DRAWS", "ENGINES", "NODES", "OBSERVABLES", "PHYSICS",
            "PopulationResult", "fit_population", "fittable_parameters", "grid_corners",
            "population_table", "simulate_table"]
 
-OBSERVABLES = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg"}
-"""The batted-ball observables a population fit can bin (Statcast's names and units)."""
-PITCH_COLUMNS = {"pitch.speed": "pitch_speed",
-                 "pitch.vertical_approach_angle": "vertical_approach_angle",
-                 "pitch.horizontal_approach_angle": "horizontal_approach_angle",
-                 "pitch.spin_rate": "spin_rate", "pitch.spin_axis": "spin_axis"}
-"""Study key -> the table's measured pitch column (mcbat.statcast's tidy names)."""
-REQUIRED_PITCH = ("pitch_speed", "vertical_approach_angle", "horizontal_approach_angle")
-"""A row without these is left out (counted): its template could not be conditioned."""
-_IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter")
-PHYSICS = {"e": ("restitution", "e_ref"), "mu": ("friction", "mu"),
-           "e_x": ("restitution", "e_x")}
-"""Physics constants a population fit can free, and the study key each sets."""
-PHYSICS_RANGE = {"e": (0.2, 0.8), "mu": (0.0, 1.5), "e_x": (0.0, 1.0)}
 _COARSE = {"e": 0.06, "mu": 0.3, "e_x": 0.3}
 """Half-width of the first pass's grid about the study's value."""
 NODES = 5
@@ -96,262 +94,6 @@ DEFAULT_DRAWS = 100
 """Template draws per table row."""
 ROWS_PER_BIN = 8
 """Default binning: about this many rows per bin on average."""
-ENGINES = ("memory", "local", "dask")
-_FITTABLE_FIELDS = {"normal": ("mean", "std"), "truncnormal": ("mean", "std")}
-_SI = {"speed": "mph", "angle": "deg", "length": "in", "spin": "rpm", "dimensionless": "1"}
-"""The unit parameters are reported (and fitted) in when the study wrote none."""
-
-
-# ------------------------------------------------------------------ the table
-
-
-def population_table(df, observables=("launch_speed", "launch_angle"), source=None):
-    """The rows of a tidy Statcast table (:func:`mcbat.statcast.read`) a population fit
-    uses, and the counts of rows left out.
-
-    A row is used when it has every observable and the pitch at the plate
-    (:data:`REQUIRED_PITCH`) and the batter's side.
-
-    Raises
-    ------
-    InputError
-        A table without an observable's or a pitch column, or without a usable row.
-    """
-    for name in (*observables, *REQUIRED_PITCH, "handedness"):
-        if name not in df.columns:
-            what = ("a batted-ball observable" if name in OBSERVABLES else
-                    "the measured pitch each row's template is conditioned on")
-            raise InputError(name, f"missing column ({what}); a population fit reads a "
-                             "Statcast export or mcbat's tidy table (mcbat statcast)", source)
-    ok = np.ones(len(df), bool)
-    dropped = {}
-    for name in observables:
-        good = np.isfinite(df[name].to_numpy(float))
-        dropped[f"no_{name}"] = int(np.sum(ok & ~good))
-        ok &= good
-    for name in REQUIRED_PITCH:
-        good = np.isfinite(df[name].to_numpy(float))
-        dropped[f"no_{name}"] = int(np.sum(ok & ~good))
-        ok &= good
-    good = df["handedness"].isin(["R", "L"]).to_numpy()
-    dropped["no_handedness"] = int(np.sum(ok & ~good))
-    ok &= good
-    if ok.sum() < 2:
-        raise InputError(observables[0], f"no rows with {', '.join(observables)} and the "
-                         "pitch at the plate (a table of batted balls is needed)", source)
-    return df.loc[ok].reset_index(drop=True), dropped
-
-
-def _write_pitches(table, path):
-    """The table's pitches as a tidy CSV a study's ``[pitches]`` reads."""
-    out = table[[c for c in (*PITCH_COLUMNS.values(), "handedness") if c in table.columns]]
-    out = out.copy()
-    for name in PITCH_COLUMNS.values():
-        if name not in out.columns:
-            out[name] = np.nan
-    for k, name in enumerate(_IDENTIFIERS):
-        # (identifiers only trace a draw to its pitch; a table without them gets the row)
-        out[name] = table[name] if name in table.columns else np.arange(len(table)) + k
-    out.to_csv(path, index=False)
-
-
-# ------------------------------------------------------------------ parameters
-
-
-@dataclass
-class _Key:
-    """A free study key: its distribution (in the reporting unit) and where it is drawn."""
-
-    key: str
-    column: str
-    kind: str
-    unit: str
-    scale: float  # SI per reporting unit
-    mean: float
-    std: float
-    low: float = -math.inf
-    high: float = math.inf
-
-    def logpdf(self, x, mean, std):
-        """Log density (up to a constant common to every parameter value) at ``x``."""
-        z = (x - mean) / std
-        out = -0.5 * z * z - math.log(std)
-        if self.kind == "truncnormal":
-            mass = (special.ndtr((self.high - mean) / std)
-                    - special.ndtr((self.low - mean) / std))
-            out = out - math.log(max(mass, 1e-300))
-        return out
-
-    def spec(self, mean, std):
-        """The TOML spec of this distribution with ``mean``, ``std`` (reporting unit)."""
-        spec = {"dist": self.kind, "mean": mean, "std": std, "unit": self.unit}
-        if self.kind == "truncnormal":
-            spec.update(low=self.low, high=self.high)
-        return spec
-
-
-def _key_of(study, key):
-    dist = study.inputs.get(key)
-    section, name = key.split(".", 1)
-    if dist is None or dist.kind not in _FITTABLE_FIELDS:
-        what = "is not in the study" if dist is None else f"is a {dist.kind} distribution"
-        raise InputError("free", f"{key} {what}: a population fit frees the mean and std "
-                         f"of a normal or truncnormal key (the study's: "
-                         f"{', '.join(fittable_parameters(study)) or 'none'})")
-    unit = dist.unit or _SI.get(dist.quantity, u.SI_UNITS[dist.quantity])
-    scale = u.factor(unit, dist.quantity)
-    low, high = dist.support() if dist.kind == "truncnormal" else (-math.inf, math.inf)
-    return _Key(key, KEYS[section][name][2], dist.kind, unit, scale, dist.mean / scale,
-                dist.std / scale, low / scale, high / scale)
-
-
-def fittable_parameters(study):
-    """The names a population fit of ``study`` can free: ``<key>.mean``, ``<key>.std`` of
-    its normal and truncnormal keys that are not measured pitch values, and
-    :data:`PHYSICS`."""
-    names = [f"{key}.{f}" for key, dist in study.inputs.items()
-             if getattr(dist, "kind", None) in _FITTABLE_FIELDS and key not in PITCH_COLUMNS
-             for f in _FITTABLE_FIELDS[dist.kind]]
-    return names + list(PHYSICS)
-
-
-def _parse_free(study, free):
-    """``(keys, dist_params, physics)`` of the free parameter names, each checked."""
-    if getattr(study, "kind", None) != "game":
-        raise InputError("study", "a population fit needs a game study (with [pitch] and "
-                         "[swing]: docs/batting.md)")
-    keys, params, physics = {}, [], []
-    for name in free:
-        if name in PHYSICS:
-            physics.append(name)
-            continue
-        key, _, what = name.rpartition(".")
-        if key in PITCH_COLUMNS:
-            raise InputError("free", f"{name}: the pitch is measured row by row, not drawn")
-        if what not in ("mean", "std") or not key:
-            raise InputError("free", f"unknown parameter {name!r} (the study's: "
-                             f"{', '.join(fittable_parameters(study))})")
-        if key not in keys:
-            keys[key] = _key_of(study, key)
-        params.append((name, key, what))
-    if not free or len(set(free)) != len(free):
-        raise InputError("free", "give each parameter once, at least one")
-    for name in physics:
-        section, key = PHYSICS[name]
-        if f"{section}.{key}" in keys:
-            raise InputError("free", f"{name} sets {section}.{key}, whose distribution's "
-                             "parameters are free too: free one or the other")
-    return keys, params, physics
-
-
-# ------------------------------------------------------------------ templates
-
-
-class _Simulator:
-    """The study rewritten for the table (its pitches, proposals, physics nodes), solved
-    on an engine; returns the draws' free-key columns and observables."""
-
-    def __init__(self, study, table, draws, seed, engine, workdir):
-        if engine not in ENGINES:
-            raise InputError("engine", f"must be one of {', '.join(ENGINES)}, got {engine!r}")
-        self.draws, self.seed, self.engine = draws, seed, engine
-        self._tmp = tempfile.TemporaryDirectory(prefix="mcbat-population-")
-        self.workdir = Path(workdir) if workdir is not None else Path(self._tmp.name)
-        self.workdir.mkdir(parents=True, exist_ok=True)
-        pitches = self.workdir / "pitches.csv"
-        _write_pitches(table, pitches)
-        self.base = _conditioned_definition(study, pitches)
-        self.source = study.source
-        self.runs = 0
-
-    def run(self, proposal, physics, columns, observables):
-        """Draws of the study with the free keys' ``proposal`` ({key: (_Key, mean, std)})
-        and ``physics`` ({name: value}): ``(inputs, observed, ok)``."""
-        data = copy.deepcopy(self.base)
-        for key, (k, mean, std) in proposal.items():
-            section, name = key.split(".", 1)
-            data.setdefault(section, {})[name] = k.spec(mean, std)
-        for name, value in physics.items():
-            section, key = PHYSICS[name]
-            if name == "e" and "e" in data.get("restitution", {}):
-                key = "e"  # a study with a constant e*
-            data.setdefault(section, {})[key] = float(value)
-        study = Study.from_dict(data, source=self.source)
-        self.runs += 1
-        if self.engine == "memory":
-            return _solve_memory(study, self.draws, self.seed, columns, observables)
-        return self._solve_engine(study, columns, observables)
-
-    def _solve_engine(self, study, columns, observables):
-        from mcbat.dataset.load import load
-        from mcbat.runner.study_run import run_study
-
-        out = self.workdir / f"templates_{self.runs}"
-        run_study(study, out, samples=self.draws, seed=self.seed, engine=self.engine,
-                  progress=False, overwrite=True)
-        df = load(out, columns=[*columns, *observables, "status"])
-        ok = df["status"].to_numpy() == 0
-        return ({c: df[c].to_numpy(float) for c in columns},
-                {c: df[c].to_numpy(float) for c in observables}, ok)
-
-    def close(self):
-        """Remove the temporary files."""
-        self._tmp.cleanup()
-
-
-def _conditioned_definition(study, pitches):
-    """The study's definition with its pitches drawn from ``pitches`` (the table's rows),
-    each row's batter side, no flight and no summary."""
-    data = study.definition()
-    for section in ("flight", "summary", "output", "pitches"):
-        data.pop(section, None)
-    data.pop("handedness", None)  # each pitch meets the batter who saw it
-    pitch = data.get("pitch", {})
-    fallback = {}
-    for key in PITCH_COLUMNS:
-        name = key.split(".", 1)[1]
-        if name in pitch:
-            fallback[name] = pitch.pop(name)
-        else:  # the game's default, for rows that lack the value
-            default, quantity = KEYS["pitch"][name][1], KEYS["pitch"][name][0]
-            fallback[name] = {"value": default, "unit": u.SI_UNITS[quantity]}
-    data["pitch"] = pitch
-    data["pitches"] = {"file": str(pitches), "fallback": fallback}
-    if "restitution" not in data:  # the game preset, written out so e and e_x can be set
-        r = GAME_RESTITUTION
-        data["restitution"] = {"e_ref": r.e_ref, "e_slope": r.e_slope,
-                               "e_speed_ref": {"value": r.e_speed_ref, "unit": "m/s"},
-                               "e_x": r.e_x}
-    return data
-
-
-def _solve_memory(study, draws, seed, columns, observables):
-    """Sample and solve the draws in this process (what an engine's chunk does)."""
-    from mcbat.runner.pitches import load_pitches
-
-    study = load_pitches(study)
-    inputs = study.sample_inputs(0, draws, seed)
-    batted, ok = solve_game_inputs(study, inputs)
-    row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
-    return ({c: inputs[row[c]].copy() for c in columns},
-            {c: np.asarray(batted[c], float) for c in observables}, ok)
-
-
-# ------------------------------------------------------------------ binning
-
-
-def _edges(data, bins):
-    """Interior edges of equal-count bins of ``data`` (the outer bins are open)."""
-    q = np.quantile(data, np.arange(1, bins) / bins)
-    return np.unique(q)
-
-
-def _bin_index(values, edges):
-    """Flat bin index of every point (``values``: list of arrays, one per axis)."""
-    idx = np.zeros(len(values[0]), np.int64)
-    for v, e in zip(values, edges):
-        idx = idx * (len(e) + 1) + np.searchsorted(e, v, side="right")
-    return idx
 
 
 # ------------------------------------------------------------------ the fit
@@ -396,73 +138,6 @@ class PopulationResult:
                 "method": "binned likelihood, Barlow-Beeston-lite for weighted templates "
                           "(iminuit.cost.template_chi2_da), MINOS intervals",
                 "warnings": self.warnings}
-
-
-class _Cost:
-    """The binned cost at any parameter vector (reporting units)."""
-
-    def __init__(self, n, keys, params, physics, nodes, draws_x, logq, idx, nbins):
-        self.n, self.keys, self.params, self.physics = n, keys, params, physics
-        self.nodes, self.x, self.logq, self.idx, self.nbins = nodes, draws_x, logq, idx, nbins
-        self.total = float(n.sum())
-        self.errordef = 1.0  # a chi2-like cost: intervals where it rises by 1
-
-    def values(self, theta):
-        """``{key: (mean, std)}`` and ``{physics: value}`` of a parameter vector."""
-        dists = {key: [k.mean, k.std] for key, k in self.keys.items()}
-        for (_, key, what), value in zip(self.params, theta):
-            dists[key][0 if what == "mean" else 1] = value
-        phys = dict(zip(self.physics, theta[len(self.params):]))
-        return dists, phys
-
-    def weights(self, theta):
-        """The draws' weights at ``theta``."""
-        dists, _ = self.values(theta)
-        logw = -self.logq.copy()
-        for key, (mean, std) in dists.items():
-            logw += self.keys[key].logpdf(self.x[key], mean, std)
-        return np.exp(logw - np.max(logw))
-
-    def template(self, theta):
-        """Sum and variance of the weights in each bin, interpolated between nodes."""
-        w = self.weights(theta)
-        _, phys = self.values(theta)
-        t = np.zeros(self.nbins)
-        v = np.zeros(self.nbins)
-        for corner, c in grid_corners(self.nodes, phys):
-            idx = self.idx[corner]
-            good = idx >= 0
-            t += c * np.bincount(idx[good], w[good], self.nbins)
-            # correlated nodes (common random numbers): sum c_g V_g bounds the variance
-            v += c * np.bincount(idx[good], w[good] ** 2, self.nbins)
-        return t, v
-
-    def __call__(self, theta):
-        from iminuit.cost import template_chi2_da
-
-        t, v = self.template(np.asarray(theta, float))
-        s = t.sum()
-        if not s > 0:
-            return 1e30
-        mu = np.maximum(self.total * t / s, 1e-12)
-        var = np.maximum(self.total**2 * v / s**2, 1e-24)
-        return float(template_chi2_da(self.n, mu, var))
-
-
-def grid_corners(nodes, phys):
-    """``(node index tuple, coefficient)`` of the multilinear interpolation at ``phys``."""
-    if not nodes:
-        return [((), 1.0)]
-    parts = []
-    for name, z in nodes.items():
-        x = float(np.clip(phys[name], z[0], z[-1]))
-        j = int(min(np.searchsorted(z, x, side="right") - 1, len(z) - 2))
-        t = (x - z[j]) / (z[j + 1] - z[j])
-        parts.append(((j, 1.0 - t), (j + 1, t)))
-    out = [((), 1.0)]
-    for pair in parts:
-        out = [(c + (j,), a * b) for c, a in out for j, b in pair if b > 0.0]
-    return out
 
 
 def fit_population(study, table, free, *, draws=None, bins=None,
@@ -515,7 +190,7 @@ def fit_population(study, table, free, *, draws=None, bins=None,
         if name not in OBSERVABLES:
             raise InputError("observables", f"unknown observable {name!r} (choose from "
                              f"{', '.join(OBSERVABLES)})")
-    keys, params, physics = _parse_free(study, tuple(free))
+    keys, params, physics = parse_free(study, tuple(free))
     source = table.attrs.get("source")
     data, dropped = population_table(table, observables, source)
     rows = len(data)
@@ -523,12 +198,12 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     # observables): 100 rows in 3 x 3 bins left 3 degrees of freedom for 5 parameters
     per_axis = bins or max(5 if len(observables) < 3 else 3,
                            int((rows / ROWS_PER_BIN) ** (1.0 / len(observables))))
-    edges = [_edges(data[o].to_numpy(float), per_axis) for o in observables]
+    edges = [equal_count_edges(data[o].to_numpy(float), per_axis) for o in observables]
     nbins = int(np.prod([len(e) + 1 for e in edges]))
-    n = np.bincount(_bin_index([data[o].to_numpy(float) for o in observables], edges),
+    n = np.bincount(bin_index([data[o].to_numpy(float) for o in observables], edges),
                     minlength=nbins).astype(float)
     m = (draws or DEFAULT_DRAWS) * rows
-    sim = _Simulator(study, data, m, seed, engine, workdir)
+    sim = TemplateSimulator(study, data, m, seed, engine, workdir)
     study_values = {key: (k.mean, k.std) for key, k in keys.items()}
     centre = {key: [k.mean, k.std] for key, k in keys.items()}
     phys0 = {p: _study_physics(study, p) for p in physics}
@@ -666,7 +341,7 @@ def _build_cost(sim, keys, params, physics, centre, phys_centre, phys_width, obs
     for corner in np.ndindex(*(NODES for _ in physics)):
         values = {p: float(nodes[p][j]) for p, j in zip(physics, corner)}
         inputs, observed, ok = sim.run(proposal, values, columns, observables)
-        index = _bin_index([observed[o] for o in observables], edges)
+        index = bin_index([observed[o] for o in observables], edges)
         index[~ok] = -1
         idx[corner] = index
         obs[corner] = np.stack([np.where(ok, observed[o], np.nan) for o in observables])
@@ -674,7 +349,7 @@ def _build_cost(sim, keys, params, physics, centre, phys_centre, phys_width, obs
             x = {key: inputs[k.column] / k.scale for key, k in keys.items()}
             logq = sum((k.logpdf(x[key], proposal[key][1], proposal[key][2])
                         for key, k in keys.items()), np.zeros(len(ok)))
-    cost = _Cost(n, keys, params, physics, nodes, x, logq, idx, nbins)
+    cost = BinnedCost(n, keys, params, physics, nodes, x, logq, idx, nbins)
     cost.proposal, cost.observed = proposal, obs
     return cost, nodes
 
@@ -704,7 +379,7 @@ def _check_cover(cost, n, data, observables, edges, source):
         reached[idx[idx >= 0]] = True
     empty = (n > 0) & ~reached
     if empty.any():
-        where = np.isin(_bin_index([data[o].to_numpy(float) for o in observables], edges),
+        where = np.isin(bin_index([data[o].to_numpy(float) for o in observables], edges),
                         np.flatnonzero(empty))
         ranges = ", ".join(f"{o} {data[o][where].min():.4g} to {data[o][where].max():.4g} "
                            f"{OBSERVABLES[o]}" for o in observables)
@@ -745,35 +420,3 @@ def _parameters(mn, keys, params, physics, study_values, phys0, warnings):
                     "stderr": float(mn.errors[name]), "lower_error": lower,
                     "upper_error": upper, "unit": unit, "study_value": float(study_value)})
     return out
-
-
-# ------------------------------------------------------------------ simulated tables
-
-
-def simulate_table(study, pitches, rows, seed, values=None):
-    """A table of ``rows`` batted balls of ``study`` with its distributions' parameters
-    set to ``values`` (``{"swing.bat_speed.mean": 70, "e": 0.5, ...}``, reporting units:
-    the study's), each ball meeting a pitch of ``pitches`` (a tidy Statcast table) drawn
-    with replacement: the measured pitch columns and the observables, for injection
-    tests."""
-    values = dict(values or {})
-    keys, params, physics = _parse_free(study, tuple(values)) if values else ({}, [], [])
-    sim = _Simulator(study, pitches.reset_index(drop=True), rows, seed, "memory", None)
-    try:
-        proposal = {key: (k, k.mean, k.std) for key, k in keys.items()}
-        for name, key, what in params:
-            k, mean, std = proposal[key]
-            proposal[key] = (k, values[name], std) if what == "mean" else (k, mean,
-                                                                            values[name])
-        phys = {p: values[p] for p in physics if p in values}
-        inputs, observed, ok = sim.run(proposal, phys, ["pitch_speed"], tuple(OBSERVABLES))
-        from mcbat.runner.pitches import load_pitches
-
-        rewritten = load_pitches(Study.from_dict(sim.base, source=study.source))
-        ids = rewritten.pitch_identifiers(0, rows, seed)["source_row"]
-    finally:
-        sim.close()
-    table = pitches.reset_index(drop=True).iloc[ids].reset_index(drop=True).copy()
-    for o in OBSERVABLES:
-        table[o] = observed[o]
-    return table.loc[ok].reset_index(drop=True)

@@ -14,7 +14,8 @@ deliberately different formulation, so that the two can check each other:
   last ``1e-10`` of the slip speed before it stops.
 
 It imports nothing from the kernel (``contact``, ``rigid_bodies``, ``geometry``) and uses only
-numpy and scipy. Production code never calls it; it is far too slow for sampling.
+numpy and scipy (its pieces are in :mod:`mcbat.testing.reference_parts`). Production code
+never calls it; it is far too slow for sampling.
 
 The model is the matrix form of ``docs/physics.md``: Coulomb friction, stick when the holding rate
 ``|f| <= mu``, re-slip along ``u*`` otherwise, and Stronge's energetic restitution
@@ -24,8 +25,16 @@ The model is the matrix form of ``docs/physics.md``: Coulomb friction, stick whe
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+
+from mcbat.testing.reference_parts import (
+    RESLIP_SAMPLES,
+    Bodies,
+    contact_basis,
+    integrate,
+    numerical_k,
+    reslip_direction,
+    tangential_rebound,
+)
 
 __all__ = ["MAX_SEGMENTS", "RESLIP_SAMPLES", "SLIP_STOP_FRACTION", "TAU_STOP_RATIO",
            "reference_impact"]
@@ -41,152 +50,8 @@ SLIP_STOP_FRACTION = 1e-10
 # the rest is extrapolated linearly. The slip direction still turns at the threshold, so a
 # linear extrapolation from it alone would err by ~1e-10 of I_s (it did: 3.6e-10).
 TAU_STOP_RATIO = 1e-6
-# Samples of the azimuth scan that brackets the re-slip directions before brentq.
-RESLIP_SAMPLES = 3600
 # Safety cap on the number of chained solve_ivp segments (phase changes + events).
 MAX_SEGMENTS = 50
-
-
-def _cross(a, b):
-    """Cross product of two 3-vectors (np.cross is ~10x slower on tiny arrays)."""
-    return np.array([a[1] * b[2] - a[2] * b[1],
-                     a[2] * b[0] - a[0] * b[2],
-                     a[0] * b[1] - a[1] * b[0]])
-
-
-def _frame(axial, angle, radius, slope):
-    """Contact basis and contact point, re-derived with numpy.
-
-    Parameters
-    ----------
-    axial : float
-        Axial position of the contact from the bat CM, m.
-    angle : float
-        Azimuth of the contact point, rad.
-    radius : float
-        Bat radius at the contact, m.
-    slope : float
-        Profile slope dr/dz (dimensionless).
-
-    Returns
-    -------
-    t1, t2, t3, r_c : numpy.ndarray
-        Azimuthal tangent, meridional tangent, outward normal (unit), contact point (m).
-    """
-    e_r = np.array([math.cos(angle), math.sin(angle), 0.0])
-    k = np.array([0.0, 0.0, 1.0])
-    # Surface point (r(z) e_r, z): the tangent along z is r' e_r + k, the azimuthal one
-    # e_phi = k x e_r; the outward normal is perpendicular to both.
-    t1 = _cross(k, e_r)
-    meridian = slope * e_r + k
-    t2 = meridian / np.linalg.norm(meridian)
-    t3 = _cross(t1, t2)
-    r_c = radius * e_r + axial * k
-    return t1, t2, t3, r_c
-
-
-class _Bodies:
-    """Masses, inertias and contact geometry; maps impulse rates to velocity rates."""
-
-    def __init__(self, ball_mass, ball_radius, ball_inertia_factor, bat_mass,
-                 bat_transverse_inertia, bat_axial_inertia, t3, r_c):
-        self.m_p = float(ball_mass)
-        self.i_p = float(ball_inertia_factor) * self.m_p * float(ball_radius) ** 2
-        self.m_b = float(bat_mass)
-        # Bat inertia is diagonal in the lab frame (z along the bat axis).
-        self.i_b_inv = 1.0 / np.array(
-            [bat_transverse_inertia, bat_transverse_inertia, bat_axial_inertia], dtype=float)
-        self.rho = -float(ball_radius) * t3  # contact point from the ball centre
-        self.r_c = r_c
-
-    def velocity_rates(self, p_rate):
-        """Rates of ``(v_p, w_p, v_b, w_b)`` (12,) for impulse rate ``p_rate`` on the ball."""
-        out = np.empty(12)
-        out[0:3] = p_rate / self.m_p
-        out[3:6] = _cross(self.rho, p_rate) / self.i_p
-        out[6:9] = -p_rate / self.m_b
-        out[9:12] = -self.i_b_inv * _cross(self.r_c, p_rate)
-        return out
-
-    def relative_velocity(self, y):
-        """Relative velocity (m/s) of the ball's contact point with respect to the bat's."""
-        return (y[0:3] + _cross(y[3:6], self.rho)
-                - y[6:9] - _cross(y[9:12], self.r_c))
-
-    def energy(self, y):
-        """Kinetic energy (J) of both bodies."""
-        return 0.5 * (self.m_p * y[0:3] @ y[0:3] + self.i_p * y[3:6] @ y[3:6]
-                      + self.m_b * y[6:9] @ y[6:9] + (y[9:12] ** 2 / self.i_b_inv).sum())
-
-
-def _numerical_k(bodies, basis):
-    """Impulse-to-velocity map in the contact basis, from unit impulses.
-
-    The relative velocity is linear in the body velocities, which are linear in the
-    impulse, so applying each unit impulse to zero velocities gives the column of ``K``
-    exactly (no difference of large numbers).
-
-    Returns
-    -------
-    numpy.ndarray
-        (3, 3) matrix, rows and columns in the basis ``(t1, t2, t3)``, units 1/kg.
-    """
-    k = np.empty((3, 3))
-    for j in range(3):
-        y = np.zeros(14)
-        y[:12] = bodies.velocity_rates(basis[j])
-        k[:, j] = basis @ bodies.relative_velocity(y)
-    return k
-
-
-def _reslip_direction(k, mu):
-    """Unit direction ``u*`` (2,) with ``K_tn - mu K_tt u* = lambda u*``, largest lambda > 0.
-
-    Scans the azimuth of ``u`` for sign changes of the 2D cross product ``u x g(u)``,
-    ``g = K_tn - mu K_tt u``, refines each with brentq and keeps the roots with
-    ``u . g > 0``. Returns None if there is none.
-    """
-    k_tt = k[:2, :2]
-    k_tn = k[:2, 2]
-
-    def g(phi):
-        return k_tn - mu * k_tt @ np.array([math.cos(phi), math.sin(phi)])
-
-    def cross(phi):
-        gv = g(phi)
-        return math.cos(phi) * gv[1] - math.sin(phi) * gv[0]
-
-    phis = np.linspace(0.0, 2.0 * math.pi, RESLIP_SAMPLES + 1)
-    u_all = np.array([np.cos(phis), np.sin(phis)])
-    g_all = k_tn[:, None] - mu * (k_tt @ u_all)
-    values = u_all[0] * g_all[1] - u_all[1] * g_all[0]
-    roots = []
-    for a, b, fa, fb in zip(phis[:-1], phis[1:], values[:-1], values[1:]):
-        if fa == 0.0:
-            roots.append(a)
-        elif fa * fb < 0.0:
-            roots.append(brentq(cross, a, b, xtol=1e-15, rtol=4.0 * np.finfo(float).eps,
-                                 maxiter=200))
-    best, best_lambda = None, 0.0
-    for phi in roots:
-        u = np.array([math.cos(phi), math.sin(phi)])
-        lam = float(u @ g(phi))
-        if lam > best_lambda:
-            best, best_lambda = u, lam
-    return best
-
-
-def _integrate(rhs, span, y, events, rtol, atol):
-    """``solve_ivp`` (DOP853) over ``span`` with terminal ``events``: ``(t, y, name)`` at the
-    earliest event that fired, or at the end of the span with ``name`` None."""
-    sol = solve_ivp(rhs, span, y, method="DOP853", events=events, rtol=rtol, atol=atol)
-    if sol.status == -1:
-        raise RuntimeError(f"solve_ivp failed: {sol.message}")
-    if sol.status == 0:
-        return sol.t[-1], sol.y[:, -1], None
-    fired = [(te[0], j) for j, te in enumerate(sol.t_events) if len(te)]
-    t, j = min(fired)
-    return t, sol.y_events[j][0], events[j].__name__
 
 
 def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
@@ -212,7 +77,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         Energetic coefficient of restitution ``e*`` in [0, 1].
     e_x : float
         Tangential restitution (Cross & Nathan 2006) in [0, 1]; applied within the stick
-        phase of a contact that ends stuck by :func:`_tangential_rebound` (see
+        phase of a contact that ends stuck by :func:`tangential_rebound` (see
         ``mcbat/core/cross_nathan2006/README.md``).
     rtol, atol : float
         Tolerances of ``solve_ivp`` (DOP853).
@@ -243,9 +108,9 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         ``slip_near_misses`` lists ``(I, |v_t|)`` at minima of the slip speed that stay
         above the stick threshold.
     """
-    t1, t2, t3, r_c = _frame(axial, angle, radius, slope)
+    t1, t2, t3, r_c = contact_basis(axial, angle, radius, slope)
     basis = np.array([t1, t2, t3])
-    bodies = _Bodies(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
+    bodies = Bodies(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                      bat_transverse_inertia, bat_axial_inertia, t3, r_c)
     mu = float(mu)
     e = float(e)
@@ -269,7 +134,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                     normal_work_at_stick=math.nan, energy_in=energy_in,
                     energy_out=energy_in, phases=[], slip_near_misses=[])
 
-    k = _numerical_k(bodies, basis)
+    k = numerical_k(bodies, basis)
     # Generous bound on the impulse of one segment; segments are chained until separation.
     span = 1e3 * speed0 / np.linalg.eigvalsh(0.5 * (k + k.T))[0]
     if slip_stop_fraction is None:
@@ -317,7 +182,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         f = -np.linalg.solve(k[:2, :2], k[:2, 2])
         if np.linalg.norm(f) <= mu:
             return "stick", f[0] * t1 + f[1] * t2
-        u = _reslip_direction(k, mu)
+        u = reslip_direction(k, mu)
         if u is None:
             raise RuntimeError("no re-slip direction")
         return "reslip", -mu * (u[0] * t1 + u[1] * t2)
@@ -413,7 +278,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
                     return whole(zz)[0][12] - target
                 ev_separation.terminal, ev_separation.direction = True, 1.0
                 events.append(ev_separation)
-            _, zz, name = _integrate(rhs, (0.0, span), zz, events, rtol, atol_tau)
+            _, zz, name = integrate(rhs, (0.0, span), zz, events, rtol, atol_tau)
             if name is None:  # not yet at the final speed (the decay slowed): go on
                 continue
             if name == "ev_compression":
@@ -464,7 +329,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
 
         end = imp + span if push_until is None else push_until
         push_until = None
-        imp, y, name = _integrate(make_rhs(rate), (imp, end), y, events, rtol, atol_all)
+        imp, y, name = integrate(make_rhs(rate), (imp, end), y, events, rtol, atol_all)
         if name is None:  # no event inside the span: continue from its end
             continue
         if name == "ev_compression":
@@ -530,7 +395,7 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
 
     end_state = "stuck" if phase == "stick" else "sliding"
     if e_x > 0.0 and end_state == "stuck":
-        y = _tangential_rebound(bodies, basis, y0, y_stick, y, mu, e_x)
+        y = tangential_rebound(bodies, basis, y0, y_stick, y, mu, e_x)
     return dict(
         status="ok",
         end_state=end_state,
@@ -543,53 +408,3 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         energy_in=float(energy_in), energy_out=float(bodies.energy(y)),
         phases=phases, slip_near_misses=near_misses,
     )
-
-
-def _tangential_rebound(bodies, basis, y0, y_stick, y, mu, e_x):
-    """Reverse the incoming slip by ``e_x`` with a tangential impulse of the stick phase.
-
-    ``y0``, ``y_stick`` and ``y`` are the states at incidence, where slip stopped (``I_s``)
-    and at separation (``I_f``). Independent of the kernel's closed forms: the impulse comes
-    from a 2x2 solve with the numerical ``K``, the stick phase's impulse from the ball's
-    momentum change between ``y_stick`` and ``y``, and the scale ``s`` from root finding on
-    the constraints evaluated on the bodies themselves: the rebound within the friction the
-    stick phase leaves unused (``|P_stick,t| + s |dP| <= mu P_stick,n``), net friction work
-    (integrated ``W_fr`` plus the energy given back) not positive, kinetic energy not above
-    the initial, normal relative velocity not negative.
-    """
-    t1, t2, t3 = basis
-    v_in = bodies.relative_velocity(y0)
-    target = -e_x * np.array([v_in @ t1, v_in @ t2])
-    now = bodies.relative_velocity(y)
-    k = _numerical_k(bodies, basis)
-    dp = np.linalg.solve(k[:2, :2], target - np.array([now @ t1, now @ t2]))
-    dp_lab = dp[0] * t1 + dp[1] * t2
-
-    def moved(s):
-        out = y.copy()
-        out[:12] += bodies.velocity_rates(s * dp_lab)
-        out[13] += bodies.energy(out) - bodies.energy(y)
-        return out
-
-    stick = bodies.m_p * (y[0:3] - y_stick[0:3])  # impulse on the ball while stuck
-    stick_normal = stick @ t3
-    stick_tangential = np.linalg.norm(stick - stick_normal * t3)
-    energy_in = bodies.energy(y0)
-
-    def spare_friction(s):
-        return stick_tangential + s * np.linalg.norm(dp_lab) - mu * stick_normal
-
-    def friction(s):
-        return moved(s)[13]
-
-    def energy(s):
-        return bodies.energy(moved(s)) - energy_in
-
-    def receding(s):
-        return -(bodies.relative_velocity(moved(s)) @ t3)
-
-    s = 1.0
-    for g in (spare_friction, friction, energy, receding):
-        if g(s) > 0.0:
-            s = brentq(g, 0.0, s, xtol=1e-15) if g(0.0) < 0.0 else 0.0
-    return moved(s)

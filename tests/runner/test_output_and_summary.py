@@ -12,7 +12,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import mcbat
-from mcbat.core import binned_stats as core
+from mcbat.dataset import binned_stats as core
 from mcbat.dataset import chunks as ds
 from mcbat.errors import InputError
 from mcbat.runner import run_study

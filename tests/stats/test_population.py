@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 import mcbat
-from mcbat.errors import InputError
 from mcbat.statcast import read, write
 from mcbat.stats.population import fit_population, population_table, simulate_table
 
@@ -47,13 +46,6 @@ def _one_line_exit_2(proc, *words):
         assert word in lines[0], lines[0]
 
 
-def test_real_rows_are_the_balls_in_play(pitches):
-    # data/statcast_2020-09-03.csv: every used row has a launch, a plate speed and a side
-    assert len(pitches) > 300
-    assert np.all(np.isfinite(pitches[["launch_speed", "launch_angle", "pitch_speed"]]))
-    assert set(pitches["handedness"]) <= {"R", "L"}
-
-
 def test_injected_parameters_are_recovered(study, pitches):
     # One 400-row table simulated at known values (the real pitches, resampled): each
     # fitted value within 3 of its MINOS errors of the truth, and a sane goodness of fit.
@@ -84,18 +76,6 @@ def test_physics_constant_by_grid(study, pitches):
         assert abs(p["value"] - truth) < 3 * sigma, p
 
 
-def test_engines_give_the_same_templates(study, pitches, tmp_path):
-    # the local engine (run_study into a dataset, read back) and the in-process solve draw
-    # the same balls: the same fit to the last digit
-    table = simulate_table(study, pitches, 60, seed=3, values={})
-    kw = {"draws": 10, "seed": 4, "passes": 1}
-    memory = fit_population(study, table, ["swing.bat_speed.mean"], **kw)
-    local = fit_population(study, table, ["swing.bat_speed.mean"], engine="local",
-                           workdir=tmp_path, **kw)
-    assert memory.parameters[0]["value"] == local.parameters[0]["value"]
-    assert memory.chi2 == local.chi2
-
-
 def test_real_statcast_fit_cli(tmp_path):
     # the shipped day of 2020 games: the fit runs, with strict JSON, finite intervals and
     # a figure; the bat speed it gives is a bat speed (40-90 mph)
@@ -113,34 +93,6 @@ def test_real_statcast_fit_cli(tmp_path):
     for p in out["parameters"]:
         assert p["lower_error"] is None or p["lower_error"] > 0
     assert figure.stat().st_size > 10_000
-
-
-def test_table_without_observables(pitches):
-    with pytest.raises(InputError, match="launch_angle"):
-        population_table(pitches.drop(columns=["launch_angle"]))
-    table = pitches.copy()
-    table["launch_speed"] = np.nan
-    with pytest.raises(InputError, match="no rows with launch_speed"):
-        population_table(table)
-
-
-@pytest.mark.parametrize("free, words", [
-    ("swing.bat_speed.mean,swing.nothing.mean", ["--free", "swing.nothing"]),
-    ("swing.bat_speed.width", ["--free", "unknown parameter"]),
-    ("pitch.speed.mean", ["--free", "measured row by row"]),
-    ("friction.mu.mean", ["--free", "friction.mu"]),
-])
-def test_parameters_the_study_does_not_have(free, words):
-    proc = _mcbat("fit", "--population", "--study", str(STUDY), "--data", str(REAL),
-                  "--free", free)
-    _one_line_exit_2(proc, *words)
-
-
-def test_uniform_key_is_refused(study, pitches):
-    # studies/real_pitches.toml draws the undercut uniformly: no mean and std to fit
-    game = mcbat.load_study(ROOT / "studies" / "real_pitches.toml")
-    with pytest.raises(InputError, match="uniform distribution"):
-        fit_population(game, pitches, ["contact.undercut.mean"])
 
 
 def test_template_that_cannot_cover_the_data(tmp_path, pitches):

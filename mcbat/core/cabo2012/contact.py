@@ -46,7 +46,8 @@ __all__ = ["Accuracy", "Compression", "Contact", "ContactResult", "NOT_COMPRESSE
            "solve_contact", "stick_impulse_rate", "velocity",
            "DEFAULT_ACCURACY", "DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE",
            "EVENT_MAX_ITER", "EVENT_TOLERANCE", "LANDING_FRACTION", "RESLIP_SAMPLES",
-           "SLIP_RESOLUTION", "STABLE_STEP", "STICK_TOLERANCE"]
+           "SLIP_RESOLUTION", "STABLE_STEP", "STICK_TOLERANCE",
+           "STEP_ACTION", "LAND_ACTION", "STOP_ACTION"]
 
 # Slip speed (relative to the initial relative speed) treated as exactly zero.
 STICK_TOLERANCE = 1e-13
@@ -79,6 +80,13 @@ EVENT_TOLERANCE = 1e-14
 EVENT_MAX_ITER = 60
 # Re-slip direction search: azimuth samples before bisection.
 RESLIP_SAMPLES = 72
+
+# The actions of the slip step rule (step_plan): take a step, land on v_t = 0 by linear
+# extrapolation, or stop where the slip is. Module-level ints, so numba compiles them in as
+# constants.
+STEP_ACTION = 0
+LAND_ACTION = 1
+STOP_ACTION = 2
 
 DEFAULT_STEPS = 8
 """Steps per ``I_scale = 2 |v_n0| / K_33`` (the frictionless elastic impulse), at least."""
@@ -380,9 +388,10 @@ def step_plan(ctl, pt, imp, h, first):
     """The slip step rule, shared by :func:`solve_contact` and ``contact_history``: at the
     slip ``pt`` and normal impulse ``imp``, with ``h`` the step the last one proposed.
 
-    Returns ``(action, h, stick_rate, tol_i)``: action 0 step (of ``h``), 1 land, 2 stop
-    (the slip speed is at most ``SLIP_RESOLUTION |v0|`` at incidence, or there and not
-    falling: slip has stopped, or passed a minimum that close to zero); the rate (1/kg)
+    Returns ``(action, h, stick_rate, tol_i)``: action :data:`STEP_ACTION` (a step of
+    ``h``), :data:`LAND_ACTION` or :data:`STOP_ACTION` (the slip speed is at most
+    ``SLIP_RESOLUTION |v0|`` at incidence, or there and not falling: slip has stopped, or
+    passed a minimum that close to zero); the rate (1/kg)
     at which a slip error moves ``I_s`` and the impulse error allowed (kg m/s), for
     :func:`error_ratio`.
     """
@@ -392,9 +401,9 @@ def step_plan(ctl, pt, imp, h, first):
     stick_rate = max(lam, pt.s / ctl.i_scale)
     tol_i = ctl.tolerance * min(ctl.i_scale, imp + pt.s / stick_rate)
     if pt.s <= ctl.s_resolution and (first or not lam > 0.0):  # see SLIP_RESOLUTION
-        return 2, h, stick_rate, tol_i
+        return STOP_ACTION, h, stick_rate, tol_i
     if lam > 0.0 and (pt.s <= ctl.s_stop or _may_land(pt, LANDING_FRACTION * tol_i)):
-        return 1, h, stick_rate, tol_i
+        return LAND_ACTION, h, stick_rate, tol_i
     if first:
         # A first guess from the rates the step must follow: the speed's (lam) and the
         # direction's turn; the error control corrects it from there.
@@ -402,7 +411,7 @@ def step_plan(ctl, pt, imp, h, first):
     h = min(h, STABLE_STEP / pt.stiffness)
     if not (lam >= 0.0 and pt.s * h <= ctl.impulse_max):  # else the cap cannot bind
         h = min(h, impulse_step_cap(pt.s, lam, ctl.impulse_max))
-    return 0, h, stick_rate, tol_i
+    return STEP_ACTION, h, stick_rate, tol_i
 
 
 @njit(inline="always")
@@ -469,9 +478,9 @@ def _slip_phase(c, acc, e2):
     while steps < acc.max_steps:
         pt = tau_point(c, w1, w2)
         action, h, stick_rate, tol_i = step_plan(ctl, pt, state.imp, h, steps == 0)
-        if action == 2:
+        if action == STOP_ACTION:
             return st.OK, remove_residual_slip(c, state), comp, False, steps, rise_left
-        if action == 1:
+        if action == LAND_ACTION:
             end, comp, separated, rise_left = _land(c, state, comp, e2, rise_left)
             return st.OK, end, comp, separated, steps, rise_left
         lam = -pt.rate

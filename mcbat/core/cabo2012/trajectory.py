@@ -15,6 +15,8 @@ import numpy as np
 from mcbat.core import status as st
 from mcbat.core.cabo2012.contact import (
     DEFAULT_TOLERANCE,
+    LAND_ACTION,
+    STOP_ACTION,
     Contact,
     SlipState,
     after_slip,
@@ -90,10 +92,10 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
             return out, i_s  # bounded: the remaining points stay NaN
         pt = tau_point(c, w1, w2)
         action, h, stick_rate, tol_i = step_plan(ctl, pt, state.imp, h, passes == 1)
-        if action == 2:
+        if action == STOP_ACTION:
             state = remove_residual_slip(c, state)
             break
-        if action == 1:  # land: v_t falls linearly to zero, as in the solver
+        if action == LAND_ACTION:  # land: v_t falls linearly to zero, as in the solver
             sp = slip_point(c, state)
             dist = sp.s / (-sp.sigma)
             while j < n and impulses[j] <= state.imp + dist:

@@ -13,6 +13,7 @@ from mcbat.core.swing.frames import (
 )
 from mcbat.core.swing.game import (
     FRAME_FIELDS,
+    GAME_INPUT,
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
     allocate_game_outputs,
@@ -21,7 +22,7 @@ from mcbat.core.swing.game import (
     solve_game_batch,
 )
 
-__all__ = ["FRAME_FIELDS", "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS",
+__all__ = ["FRAME_FIELDS", "GAME_INPUT", "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS",
            "SWEET_SPOT_FROM_BARREL_END", "BatBody", "GameContact", "Pitch", "Swing",
            "allocate_game_outputs", "bat_frame", "bat_frame_columns", "incoming_state",
            "pitch_state", "solve_game_batch", "swing_state"]

@@ -10,6 +10,7 @@ pitch that does not approach the bat ``not_approaching``, with NaN outputs.
 """
 
 import math
+from collections import namedtuple
 
 import numba
 import numpy as np
@@ -35,8 +36,9 @@ from mcbat.core.swing.frames import (
 )
 from mcbat.core.vec3 import dot, norm, scale
 
-__all__ = ["FRAME_FIELDS", "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS", "allocate_game_outputs",
-           "bat_frame_columns", "incoming_state", "solve_game_batch", "solve_game_row"]
+__all__ = ["FRAME_FIELDS", "GAME_INPUT", "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS",
+           "GameInputRows", "allocate_game_outputs", "bat_frame_columns", "incoming_state",
+           "solve_game_batch", "solve_game_row"]
 
 GAME_INPUT_FIELDS = (
     "ball_mass", "ball_radius", "ball_inertia_factor",
@@ -52,6 +54,14 @@ GAME_INPUT_FIELDS = (
 """Game inputs (SI: m, m/s, rad, rad/s; ``handedness`` +1 R, -1 L). ``bat_radius`` and
 ``bat_slope`` are the surface at the contact (from a profile, outside the kernel);
 ``e_location_factor`` is the restitution table's value there (1 without a table)."""
+
+GameInputRows = namedtuple("GameInputRows", GAME_INPUT_FIELDS)
+GameInputRows.__doc__ = """The row of each game input in the kernel's input array, by name."""
+GAME_INPUT = GameInputRows(*range(len(GAME_INPUT_FIELDS)))
+"""Row indices of the game inputs by name (``GAME_INPUT.mu``), built from
+:data:`GAME_INPUT_FIELDS`, so a field added to the list cannot shift a row the kernel reads.
+Numba reads the module-level tuple as a compile-time constant."""
+_G = GAME_INPUT
 
 GAME_OUTPUT_FIELDS = (
     "impact_parameter", "collision_efficiency",
@@ -116,10 +126,15 @@ def _contact(b, ball_radius, radius, slope, axial):
 @njit(inline="always")
 def _situation(g, col):
     """The pitch, swing, bat and contact of row ``col`` of the game inputs."""
-    return (Pitch(g[11, col], g[12, col], g[13, col], g[14, col], g[15, col], g[16, col],
-                  g[17, col]),
-            Swing(g[10, col], g[18, col], g[19, col], g[20, col], g[21, col], g[22, col]),
-            BatBody(g[6, col], g[7, col]), GameContact(g[23, col], g[24, col]))
+    return (Pitch(g[_G.pitch_speed, col], g[_G.pitch_vertical_approach_angle, col],
+                  g[_G.pitch_horizontal_approach_angle, col], g[_G.pitch_spin_rate, col],
+                  g[_G.pitch_spin_axis, col], g[_G.pitch_spin_efficiency, col],
+                  g[_G.pitch_gyro_sign, col]),
+            Swing(g[_G.handedness, col], g[_G.bat_speed, col], g[_G.attack_angle, col],
+                  g[_G.attack_direction, col], g[_G.vertical_bat_angle, col],
+                  g[_G.pivot, col]),
+            BatBody(g[_G.bat_length, col], g[_G.bat_cm_from_knob, col]),
+            GameContact(g[_G.from_barrel_end, col], g[_G.undercut, col]))
 
 
 @njit
@@ -138,8 +153,9 @@ def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, st
                    end_state):
     """Solve row ``col`` of the game inputs ``g`` and write its outputs (see
     :func:`solve_game_batch`)."""
-    ball_mass, ball_radius, ball_f = g[0, col], g[1, col], g[2, col]
-    radius, slope = g[8, col], g[9, col]
+    ball_mass, ball_radius = g[_G.ball_mass, col], g[_G.ball_radius, col]
+    ball_f = g[_G.ball_inertia_factor, col]
+    radius, slope = g[_G.bat_radius, col], g[_G.bat_slope, col]
     pitch, swing, bat, contact = _situation(g, col)
     ok_p, pv, pw = pitch_state(pitch)
     ok_s, axis, v_cm, omega = swing_state(swing, bat)
@@ -157,7 +173,8 @@ def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, st
     bat_v, bat_w = to_frame(i, j, k, v_cm), to_frame(i, j, k, omega)
     vn = dot(relative_contact_velocity(ball_radius, t3, r_c, ball_v, ball_w, bat_v, bat_w),
              t3)
-    e = energetic_restitution(max(0.0, -vn), g[26, col], g[27, col], g[28, col], g[29, col])
+    e = energetic_restitution(max(0.0, -vn), g[_G.e_ref, col], g[_G.e_slope, col],
+                              g[_G.e_speed_ref, col], g[_G.e_location_factor, col])
 
     frame[0, col], frame[1, col] = axial, angle
     _put3(frame, 2, col, ball_v)
@@ -167,9 +184,11 @@ def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, st
     frame[14, col] = e
 
     r = solve_impact(ImpactInputs(
-        ball_mass, ball_radius, ball_f, g[3, col], g[4, col], g[5, col], axial, angle, radius,
+        ball_mass, ball_radius, ball_f, g[_G.bat_mass, col], g[_G.bat_transverse_inertia, col],
+        g[_G.bat_axial_inertia, col], axial, angle, radius,
         slope, ball_v[0], ball_v[1], ball_v[2], ball_w[0], ball_w[1], ball_w[2],
-        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], g[25, col], e, g[30, col]),
+        bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], g[_G.mu, col], e,
+        g[_G.e_x, col]),
         Accuracy(steps, tolerance, max_steps))
     status[col] = r[0]
     end_state[col] = r[1]
@@ -257,5 +276,5 @@ def bat_frame_columns(game_inputs, frame):
         As written by :func:`solve_game_batch`.
     """
     columns = {name: frame[i] for i, name in enumerate(FRAME_FIELDS)}
-    columns.update({name: game_inputs[GAME_INPUT_FIELDS.index(name)] for name in _COPIED})
+    columns.update({name: game_inputs[getattr(GAME_INPUT, name)] for name in _COPIED})
     return {name: columns[name] for name in INPUT_FIELDS}

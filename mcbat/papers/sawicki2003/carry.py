@@ -7,6 +7,7 @@ import numpy as np
 from mcbat.bodies import ball_preset
 from mcbat.core.flight import FLIGHT_FIELDS, allocate_flight_outputs, fly_batch, pack_params
 from mcbat.study.flight import FlightSettings
+from mcbat.study.units import UNITS
 
 __all__ = ["BALL", "FLIGHT_SETTINGS", "SETTINGS", "fly"]
 
@@ -18,7 +19,7 @@ BALL = ball_preset("baseball")
 FLIGHT_SETTINGS = {**SETTINGS.config(), "ball_mass_kg": BALL.mass,
                    "ball_radius_m": BALL.radius}
 
-_FT = 0.3048
+_FT = UNITS["length"]["ft"]
 
 
 def fly(v, w, settings=SETTINGS):

@@ -48,11 +48,13 @@ from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.runner.plan import set_threads
 from mcbat.statcast import read
 from mcbat.study.flight import FLIGHT_PRESETS, FlightSettings, fly_launches
+from mcbat.study.units import UNITS
 
 __all__ = ["DEFAULT_DATA", "FLIGHTS", "SPIN_MODELS", "compare_file", "reproduce",
            "summarise"]
 
-_FT, _MPH, _DEG, _RPM = 0.3048, 0.44704, math.pi / 180.0, 2.0 * math.pi / 60.0
+_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
+                          UNITS["spin"]["rpm"])
 #: The shipped samples (resources of the ``mcbat.data`` package; ``data/README.md``).
 DEFAULT_DATA = ("statcast_2020-09-03.csv", "statcast_2019_darvish.csv")
 #: The ball every comparison flies: the project's (``mcbat flight``'s and studies').

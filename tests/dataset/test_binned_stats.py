@@ -1,4 +1,4 @@
-"""Mergeable binned statistics (mcbat.core.binned_stats): exact counts and extremes,
+"""Mergeable binned statistics (mcbat.dataset.binned_stats): exact counts and extremes,
 means and standard deviations to 1e-12 of pandas whatever the chunking, quantiles within
 the stated resolution, the same result on 1 or 2 threads and for any cut into chunks."""
 
@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from mcbat.core import binned_stats as bs
+from mcbat.dataset import binned_stats as bs
 
 LOW, HIGH, BINS = np.array([0.0]), np.array([1.0]), np.array([10], np.int64)
 QUANTILES = np.array([0.05, 0.5, 0.95])

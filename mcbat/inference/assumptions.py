@@ -1,0 +1,142 @@
+"""What an inference assumes (:class:`SpinAssumptions`: what the measurements leave open)
+and how it iterates (:class:`InferenceOptions`)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from mcbat.bodies import BALL_PRESETS, Ball, Bat, bat_preset
+from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
+from mcbat.checks import check_real as _real
+from mcbat.checks import check_tolerance
+from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.contact_inference import InferenceSettings
+from mcbat.core.swing import SWEET_SPOT_FROM_BARREL_END
+from mcbat.errors import InputError
+from mcbat.study.units import UNITS
+
+__all__ = ["InferenceOptions", "SpinAssumptions"]
+
+_MPH = UNITS["speed"]["mph"]
+_DEG = UNITS["angle"]["deg"]
+
+
+@dataclass(frozen=True)
+class SpinAssumptions:
+    """What the measurements leave open, assumed (SI: m, rad; defaults: the game
+    presets, ``docs/batting.md``; their effect on the spin: ``docs/spin_inference.md``).
+
+    ``attack_angle`` (rad) is used where the table has no measured one;
+    ``vertical_bat_angle`` (rad, < 0 barrel below the hands) and ``pivot`` (m from the
+    knob) always; ``from_barrel_end`` (m) where the bat speed is inferred. ``mu``,
+    ``restitution`` (``e*`` and ``e_x``), the bat and ball; the pitch's
+    ``spin_efficiency`` and ``gyro_sign``, and its ``spin_axis`` (rad, Statcast's
+    convention) where the table has none. ``contact_side``: where the bat speed is
+    measured, the launch speed has two contact positions, one on each side of its
+    maximum along the bat: ``"handle"`` (default) or ``"end"``.
+    """
+
+    bat: Bat = dataclasses.field(default_factory=lambda: bat_preset("r161"))
+    ball: Ball = BALL_PRESETS["baseball"]
+    attack_angle: float = 10.0 * _DEG
+    vertical_bat_angle: float = -30.0 * _DEG
+    pivot: float = DEFAULT_PIVOT
+    from_barrel_end: float = SWEET_SPOT_FROM_BARREL_END
+    mu: float = 0.5
+    restitution: Restitution = GAME_RESTITUTION
+    spin_efficiency: float = 1.0
+    gyro_sign: float = 1.0
+    spin_axis: float = math.pi
+    contact_side: str = "handle"
+
+    def __post_init__(self):
+        bat = self.bat
+        if bat.length is None or bat.cm_from_barrel_end is None:
+            raise InputError("bat", "needs the bat's length and CM (cm_from_knob), or a "
+                             "bat preset")
+        for name in ("attack_angle", "vertical_bat_angle"):
+            value = _real(getattr(self, name), name)
+            if not abs(value) < math.pi / 2:
+                raise InputError(name, f"must lie within (-90, 90) deg, got "
+                                 f"{math.degrees(value):.6g} deg (angles are in rad)")
+        sweet = bat.length - SWEET_SPOT_FROM_BARREL_END
+        if not 0.0 <= _real(self.pivot, "pivot") < sweet:
+            raise InputError("pivot", f"must lie between the knob and the sweet spot "
+                             f"([0, {sweet:.4g}) m from the knob), got {self.pivot!r}")
+        if not 0.0 <= _real(self.from_barrel_end, "from_barrel_end") <= sweet:
+            raise InputError("from_barrel_end", f"must lie within [0, {sweet:.4g}] m, got "
+                             f"{self.from_barrel_end!r}")
+        _real(self.mu, "mu", minimum=0.0)
+        _real(self.spin_efficiency, "spin_efficiency", minimum=0.0, maximum=1.0)
+        if self.gyro_sign not in (1, -1):
+            raise InputError("gyro_sign", f"must be +1 or -1, got {self.gyro_sign!r}")
+        _real(self.spin_axis, "spin_axis")
+        if self.contact_side not in ("handle", "end"):
+            raise InputError("contact_side", f'must be "handle" or "end", got '
+                             f"{self.contact_side!r}")
+
+    def config(self) -> dict:
+        """As plain data (for ``df.attrs``): angles in deg, lengths in m."""
+        return {"bat": self.bat.preset or "custom", "ball": "custom" if self.ball !=
+                BALL_PRESETS["baseball"] else "baseball",
+                "attack_angle_deg": math.degrees(self.attack_angle),
+                "vertical_bat_angle_deg": math.degrees(self.vertical_bat_angle),
+                "pivot_m": self.pivot, "from_barrel_end_m": self.from_barrel_end,
+                "mu": self.mu, "restitution": self.restitution.config(),
+                "spin_efficiency": self.spin_efficiency, "gyro_sign": self.gyro_sign,
+                "spin_axis_deg": math.degrees(self.spin_axis),
+                "contact_side": self.contact_side}
+
+
+@dataclass(frozen=True)
+class InferenceOptions:
+    """The Newton iteration (``mcbat/core/contact_inference/README.md``): at most
+    ``max_iterations``; converged when the launch speed is matched to ``tolerance``
+    (relative) and the angles to ``tolerance`` rad; the impact kernel's accuracy
+    (``steps``, ``impact_tolerance``, ``max_steps``: as :class:`mcbat.api.SolverSettings`);
+    the unknowns' bounds: bat speed (mph), attack direction (deg), contact position (m
+    from the barrel end), and the contact azimuth ``|theta|`` (deg; the undercut is
+    ``reach sin(theta)``)."""
+
+    max_iterations: int = 30
+    tolerance: float = 1e-9
+    steps: int = DEFAULT_STEPS
+    impact_tolerance: float = DEFAULT_TOLERANCE
+    max_steps: int = DEFAULT_MAX_STEPS
+    bat_speed_range: tuple[float, float] = (25.0, 110.0)
+    attack_direction_max: float = 80.0
+    from_barrel_end_range: tuple[float, float] = (0.0, 0.4)
+    contact_angle_max: float = 60.0
+
+    def __post_init__(self):
+        check_tolerance(_real(self.impact_tolerance, "impact_tolerance"), "impact_tolerance")
+        if not (isinstance(self.max_iterations, int) and 1 <= self.max_iterations <= 1000):
+            raise InputError("max_iterations", f"must be an integer in [1, 1000], got "
+                             f"{self.max_iterations!r}")
+        if not 0.0 < _real(self.tolerance, "tolerance") < 1e-3:
+            raise InputError("tolerance", f"must lie in (0, 1e-3), got {self.tolerance!r}")
+        lo, hi = (_real(v, "bat_speed_range") for v in self.bat_speed_range)
+        if not 0.0 < lo < hi:
+            raise InputError("bat_speed_range", f"must be 0 < low < high mph, got "
+                             f"{self.bat_speed_range!r}")
+        lo, hi = (_real(v, "from_barrel_end_range") for v in self.from_barrel_end_range)
+        if not 0.0 <= lo < hi:
+            raise InputError("from_barrel_end_range", f"must be 0 <= low < high m, got "
+                             f"{self.from_barrel_end_range!r}")
+        if not 0.0 < _real(self.attack_direction_max, "attack_direction_max") < 90.0:
+            raise InputError("attack_direction_max", "must lie in (0, 90) deg")
+        if not 0.0 < _real(self.contact_angle_max, "contact_angle_max") < 90.0:
+            raise InputError("contact_angle_max", "must lie in (0, 90) deg")
+
+    def kernel_settings(self, contact_side: str) -> InferenceSettings:
+        """As the jitted kernel's named tuple (SI)."""
+        return InferenceSettings(
+            int(self.max_iterations), float(self.tolerance), int(self.steps),
+            float(self.impact_tolerance), int(self.max_steps),
+            1.0 if contact_side == "handle" else -1.0,
+            float(self.bat_speed_range[0]) * _MPH, float(self.bat_speed_range[1]) * _MPH,
+            float(self.attack_direction_max) * _DEG, float(self.from_barrel_end_range[0]),
+            float(self.from_barrel_end_range[1]), float(self.contact_angle_max) * _DEG)
+

@@ -1,0 +1,48 @@
+"""An inference written to Parquet: the measured balls beside their inferred contact and
+spin, with units, assumptions and status counts in the schema metadata."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+__all__ = ["CARRIED_COLUMNS", "METADATA_KEY", "write"]
+
+CARRIED_COLUMNS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitcher",
+                   "game_date", "home_team", "elevation", "handedness", "pitch_type",
+                   "events", "bb_type", "launch_speed", "launch_angle", "spray_angle",
+                   "hit_distance_sc")
+"""Columns of the tidy table :func:`write` keeps beside the inference's (those present)."""
+
+METADATA_KEY = b"mcbat.inference"
+"""The Parquet schema-metadata key of :func:`write`'s file: JSON with ``units``,
+``assumptions`` and ``status_counts``."""
+
+
+def write(table, spin, path) -> None:
+    """Write the balls (:data:`CARRIED_COLUMNS` of ``table``) and their inferred contact
+    and spin (``spin``, from :func:`infer_spin` on ``table``) to one Parquet file,
+    atomically, with units, assumptions and status counts in the schema metadata."""
+    import json
+    import os
+    from pathlib import Path
+
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    carried = [c for c in CARRIED_COLUMNS if c in table.columns]
+    df = pd.concat([table[carried], spin], axis=1)
+    units = {c: table.attrs.get("units", {}).get(c, "") for c in carried}
+    units.update(spin.attrs["units"])
+    info = {"units": units, "assumptions": spin.attrs["assumptions"],
+            "status_counts": spin.attrs["status_counts"]}
+    arrow = pa.Table.from_pandas(df, preserve_index=False)
+    arrow = arrow.replace_schema_metadata({**(arrow.schema.metadata or {}),
+                                           METADATA_KEY: json.dumps(info).encode()})
+    path = Path(os.fspath(path))
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        pq.write_table(arrow, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise

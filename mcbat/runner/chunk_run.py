@@ -1,0 +1,175 @@
+"""The one step every engine executes: :func:`run_chunk` draws one chunk's inputs
+(deterministic in the sample index), solves them with the parallel kernel, computes its
+share of the summary and writes its Parquet file atomically.
+
+Errors name the Python parameters (``out``); the CLI maps them to flags.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import socket
+
+import numba
+import numpy as np
+
+from mcbat.bodies.presets import ball_preset, bat_preset
+from mcbat.core import status as st
+from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
+from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
+from mcbat.dataset import chunks
+from mcbat.dataset.summary import summarise
+from mcbat.errors import InputError
+from mcbat.runner.job import ChunkJob, ChunkSummary
+
+__all__ = ["run_chunk", "study_inputs", "warm_kernel", "write_columns", "write_error"]
+
+
+def write_columns(table_args, path, compression="none") -> dict:
+    """Build a chunk's table from its columns and write it atomically (see
+    :func:`run_chunk`); returns its manifest record."""
+    return chunks.write_chunk(chunks.to_table(*table_args), path, compression)
+
+
+def run_chunk(study, job: ChunkJob, index: int, *, write=None,
+              solve_lock=None) -> ChunkSummary:
+    """Compute chunk ``index`` of a run: write its Parquet file atomically (unless the run
+    is summary-only) and compute its share of the ``[summary]`` statistics.
+
+    The chunk's inputs are drawn from ``(seed, sample index)`` alone
+    (:meth:`mcbat.study.Study.sample`), so the file is the same wherever and however
+    often it is computed: a rerun overwrites it with identical content.
+
+    Parameters
+    ----------
+    study : mcbat.study.Study
+        The validated study (its solver settings are used).
+    job : ChunkJob
+        The run's output location, sample count, seed, chunk size, metadata, columns and
+        summary.
+    index : int
+        The chunk.
+    write : callable, optional
+        ``write(write_columns, table_args, path, compression)`` writes the file and
+        returns its record. Default: write it now, before returning. The local engine
+        hands it to its writer thread instead (and returns None: the record comes with the
+        write's result).
+    solve_lock : context manager, optional
+        Held while the chunk is sampled and solved (the Dask engine serialises kernel calls
+        of a worker's threads with it).
+
+    Returns
+    -------
+    ChunkSummary
+    """
+    start, stop = job.bounds(index)
+    solve = _solve_game_chunk if getattr(study, "kind", "impact") == "game" else _solve_chunk
+    with solve_lock if solve_lock is not None else contextlib.nullcontext():
+        threads = numba.get_num_threads()
+        names, cols = solve(study, start, stop, job.seed, _derived_needed(job))
+        partial = None if job.summary is None else summarise(job.summary, cols)
+    counts = np.bincount(cols["status"], minlength=len(st.STATUS_NAMES))
+    record = None
+    if not job.summary_only:
+        table_args = (names, cols, start, index, job.output, job.metadata)
+        record = (write or _write_now)(write_columns, table_args, job.path(index),
+                                       job.output.compression)
+    return ChunkSummary(index, stop - start, tuple(int(c) for c in counts), threads,
+                        f"{socket.gethostname()}:{os.getpid()}", record, partial)
+
+
+def _derived_needed(job: ChunkJob):
+    """The derived columns a chunk must compute: a summary-only run stores no rows, so it
+    needs only those its ``[summary]`` reads (None: every one)."""
+    if not job.summary_only:
+        return None
+    return {*job.summary.columns, *(axis.name for axis in job.summary.by)}
+
+
+def _solve_chunk(study, start, stop, seed, derived=None):
+    """Sample and solve an impact chunk; ``(names, cols)`` of
+    :func:`mcbat.dataset.chunks.impact_columns` (``derived``: as there)."""
+    solver = study.solver
+    columns = study.sample(start, stop, seed)
+    inputs = study_inputs(columns)
+    out_arr, status, end_state = allocate_outputs(stop - start)
+    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out_arr,
+                status, end_state)
+    barrel = study.bat.cm_from_barrel_end
+    extra = {"impact_parameter": columns["impact_parameter"],
+             "from_barrel_end": (np.full(stop - start, np.nan) if barrel is None
+                                 else barrel - columns["axial"])}
+    return chunks.impact_columns(inputs, out_arr, status, end_state, extra,
+                                 study.measurement_noise(start, stop, seed), derived)
+
+
+def study_inputs(columns) -> np.ndarray:
+    """The kernel's input array from :meth:`mcbat.study.Study.sample`'s columns: the first
+    rows of the array they are views of (no copy), else a stacked copy."""
+    n_fields = len(INPUT_FIELDS)
+    base = columns[INPUT_FIELDS[0]].base
+    if (isinstance(base, np.ndarray) and base.ndim == 2 and base.dtype == np.float64
+            and base.shape[0] >= n_fields and base.flags.c_contiguous
+            and all(columns[name].ctypes.data == base[i].ctypes.data
+                    and columns[name].shape == base[i].shape
+                    for i, name in enumerate(INPUT_FIELDS))):
+        return base[:n_fields]
+    return np.stack([np.asarray(columns[name], np.float64) for name in INPUT_FIELDS])
+
+
+def _solve_game_chunk(study, start, stop, seed, derived=None):
+    """Sample and solve a game chunk (and fly it, with ``[flight]``); ``(names, cols)`` of
+    :func:`mcbat.dataset.chunks.game_columns` (``derived``: as there)."""
+    solver = study.solver
+    game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
+    frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
+    solve_game_batch(game_inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
+                     frame, out_arr, game_out, status, end_state)
+    flight = None if study.flight is None else _fly(study, game_out)
+    return chunks.game_columns(game_inputs, frame, out_arr, game_out, status, end_state,
+                               flight, derived, study.pitch_identifiers(start, stop, seed))
+
+
+def _fly(study, game_out):
+    """The flight of a game chunk's batted balls (``[flight]``): ``(out, status)`` of
+    :func:`mcbat.core.flight.fly_batch`."""
+    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
+    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
+    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
+    n = v.shape[1]
+    start = np.repeat(np.asarray(study.flight.start, np.float64)[:, None], n, axis=1)
+    out, status = allocate_flight_outputs(n)
+    fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
+              w, out, status)
+    return out, status
+
+
+def _write_now(function, *args):
+    return function(*args)
+
+
+def warm_kernel() -> None:
+    """Load (or compile) the batch kernel by solving one impact: a worker does it once,
+    before its first chunk."""
+    ball, bat = ball_preset("baseball"), bat_preset("cross_nathan_2006")
+    row = {name: 0.0 for name in INPUT_FIELDS}
+    row.update(ball_mass=ball.mass, ball_radius=ball.radius,
+               ball_inertia_factor=ball.inertia_factor, bat_mass=bat.mass,
+               bat_transverse_inertia=bat.transverse_inertia,
+               bat_axial_inertia=bat.axial_inertia, axial=0.1, angle=0.01,
+               bat_radius=bat.radius, ball_vx_in=-4.0, mu=0.5, e=0.8)
+    inputs = np.array([[row[name]] for name in INPUT_FIELDS], np.float64)
+    out_arr, status, end_state = allocate_outputs(1)
+    solve_batch(inputs, DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS, out_arr, status,
+                end_state)
+
+
+def write_error(err: OSError, out) -> InputError:
+    """The error for a chunk file that could not be written (names ``out``)."""
+    reason = os.strerror(err.errno) if err.errno else str(err)
+    return InputError("out", f"cannot write a chunk file: {reason}; complete chunk "
+                      "files are kept, free space (or fix permissions) and rerun to resume",
+                      str(out))

@@ -1,0 +1,88 @@
+"""The figure of a comparison (``mcbat compare --figure``): both sides' histograms per
+column, and the launch speed / launch angle plane."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from mcbat.stats.compare_units import column_values, convert
+from mcbat.stats.two_sample import format_p
+
+__all__ = ["fig_compare"]
+
+
+def fig_compare(path, simulated, measured, comparison):
+    """Histograms of both sides per compared column (densities, with the KS distance and
+    Wasserstein distance), and the launch speed / launch angle plane side by side
+    (simulated as a 2-D histogram, measured as points on the same axes)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    columns = comparison.columns
+    plane = comparison.plane
+    per_row = 3
+    rows_1d = math.ceil(len(columns) / per_row)
+    rows = rows_1d + (1 if plane else 0)
+    fig = Figure(figsize=(4.0 * per_row, 3.1 * rows), layout="constrained")
+    FigureCanvasAgg(fig)
+    grid = fig.add_gridspec(rows, per_row * 2)
+    for k, c in enumerate(columns):
+        ax = fig.add_subplot(grid[k // per_row, 2 * (k % per_row):2 * (k % per_row) + 2])
+        sim, meas, unit, *_ = column_values(c["column"], simulated[c["column"]],
+                                             measured[c["column"]], c["units"]["simulated"],
+                                             c["units"]["measured"])
+        low, high = _shown_range(sim, meas)
+        bins = np.linspace(low, high, 31)
+        # values beyond the range (each side's outer 0.5 %) are not drawn, not piled into
+        # the end bins
+        ax.hist(sim, bins=bins, density=True, histtype="stepfilled",
+                alpha=0.35, color="C0", label=f"simulated ({sim.size:,})")
+        ax.hist(meas, bins=bins, density=True, histtype="step", lw=1.6,
+                color="C3", label=f"measured ({meas.size:,})")
+        ax.set_xlabel(f"{c['column']} ({unit})")
+        ax.set_title(f"KS D = {c['ks']['statistic']:.3f}, W = {c['wasserstein']:.3g} {unit}",
+                     fontsize=9)
+        ax.tick_params(labelsize=8)
+        ax.set_yticks([])
+        if k == 0:
+            ax.legend(fontsize=7)
+    if plane:
+        (cx, cy), (ux, uy) = plane["columns"], plane["units"]
+        given = {c["column"]: c["units"] for c in columns}
+        points = []
+        for df, side in ((simulated, "simulated"), (measured, "measured")):
+            xy = np.column_stack([convert(df[c].to_numpy(dtype=float),
+                                          given[c][side] or u, u)
+                                  for c, u in ((cx, ux), (cy, uy))])
+            points.append(xy[np.isfinite(xy).all(axis=1)])
+        extent = [*_shown_range(points[0][:, 0], points[1][:, 0]),
+                  *_shown_range(points[0][:, 1], points[1][:, 1])]
+        p_text = format_p(plane["p_value"], comparison.settings["p_value_resolution"])
+        titles = (f"simulated ({len(points[0]):,} rows)",
+                  f"measured ({len(points[1]):,} rows); energy distance "
+                  f"{plane['distance']:.3f} (standardized), p {p_text}")
+        axes = [fig.add_subplot(grid[rows_1d, 0:per_row]),
+                fig.add_subplot(grid[rows_1d, per_row:2 * per_row])]
+        axes[0].hist2d(points[0][:, 0], points[0][:, 1], bins=50,
+                       range=[extent[:2], extent[2:]], cmap="Blues", cmin=1)
+        axes[1].scatter(points[1][:, 0], points[1][:, 1], s=6, color="C3", alpha=0.6)
+        for ax, title in zip(axes, titles):
+            ax.set_title(title, fontsize=9)
+            ax.set_xlabel(f"{cx} ({ux})")
+            ax.set_ylabel(f"{cy} ({uy})")
+            ax.set_xlim(extent[:2])
+            ax.set_ylim(extent[2:])
+            ax.grid(alpha=0.3)
+    path = Path(path)
+    fig.savefig(path, dpi=130)
+    return path
+
+
+def _shown_range(a, b):
+    """From the lower to the upper 0.5 % quantile of whichever side reaches further."""
+    low = min(np.quantile(a, 0.005), np.quantile(b, 0.005))
+    high = max(np.quantile(a, 0.995), np.quantile(b, 0.995))
+    return (low, high) if high > low else (low - 0.5, high + 0.5)

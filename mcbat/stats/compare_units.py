@@ -1,0 +1,92 @@
+"""The units :func:`mcbat.stats.compare.compare` knows, converts between, and suspects: a
+measured column that states no unit is read in the simulated column's, and refused when
+its values look like another unit of the same quantity."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mcbat.errors import InputError
+from mcbat.study.units import UNITS
+
+__all__ = ["UNIT_FACTORS", "UNIT_MATCH", "UNIT_SUSPICION", "column_values", "convert",
+           "unit_suspicion"]
+
+_SPEED, _ANGLE, _SPIN, _LENGTH, _MASS = (UNITS[q] for q in ("speed", "angle", "spin", "length",
+                                                            "mass"))
+UNIT_FACTORS = {
+    # unit: (quantity, factor to SI); the factors of mcbat.study.units where it has the unit
+    "mph": ("speed", _SPEED["mph"]), "m/s": ("speed", 1.0), "km/h": ("speed", _SPEED["km/h"]),
+    "ft/s": ("speed", _SPEED["ft/s"]),
+    "deg": ("angle", _ANGLE["deg"]), "rad": ("angle", 1.0),
+    "rpm": ("spin", _SPIN["rpm"]), "rad/s": ("spin", 1.0),
+    "ft": ("length", _LENGTH["ft"]), "m": ("length", 1.0), "in": ("length", _LENGTH["in"]),
+    "cm": ("length", _LENGTH["cm"]), "mm": ("length", _LENGTH["mm"]),
+    "s": ("time", 1.0),
+    "kg": ("mass", 1.0), "g": ("mass", _MASS["g"]), "oz": ("mass", _MASS["oz"]),
+    "J": ("energy", 1.0), "kg m/s": ("momentum", 1.0), "kg m^2": ("inertia", 1.0),
+    "1": ("ratio", 1.0),
+}
+"""The units :func:`~mcbat.stats.compare.compare` knows, and converts between within one
+quantity. A column whose unit is not here (codes, identifiers) is not compared."""
+
+UNIT_SUSPICION = 1.5
+"""A column whose unit the measured table does not state is read in the simulated column's
+unit; it is refused when the measured values' median magnitude differs from the simulated
+one by more than this factor *and* lies within :data:`UNIT_MATCH` of the factor between that
+unit and another of its quantity (launch speeds in m/s: 0.447 of mph)."""
+UNIT_MATCH = 1.3
+"""See :data:`UNIT_SUSPICION`."""
+
+
+def convert(values, unit, to):
+    """``values`` in ``unit`` expressed in ``to`` (both in :data:`UNIT_FACTORS`, of one
+    quantity)."""
+    if unit == to:
+        return np.asarray(values, dtype=float)
+    (kind, factor), (kind_to, factor_to) = UNIT_FACTORS[unit], UNIT_FACTORS[to]
+    if kind != kind_to:
+        raise InputError(None, f"cannot convert {unit} ({kind}) to {to} ({kind_to})")
+    return np.asarray(values, dtype=float) * (factor / factor_to)
+
+
+def unit_suspicion(column, simulated, measured, unit):
+    """A message when ``measured`` (whose table states no unit, read in ``unit``) looks like
+    another unit of the same quantity, else None (:data:`UNIT_SUSPICION`)."""
+    kind = UNIT_FACTORS[unit][0]
+    if kind in ("ratio",):
+        return None
+    typical_sim = float(np.median(np.abs(simulated)))
+    typical_meas = float(np.median(np.abs(measured)))
+    if typical_sim <= 0 or typical_meas <= 0:
+        return None
+    ratio = typical_meas / typical_sim
+    if abs(math.log(ratio)) <= math.log(UNIT_SUSPICION):
+        return None
+    for other, (other_kind, factor) in UNIT_FACTORS.items():
+        if other_kind != kind or other == unit:
+            continue
+        expected = UNIT_FACTORS[unit][1] / factor  # a value in `other` read as `unit`
+        if abs(math.log(ratio / expected)) < math.log(UNIT_MATCH):
+            return (f"the measured values' median magnitude ({typical_meas:.4g}) is "
+                    f"{ratio:.3g} times the simulated one ({typical_sim:.4g} {unit}), close "
+                    f"to the {expected:.3g} of a value in {other}: wrong unit? The table "
+                    f"states no unit for {column}, so it is read in {unit}; state its unit "
+                    f"(units={{'{column}': '{other}'}}) to compare it converted, or "
+                    f"(units={{'{column}': '{unit}'}}) to compare it as it is")
+    return None
+
+
+def column_values(name, sim_series, meas_series, sim_unit, meas_unit):
+    """Both sides' finite values in the unit of comparison (the measured table's stated
+    unit, else the simulated one), the unit, the unit converted from, and the counts of
+    dropped rows."""
+    sim = sim_series.to_numpy(dtype=float)
+    meas = meas_series.to_numpy(dtype=float)
+    sim_ok, meas_ok = np.isfinite(sim), np.isfinite(meas)
+    unit = meas_unit or sim_unit
+    sim_values = convert(sim[sim_ok], sim_unit, unit)
+    return sim_values, meas[meas_ok], unit, (None if unit == sim_unit else sim_unit), \
+        int((~sim_ok).sum()), int((~meas_ok).sum())

@@ -1,0 +1,144 @@
+"""The simulated side of a population fit (:mod:`mcbat.stats.population`): the study
+rewritten to meet the table's own pitches, its draws solved in this process or on an
+engine, and simulated tables for injection tests."""
+
+from __future__ import annotations
+
+import copy
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.core.swing import GAME_INPUT_FIELDS
+from mcbat.errors import InputError
+from mcbat.stats.population_parameters import PHYSICS, parse_free
+from mcbat.stats.population_table import OBSERVABLES, PITCH_COLUMNS, write_pitches
+from mcbat.stats.simulate import solve_game_inputs
+from mcbat.study import units as u
+from mcbat.study.game import KEYS
+from mcbat.study.spec import Study
+
+__all__ = ["ENGINES", "TemplateSimulator", "simulate_table"]
+
+ENGINES = ("memory", "local", "dask")
+
+
+class TemplateSimulator:
+    """The study rewritten for the table (its pitches, proposals, physics nodes), solved
+    on an engine; returns the draws' free-key columns and observables."""
+
+    def __init__(self, study, table, draws, seed, engine, workdir):
+        if engine not in ENGINES:
+            raise InputError("engine", f"must be one of {', '.join(ENGINES)}, got {engine!r}")
+        self.draws, self.seed, self.engine = draws, seed, engine
+        self._tmp = tempfile.TemporaryDirectory(prefix="mcbat-population-")
+        self.workdir = Path(workdir) if workdir is not None else Path(self._tmp.name)
+        self.workdir.mkdir(parents=True, exist_ok=True)
+        pitches = self.workdir / "pitches.csv"
+        write_pitches(table, pitches)
+        self.base = _conditioned_definition(study, pitches)
+        self.source = study.source
+        self.runs = 0
+
+    def run(self, proposal, physics, columns, observables):
+        """Draws of the study with the free keys' ``proposal`` ({key: (FreeKey, mean, std)})
+        and ``physics`` ({name: value}): ``(inputs, observed, ok)``."""
+        data = copy.deepcopy(self.base)
+        for key, (k, mean, std) in proposal.items():
+            section, name = key.split(".", 1)
+            data.setdefault(section, {})[name] = k.spec(mean, std)
+        for name, value in physics.items():
+            section, key = PHYSICS[name]
+            if name == "e" and "e" in data.get("restitution", {}):
+                key = "e"  # a study with a constant e*
+            data.setdefault(section, {})[key] = float(value)
+        study = Study.from_dict(data, source=self.source)
+        self.runs += 1
+        if self.engine == "memory":
+            return _solve_memory(study, self.draws, self.seed, columns, observables)
+        return self._solve_engine(study, columns, observables)
+
+    def _solve_engine(self, study, columns, observables):
+        from mcbat.dataset.load import load
+        from mcbat.runner.study_run import run_study
+
+        out = self.workdir / f"templates_{self.runs}"
+        run_study(study, out, samples=self.draws, seed=self.seed, engine=self.engine,
+                  progress=False, overwrite=True)
+        df = load(out, columns=[*columns, *observables, "status"])
+        ok = df["status"].to_numpy() == 0
+        return ({c: df[c].to_numpy(float) for c in columns},
+                {c: df[c].to_numpy(float) for c in observables}, ok)
+
+    def close(self):
+        """Remove the temporary files."""
+        self._tmp.cleanup()
+
+
+def _conditioned_definition(study, pitches):
+    """The study's definition with its pitches drawn from ``pitches`` (the table's rows),
+    each row's batter side, no flight and no summary."""
+    data = study.definition()
+    for section in ("flight", "summary", "output", "pitches"):
+        data.pop(section, None)
+    data.pop("handedness", None)  # each pitch meets the batter who saw it
+    pitch = data.get("pitch", {})
+    fallback = {}
+    for key in PITCH_COLUMNS:
+        name = key.split(".", 1)[1]
+        if name in pitch:
+            fallback[name] = pitch.pop(name)
+        else:  # the game's default, for rows that lack the value
+            default, quantity = KEYS["pitch"][name][1], KEYS["pitch"][name][0]
+            fallback[name] = {"value": default, "unit": u.SI_UNITS[quantity]}
+    data["pitch"] = pitch
+    data["pitches"] = {"file": str(pitches), "fallback": fallback}
+    if "restitution" not in data:  # the game preset, written out so e and e_x can be set
+        r = GAME_RESTITUTION
+        data["restitution"] = {"e_ref": r.e_ref, "e_slope": r.e_slope,
+                               "e_speed_ref": {"value": r.e_speed_ref, "unit": "m/s"},
+                               "e_x": r.e_x}
+    return data
+
+
+def _solve_memory(study, draws, seed, columns, observables):
+    """Sample and solve the draws in this process (what an engine's chunk does)."""
+    from mcbat.runner.pitches import load_pitches
+
+    study = load_pitches(study)
+    inputs = study.sample_inputs(0, draws, seed)
+    batted, ok = solve_game_inputs(study, inputs)
+    row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
+    return ({c: inputs[row[c]].copy() for c in columns},
+            {c: np.asarray(batted[c], float) for c in observables}, ok)
+
+
+def simulate_table(study, pitches, rows, seed, values=None):
+    """A table of ``rows`` batted balls of ``study`` with its distributions' parameters
+    set to ``values`` (``{"swing.bat_speed.mean": 70, "e": 0.5, ...}``, reporting units:
+    the study's), each ball meeting a pitch of ``pitches`` (a tidy Statcast table) drawn
+    with replacement: the measured pitch columns and the observables, for injection
+    tests."""
+    values = dict(values or {})
+    keys, params, physics = parse_free(study, tuple(values)) if values else ({}, [], [])
+    sim = TemplateSimulator(study, pitches.reset_index(drop=True), rows, seed, "memory", None)
+    try:
+        proposal = {key: (k, k.mean, k.std) for key, k in keys.items()}
+        for name, key, what in params:
+            k, mean, std = proposal[key]
+            proposal[key] = (k, values[name], std) if what == "mean" else (k, mean,
+                                                                            values[name])
+        phys = {p: values[p] for p in physics if p in values}
+        inputs, observed, ok = sim.run(proposal, phys, ["pitch_speed"], tuple(OBSERVABLES))
+        from mcbat.runner.pitches import load_pitches
+
+        rewritten = load_pitches(Study.from_dict(sim.base, source=study.source))
+        ids = rewritten.pitch_identifiers(0, rows, seed)["source_row"]
+    finally:
+        sim.close()
+    table = pitches.reset_index(drop=True).iloc[ids].reset_index(drop=True).copy()
+    for o in OBSERVABLES:
+        table[o] = observed[o]
+    return table.loc[ok].reset_index(drop=True)

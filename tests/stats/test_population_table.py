@@ -1,0 +1,35 @@
+"""The rows a population fit uses (mcbat.stats.population_table): the balls in play of the
+real Statcast rows shipped in data/, and a table without an observable refused."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mcbat.errors import InputError
+from mcbat.statcast import read
+from mcbat.stats.population_table import population_table
+
+REAL = Path(__file__).resolve().parents[2] / "data" / "statcast_2020-09-03.csv"
+
+
+@pytest.fixture(scope="module")
+def pitches():
+    table, _ = population_table(read(REAL))
+    return table
+
+
+def test_real_rows_are_the_balls_in_play(pitches):
+    # data/statcast_2020-09-03.csv: every used row has a launch, a plate speed and a side
+    assert len(pitches) > 300
+    assert np.all(np.isfinite(pitches[["launch_speed", "launch_angle", "pitch_speed"]]))
+    assert set(pitches["handedness"]) <= {"R", "L"}
+
+
+def test_table_without_observables(pitches):
+    with pytest.raises(InputError, match="launch_angle"):
+        population_table(pitches.drop(columns=["launch_angle"]))
+    table = pitches.copy()
+    table["launch_speed"] = np.nan
+    with pytest.raises(InputError, match="no rows with launch_speed"):
+        population_table(table)
