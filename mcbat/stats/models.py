@@ -56,6 +56,7 @@ from mcbat.stats.input_priors import (
     covering_range,
     prior_range,
 )
+from mcbat.study.units import UNITS
 
 __all__ = ["BatFrameModel", "DrawModel", "GameModel", "OUTLIER_SIGMA", "rows_text"]
 
@@ -66,10 +67,7 @@ this many of its errors outside the study's range."""
 GRAZING = 0.999
 """A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
 above 87.4 deg) is refused: the ball grazes the bat."""
-_MPH = 0.44704
-
-
-_DEG = math.pi / 180.0
+_MPH, _DEG = UNITS["speed"]["mph"], UNITS["angle"]["deg"]
 
 
 PILOT_POINTS = 61
