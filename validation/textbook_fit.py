@@ -4,6 +4,7 @@ the truth when every input is known and the model is exact.
 Run:  .venv/bin/python -m validation textbook_fit --settings inside,wide,slide --tables 200 \
           --out textbook.jsonl
       .venv/bin/python -m validation textbook_fit --summary textbook.jsonl
+      .venv/bin/python -m validation textbook_fit --settings inside --hold 22 --draws 60
 
 Each table of :mod:`mcbat.testing.fit_validation` (the same seeds and noise as the fit's
 check) is fitted by :func:`mcbat.testing.textbook_fit.textbook_fit` with its true impact
@@ -12,6 +13,8 @@ The summary gives, per setting, the share of 68 % intervals of mu holding the tr
 pulls' mean and spread, and the same split by how much of mu's Fisher information the three
 most informative rows carry (:func:`mcbat.testing.textbook_fit.mu_information_share`).
 About 2 s a table; results are appended one JSON line each, so a rerun goes on.
+``--hold K`` keeps table K's geometry (its true impact parameters, contacts and errors)
+and draws new noise ``--draws`` times: the coverage, mean pull and spread of one geometry.
 """
 
 import argparse
@@ -43,6 +46,28 @@ def record(setting, k):
     return {"setting": setting, "table": k, "truth": truth, **r,
             "pull": (r["mu"] - truth) / err if math.isfinite(err) else None,
             "top3_share": share, "fisher_error": fisher_error}
+
+
+def held_geometry(setting, k, draws, seed=5):
+    """Pulls of ``mu`` over ``draws`` new noise draws on table ``k``'s geometry."""
+    from mcbat.testing.drop_tables import kernel_solver
+    from mcbat.testing.textbook_fit import OBSERVABLES
+
+    table = make_table(setting, k)
+    truth = table.attrs["truth"]
+    errors = table[[f"{c}_err" for c in OBSERVABLES]].to_numpy(float)
+    exact = kernel_solver(np.asarray(truth["impact_parameter"]), table["spin_in"].to_numpy(),
+                          np.asarray(truth["axial"]), truth["e"], truth["mu"], truth["e_x"])
+    rng = np.random.default_rng(seed)
+    pulls = []
+    for _ in range(draws):
+        noisy = table.copy()
+        noisy.attrs = table.attrs
+        noisy[list(OBSERVABLES)] = exact + errors * rng.standard_normal(errors.shape)
+        r = textbook_fit(noisy)
+        err = r["upper_error"] if truth["mu"] > r["mu"] else r["lower_error"]
+        pulls.append((r["mu"] - truth["mu"]) / err)
+    return np.array(pulls)
 
 
 def _line(label, pulls):
@@ -79,7 +104,15 @@ def main(argv=None):
     parser.add_argument("--settings", default="inside")
     parser.add_argument("--out", default="textbook.jsonl")
     parser.add_argument("--summary", metavar="FILE", help="only summarise FILE")
+    parser.add_argument("--hold", type=int, metavar="K",
+                        help="keep table K's geometry and draw new noise --draws times")
+    parser.add_argument("--draws", type=int, default=60)
     args = parser.parse_args(argv)
+    if args.hold is not None:
+        setting = args.settings.split(",")[0]
+        print(_line(f"{setting:7s} table {args.hold} held, new noise: ",
+                    held_geometry(setting, args.hold, args.draws)))
+        return 0
     path = Path(args.summary or args.out)
     if not args.summary:
         settings = args.settings.split(",")
