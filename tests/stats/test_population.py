@@ -4,9 +4,6 @@ bad input refused with one line (exit 2)."""
 
 import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,10 +11,8 @@ import pytest
 import mcbat
 from mcbat.statcast import read, write
 from mcbat.stats.population import fit_population, population_table, simulate_table
+from tests.stats.population_shared import REAL, STUDY, assert_one_line_exit_2, run_mcbat
 
-ROOT = Path(__file__).resolve().parents[2]
-STUDY = ROOT / "examples" / "population_game.toml"
-REAL = ROOT / "data" / "statcast_2020-09-03.csv"
 TRUTH = {"swing.bat_speed.mean": 69.0, "swing.attack_angle.mean": 12.0,
          "contact.undercut.std": 0.9}
 
@@ -33,17 +28,6 @@ def pitches():
     return table
 
 
-def _mcbat(*args):
-    return subprocess.run([sys.executable, "-m", "mcbat", *args], capture_output=True,
-                          text=True, check=False)
-
-
-def _one_line_exit_2(proc, *words):
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
-    for word in words:
-        assert word in lines[0], lines[0]
 
 
 def test_injected_parameters_are_recovered(study, pitches):
@@ -81,7 +65,7 @@ def test_real_statcast_fit_cli(tmp_path):
     # a figure; the bat speed it gives is a bat speed (40-90 mph)
     figure = tmp_path / "population.png"
     # (the fit of docs/population.md, with fewer draws)
-    proc = _mcbat("fit", "--population", "--study", str(STUDY), "--data", str(REAL),
+    proc = run_mcbat("fit", "--population", "--study", str(STUDY), "--data", str(REAL),
                   "--free", "swing.bat_speed.mean,swing.bat_speed.std,swing.attack_angle.mean,"
                   "swing.attack_angle.std,contact.undercut.std", "--draws", "40",
                   "--json", "--figure", str(figure))
@@ -102,15 +86,15 @@ def test_template_that_cannot_cover_the_data(tmp_path, pitches):
     table = pitches.copy()
     table["launch_speed"] *= 1.609344 * 1.5
     write(table, path)
-    proc = _mcbat("fit", "--population", "--study", str(STUDY), "--data", str(path),
+    proc = run_mcbat("fit", "--population", "--study", str(STUDY), "--data", str(path),
                   "--free", "swing.bat_speed.mean", "--draws", "5")
-    _one_line_exit_2(proc, "cannot cover the data")
+    assert_one_line_exit_2(proc, "cannot cover the data")
 
 
 def test_bad_options():
     base = ("fit", "--population", "--study", str(STUDY), "--data", str(REAL))
-    _one_line_exit_2(_mcbat(*base), "--free")
-    _one_line_exit_2(_mcbat(*base, "--free", "swing.bat_speed.mean", "--observables",
+    assert_one_line_exit_2(run_mcbat(*base), "--free")
+    assert_one_line_exit_2(run_mcbat(*base, "--free", "swing.bat_speed.mean", "--observables",
                             "launch_speed,hang_time"), "--observables", "hang_time")
-    _one_line_exit_2(_mcbat(*base, "--free", "swing.bat_speed.mean", "--bins", "1"),
+    assert_one_line_exit_2(run_mcbat(*base, "--free", "swing.bat_speed.mean", "--bins", "1"),
                      "--bins")

@@ -1,20 +1,13 @@
 """The free parameters of a population fit (mcbat.stats.population_parameters): a
 parameter the study does not have, or cannot fit, refused with one line naming it."""
 
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
 import mcbat
 from mcbat.errors import InputError
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table
-
-ROOT = Path(__file__).resolve().parents[2]
-STUDY = ROOT / "examples" / "population_game.toml"
-REAL = ROOT / "data" / "statcast_2020-09-03.csv"
+from tests.stats.population_shared import REAL, ROOT, STUDY, assert_one_line_exit_2, run_mcbat
 
 
 @pytest.fixture(scope="module")
@@ -23,17 +16,6 @@ def pitches():
     return table
 
 
-def _mcbat(*args):
-    return subprocess.run([sys.executable, "-m", "mcbat", *args], capture_output=True,
-                          text=True, check=False)
-
-
-def _one_line_exit_2(proc, *words):
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
-    for word in words:
-        assert word in lines[0], lines[0]
 
 
 @pytest.mark.parametrize("free, words", [
@@ -43,9 +25,9 @@ def _one_line_exit_2(proc, *words):
     ("friction.mu.mean", ["--free", "friction.mu"]),
 ])
 def test_parameters_the_study_does_not_have(free, words):
-    proc = _mcbat("fit", "--population", "--study", str(STUDY), "--data", str(REAL),
+    proc = run_mcbat("fit", "--population", "--study", str(STUDY), "--data", str(REAL),
                   "--free", free)
-    _one_line_exit_2(proc, *words)
+    assert_one_line_exit_2(proc, *words)
 
 
 def test_uniform_key_is_refused(pitches):

@@ -1,16 +1,13 @@
 """The rows a population fit uses (mcbat.stats.population_table): the balls in play of the
 real Statcast rows shipped in data/, and a table without an observable refused."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from mcbat.errors import InputError
 from mcbat.statcast import read
 from mcbat.stats.population_table import population_table
-
-REAL = Path(__file__).resolve().parents[2] / "data" / "statcast_2020-09-03.csv"
+from tests.stats.population_shared import REAL
 
 
 @pytest.fixture(scope="module")

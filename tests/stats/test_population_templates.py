@@ -1,17 +1,12 @@
 """The template draws of a population fit (mcbat.stats.population_templates): the same
 balls whichever engine solves them."""
 
-from pathlib import Path
-
 import pytest
 
 import mcbat
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table, simulate_table
-
-ROOT = Path(__file__).resolve().parents[2]
-STUDY = ROOT / "examples" / "population_game.toml"
-REAL = ROOT / "data" / "statcast_2020-09-03.csv"
+from tests.stats.population_shared import REAL, STUDY
 
 
 @pytest.fixture(scope="module")
