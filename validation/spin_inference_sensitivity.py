@@ -18,7 +18,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.inference import SpinAssumptions, infer_spin, predict_batted_balls
 
 DEG = math.pi / 180

@@ -52,7 +52,7 @@ from mcbat.api.impact import (
     solve,
 )
 from mcbat.bodies import Ball, Bat
-from mcbat.bodies.game import Restitution
+from mcbat.bodies.restitution import Restitution
 from mcbat.errors import InputError
 from mcbat.study.game import is_game
 

@@ -38,7 +38,8 @@ from mcbat.api.contract import (
 )
 from mcbat.api.impact import Contact, ImpactCase, ImpactResult, SolverSettings, Vector
 from mcbat.bodies import BALL_PRESETS, Ball, Bat
-from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
+from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
+from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.core import status as st
 from mcbat.core.batch import OUTPUT_FIELDS
 from mcbat.core.cabo2012.impact import MAX_MU, MAX_SPEED, MAX_SPIN
@@ -116,7 +117,7 @@ class GameCase:
 
     The field frame: ``x`` to first base, ``y`` to the pitcher, ``z`` up. ``handedness``
     "R" or "L" (mirror image in ``x``). ``restitution`` gives ``e*`` and ``e_x``
-    (:class:`mcbat.bodies.game.Restitution`; default the game preset). A value out of its
+    (:class:`mcbat.bodies.restitution.Restitution`; default the game preset). A value out of its
     range raises :class:`~mcbat.errors.InputError` naming the parameter and the value
     received (an angle in degrees by mistake, ``attack_angle=10``, is refused: 10 rad lies
     beyond pi/2).

@@ -8,7 +8,8 @@ import math
 from dataclasses import dataclass
 
 from mcbat.bodies import BALL_PRESETS, Ball, Bat, bat_preset
-from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, Restitution
+from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
+from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.checks import check_real as _real
 from mcbat.checks import check_tolerance
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from mcbat.bodies import Bat
-from mcbat.bodies.game import location_table
+from mcbat.bodies.restitution import location_table
 from mcbat.core.contact_inference import (
     INFER_BAT_SPEED,
     INFER_FROM_BARREL_END,

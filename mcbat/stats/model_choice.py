@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.stats.fit import FitResult, finite, fit
 from mcbat.stats.likelihood import Likelihood
 

@@ -62,7 +62,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.errors import InputError
 from mcbat.stats.population_likelihood import (
     BinnedCost,

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.core.swing import GAME_INPUT_FIELDS
 from mcbat.errors import InputError
 from mcbat.stats.population_parameters import PHYSICS, parse_free

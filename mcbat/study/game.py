@@ -18,7 +18,7 @@ section::
     [contact]                     # from_barrel_end (6 in), undercut (0)
     [friction]  mu = 0.5          # required
     [restitution]                 # optional; default: the game preset
-                                  # (mcbat.bodies.game.GAME_RESTITUTION). Either e (constant)
+                                  # (mcbat.bodies.restitution.GAME_RESTITUTION). Either e (constant)
                                   # or e_ref, e_slope (per m/s), e_speed_ref (speed); with
                                   # either, location (a table of data/) and e_x.
 
@@ -39,7 +39,8 @@ from types import MappingProxyType
 
 import numpy as np
 
-from mcbat.bodies.game import DEFAULT_PIVOT, GAME_RESTITUTION, LOCATION_TABLES, Restitution
+from mcbat.bodies.restitution import GAME_RESTITUTION, LOCATION_TABLES, Restitution
+from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.checks import check_keys, check_string
 from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError

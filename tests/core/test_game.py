@@ -10,7 +10,7 @@ import pytest
 import mcbat
 from mcbat.api import GameCase, case_from_dict, solve, solve_game
 from mcbat.bodies import Ball, Bat, bat_preset
-from mcbat.bodies.game import Restitution
+from mcbat.bodies.restitution import Restitution
 from mcbat.errors import InputError
 from mcbat.testing.cabo2012_reference import reference_impact
 from tests.conftest import ROOT

@@ -11,7 +11,7 @@ import pytest
 import mcbat
 from mcbat.api import GameCase, solve_game
 from mcbat.bodies import ball_preset, bat_preset
-from mcbat.bodies.game import GAME_RESTITUTION, Restitution, location_table
+from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution, location_table
 from mcbat.papers.statcast.spin import nathan_average_spin
 from tests.conftest import ROOT
 

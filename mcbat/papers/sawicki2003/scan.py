@@ -7,7 +7,7 @@ same question to mcbat's impact model: the bundled game studies (``game_fastball
 attack angle become a grid; every cell gets :data:`PER_CELL` Monte Carlo samples; the game
 kernel solves the impacts and the flight kernel carries the balls to the ground. It is run
 twice per pitch: with the rigid model (``e_x = 0``) and with tangential compliance
-(``e_x`` of the game preset, :data:`mcbat.bodies.game.GAME_E_X`).
+(``e_x`` of the game preset, :data:`mcbat.bodies.restitution.GAME_E_X`).
 
 The scan is a game study built in memory (:func:`scan_study`), so it samples and solves
 exactly like ``mcbat run``; nothing is written here.
@@ -22,7 +22,7 @@ from importlib import resources
 
 import numpy as np
 
-from mcbat.bodies.game import GAME_RESTITUTION
+from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.core import status as st
 from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset.schema import derive_game

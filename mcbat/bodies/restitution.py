@@ -1,6 +1,7 @@
-"""Defaults of the game situation that stand for the bodies: the swing's pivot and the
-restitution of a baseball on a wood bat at game speeds, with their sources
-(``docs/batting.md``), and the restitution location tables of ``data/``.
+"""The restitution of a baseball on a wood bat at game speeds: the parameters of the model
+of :mod:`mcbat.core.restitution` (``e*`` by normal speed and contact position, the
+tangential ``e_x``), the game preset with its sources (``docs/batting.md``), and the
+location tables of ``data/``.
 """
 
 from __future__ import annotations
@@ -15,14 +16,7 @@ from mcbat.bodies.tables import data_file
 from mcbat.checks import check_real
 from mcbat.errors import InputError
 
-__all__ = ["DEFAULT_PIVOT", "GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution",
-           "location_table"]
-
-#: Distance of the swing's rotation centre from the knob (m): 6 in. The bat-performance
-#: standards pivot the bat 6 in from the knob (NCAA BBCOR, ASTM F2844), and Nathan et al.,
-#: Sports Eng. 13, 153 (2011) find the swing close to a rotation about a point near the
-#: knob.
-DEFAULT_PIVOT = 0.1524
+__all__ = ["GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution", "location_table"]
 
 #: Tangential restitution e_x at game speeds: 0.35, between the measured ~0.30 (Nathan
 #: et al., Procedia Eng. 34, 182 (2012)) and ~0.4 (Kensrud, Nathan & Smith, Am. J. Phys.
