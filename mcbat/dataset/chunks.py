@@ -45,6 +45,7 @@ from mcbat.dataset.schema import (
     PITCH_SOURCE_COLUMNS,
     derive,
     derive_game,
+    statcast_units,
 )
 from mcbat.study.units import UNITS
 
@@ -199,7 +200,7 @@ def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=No
     :func:`mcbat.core.swing.solve_game_batch`; returns ``(names, cols)`` as
     :func:`impact_columns` (``derived``: the bat-frame derived columns to compute, as
     there; the field-frame ones are always computed)."""
-    cols = {name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)}
+    cols = statcast_units({name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)})
     cols.update(bat_frame_columns(game_inputs, frame))
     cols.update({name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)})
     cols.update({name: out[i] for i, name in enumerate(OUTPUT_FIELDS)})

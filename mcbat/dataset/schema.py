@@ -51,7 +51,8 @@ from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
 __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
            "GAME_DERIVED_COLUMNS", "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS",
            "INPUT_COLUMNS", "MEASURED_SUFFIX", "OUTPUT_COLUMNS", "PITCH_SOURCE_COLUMNS",
-           "SCHEMA_VERSION", "UNITS", "derive", "derive_game"]
+           "SCHEMA_VERSION", "STATCAST_UNIT_INPUTS", "UNITS", "derive", "derive_game",
+           "si_units", "statcast_units"]
 
 #: Version of the column contract; stored in every manifest and chunk file.
 #: 3: game datasets (:data:`GAME_COLUMNS`); the bat-frame columns are those of version 2.
@@ -62,9 +63,21 @@ __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
 #: 6: the same columns and rows; every Parquet column is REQUIRED (non-nullable: no column
 #: holds nulls, NaN marks a failed row), which encodes faster. Version-5 files are
 #: OPTIONAL, and pyarrow does not concatenate the two: a version-5 dataset is not resumed.
-SCHEMA_VERSION = 6
+#: 7: the same rows; a game dataset's pitch and swing columns that have a Statcast
+#: counterpart (:data:`STATCAST_UNIT_INPUTS`) are in Statcast's units (mph, deg, rpm), as
+#: its batted-ball columns already were; lengths stay in m.
+SCHEMA_VERSION = 7
 
 _LINEAR = {"v": "m/s", "w": "rad/s"}
+STATCAST_UNIT_INPUTS = {
+    "pitch_speed": "mph", "pitch_vertical_approach_angle": "deg",
+    "pitch_horizontal_approach_angle": "deg", "pitch_spin_rate": "rpm", "pitch_spin_axis": "deg",
+    "bat_speed": "mph", "attack_angle": "deg", "attack_direction": "deg",
+    "vertical_bat_angle": "deg",
+}
+"""The game inputs a dataset writes in Statcast's units (the kernel takes them in SI): the
+pitch at the plate and the swing, as a Savant export and Statcast's bat tracking give them
+(``bat_speed > 70`` selects fast swings in mph)."""
 UNITS = {
     "mu": "1", "e": "1", "e_x": "1", "axial": "m", "angle": "rad", "impact_parameter": "m",
     "ball_mass": "kg", "ball_radius": "m", "ball_inertia_factor": "1",
@@ -82,12 +95,10 @@ UNITS = {
     "exit_speed_measured": "m/s", "scattering_angle_measured": "deg",
     "spin_axial_measured": "rad/s", "spin_measured": "rad/s",
     # game datasets
+    **STATCAST_UNIT_INPUTS,
     "bat_length": "m", "bat_cm_from_knob": "m", "handedness": "1 (+1 R, -1 L)",
-    "pitch_speed": "m/s", "pitch_vertical_approach_angle": "rad",
-    "pitch_horizontal_approach_angle": "rad", "pitch_spin_rate": "rad/s",
-    "pitch_spin_axis": "rad", "pitch_spin_efficiency": "1", "pitch_gyro_sign": "1",
-    "bat_speed": "m/s", "attack_angle": "rad", "attack_direction": "rad",
-    "vertical_bat_angle": "rad", "pivot": "m", "from_barrel_end": "m", "undercut": "m",
+    "pitch_spin_efficiency": "1", "pitch_gyro_sign": "1",
+    "pivot": "m", "from_barrel_end": "m", "undercut": "m",
     "e_ref": "1", "e_slope": "s/m", "e_speed_ref": "m/s", "e_location_factor": "1",
     "collision_efficiency": "1",
     **{f"field_{body}_{q}{c}{sfx}": _LINEAR[q] for body in ("ball", "bat") for q in "vw"
@@ -207,3 +218,30 @@ def derive_game(ball_velocity, ball_spin) -> dict:
     if np.ndim(vx) == 0:
         return {name: float(value) for name, value in out.items()}
     return out
+
+
+def _statcast_factor(unit):
+    quantity = "speed" if unit == "mph" else "spin" if unit == "rpm" else "angle"
+    return study_units.UNITS[quantity][unit]
+
+
+def statcast_units(cols):
+    """``cols`` (a dict of SI arrays by name) with the columns of :data:`STATCAST_UNIT_INPUTS`
+    replaced by new arrays in Statcast's units."""
+    for name, unit in STATCAST_UNIT_INPUTS.items():
+        if name in cols:
+            cols[name] = np.asarray(cols[name], np.float64) / _statcast_factor(unit)
+    return cols
+
+
+def si_units(cols):
+    """The inverse of :func:`statcast_units`: ``cols`` (a dict, or a dataset row as a
+    mapping) with the columns of :data:`STATCAST_UNIT_INPUTS` back in SI, e.g. to solve a
+    game dataset's row again with :class:`mcbat.api.GameCase` (which takes SI). Each value
+    is one division and one multiplication away from the kernel's input: equal to it within
+    a unit in the last place or two."""
+    cols = dict(cols)
+    for name, unit in STATCAST_UNIT_INPUTS.items():
+        if name in cols:
+            cols[name] = np.asarray(cols[name], np.float64) * _statcast_factor(unit)
+    return cols

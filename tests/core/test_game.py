@@ -194,29 +194,35 @@ def test_game_study_end_to_end(tmp_path):
     summary = mcbat.run(study, tmp_path / "g", samples=600, progress=False)
     assert summary.status_counts == {"ok": 600}
     df = mcbat.load(tmp_path / "g")
-    from mcbat.dataset.schema import FLIGHT_COLUMNS, GAME_COLUMNS
+    from mcbat.dataset.schema import FLIGHT_COLUMNS, GAME_COLUMNS, si_units
     assert list(df.columns) == list(GAME_COLUMNS + FLIGHT_COLUMNS)  # the preset flies
     assert (df["flight_status"] == 0).all() and df["hit_distance"].between(0, 600).all()
     np.testing.assert_allclose(df["hit_distance_m"], df["hit_distance"] * 0.3048, rtol=1e-15)
     again = mcbat.solve_frame(df)        # every row re-solves in the bat frame alone
     for name in ("ball_vx", "ball_vy", "ball_wz", "normal_impulse"):
         np.testing.assert_array_equal(again[name].to_numpy(), df[name].to_numpy())
-    # one row through the API gives the same numbers
-    row = df.iloc[7]
-    case = GameCase(ball=study.ball, bat=study.bat, pitch_speed=row.pitch_speed,
-                    bat_speed=row.bat_speed, mu=row.mu,
-                    vertical_approach_angle=row.pitch_vertical_approach_angle,
-                    horizontal_approach_angle=row.pitch_horizontal_approach_angle,
-                    spin_rate=row.pitch_spin_rate, spin_axis=row.pitch_spin_axis,
-                    spin_efficiency=row.pitch_spin_efficiency, attack_angle=row.attack_angle,
-                    attack_direction=row.attack_direction,
-                    vertical_bat_angle=row.vertical_bat_angle, pivot=row.pivot,
-                    from_barrel_end=row.from_barrel_end, undercut=row.undercut,
-                    restitution=Restitution(e_ref=row.e_ref, e_slope=row.e_slope,
-                                            e_speed_ref=row.e_speed_ref, e_x=row.e_x,
+    # The pitch and the swing are stored in Statcast's units (the batted balls too)
+    assert df.attrs["units"]["bat_speed"] == "mph" and df.attrs["units"]["attack_angle"] == "deg"
+    # (in m/s they would lie near 30 and 40)
+    assert df["bat_speed"].between(40, 110).all() and df["pitch_speed"].between(60, 110).all()
+    # one row through the API (SI, by si_units) gives the same numbers, to the rounding of
+    # the units' round trip
+    row = si_units(df.iloc[7].to_dict())
+    case = GameCase(ball=study.ball, bat=study.bat, pitch_speed=row["pitch_speed"],
+                    bat_speed=row["bat_speed"], mu=row["mu"],
+                    vertical_approach_angle=row["pitch_vertical_approach_angle"],
+                    horizontal_approach_angle=row["pitch_horizontal_approach_angle"],
+                    spin_rate=row["pitch_spin_rate"], spin_axis=row["pitch_spin_axis"],
+                    spin_efficiency=row["pitch_spin_efficiency"],
+                    attack_angle=row["attack_angle"], attack_direction=row["attack_direction"],
+                    vertical_bat_angle=row["vertical_bat_angle"], pivot=row["pivot"],
+                    from_barrel_end=row["from_barrel_end"], undercut=row["undercut"],
+                    restitution=Restitution(e_ref=row["e_ref"], e_slope=row["e_slope"],
+                                            e_speed_ref=row["e_speed_ref"], e_x=row["e_x"],
                                             location=study.restitution.location))
     res = solve_game(case)
-    assert res.launch_speed == row.launch_speed and res.backspin == row.backspin
+    assert res.launch_speed == pytest.approx(row["launch_speed"], rel=1e-12)
+    assert res.backspin == pytest.approx(row["backspin"], rel=1e-9, abs=1e-6)
 
 
 def test_each_game_input_row_is_named_by_its_field():

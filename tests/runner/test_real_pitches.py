@@ -23,7 +23,6 @@ from mcbat.statcast import read
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "studies" / "real_pitches.toml"
 DATA = ROOT / "data" / "statcast_2020-09-03.csv"
-MPH = 0.44704
 
 
 def mcbat_cli(*args, cwd=None):
@@ -72,21 +71,21 @@ def test_every_row_traces_to_its_real_pitch(baseline):
     for name in ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter"):
         assert np.array_equal(real[name].to_numpy(np.int64), baseline[name].to_numpy()), name
     assert set(real["pitch_type"]) <= {"FF", "SI"} and set(real["p_throws"]) == {"R"}
-    # ... and that pitch's values are the simulated inputs: the plate speed (the reader's
-    # mph, from Savant's release state) is the row's pitch_speed in m/s; the batter's side.
+    # ... and that pitch's values are the simulated inputs, in Statcast's units: the plate
+    # speed (the reader's mph, from Savant's release state), the approach angle (deg), the
+    # release spin rate (rpm); the batter's side. The kernel took each in SI, one
+    # multiplication of the file's value, and the dataset divides it back.
     tidy = read(DATA).iloc[baseline["source_row"].to_numpy()]
-    assert np.array_equal(baseline["pitch_speed"].to_numpy(),
-                          tidy["pitch_speed"].to_numpy() * MPH)
-    assert np.allclose(baseline["pitch_speed"] / MPH, tidy["pitch_speed"], rtol=1e-15,
+    assert baseline.attrs["units"]["pitch_speed"] == "mph"
+    assert np.allclose(baseline["pitch_speed"], tidy["pitch_speed"], rtol=3e-16, atol=0)
+    assert np.allclose(baseline["pitch_vertical_approach_angle"],
+                       tidy["vertical_approach_angle"], rtol=1e-15, atol=1e-13)
+    assert np.allclose(baseline["pitch_spin_rate"], real["release_spin_rate"], rtol=1e-14,
                        atol=0)
-    assert np.array_equal(baseline["pitch_vertical_approach_angle"].to_numpy(),
-                          np.radians(tidy["vertical_approach_angle"].to_numpy()))
-    assert np.allclose(baseline["pitch_spin_rate"] * 60 / (2 * np.pi), real["release_spin_rate"],
-                       rtol=1e-14, atol=0)
     assert np.array_equal(baseline["handedness"].to_numpy(),
                           np.where(real["stand"] == "R", 1.0, -1.0))
     # The file has no spin axis: the fallback's range, 195-240 deg.
-    axis = np.degrees(baseline["pitch_spin_axis"])
+    axis = baseline["pitch_spin_axis"]
     assert axis.min() >= 195 - 1e-9 and axis.max() <= 240 + 1e-9
     # Resampled with replacement from every selected pitch.
     selected = ((raw["pitch_type"].isin(["FF", "SI"])) & (raw["p_throws"] == "R")).sum()
