@@ -19,14 +19,14 @@ measured inputs, their errors) and solves them at any value of the free paramete
 Measured inputs with an ``_err`` column are drawn from their posterior given the
 measurement: the prior of the true values times a normal of that width about the measured
 value, over a bounded range. The draws come from the posterior under a flat prior over that
-range; the mixture likelihood of :mod:`mcbat.stats.fit` reweights them to a prior it
-estimates with the parameters (:class:`PriorFamily`), so that a table whose true values
-pile up somewhere (at the ends of the range, say) is not fitted as if they were spread
-evenly. The draws are *stratified*: draw ``k`` of a row lies in the ``k``-th of ``M``
-equal-probability slices of that posterior for the first such input (the slices of any
-further one are shuffled, as in a Latin hypercube). The order matters:
-:func:`mcbat.stats.likelihood.draw_moments` pairs neighbouring slices to measure the Monte Carlo
-error of the mean.
+range; the mixture likelihood of :mod:`mcbat.stats.likelihood` reweights them to a prior it
+estimates with the parameters (:class:`~mcbat.stats.input_priors.PriorFamily`), so that a
+table whose true values pile up somewhere (at the ends of the range, say) is not fitted as
+if they were spread evenly. The draws are *stratified*: draw ``k`` of a row lies in the
+``k``-th of ``M`` equal-probability slices of that posterior for the first such input (the
+slices of any further one are shuffled, as in a Latin hypercube). The order matters:
+:func:`mcbat.stats.likelihood.draw_moments` pairs neighbouring slices to measure the Monte
+Carlo error of the mean.
 The range and the prior of a measured input's true values are
 :mod:`mcbat.stats.input_priors`'s; every fit reports the range it used
 (:attr:`_DrawModel.priors`).
@@ -113,7 +113,7 @@ class _DrawModel:
         """Measured input -> the range its draws cover: ``study_range`` and ``range``
         (table units), ``widened`` (the two differ), and whether the measured values reject
         the study's range (``rejects_study_range``, with the ``p_value`` of
-        :func:`beyond_range_test`)."""
+        :func:`~mcbat.stats.input_priors.beyond_range_test`)."""
         self.prior_draws = {}
         """Measured input over a bounded range -> ``(draws (rows x M), lo, hi)`` in table
         units: its draws, taken from the posterior under a flat prior over ``[lo, hi]``,

@@ -27,7 +27,7 @@ def solve_study(study, rows, seed, params):
     -------
     measured, observed : dict of str -> ndarray
         The measured inputs a table of this kind carries and its observables, in the
-        table's units (:data:`BAT_FRAME_COLUMNS`, :data:`GAME_TABLE_COLUMNS`).
+        table's units (:mod:`mcbat.stats.columns`).
     ok : ndarray of bool
         Rows whose impact was solved.
     """
