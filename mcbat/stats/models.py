@@ -27,6 +27,7 @@ if they were spread evenly. The draws are *stratified*: draw ``k`` of a row lies
 slices of any further one are shuffled, as in a Latin hypercube). The order matters:
 :func:`mcbat.stats.likelihood.draw_moments` pairs neighbouring slices to measure the Monte
 Carlo error of the mean.
+
 The range and the prior of a measured input's true values are
 :mod:`mcbat.stats.input_priors`'s; every fit reports the range it used
 (:attr:`_DrawModel.priors`).
