@@ -62,6 +62,7 @@ class TemplateSimulator:
 
     def _solve_engine(self, study, columns, observables):
         from mcbat.dataset.load import load
+        from mcbat.dataset.schema import si_units
         from mcbat.runner.study_run import run_study
 
         out = self.workdir / f"templates_{self.runs}"
@@ -69,8 +70,10 @@ class TemplateSimulator:
                   progress=False, overwrite=True)
         df = load(out, columns=[*columns, *observables, "status"])
         ok = df["status"].to_numpy() == 0
-        return ({c: df[c].to_numpy(float) for c in columns},
-                {c: df[c].to_numpy(float) for c in observables}, ok)
+        # The dataset holds the pitch and the swing in Statcast's units; the proposal's
+        # densities are in the kernel's SI, as the in-process draws are.
+        inputs = si_units({c: df[c].to_numpy(float) for c in columns})
+        return inputs, {c: df[c].to_numpy(float) for c in observables}, ok
 
     def close(self):
         """Remove the temporary files."""
