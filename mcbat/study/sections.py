@@ -34,19 +34,25 @@ def fixed_number(spec, field, quantity, *, positive=True):
     return dist.value
 
 
+def _preset_name(table, section, presets):
+    """The ``preset`` of a ``[ball]`` or ``[bat]`` table, alone and one of ``presets``."""
+    for key in table:
+        if key != "preset":
+            raise InputError(f"{section}.{key}", "cannot be combined with 'preset' (give "
+                                                 f"either a preset or the {section}'s "
+                                                 "properties)")
+    name = check_string(table["preset"], f"{section}.preset")
+    if name not in presets:
+        raise InputError(f"{section}.preset", f"unknown {section} preset {name!r} "
+                                              f"(expected one of: {', '.join(presets)})")
+    return name
+
+
 def parse_ball(table):
     """The ``[ball]`` section: a :class:`~mcbat.bodies.ball.Ball` (preset or explicit keys)."""
     check_keys(table, "ball", (), ("preset",) + tuple(BALL_KEYS))
     if "preset" in table:
-        for key in table:
-            if key != "preset":
-                raise InputError(f"ball.{key}", "cannot be combined with 'preset' (give "
-                                                "either a preset or the ball's properties)")
-        name = check_string(table["preset"], "ball.preset")
-        if name not in BALL_PRESETS:
-            raise InputError("ball.preset", f"unknown ball preset {name!r} "
-                                            f"(expected one of: {', '.join(BALL_PRESETS)})")
-        return BALL_PRESETS[name]
+        return BALL_PRESETS[_preset_name(table, "ball", BALL_PRESETS)]
     check_keys(table, "ball", ("mass", "radius"), ("inertia_factor",))
     values = {k: fixed_number(v, f"ball.{k}", BALL_KEYS[k]) for k, v in table.items()}
     return Ball(**values)
@@ -56,15 +62,7 @@ def parse_bat(table):
     """The ``[bat]`` section: a :class:`~mcbat.bodies.bat.Bat` (preset or explicit keys)."""
     check_keys(table, "bat", (), ("preset",) + tuple(BAT_KEYS))
     if "preset" in table:
-        for key in table:
-            if key != "preset":
-                raise InputError(f"bat.{key}", "cannot be combined with 'preset' (give "
-                                               "either a preset or the bat's properties)")
-        name = check_string(table["preset"], "bat.preset")
-        if name not in BAT_PRESETS:
-            raise InputError("bat.preset", f"unknown bat preset {name!r} "
-                                           f"(expected one of: {', '.join(BAT_PRESETS)})")
-        return bat_preset(name)
+        return bat_preset(_preset_name(table, "bat", BAT_PRESETS))
     check_keys(table, "bat", _BAT_REQUIRED, ("length", "cm_from_barrel_end", "cm_from_knob"))
     values = {}
     for key, spec in table.items():
