@@ -1,0 +1,58 @@
+"""docs/batting.md quotes what the code gives: its generated blocks and the numbers in
+its text are those ``python -m validation batting_doc`` computes now."""
+
+import importlib.util
+import sys
+
+import pytest
+
+from mcbat.papers.sawicki2003.doc import blocks
+from tests.conftest import ROOT
+
+TEXT = (ROOT / "docs" / "batting.md").read_text(encoding="utf-8")
+
+
+def _doc_script():
+    spec = importlib.util.spec_from_file_location("batting_doc",
+                                                  ROOT / "validation" / "batting_doc.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+DOC = _doc_script()
+
+
+def test_every_block_and_inline_number_is_in_the_doc_once():
+    assert set(blocks(TEXT)) == {"location_q", "plate_pitches", "run_game_fastball"}
+    given = DOC.inline_values(TEXT)
+    assert [name for name, value in given.items() if value is None] == []
+
+
+def test_the_fast_blocks_and_the_presets_numbers_are_what_the_code_gives():
+    """The ``q`` table against location, the real pitches at the plate, and the game
+    preset's ``e*``, ``q`` and ``r`` (seconds)."""
+    bodies, values = DOC.render(["location_q", "plate_pitches", "game_preset"])
+    current = blocks(TEXT)
+    for name, body in bodies.items():
+        assert current[name] == body, name
+    given = DOC.inline_values(TEXT)
+    assert {name: given[name] for name in values} == values
+
+
+def test_a_drifted_number_is_found_and_rewritten():
+    """The check can fail: a changed number of the text is reported and put back."""
+    drifted = TEXT.replace("`r = 0.2194`", "`r = 0.2190`")
+    assert drifted != TEXT
+    assert DOC.inline_values(drifted)["r_sweet"] == "0.2190"
+    assert DOC.splice_inline(drifted, {"r_sweet": "0.2194"}) == TEXT
+
+
+@pytest.mark.slow
+def test_the_run_and_the_numbers_quoted_from_it_are_what_the_code_gives():
+    """``mcbat run studies/game_fastball.toml`` (20,000 samples with their flight)."""
+    bodies, values = DOC.render(["run_game_fastball"])
+    assert blocks(TEXT)["run_game_fastball"] == bodies["run_game_fastball"]
+    given = DOC.inline_values(TEXT)
+    assert {name: given[name] for name in values} == values
