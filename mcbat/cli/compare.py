@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
-from mcbat.cli.common import EXIT_OK, FIGURE_FORMATS, check_output, flags, int_arg, print_json
-from mcbat.errors import InputError
+from mcbat.cli.common import (
+    EXIT_OK,
+    FIGURE_FORMATS,
+    as_flags,
+    check_output,
+    flags,
+    int_arg,
+    print_json,
+)
+from mcbat.errors import InputError, Metavar
 
 __all__ = ["COMPARE_PARAMETERS", "add_parser", "cmd_compare"]
 
@@ -82,17 +89,13 @@ def cmd_compare(args) -> int:
     simulated = read_simulated(args.dataset)
     measured = read_measured(args.measured, units)
     try:
-        with flags(*COMPARE_PARAMETERS):
-            result = compare(simulated, measured, columns, permutations=args.permutations,
-                             seed=args.seed, max_rows=args.max_rows,
-                             plane_rows=args.plane_rows)
+        result = compare(simulated, measured, columns, permutations=args.permutations,
+                         seed=args.seed, max_rows=args.max_rows, plane_rows=args.plane_rows)
     except InputError as err:  # a column's problem: name the measured table(s)
-        # (mcbat.stats.compare writes its advice on a column's unit in call syntax, twice
-        # over with two values: the one message still rewritten here.)
-        message = re.sub(r"units=\{'([^']+)': '([^']+)'\}", r"--units \1=\2", err.message)
-        where = args.dataset if "of the simulated dataset" in message else \
+        err = as_flags(_units_as_flag_values(err), COMPARE_PARAMETERS)
+        where = args.dataset if "of the simulated dataset" in err.message else \
             ", ".join(args.measured)
-        raise InputError(err.field, message, err.source or where) from None
+        raise InputError(err.field, err.message, err.source or where) from None
     result.simulated = {"path": args.dataset, "rows": len(simulated),
                         "study": simulated.attrs.get("mcbat", {}).get("study_name")}
     result.measured = {"rows": len(measured), "sources": measured.attrs["sources"]}
@@ -115,3 +118,14 @@ def cmd_compare(args) -> int:
     if args.figure:
         print(f"figure: {args.figure}")
     return EXIT_OK
+
+
+def _units_as_flag_values(error: InputError) -> InputError:
+    """``error`` with a mentioned ``units`` (the library's ``{column: unit}``) written as
+    ``--units`` takes it, ``COLUMN=UNIT``, one flag per column (the flag repeats)."""
+    units = error.mentions.get("units")
+    if not isinstance(units, dict) or not units:
+        return error
+    value = Metavar(" --units ".join(f"{column}={unit}" for column, unit in units.items()))
+    return InputError(error.field, error.template, error.source,
+                      mentions={**error.mentions, "units": value})

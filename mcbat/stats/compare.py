@@ -274,9 +274,9 @@ def _compare_column(name, sim_series, meas_series, sim_unit, meas_unit, permutat
     if sim.size == 0 or meas.size == 0:
         return None
     if meas_unit is None:
-        message = unit_suspicion(name, sim, meas, unit)
-        if message:
-            raise InputError(name, message)
+        suspicion = unit_suspicion(name, sim, meas, unit)
+        if suspicion is not None:
+            raise suspicion
     stream = [seed, zlib.crc32(name.encode())]
     rng = np.random.default_rng([*stream, 1])
     sim_cap, meas_cap = _subsample(sim, max_rows, rng), _subsample(meas, max_rows, rng)

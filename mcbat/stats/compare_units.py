@@ -53,8 +53,10 @@ def convert(values, unit, to):
 
 
 def unit_suspicion(column, simulated, measured, unit):
-    """A message when ``measured`` (whose table states no unit, read in ``unit``) looks like
-    another unit of the same quantity, else None (:data:`UNIT_SUSPICION`)."""
+    """An :class:`~mcbat.errors.InputError` about ``column`` when ``measured`` (whose table
+    states no unit, read in ``unit``) looks like another unit of the same quantity, else
+    None (:data:`UNIT_SUSPICION`). The ``units`` it advises is a mention (data), so a
+    command line can spell it as its flag."""
     kind = UNIT_FACTORS[unit][0]
     if kind in ("ratio",):
         return None
@@ -70,12 +72,13 @@ def unit_suspicion(column, simulated, measured, unit):
             continue
         expected = UNIT_FACTORS[unit][1] / factor  # a value in `other` read as `unit`
         if abs(math.log(ratio / expected)) < math.log(UNIT_MATCH):
-            return (f"the measured values' median magnitude ({typical_meas:.4g}) is "
-                    f"{ratio:.3g} times the simulated one ({typical_sim:.4g} {unit}), close "
-                    f"to the {expected:.3g} of a value in {other}: wrong unit? The table "
-                    f"states no unit for {column}, so it is read in {unit}; state its unit "
-                    f"(units={{'{column}': '{other}'}}) to compare it converted, or "
-                    f"(units={{'{column}': '{unit}'}}) to compare it as it is")
+            return InputError(
+                column, f"the measured values' median magnitude ({typical_meas:.4g}) is "
+                f"{ratio:.3g} times the simulated one ({typical_sim:.4g} {unit}), close "
+                f"to the {expected:.3g} of a value in {other}: wrong unit? The table "
+                f"states no unit for {column}, so it is read in {unit}; state its unit to "
+                f"compare it converted ({{units}}), or state it as {unit} to compare the "
+                f"values as they are", mentions={"units": {column: other}})
     return None
 
 

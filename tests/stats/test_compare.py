@@ -51,6 +51,9 @@ def test_launch_speed_in_m_s_is_caught_or_converted():
     with pytest.raises(InputError, match="wrong unit") as err:
         compare(sim, meas, permutations=10)
     assert err.value.field == "launch_speed" and "m/s" in err.value.message
+    # the advised parameter is data, so a command line can spell it as its flag
+    assert err.value.mentions == {"units": {"launch_speed": "m/s"}}
+    assert "(units={'launch_speed': 'm/s'})" in err.value.message
     # stated, it is converted and agrees
     result = compare(sim, meas, ["launch_speed"], units={"launch_speed": "m/s"},
                      permutations=10)

@@ -11,6 +11,9 @@ from scipy import stats
 
 import mcbat
 from mcbat.cli import main
+from mcbat.cli.common import as_flags
+from mcbat.cli.compare import COMPARE_PARAMETERS, _units_as_flag_values
+from mcbat.errors import InputError
 from mcbat.statcast import balls_in_play, read
 from tests.conftest import ROOT
 
@@ -128,6 +131,28 @@ def test_bad_input_exits_2_with_one_line(game, capsys, tmp_path):
         assert len(lines) == 1 and lines[0].startswith("mcbat: error: "), (name, err)
         for word in words:
             assert word in lines[0], (name, lines[0])
+
+
+def test_the_unit_advice_names_the_flag(game, capsys, tmp_path):
+    """The library's advice is a mention of its ``units`` parameter (data); the command
+    spells it as the flag, in the form the flag takes, and the advice works."""
+    real = read(REAL[0])
+    speeds = real.loc[balls_in_play(real), ["launch_speed"]].dropna() * 0.44704
+    table = _table(tmp_path, "ms.csv", speeds)
+    code, out, err = _run(capsys, game, table)
+    assert code == 2 and out == ""
+    assert "(--units launch_speed=m/s)" in err and "units=" not in err, err
+    code, _, err = _run(capsys, game, table, "--units", "launch_speed=m/s",
+                        "--permutations", "10")
+    assert code == 0, err
+
+
+def test_several_columns_advised_take_one_flag_each():
+    error = InputError("x", "state the units ({units})",
+                       mentions={"units": {"launch_speed": "m/s", "launch_angle": "rad"}})
+    advised = as_flags(_units_as_flag_values(error), COMPARE_PARAMETERS)
+    assert advised.message == ("state the units (--units launch_speed=m/s "
+                               "--units launch_angle=rad)")
 
 
 def test_stated_m_s_is_converted(game, capsys, tmp_path):
