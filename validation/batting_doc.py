@@ -18,14 +18,22 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
     command itself is run, with the study's samples and seed); the numbers the text after
     it quotes come from the same dataset.
 
+``spin_vs_nathan``, ``presets_vs_real`` (rendered together, as ``presets_vs_real``)
+    The presets' batted balls at their studies' samples and seeds, the median backspin
+    per 5° against Nathan's average spin model (also with ``e_x = 0.2``), and the launch
+    speeds and angles against the real balls in play of ``data/`` (the calculations of
+    ``python -m validation presets_vs_statcast``).
+
 Numbers inside the text (``INLINE``: each found by the words around it) are written too:
 the game preset's ``e*`` at 165.5 mph and the rigid model's ``q`` and ``r`` at the
-R161's sweet spot (``game_preset``), and the run's (``run_game_fastball``). ``--only``
-takes the names above and ``game_preset``.
+R161's sweet spot (``game_preset``), the run's (``run_game_fastball``), the presets'
+sidespin and curveball backspin and launch-speed sd (``presets_vs_real``). ``--only``
+takes ``location_q``, ``plate_pitches``, ``run_game_fastball``, ``game_preset``,
+``presets_vs_real``.
 
 Without ``--write`` the script exits 1 and prints the difference when a block of the doc
-or a number of the text is not what the code gives now. ~1 min on one thread, most of it
-the study's run (its flight).
+or a number of the text is not what the code gives now. ~1-2 min on one thread, most of it
+the presets' eight runs.
 """
 
 from __future__ import annotations
@@ -172,6 +180,122 @@ def run_game_fastball() -> tuple[str, dict]:
     return block, values
 
 
+def _preset_balls(name, e_x=None):
+    """The preset's batted balls (status 0) at its own samples and seed; ``e_x`` replaces
+    its ``[restitution] e_x`` (the "at e_x = 0.2" columns)."""
+    import mcbat
+    from mcbat.study.spec import Study
+
+    path = ROOT / "studies" / f"{name}.toml"
+    text = path.read_text()
+    data = tomllib.loads(text)
+    if e_x is not None:
+        data["restitution"]["e_x"] = e_x
+    study = Study.from_dict(data, source=str(path), text=text)
+    with tempfile.TemporaryDirectory() as tmp:
+        mcbat.run(study, Path(tmp) / "d", progress=False)
+        df = mcbat.load(Path(tmp) / "d", columns=["launch_speed", "launch_angle",
+                                                  "spray_angle", "backspin", "sidespin",
+                                                  "handedness", "status"])
+    return df[df["status"] == 0]
+
+
+def _real(path, types=None):
+    """Launch speeds and angles of the balls in play of a Statcast file (with both)."""
+    from mcbat.statcast import balls_in_play, read
+
+    t = read(path)
+    t = t[balls_in_play(t)]
+    if types is not None:
+        t = t[t["pitch_type"].isin(types)]
+    t = t[t["launch_speed"].notna() & t["launch_angle"].notna()]
+    return t["launch_speed"].to_numpy(float), t["launch_angle"].to_numpy(float)
+
+
+def presets_vs_real() -> tuple[dict, dict]:
+    """The presets' batted balls against the real ones (``presets_vs_statcast``, each at
+    its study's samples and seed): the spin table against Nathan's model, the KS table,
+    and the numbers the text quotes from them."""
+    from mcbat.stats.compare import ks_test
+    from validation.presets_vs_statcast import spin_rows
+
+    in_play = ROOT / "data" / "statcast_2020-09-03_in_play.csv"
+    darvish = ROOT / "data" / "statcast_2019_darvish.csv"
+    balls = {name: _preset_balls(name) for name in
+             ("mlb_balls_in_play", "game_fastball", "game_curveball")}
+    spin = {name: spin_rows(df) for name, df in balls.items()}
+    spin_02 = {name: spin_rows(_preset_balls(name, e_x=0.2))[0]
+               for name in ("mlb_balls_in_play", "game_fastball")}
+
+    lines = ["| launch angle | `mlb_balls_in_play`: ours / Nathan | ratio | at `e_x = 0.2` | "
+             "`game_fastball`: ours / Nathan | ratio | at `e_x = 0.2` |",
+             "|---|---|---|---|---|---|---|"]
+    for i in range(5):
+        cells = []
+        for name in ("mlb_balls_in_play", "game_fastball"):
+            lo, _, ours, nathan = spin[name][0][i]
+            _, _, ours_02, nathan_02 = spin_02[name][i]
+            cells += [f"{ours:.0f} / {nathan:.0f}", f"{ours / nathan:.2f}",
+                      f"{ours_02 / nathan_02:.2f}"]
+        lines.append(f"| {lo}-{lo + 5}° | " + " | ".join(cells) + " |")
+    spin_table = "\n".join(lines)
+
+    def pct(x):
+        return f"{x * 100:.1f} %"
+
+    def row(study, label, real, p_values=False, median=True):
+        ls, la = (balls[study][c].to_numpy() for c in ("launch_speed", "launch_angle"))
+        rs, ra = real
+        ks = [f"{k['statistic']:.3f}" + (f" (p = {k['p_value']:.2f})" if p_values else "")
+              for k in (ks_test(ls, rs), ks_test(la, ra))]
+        med = f" {np.median(ls):.1f} ({np.median(rs):.1f}) mph " if median else " "
+        return (f"| {label[0]} | {label[1]} | {ks[0]} | {ks[1]} | {pct(np.mean(ls < 80))} "
+                f"({pct(np.mean(rs < 80))}) | {pct(np.mean(la > 50))} "
+                f"({pct(np.mean(ra > 50))}) |{med}|")
+
+    every = _real(in_play)
+    fast, curve, dar = _real(in_play, ("FF", "SI")), _real(in_play, ("CU", "KC")), _real(darvish)
+    n = len(every[0])
+    rows = [row("mlb_balls_in_play", (f"`mlb_balls_in_play` (the {n} pitches)", f"all {n}"),
+                every, p_values=True),
+            row("game_fastball", ("`game_fastball`", f"all {n}"), every),
+            row("game_fastball", ("`game_fastball`",
+                                  f"the {len(fast[0])} four-seamers and sinkers"), fast),
+            row("game_curveball", ("`game_curveball`", f"all {n}"), every),
+            row("game_curveball", ("`game_curveball`",
+                                   f"the {len(curve[0])} curveballs and knuckle curves"), curve),
+            row("mlb_balls_in_play", ("`mlb_balls_in_play`", f"Darvish's {len(dar[0])} balls "
+                                      "in play, 2019 (not fitted)"), dar, p_values=True,
+                median=False)]
+    ks_table = "\n".join(["| study | real balls | KS `launch_speed` | KS `launch_angle` | "
+                          "< 80 mph (real) | > 50° (real) | median launch speed (real) |",
+                          "|---|---|---|---|---|---|---|", *rows])
+
+    fast_side, mlb_side = spin["game_fastball"][1], spin["mlb_balls_in_play"][1]
+    curve_rows = spin["game_curveball"][0]
+    ls_mlb = balls["mlb_balls_in_play"]["launch_speed"].to_numpy()
+    values = {
+        # sidespins to 10 rpm
+        "side_fast_median": _signed(round(fast_side[0], -1), digits=0),
+        "side_fast_nathan": _signed(round(fast_side[1], -1), digits=0),
+        "side_fast_10": _signed(round(fast_side[2], -1), digits=0),
+        "side_fast_90": _signed(round(fast_side[3], -1), digits=0, plus=True),
+        "side_fast_sd": f"{round(fast_side[4], -1):.0f}",
+        "side_mlb_median": _signed(round(mlb_side[0], -1), digits=0),
+        "side_mlb_nathan": _signed(round(mlb_side[1], -1), digits=0),
+        "side_mlb_10": _signed(round(mlb_side[2], -1), digits=0),
+        "side_mlb_90": _signed(round(mlb_side[3], -1), digits=0, plus=True),
+        "side_mlb_sd": f"{round(mlb_side[4], -1):.0f}",
+        **{f"curve_ratio_{i}": f"{o / m:.2f}" for i, (_, _, o, m) in enumerate(curve_rows)},
+        "curve_low_ours": f"{curve_rows[0][2]:.0f}",
+        "curve_low_nathan": f"{curve_rows[0][3]:.0f}",
+        "curve_low_gap": f"{round(curve_rows[0][3] - curve_rows[0][2], -1):.0f}",
+        "sd_launch_speed": f"{np.std(ls_mlb):.1f}",
+        "sd_launch_speed_real": f"{np.std(every[0]):.1f}",
+    }
+    return {"spin_vs_nathan": spin_table, "presets_vs_real": ks_table}, values
+
+
 def game_preset_values() -> dict:
     """The game preset's restitution at 165.5 mph and the rigid model's ``q`` and ``r`` at
     the R161's sweet spot (6 in from the barrel end)."""
@@ -208,6 +332,23 @@ INLINE = {
     "model_back_95": "the model gives −4500 and {} rpm",
     "back_5": "5/95 % backspin of {} and",
     "back_95": "5/95 % backspin of −5500 and {} rpm",
+    "side_fast_median": "median {} rpm against Nathan's",
+    "side_fast_nathan": "rpm against Nathan's {} on the same balls",
+    "side_fast_10": "ball by ball, is 10-90 % {} to",
+    "side_fast_90": "is 10-90 % −860 to {} rpm (sd",
+    "side_fast_sd": "ball by ball, is 10-90 % −860 to +1250 rpm (sd {})",
+    "side_mlb_median": "the median is {} against",
+    "side_mlb_nathan": "the median is −270 against {} and the",
+    "side_mlb_10": "and the spread {} to",
+    "side_mlb_90": "the spread −1030 to {} rpm",
+    "side_mlb_sd": "the spread −1030 to +1090 rpm (sd {})",
+    **{f"curve_ratio_{i}": "ratios " + ", ".join("{}" if j == i else "0.00" for j in range(5))
+       + " over the five bins" for i in range(5)},
+    "curve_low_ours": "over the five bins ({} against",
+    "curve_low_gap": "rpm at 15-20°, {} rpm under the model",
+    "curve_low_nathan": "bins (786 against {} rpm at 15-20°",
+    "sd_launch_speed": "Launch speed sd: {} mph against",
+    "sd_launch_speed_real": "mph against the real {}.",
 }
 _NUMBER = r"([−+\-]?[0-9][0-9.,]*)"
 
@@ -259,11 +400,15 @@ def splice_inline(text: str, values: dict) -> str:
 def render(names=None) -> tuple[dict, dict]:
     """The bodies of the doc's generated blocks named in ``names`` (default: every one)
     and the inline numbers they give (``game_preset``: the preset's own numbers)."""
-    names = names or [*RENDER, "run_game_fastball", "game_preset"]
+    names = names or NAMES
     bodies, values = {}, {}
     for name in names:
         if name == "run_game_fastball":
             bodies[name], found = run_game_fastball()
+            values.update(found)
+        elif name == "presets_vs_real":
+            found_bodies, found = presets_vs_real()
+            bodies.update(found_bodies)
             values.update(found)
         elif name == "game_preset":
             values.update(game_preset_values())
@@ -273,7 +418,7 @@ def render(names=None) -> tuple[dict, dict]:
 
 
 RENDER = {"location_q": render_location_q, "plate_pitches": render_plate_pitches}
-NAMES = (*RENDER, "run_game_fastball", "game_preset")
+NAMES = (*RENDER, "run_game_fastball", "game_preset", "presets_vs_real")
 
 
 def main(argv=None) -> int:

@@ -25,7 +25,8 @@ DOC = _doc_script()
 
 
 def test_every_block_and_inline_number_is_in_the_doc_once():
-    assert set(blocks(TEXT)) == {"location_q", "plate_pitches", "run_game_fastball"}
+    assert set(blocks(TEXT)) == {"location_q", "plate_pitches", "run_game_fastball",
+                                 "spin_vs_nathan", "presets_vs_real"}
     given = DOC.inline_values(TEXT)
     assert [name for name, value in given.items() if value is None] == []
 
@@ -50,9 +51,12 @@ def test_a_drifted_number_is_found_and_rewritten():
 
 
 @pytest.mark.slow
-def test_the_run_and_the_numbers_quoted_from_it_are_what_the_code_gives():
-    """``mcbat run studies/game_fastball.toml`` (20,000 samples with their flight)."""
-    bodies, values = DOC.render(["run_game_fastball"])
-    assert blocks(TEXT)["run_game_fastball"] == bodies["run_game_fastball"]
+def test_the_runs_and_the_numbers_quoted_from_them_are_what_the_code_gives():
+    """``mcbat run studies/game_fastball.toml`` (20,000 samples with their flight) and the
+    presets against the real balls in play (seven runs of 20,000)."""
+    bodies, values = DOC.render(["run_game_fastball", "presets_vs_real"])
+    current = blocks(TEXT)
+    for name, body in bodies.items():
+        assert current[name] == body, name
     given = DOC.inline_values(TEXT)
     assert {name: given[name] for name in values} == values
