@@ -23,7 +23,11 @@ __all__ = ["GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution", "lo
 #: 85, 503 (2017)), as quoted in docs/batting.md.
 GAME_E_X = 0.35
 
-#: Location tables shipped in ``data/`` (name -> file).
+#: Location tables shipped in ``data/`` (name -> file). Both are assumed shapes, not
+#: measurements: no table of a wood bat's COR against the impact point is shipped.
+#: ``"assumed"`` (the game presets') is flat between the barrel-end nodes of the first two
+#: bending modes and falls on both sides at rates chosen so that ``q`` peaks there
+#: (provenance: ``data/README.md``; what it does to ``q``: ``docs/batting.md``).
 LOCATION_TABLES = {"illustrative": "restitution_location_illustrative.csv",
                    "assumed": "restitution_location_assumed.csv"}
 
