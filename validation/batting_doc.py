@@ -18,6 +18,9 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
     command itself is run, with the study's samples and seed); the numbers the text after
     it quotes come from the same dataset.
 
+``run_real_pitches``
+    What ``mcbat run studies/real_pitches.toml`` prints about the rows it drew from; its
+    launch speeds and the selected rows of the file are numbers of the text.
 ``spin_vs_nathan``, ``presets_vs_real`` (rendered together, as ``presets_vs_real``)
     The presets' batted balls at their studies' samples and seeds, the median backspin
     per 5° against Nathan's average spin model (also with ``e_x = 0.2``), and the launch
@@ -26,14 +29,15 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
 
 Numbers inside the text (``INLINE``: each found by the words around it) are written too:
 the game preset's ``e*`` at 165.5 mph and the rigid model's ``q`` and ``r`` at the
-R161's sweet spot (``game_preset``), the run's (``run_game_fastball``), the presets'
-sidespin and curveball backspin and launch-speed sd (``presets_vs_real``). ``--only``
-takes ``location_q``, ``plate_pitches``, ``run_game_fastball``, ``game_preset``,
-``presets_vs_real``.
+R161's sweet spot (``game_preset``), the exports' drag loss, slow curveballs,
+left-handers and Darvish's four-seamers (``plate_pitches``), the runs'
+(``run_game_fastball``, ``run_real_pitches``), the presets' sidespin and curveball
+backspin and launch-speed sd (``presets_vs_real``). ``--only`` takes any of
+:data:`NAMES`.
 
 Without ``--write`` the script exits 1 and prints the difference when a block of the doc
 or a number of the text is not what the code gives now. ~1-2 min on one thread, most of it
-the presets' eight runs.
+the studies' nine runs.
 """
 
 from __future__ import annotations
@@ -296,6 +300,57 @@ def presets_vs_real() -> tuple[dict, dict]:
     return {"spin_vs_nathan": spin_table, "presets_vs_real": ks_table}, values
 
 
+def plate_values() -> dict:
+    """The numbers the text around ``plate_pitches`` quotes from the same exports."""
+    from mcbat.statcast import read
+
+    t = read(ROOT / "data" / "statcast_2020-09-03.csv")
+
+    def of(hand, kind, column):
+        rows = t[(t["p_throws"] == hand) & (t["pitch_type"] == kind)]
+        return rows[column].dropna().to_numpy(float)
+
+    loss = 1.0 - np.median(of("R", "FF", "pitch_speed")) / np.median(of("R", "FF",
+                                                                         "release_speed"))
+    darvish = read(ROOT / "data" / "statcast_2019_darvish.csv")
+    darvish = darvish[darvish["pitch_type"] == "FF"]
+    return {"drag_loss": f"{loss * 100:.1f}",
+            "cu_p5": f"{np.percentile(of('R', 'CU', 'pitch_speed'), 5):.0f}",
+            "lhp_ff_haa": _signed(np.median(of("L", "FF", "horizontal_approach_angle"))),
+            "lhp_cu_haa": _signed(np.median(of("L", "CU", "horizontal_approach_angle"))),
+            "darvish_speed": f"{np.median(darvish['pitch_speed'].dropna()):.1f}",
+            "darvish_vaa": _signed(np.median(darvish["vertical_approach_angle"].dropna()))}
+
+
+def run_real_pitches() -> tuple[str, dict]:
+    """``mcbat run studies/real_pitches.toml``: the line on what it drew from (run here),
+    its launch speeds, and the selected rows of the file (read here with the study's
+    filters)."""
+    from mcbat.statcast import read
+
+    with tempfile.TemporaryDirectory() as tmp:
+        done = subprocess.run(
+            [sys.executable, "-m", "mcbat", "run", "studies/real_pitches.toml", "--out",
+             str(Path(tmp) / "r")], cwd=ROOT, capture_output=True, text=True, check=True)
+    lines = done.stdout.splitlines()
+    drawn = next(line for line in lines if line.startswith("pitches: "))
+    speed = next(line for line in lines if line.startswith("  launch_speed: "))
+    median, low, high = re.fullmatch(r"  launch_speed: (\S+) mph \((\S+) to (\S+)\)",
+                                     speed).groups()
+    study = tomllib.loads((ROOT / "studies" / "real_pitches.toml").read_text())["pitches"]
+    t = read(ROOT / "data" / "statcast_2020-09-03.csv")
+    t = t[t["pitch_type"].isin(study["pitch_type"]) & (t["p_throws"] == study["p_throws"])]
+    speeds = t["pitch_speed"].to_numpy(float)
+    values = {"rp_rows": f"{len(t)}", "rp_min": f"{speeds.min():.1f}",
+              "rp_max": f"{speeds.max():.1f}", "rp_mean": f"{speeds.mean():.1f}",
+              "rp_release": f"{t['release_speed'].mean():.1f}",
+              "rp_vaa": _signed(np.median(t["vertical_approach_angle"])),
+              "rp_right": f"{int((t['handedness'] == 'R').sum())}",
+              "rp_left": f"{int((t['handedness'] == 'L').sum())}",
+              "rp_ls_median": median, "rp_ls_5": low, "rp_ls_95": high}
+    return "\n".join(["```", drawn, "```"]), values
+
+
 def game_preset_values() -> dict:
     """The game preset's restitution at 165.5 mph and the rigid model's ``q`` and ``r`` at
     the R161's sweet spot (6 in from the barrel end)."""
@@ -332,6 +387,23 @@ INLINE = {
     "model_back_95": "the model gives −4500 and {} rpm",
     "back_5": "5/95 % backspin of {} and",
     "back_95": "5/95 % backspin of −5500 and {} rpm",
+    "drag_loss": "The ball loses ~{} % of its speed",
+    "cu_p5": "(5 % below {} mph)",
+    "lhp_ff_haa": "horizontal angle (FF {}°, CU",
+    "lhp_cu_haa": "(FF −1.3°, CU {}°)",
+    "darvish_speed": "`data/statcast_2019_darvish.csv`) agree: {} mph,",
+    "darvish_vaa": "agree: 87.9 mph, {}°.",
+    "rp_rows": "`mcbat run studies/real_pitches.toml`: the {} four-seamers",
+    "rp_min": "plate speeds {}-91.8 mph",
+    "rp_max": "plate speeds 78.1-{} mph",
+    "rp_mean": "(mean {} mph, against a mean release speed",
+    "rp_release": "a mean release speed of {} mph)",
+    "rp_vaa": "vertical approach angle median {}°, 466",
+    "rp_right": "median -5.4°, {} against right-handed",
+    "rp_left": "and {} against left-handed batters",
+    "rp_ls_median": "launch speed median {} mph (89.2 to",
+    "rp_ls_5": "launch speed median 100.6 mph ({} to 110.0, 5-95 %)",
+    "rp_ls_95": "launch speed median 100.6 mph (89.2 to {}, 5-95 %)",
     "side_fast_median": "median {} rpm against Nathan's",
     "side_fast_nathan": "rpm against Nathan's {} on the same balls",
     "side_fast_10": "ball by ball, is 10-90 % {} to",
@@ -406,6 +478,12 @@ def render(names=None) -> tuple[dict, dict]:
         if name == "run_game_fastball":
             bodies[name], found = run_game_fastball()
             values.update(found)
+        elif name == "run_real_pitches":
+            bodies[name], found = run_real_pitches()
+            values.update(found)
+        elif name == "plate_pitches":
+            bodies[name] = render_plate_pitches()
+            values.update(plate_values())
         elif name == "presets_vs_real":
             found_bodies, found = presets_vs_real()
             bodies.update(found_bodies)
@@ -417,8 +495,9 @@ def render(names=None) -> tuple[dict, dict]:
     return bodies, {k: v for k, v in values.items() if k in INLINE}
 
 
-RENDER = {"location_q": render_location_q, "plate_pitches": render_plate_pitches}
-NAMES = (*RENDER, "run_game_fastball", "game_preset", "presets_vs_real")
+RENDER = {"location_q": render_location_q}
+NAMES = ("location_q", "plate_pitches", "run_game_fastball", "run_real_pitches", "game_preset",
+         "presets_vs_real")
 
 
 def main(argv=None) -> int:
