@@ -27,23 +27,29 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
     speeds and angles against the real balls in play of ``data/`` (the calculations of
     ``python -m validation presets_vs_statcast``).
 
+``population_fit``
+    ``mcbat fit --population`` of ``studies/mlb_population.toml`` to the 424 balls in play
+    (the command and its output; ~30 s).
+
 Numbers inside the text (``INLINE``: each found by the words around it) are written too:
 the game preset's ``e*`` at 165.5 mph and the rigid model's ``q`` and ``r`` at the
 R161's sweet spot (``game_preset``), the exports' drag loss, slow curveballs,
 left-handers and Darvish's four-seamers (``plate_pitches``), the runs'
 (``run_game_fastball``, ``run_real_pitches``), the presets' sidespin and curveball
-backspin and launch-speed sd (``presets_vs_real``). ``--only`` takes any of
+backspin and launch-speed sd (``presets_vs_real``), the fit's chi2 and p-value
+(``population_fit``). ``--only`` takes any of
 :data:`NAMES`.
 
 Without ``--write`` the script exits 1 and prints the difference when a block of the doc
 or a number of the text is not what the code gives now. ~1-2 min on one thread, most of it
-the studies' nine runs.
+the studies' nine runs and the fit.
 """
 
 from __future__ import annotations
 
 import argparse
 import difflib
+import os
 import re
 import subprocess
 import sys
@@ -351,6 +357,34 @@ def run_real_pitches() -> tuple[str, dict]:
     return "\n".join(["```", drawn, "```"]), values
 
 
+#: The population fit of the presets' swing and contact (the parameters it frees).
+FIT_FREE = ("swing.bat_speed.mean", "swing.bat_speed.std", "swing.attack_angle.std",
+            "contact.undercut.mean", "contact.undercut.std", "contact.from_barrel_end.std")
+
+
+def population_fit() -> tuple[str, dict]:
+    """``mcbat fit --population`` of ``studies/mlb_population.toml`` to the day's balls in
+    play, run here: the command and its output (the list of freed parameters in its first
+    line written ``...``), and its chi2 and p-value."""
+    from scipy import stats
+
+    data = "data/statcast_2020-09-03_in_play.csv"
+    free = ",".join(FIT_FREE)
+    done = subprocess.run(
+        [sys.executable, "-m", "mcbat", "fit", "--population", "--study",
+         "studies/mlb_population.toml", "--data", data, "--free", free],
+        cwd=ROOT, capture_output=True, text=True, check=True,
+        env={**os.environ, "NUMBA_NUM_THREADS": "1"})
+    out = done.stdout.rstrip("\n").replace(f"population fit of {free} to",
+                                            "population fit of ... to", 1)
+    chi2, dof = re.search(r"chi2 / dof = (\S+) / (\d+)", out).groups()
+    p = f"{stats.chi2.sf(float(chi2), int(dof)):.0e}".replace("e-0", "e-")
+    command = ["```sh", "NUMBA_NUM_THREADS=1 mcbat fit --population --study "
+               "studies/mlb_population.toml \\", f"    --data {data} \\", f"    --free {free}",
+               "```"]
+    return "\n".join([*command, "", "```", out, "```"]), {"fit_chi2": chi2, "fit_p": p}
+
+
 def game_preset_values() -> dict:
     """The game preset's restitution at 165.5 mph and the rigid model's ``q`` and ``r`` at
     the R161's sweet spot (6 in from the barrel end)."""
@@ -404,6 +438,8 @@ INLINE = {
     "rp_ls_median": "launch speed median {} mph (89.2 to",
     "rp_ls_5": "launch speed median 100.6 mph ({} to 110.0, 5-95 %)",
     "rp_ls_95": "launch speed median 100.6 mph (89.2 to {}, 5-95 %)",
+    "fit_chi2": "(chi2 {} / 42, p = 1e-4)",
+    "fit_p": "(chi2 84.0 / 42, p = {})",
     "side_fast_median": "median {} rpm against Nathan's",
     "side_fast_nathan": "rpm against Nathan's {} on the same balls",
     "side_fast_10": "ball by ball, is 10-90 % {} to",
@@ -422,7 +458,8 @@ INLINE = {
     "sd_launch_speed": "Launch speed sd: {} mph against",
     "sd_launch_speed_real": "mph against the real {}.",
 }
-_NUMBER = r"([−+\-]?[0-9][0-9.,]*)"
+_NUM = r"[−+\-]?[0-9][0-9.,]*(?:e[−+\-]?[0-9]+)?"
+_NUMBER = f"({_NUM})"
 
 
 def inline_pattern(name: str) -> re.Pattern:
@@ -432,15 +469,15 @@ def inline_pattern(name: str) -> re.Pattern:
     before, after = words.split("{}")
 
     def loose(text):
-        parts = re.split(r"(\s+|[−+\-]?[0-9][0-9.,]*)", text)
+        parts = re.split(f"(\\s+|{_NUM})", text)
         out = []
         for part in parts:
             if not part:
                 continue
             if part.isspace():
                 out.append(r"\s+")
-            elif re.fullmatch(r"[−+\-]?[0-9][0-9.,]*", part):
-                out.append(r"[−+\-]?[0-9][0-9.,]*")
+            elif re.fullmatch(_NUM, part):
+                out.append(_NUM)
             else:
                 out.append(re.escape(part))
         return "".join(out)
@@ -484,6 +521,9 @@ def render(names=None) -> tuple[dict, dict]:
         elif name == "plate_pitches":
             bodies[name] = render_plate_pitches()
             values.update(plate_values())
+        elif name == "population_fit":
+            bodies[name], found = population_fit()
+            values.update(found)
         elif name == "presets_vs_real":
             found_bodies, found = presets_vs_real()
             bodies.update(found_bodies)
@@ -497,7 +537,7 @@ def render(names=None) -> tuple[dict, dict]:
 
 RENDER = {"location_q": render_location_q}
 NAMES = ("location_q", "plate_pitches", "run_game_fastball", "run_real_pitches", "game_preset",
-         "presets_vs_real")
+         "presets_vs_real", "population_fit")
 
 
 def main(argv=None) -> int:

@@ -26,7 +26,8 @@ DOC = _doc_script()
 
 def test_every_block_and_inline_number_is_in_the_doc_once():
     assert set(blocks(TEXT)) == {"location_q", "plate_pitches", "run_game_fastball",
-                                 "run_real_pitches", "spin_vs_nathan", "presets_vs_real"}
+                                 "run_real_pitches", "spin_vs_nathan", "presets_vs_real",
+                                 "population_fit"}
     given = DOC.inline_values(TEXT)
     assert [name for name, value in given.items() if value is None] == []
 
@@ -53,9 +54,10 @@ def test_a_drifted_number_is_found_and_rewritten():
 @pytest.mark.slow
 def test_the_runs_and_the_numbers_quoted_from_them_are_what_the_code_gives():
     """``mcbat run studies/game_fastball.toml`` (20,000 samples with their flight),
-    ``studies/real_pitches.toml`` and the presets against the real balls in play (seven
-    runs of 20,000)."""
-    bodies, values = DOC.render(["run_game_fastball", "run_real_pitches", "presets_vs_real"])
+    ``studies/real_pitches.toml``, the presets against the real balls in play (seven
+    runs of 20,000) and the population fit (~30 s)."""
+    bodies, values = DOC.render(["run_game_fastball", "run_real_pitches", "presets_vs_real",
+                                 "population_fit"])
     current = blocks(TEXT)
     for name, body in bodies.items():
         assert current[name] == body, name
