@@ -222,6 +222,23 @@ def _real(path, types=None):
     return t["launch_speed"].to_numpy(float), t["launch_angle"].to_numpy(float)
 
 
+def _backspin_summary(spin, spin_02) -> dict:
+    """How far the presets' backspin is from Nathan's model per bin, at ``e_x = 0.2`` (the
+    real pitches) and at the presets' own ``e_x``."""
+    under = [1.0 - o / n for _, _, o, n in spin_02["mlb_balls_in_play"]]
+    _, _, ours, nathan = spin_02["mlb_balls_in_play"][0]
+
+    def worst(name):
+        return max(abs(o / n - 1.0) for _, _, o, n in spin[name][0])
+
+    return {"ex02_under_min": f"{min(under) * 100:.0f}",
+            "ex02_under_max": f"{max(under) * 100:.0f}",
+            "ex02_gap_low": f"{nathan - ours:.0f}",
+            "within_mlb": f"{worst('mlb_balls_in_play') * 100:.0f}",
+            "within_fast": f"{worst('game_fastball') * 100:.0f}",
+            "within_fast_run": f"{worst('game_fastball') * 100:.0f}"}
+
+
 def presets_vs_real() -> tuple[dict, dict]:
     """The presets' batted balls against the real ones (``presets_vs_statcast``, each at
     its study's samples and seed): the spin table against Nathan's model, the KS table,
@@ -300,6 +317,7 @@ def presets_vs_real() -> tuple[dict, dict]:
         "curve_low_ours": f"{curve_rows[0][2]:.0f}",
         "curve_low_nathan": f"{curve_rows[0][3]:.0f}",
         "curve_low_gap": f"{round(curve_rows[0][3] - curve_rows[0][2], -1):.0f}",
+        **_backspin_summary(spin, spin_02),
         "sd_launch_speed": f"{np.std(ls_mlb):.1f}",
         "sd_launch_speed_real": f"{np.std(every[0]):.1f}",
     }
@@ -438,6 +456,12 @@ INLINE = {
     "rp_ls_median": "launch speed median {} mph (89.2 to",
     "rp_ls_5": "launch speed median 100.6 mph ({} to 110.0, 5-95 %)",
     "rp_ls_95": "launch speed median 100.6 mph (89.2 to {}, 5-95 %)",
+    "ex02_under_min": "the backspin of the real pitches {}-24 % under the model",
+    "ex02_under_max": "the backspin of the real pitches 12-{} % under the model",
+    "ex02_gap_low": "under the model ({} rpm at 15-20°, outside the 300 rpm band)",
+    "within_mlb": "brings every bin within {} % (real pitches",
+    "within_fast": "averages over) or {} % (the four-seamer preset)",
+    "within_fast_run": "Nathan's average spin model within {} % per 5° bin",
     "fit_chi2": "(chi2 {} / 42, p = 1e-4)",
     "fit_p": "(chi2 84.0 / 42, p = {})",
     "side_fast_median": "median {} rpm against Nathan's",
