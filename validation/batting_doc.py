@@ -34,9 +34,10 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
 Numbers inside the text (``INLINE``: each found by the words around it) are written too:
 the game preset's ``e*`` at 165.5 mph and the rigid model's ``q`` and ``r`` at the
 R161's sweet spot (``game_preset``), the exports' drag loss, slow curveballs,
-left-handers and Darvish's four-seamers (``plate_pitches``), the runs'
+left-handers and Darvish's four-seamers (``plate_pitches``), the day's balls in play
+by kind and its fouls (``in_play``), the runs'
 (``run_game_fastball``, ``run_real_pitches``), the presets' sidespin and curveball
-backspin and launch-speed sd (``presets_vs_real``), the fit's chi2 and p-value
+backspin and launch-speed sd (``presets_vs_real``), the fit's chi2, p-value and rounded values
 (``population_fit``). ``--only`` takes any of
 :data:`NAMES`.
 
@@ -400,7 +401,33 @@ def population_fit() -> tuple[str, dict]:
     command = ["```sh", "NUMBA_NUM_THREADS=1 mcbat fit --population --study "
                "studies/mlb_population.toml \\", f"    --data {data} \\", f"    --free {free}",
                "```"]
-    return "\n".join([*command, "", "```", out, "```"]), {"fit_chi2": chi2, "fit_p": p}
+    fitted = {m[1]: (float(m[2]), max(-float(m[3]), float(m[4]))) for m in re.finditer(
+        r"  (\S+) = (\S+) (\S+) \+(\S+) ", out)}
+    bat, bat_error = fitted["swing.bat_speed.mean"]
+    rounded = {"fit_bat_mean": f"{bat:.1f}", "fit_bat_mean_2": f"{bat:.1f}",
+               "fit_bat_error": f"{bat_error:.1f}",
+               "fit_bat_std": f"{fitted['swing.bat_speed.std'][0]:.1f}",
+               "fit_attack_std": f"{fitted['swing.attack_angle.std'][0]:.1f}",
+               "fit_undercut_mean": f"{fitted['contact.undercut.mean'][0]:.2f}",
+               "fit_undercut_std": f"{fitted['contact.undercut.std'][0]:.2f}",
+               "fit_contact_std": f"{fitted['contact.from_barrel_end.std'][0]:.1f}",
+               "fit_contact_std_2": f"{fitted['contact.from_barrel_end.std'][0]:.1f}"}
+    return ("\n".join([*command, "", "```", out, "```"]),
+            {"fit_chi2": chi2, "fit_p": p, **rounded})
+
+
+def in_play_values() -> dict:
+    """The counts the text gives of the day's export and its balls in play."""
+    from mcbat.statcast import balls_in_play, read
+
+    in_play = read(ROOT / "data" / "statcast_2020-09-03_in_play.csv")
+    kinds = in_play["bb_type"].value_counts()
+    day = read(ROOT / "data" / "statcast_2020-09-03.csv")
+    speed = day["launch_speed"].notna().to_numpy()
+    return {"ground_balls": f"{kinds['ground_ball']}", "line_drives": f"{kinds['line_drive']}",
+            "fly_balls": f"{kinds['fly_ball']}", "popups": f"{kinds['popup']}",
+            "fouls_with_speed": f"{int((speed & ~balls_in_play(day)).sum())}",
+            "rows_with_speed": f"{int(speed.sum())}"}
 
 
 def game_preset_values() -> dict:
@@ -462,6 +489,21 @@ INLINE = {
     "within_mlb": "brings every bin within {} % (real pitches",
     "within_fast": "averages over) or {} % (the four-seamer preset)",
     "within_fast_run": "Nathan's average spin model within {} % per 5° bin",
+    "fit_bat_mean": "fitted values rounded ({} ± 6.3 mph",
+    "fit_bat_std": "rounded (69.5 ± {} mph, 10",
+    "fit_attack_std": "mph, 10 ± {}°, undercut",
+    "fit_undercut_mean": "undercut {} ± 0.94 in, contact",
+    "fit_undercut_std": "undercut 0.24 ± {} in, contact",
+    "fit_contact_std": "contact 6 ± {} in) and keep",
+    "fit_bat_mean_2": "the bat speed of {} ± 0.8 mph is",
+    "fit_bat_error": "the bat speed of 69.5 ± {} mph is",
+    "fit_contact_std_2": "along the bat (sd {} in about the sweet spot)",
+    "ground_balls": "(put in play; {} ground balls,",
+    "line_drives": "ground balls, {} line drives,",
+    "fly_balls": "line drives, {} fly balls,",
+    "popups": "fly balls, {} pop-ups;",
+    "fouls_with_speed": "exports ({} of the day's 785 rows with one)",
+    "rows_with_speed": "exports (361 of the day's {} rows with one)",
     "fit_chi2": "(chi2 {} / 42, p = 1e-4)",
     "fit_p": "(chi2 84.0 / 42, p = {})",
     "side_fast_median": "median {} rpm against Nathan's",
@@ -545,6 +587,8 @@ def render(names=None) -> tuple[dict, dict]:
         elif name == "plate_pitches":
             bodies[name] = render_plate_pitches()
             values.update(plate_values())
+        elif name == "in_play":
+            values.update(in_play_values())
         elif name == "population_fit":
             bodies[name], found = population_fit()
             values.update(found)
@@ -561,7 +605,7 @@ def render(names=None) -> tuple[dict, dict]:
 
 RENDER = {"location_q": render_location_q}
 NAMES = ("location_q", "plate_pitches", "run_game_fastball", "run_real_pitches", "game_preset",
-         "presets_vs_real", "population_fit")
+         "in_play", "presets_vs_real", "population_fit")
 
 
 def main(argv=None) -> int:

@@ -35,7 +35,7 @@ def test_every_block_and_inline_number_is_in_the_doc_once():
 def test_the_fast_blocks_and_the_presets_numbers_are_what_the_code_gives():
     """The ``q`` table against location, the real pitches at the plate and the numbers
     quoted from them, and the game preset's ``e*``, ``q`` and ``r`` (seconds)."""
-    bodies, values = DOC.render(["location_q", "plate_pitches", "game_preset"])
+    bodies, values = DOC.render(["location_q", "plate_pitches", "game_preset", "in_play"])
     current = blocks(TEXT)
     for name, body in bodies.items():
         assert current[name] == body, name
