@@ -38,7 +38,8 @@ left-handers and Darvish's four-seamers (``plate_pitches``), the day's balls in 
 by kind and its fouls (``in_play``), the runs'
 (``run_game_fastball``, ``run_real_pitches``), the presets' sidespin and curveball
 backspin and launch-speed sd (``presets_vs_real``), the fit's chi2, p-value and rounded values
-(``population_fit``). ``--only`` takes any of
+(``population_fit``), the fit with the attack angle's mean free and the backspin of its
+swing (``attack_free``). ``--only`` takes any of
 :data:`NAMES`.
 
 Without ``--write`` the script exits 1 and prints the difference when a block of the doc
@@ -191,9 +192,10 @@ def run_game_fastball() -> tuple[str, dict]:
     return block, values
 
 
-def _preset_balls(name, e_x=None):
+def _preset_balls(name, e_x=None, means=None):
     """The preset's batted balls (status 0) at its own samples and seed; ``e_x`` replaces
-    its ``[restitution] e_x`` (the "at e_x = 0.2" columns)."""
+    its ``[restitution] e_x`` (the "at e_x = 0.2" columns), ``means`` its distributions'
+    parameters (``{"swing.attack_angle.mean": 15.6}``, in the file's units)."""
     import mcbat
     from mcbat.study.spec import Study
 
@@ -202,6 +204,9 @@ def _preset_balls(name, e_x=None):
     data = tomllib.loads(text)
     if e_x is not None:
         data["restitution"]["e_x"] = e_x
+    for key, value in (means or {}).items():
+        section, field, parameter = key.split(".")
+        data[section][field][parameter] = value
     study = Study.from_dict(data, source=str(path), text=text)
     with tempfile.TemporaryDirectory() as tmp:
         mcbat.run(study, Path(tmp) / "d", progress=False)
@@ -413,7 +418,36 @@ def population_fit() -> tuple[str, dict]:
                "fit_contact_std": f"{fitted['contact.from_barrel_end.std'][0]:.1f}",
                "fit_contact_std_2": f"{fitted['contact.from_barrel_end.std'][0]:.1f}"}
     return ("\n".join([*command, "", "```", out, "```"]),
-            {"fit_chi2": chi2, "fit_p": p, **rounded})
+            {"fit_chi2": chi2, "fit_chi2_int": f"{float(chi2):.0f}", "fit_p": p, **rounded})
+
+
+def attack_free_fit() -> dict:
+    """The population fit with the attack angle's mean free and the undercut's held at 0,
+    and the backspin of its swing and contact (``mlb_balls_in_play`` with the fitted values,
+    ``e_x = 0.2``) against Nathan's model per 5° bin."""
+    from validation.presets_vs_statcast import spin_rows
+
+    free = [name for name in FIT_FREE if name != "contact.undercut.mean"]
+    free.insert(2, "swing.attack_angle.mean")
+    done = subprocess.run(
+        [sys.executable, "-m", "mcbat", "fit", "--population", "--study",
+         "studies/mlb_population.toml", "--data", "data/statcast_2020-09-03_in_play.csv",
+         "--free", ",".join(free)], cwd=ROOT, capture_output=True, text=True, check=True,
+        env={**os.environ, "NUMBA_NUM_THREADS": "1"})
+    fitted = {m[1]: (float(m[2]), max(-float(m[3]), float(m[4]))) for m in re.finditer(
+        r"  (\S+) = (\S+) (\S+) \+(\S+) ", done.stdout)}
+    chi2 = re.search(r"chi2 / dof = (\S+) /", done.stdout)[1]
+    means = {name: value for name, (value, _) in fitted.items()}
+    means["contact.undercut.mean"] = 0.0
+    rows = spin_rows(_preset_balls("mlb_balls_in_play", e_x=0.2, means=means))[0]
+    ratios = [o / n for _, _, o, n in rows]
+    attack, error = fitted["swing.attack_angle.mean"]
+    return {"free_attack": f"{attack:.1f}", "free_attack_error": f"{error:.1f}",
+            "free_attack_2": f"{attack:.1f}", "free_attack_error_2": f"{error:.1f}",
+            "free_chi2": f"{float(chi2):.0f}", "free_chi2_2": f"{float(chi2):.0f}",
+            **{f"free_ratio_{i}": f"{r:.2f}" for i, r in enumerate(ratios)},
+            "free_under_min": f"{(1 - max(ratios)) * 100:.0f}",
+            "free_under_max": f"{(1 - min(ratios)) * 100:.0f}"}
 
 
 def in_play_values() -> dict:
@@ -489,6 +523,17 @@ INLINE = {
     "within_mlb": "brings every bin within {} % (real pitches",
     "within_fast": "averages over) or {} % (the four-seamer preset)",
     "within_fast_run": "Nathan's average spin model within {} % per 5° bin",
+    "free_attack": "the population fit puts it at {} ± 1.0° (undercut mean held",
+    "free_attack_error": "the population fit puts it at 15.2 ± {}° (undercut mean held",
+    "free_chi2": "angles (chi2 {}/42 against 84/42)",
+    "fit_chi2_int": "angles (chi2 71/42 against {}/42)",
+    **{f"free_ratio_{i}": "backspin is " + ", ".join("{}" if j == i else "0.00" for j in range(5))
+       + " of Nathan's per bin" for i in range(5)},
+    "free_attack_2": "the fit prefers {} ± 1.0° at a slightly lower chi2",
+    "free_attack_error_2": "the fit prefers 15.2 ± {}° at a slightly lower chi2",
+    "free_chi2_2": "at a slightly lower chi2, {}/42, but",
+    "free_under_min": "its backspin falls {}-65 % under Nathan's",
+    "free_under_max": "its backspin falls 20-{} % under Nathan's",
     "fit_bat_mean": "fitted values rounded ({} ± 6.3 mph",
     "fit_bat_std": "rounded (69.5 ± {} mph, 10",
     "fit_attack_std": "mph, 10 ± {}°, undercut",
@@ -587,6 +632,8 @@ def render(names=None) -> tuple[dict, dict]:
         elif name == "plate_pitches":
             bodies[name] = render_plate_pitches()
             values.update(plate_values())
+        elif name == "attack_free":
+            values.update(attack_free_fit())
         elif name == "in_play":
             values.update(in_play_values())
         elif name == "population_fit":
@@ -605,7 +652,7 @@ def render(names=None) -> tuple[dict, dict]:
 
 RENDER = {"location_q": render_location_q}
 NAMES = ("location_q", "plate_pitches", "run_game_fastball", "run_real_pitches", "game_preset",
-         "in_play", "presets_vs_real", "population_fit")
+         "in_play", "presets_vs_real", "population_fit", "attack_free")
 
 
 def main(argv=None) -> int:

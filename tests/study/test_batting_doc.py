@@ -55,9 +55,9 @@ def test_a_drifted_number_is_found_and_rewritten():
 def test_the_runs_and_the_numbers_quoted_from_them_are_what_the_code_gives():
     """``mcbat run studies/game_fastball.toml`` (20,000 samples with their flight),
     ``studies/real_pitches.toml``, the presets against the real balls in play (seven
-    runs of 20,000) and the population fit (~30 s)."""
+    runs of 20,000) and the two population fits (~30 s each)."""
     bodies, values = DOC.render(["run_game_fastball", "run_real_pitches", "presets_vs_real",
-                                 "population_fit"])
+                                 "population_fit", "attack_free"])
     current = blocks(TEXT)
     for name, body in bodies.items():
         assert current[name] == body, name
