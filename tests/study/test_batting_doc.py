@@ -2,6 +2,7 @@
 its text are those ``python -m validation batting_doc`` computes now."""
 
 import importlib.util
+import re
 import sys
 
 import pytest
@@ -63,3 +64,16 @@ def test_the_runs_and_the_numbers_quoted_from_them_are_what_the_code_gives():
         assert current[name] == body, name
     given = DOC.inline_values(TEXT)
     assert {name: given[name] for name in values} == values
+
+
+def test_the_tables_outside_the_generated_blocks_are_the_typed_ones():
+    """The keys (the code's defaults), the location tables' files (their shipped values)
+    and the record of an earlier preset's runs; every other table is generated."""
+    outside = re.sub(r"<!-- begin generated: ([\w-]+) -->.*?<!-- end generated: \1 -->", "",
+                     TEXT, flags=re.S)
+    lines = outside.splitlines()
+    headers = [line for i, line in enumerate(lines) if line.startswith("| ")
+               and i + 1 < len(lines) and lines[i + 1].startswith("|---")]
+    assert headers == ["| key | unit in files | default | meaning |",
+                       "| `location` | file | shape | used by |",
+                       "| change | backspin / Nathan per bin | slope (rpm/°) |"]
