@@ -17,7 +17,6 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
     What ``mcbat run studies/game_fastball.toml`` prints about the batted balls (the
     command itself is run, with the study's samples and seed); the numbers the text after
     it quotes come from the same dataset.
-
 ``run_real_pitches``
     What ``mcbat run studies/real_pitches.toml`` prints about the rows it drew from; its
     launch speeds and the selected rows of the file are numbers of the text.
@@ -26,25 +25,23 @@ The blocks (between ``<!-- begin generated: NAME -->`` and ``<!-- end generated:
     per 5° against Nathan's average spin model (also with ``e_x = 0.2``), and the launch
     speeds and angles against the real balls in play of ``data/`` (the calculations of
     ``python -m validation presets_vs_statcast``).
-
 ``population_fit``
     ``mcbat fit --population`` of ``studies/mlb_population.toml`` to the 424 balls in play
     (the command and its output; ~30 s).
 
-Numbers inside the text (``INLINE``: each found by the words around it) are written too:
-the game preset's ``e*`` at 165.5 mph and the rigid model's ``q`` and ``r`` at the
-R161's sweet spot (``game_preset``), the exports' drag loss, slow curveballs,
-left-handers and Darvish's four-seamers (``plate_pitches``), the day's balls in play
-by kind and its fouls (``in_play``), the runs'
-(``run_game_fastball``, ``run_real_pitches``), the presets' sidespin and curveball
-backspin and launch-speed sd (``presets_vs_real``), the fit's chi2, p-value and rounded values
-(``population_fit``), the fit with the attack angle's mean free and the backspin of its
-swing (``attack_free``). ``--only`` takes any of
-:data:`NAMES`.
+Numbers inside the text (:data:`INLINE`: each found by the words around it) are written
+too, by the same names: the game preset's ``e*`` at 165.5 mph and the rigid model's ``q``
+and ``r`` at the R161's sweet spot (``game_preset``); the exports' drag loss, slow
+curveballs, left-handers and Darvish's four-seamers (``plate_pitches``); the day's balls
+in play by kind and its fouls (``in_play``); the runs' (``run_game_fastball``,
+``run_real_pitches``); the presets' sidespin, curveball backspin, distance from Nathan's
+model and launch-speed sd (``presets_vs_real``); the fit's chi2, p-value and rounded
+values (``population_fit``); the fit with the attack angle's mean free and the backspin
+of its swing (``attack_free``). ``--only`` takes any of :data:`NAMES`.
 
 Without ``--write`` the script exits 1 and prints the difference when a block of the doc
 or a number of the text is not what the code gives now. ~1-2 min on one thread, most of it
-the studies' nine runs and the fit.
+the studies' ten runs and the two fits.
 """
 
 from __future__ import annotations
