@@ -257,6 +257,10 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     ess = float(w.sum() ** 2 / np.sum(w**2))
     if not mn.valid:
         warnings.append("MIGRAD did not converge: the values are not a minimum")
+    if dropped.get("no_hit_distance"):
+        warnings.append(f"{dropped['no_hit_distance']} batted balls without a measured "
+                        "distance (hit_distance_sc) left out: balls the tracking lost, whose "
+                        "launch is not measured either; the fit describes the tracked balls")
     result_params = _parameters(mn, keys, params, physics, study_values, phys0, warnings)
     chi2 = float(mn.fval)
     # A cell no draw of the last pass reaches (at any node) and no row lies in (a launch

@@ -53,6 +53,18 @@ def test_rows_without_a_distance_are_left_out_and_counted(in_play):
     assert len(data) == 424 and "no_hit_distance" not in dropped
 
 
+def test_fit_says_it_left_rows_without_a_distance_out(study, in_play):
+    table = in_play.copy()
+    rows = np.flatnonzero(np.isfinite(table["launch_speed"]))[:7]
+    table.loc[rows, "hit_distance_sc"] = np.nan
+    result = fit_population(study, table, ["swing.bat_speed.mean", "contact.undercut.mean"],
+                            draws=20, seed=3, bins=4, observables=WITH_DISTANCE, passes=1)
+    assert result.rows == 417 and result.dropped["no_hit_distance"] == 7
+    assert any(w.startswith("7 batted balls without a measured distance (hit_distance_sc)")
+               for w in result.warnings), result.warnings
+    assert result.to_dict()["dropped"]["no_hit_distance"] == 7
+
+
 def test_table_without_the_distance_is_refused(in_play):
     with pytest.raises(InputError, match="hit_distance_sc") as err:
         population_table(in_play.drop(columns="hit_distance_sc"), WITH_DISTANCE)
