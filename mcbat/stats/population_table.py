@@ -58,7 +58,7 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
             what = ("a batted-ball observable" if name in OBSERVABLES else
                     "the measured pitch each row's template is conditioned on")
             if name in MEASURED_NAMES:
-                what += f", nor Statcast's {MEASURED_NAMES[name]}"
+                what += f"; the table has neither {name} nor Statcast's {MEASURED_NAMES[name]}"
             raise InputError(name, f"missing column ({what}); a population fit reads a "
                              "Statcast export or mcbat's tidy table (mcbat statcast)", source)
     ok = np.ones(len(df), bool)
