@@ -166,8 +166,9 @@ def simulate_table(study, pitches, rows, seed, values=None):
     the study's), each ball meeting a pitch of ``pitches`` (a tidy Statcast table) drawn
     with replacement: the measured pitch columns and the observables, for injection
     tests. A study with a ``[flight]`` flies every ball and writes its distance as
-    Statcast's ``hit_distance_sc`` (ft); without one that column is NaN (the resampled
-    pitch row's measured distance belongs to another ball)."""
+    Statcast's ``hit_distance_sc`` (ft; and as ``hit_distance`` if ``pitches`` has that
+    column); without one they are NaN (the resampled pitch row's measured distance belongs
+    to another ball)."""
     values = dict(values or {})
     keys, params, physics = parse_free(study, tuple(values)) if values else ({}, [], [])
     flight = study.flight is not None
@@ -190,6 +191,8 @@ def simulate_table(study, pitches, rows, seed, values=None):
         sim.close()
     table = pitches.reset_index(drop=True).iloc[ids].reset_index(drop=True).copy()
     for o in OBSERVABLES:
-        name = MEASURED_NAMES.get(o, o)  # (Statcast's name: the table is read as one)
-        table[name] = observed[o] if o in observed else np.nan
+        value = observed[o] if o in observed else np.nan
+        table[MEASURED_NAMES.get(o, o)] = value  # (Statcast's name: the table is read as one)
+        if o in table.columns:  # no measured value of the resampled pitch's ball stays
+            table[o] = value
     return table.loc[ok].reset_index(drop=True)

@@ -75,6 +75,24 @@ def test_table_without_the_distance_is_refused(in_play):
     assert err.value.field == "hit_distance_sc"
 
 
+def test_simulated_table_holds_only_simulated_distances(study, in_play):
+    # pitches taken from a table read with the distance: the simulated table's distance,
+    # under either name, is the flown one, never the resampled pitch's own ball's
+    pitches, _ = population_table(in_play, WITH_DISTANCE)
+    table = simulate_table(study, pitches, 200, seed=4)
+    np.testing.assert_array_equal(table["hit_distance"], table["hit_distance_sc"])
+    data, _ = population_table(table, WITH_DISTANCE)
+    sim = TemplateSimulator(study, pitches, 200, 4, "memory", None, flight=True)
+    try:
+        _, observed, ok = sim.run({}, {}, ["pitch_speed"], WITH_DISTANCE)
+    finally:
+        sim.close()
+    np.testing.assert_array_equal(data["hit_distance"], observed["hit_distance"][ok])
+    # a study without a flight writes no distance at all
+    plain = simulate_table(mcbat.load_study(STUDY), pitches, 50, seed=4)
+    assert plain["hit_distance_sc"].isna().all() and plain["hit_distance"].isna().all()
+
+
 def test_engines_fly_the_same_balls(study, in_play, tmp_path):
     # the local engine (run_study of the study with its [flight], read back) and the
     # in-process solve give the same distances, to the last digit
