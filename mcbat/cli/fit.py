@@ -76,7 +76,8 @@ def add_parser(sub) -> None:
                      help="bins per observable (default: ~8 rows per bin, at least 5)")
     pop.add_argument("--observables", default="launch_speed,launch_angle",
                      help="binned observables (default launch_speed,launch_angle; "
-                          "spray_angle too)")
+                          "spray_angle too, and hit_distance (Statcast's hit_distance_sc) "
+                          "for a study with [flight])")
     pop.add_argument("--engine", choices=("memory", "local", "dask"), default="memory",
                      help="where the template draws are solved (default memory)")
     pop.add_argument("--figure", metavar="FIG.png",
@@ -197,8 +198,8 @@ def _fit_population(args) -> int:
         print_json(result.to_dict())
         return EXIT_OK
     print(f"population fit of {args.free} to {result.rows} batted balls of {args.data} "
-          f"(study {study.name}; {result.draws:,} template draws, effective "
-          f"{result.effective_draws:,.0f}):")
+          f"in {' x '.join(result.observables)} (study {study.name}; {result.draws:,} "
+          f"template draws, effective {result.effective_draws:,.0f}):")
     print("\n".join(result.lines()))
     print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
     for warning in result.warnings:

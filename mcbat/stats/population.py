@@ -8,7 +8,8 @@ distributions (the mean and width of the bat speed, the attack angle, the underc
 contact position; ``mu`` and ``e_x`` when the study draws them) and the physics constants
 ``e`` (the game restitution's ``e*`` at its reference speed), ``mu`` and ``e_x`` so that
 the simulated distribution of ``launch_speed`` x ``launch_angle`` (optionally x
-``spray_angle``), *given each row's measured pitch*, matches the table's.
+``spray_angle`` and, for a study with a ``[flight]``, x ``hit_distance``), *given each
+row's measured pitch*, matches the table's.
 
 The method (``docs/population.md`` has the reasons and the checks):
 
@@ -25,6 +26,11 @@ The method (``docs/population.md`` has the reasons and the checks):
   smooth in them, so MIGRAD sees a smooth likelihood. A second pass draws again from a
   proposal centred on the first pass's best fit, which keeps the weights' effective
   sample size high wherever the truth lies.
+* **The distance.** With ``hit_distance`` among the observables every draw is also flown
+  with the study's ``[flight]`` (as an engine's run of it flies it). The distance is a
+  deterministic function of the launch (velocity and spin) and the flight's fixed
+  settings, so a draw's weight, a function of its inputs alone, weighs its distance as it
+  weighs its launch: the reweighting carries over unchanged.
 * **Physics constants by a grid.** ``e``, ``mu`` and ``e_x`` are not distributions of the
   inputs but constants of the map from inputs to batted balls, so no weight can change
   them: each is simulated at :data:`NODES` values (the same random numbers at every node)
@@ -37,8 +43,9 @@ The method (``docs/population.md`` has the reasons and the checks):
   Barlow-Beeston treatment of *weighted* templates of finite size
   (:func:`iminuit.cost.template_chi2_da`): each bin's template has its weights' sum and
   variance, and the template's own fluctuations widen the intervals instead of biasing
-  them. The minimum is asymptotically chi2 distributed (``bins - 1 - free`` degrees of
-  freedom), which is the goodness of fit reported.
+  them. The minimum is asymptotically chi2 distributed (``cells - 1 - free`` degrees of
+  freedom, counting the cells some draw reaches or some row lies in), which is the
+  goodness of fit reported.
 * **Intervals.** MINOS profile-likelihood intervals (a rise of 1 in the chi2-like cost).
 
 Beside this module (the fit): :mod:`~mcbat.stats.population_table` (the rows used),
@@ -76,7 +83,7 @@ from mcbat.stats.population_parameters import (
     fittable_parameters,
     parse_free,
 )
-from mcbat.stats.population_table import OBSERVABLES, population_table
+from mcbat.stats.population_table import FLIGHT_OBSERVABLES, OBSERVABLES, population_table
 from mcbat.stats.population_templates import ENGINES, TemplateSimulator, simulate_table
 
 __all__ = ["BROADEN", "DEFAULT_DRAWS", "ENGINES", "NODES", "OBSERVABLES", "PHYSICS",
@@ -116,6 +123,9 @@ class PopulationResult:
     engine: str
     warnings: list = field(default_factory=list)
     figure_data: dict = field(default_factory=dict, repr=False)
+    cells: dict = field(default_factory=dict)
+    """``total``: the bins' cells; ``used``: those the draws reach or the data hold (the
+    others can hold no ball and count no degree of freedom)."""
 
     def lines(self):
         """One line per parameter: value, MINOS interval, unit."""
@@ -134,7 +144,8 @@ class PopulationResult:
                 "p_value": self.p_value, "rows": self.rows, "dropped": self.dropped,
                 "bins": self.bins, "draws": self.draws,
                 "effective_draws": self.effective_draws,
-                "observables": list(self.observables), "engine": self.engine,
+                "observables": list(self.observables), "cells": self.cells,
+                "engine": self.engine,
                 "method": "binned likelihood, Barlow-Beeston-lite for weighted templates "
                           "(iminuit.cost.template_chi2_da), MINOS intervals",
                 "warnings": self.warnings}
@@ -160,7 +171,9 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     bins : int, optional
         Bins per observable (default: about :data:`ROWS_PER_BIN` rows per bin).
     observables : sequence of str
-        Of :data:`OBSERVABLES`.
+        Of :data:`OBSERVABLES`; ``hit_distance`` (ft, read from Statcast's
+        ``hit_distance_sc``; rows without one are left out) needs a study with a
+        ``[flight]`` section.
     seed : int
         The template draws' seed.
     engine : {"memory", "local", "dask"}
@@ -190,6 +203,10 @@ def fit_population(study, table, free, *, draws=None, bins=None,
         if name not in OBSERVABLES:
             raise InputError("observables", f"unknown observable {name!r} (choose from "
                              f"{', '.join(OBSERVABLES)})")
+    flown = [o for o in observables if o in FLIGHT_OBSERVABLES]
+    if flown and getattr(study, "flight", None) is None:
+        raise InputError("observables", f"{flown[0]} needs a study with a [flight] section "
+                         f"(docs/flight.md); study {study.name!r} has none")
     keys, params, physics = parse_free(study, tuple(free))
     source = table.attrs.get("source")
     data, dropped = population_table(table, observables, source)
@@ -203,7 +220,7 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     n = np.bincount(bin_index([data[o].to_numpy(float) for o in observables], edges),
                     minlength=nbins).astype(float)
     m = (draws or DEFAULT_DRAWS) * rows
-    sim = TemplateSimulator(study, data, m, seed, engine, workdir)
+    sim = TemplateSimulator(study, data, m, seed, engine, workdir, flight=bool(flown))
     study_values = {key: (k.mean, k.std) for key, k in keys.items()}
     centre = {key: [k.mean, k.std] for key, k in keys.items()}
     phys0 = {p: _study_physics(study, p) for p in physics}
@@ -240,9 +257,17 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     ess = float(w.sum() ** 2 / np.sum(w**2))
     if not mn.valid:
         warnings.append("MIGRAD did not converge: the values are not a minimum")
+    if dropped.get("no_hit_distance"):
+        warnings.append(f"{dropped['no_hit_distance']} batted balls without a measured "
+                        "distance (hit_distance_sc) left out: balls the tracking lost, whose "
+                        "launch is not measured either; the fit describes the tracked balls")
     result_params = _parameters(mn, keys, params, physics, study_values, phys0, warnings)
     chi2 = float(mn.fval)
-    dof = nbins - 1 - len(theta)
+    # A cell no draw of the last pass reaches (at any node) and no row lies in (a launch
+    # speed, angle and distance that no flight joins) adds nothing to the cost: it is no
+    # degree of freedom.
+    used = int(np.sum(_reached(cost) | (n > 0)))
+    dof = used - 1 - len(theta)
     if ess < 5 * rows:
         warnings.append(f"the template's effective size at the best fit is {ess:.0f} draws, "
                         f"under 5 per row: raise --draws")
@@ -251,7 +276,7 @@ def fit_population(study, table, free, *, draws=None, bins=None,
         rows, dropped, {o: [float(x) for x in e] for o, e in zip(observables, edges)},
         m, ess, observables, engine, warnings,
         {"data": data, "cost": cost, "theta": np.array(mn.values), "edges": edges,
-         "n": n, "minuit": mn})
+         "n": n, "minuit": mn}, {"total": nbins, "used": used})
 
 
 def _minimise(cost, keys, params, physics, centre, phys_centre, nodes):
@@ -374,10 +399,7 @@ def _limits(mn, keys, params, physics, nodes):
 
 def _check_cover(cost, n, data, observables, edges, source):
     """Refuse data in bins the proposal's draws never reach (at any node)."""
-    reached = np.zeros(len(n), bool)
-    for idx in cost.idx.values():
-        reached[idx[idx >= 0]] = True
-    empty = (n > 0) & ~reached
+    empty = (n > 0) & ~_reached(cost)
     if empty.any():
         where = np.isin(bin_index([data[o].to_numpy(float) for o in observables], edges),
                         np.flatnonzero(empty))
@@ -388,6 +410,14 @@ def _check_cover(cost, n, data, observables, edges, source):
                          "the template cannot cover the data (widen the study's contact "
                          "or swing distributions, raise --draws, or check the table's "
                          "units)", source)
+
+
+def _reached(cost):
+    """The bins some draw reaches, at any node."""
+    reached = np.zeros(cost.nbins, bool)
+    for idx in cost.idx.values():
+        reached[idx[idx >= 0]] = True
+    return reached
 
 
 def _parameters(mn, keys, params, physics, study_values, phys0, warnings):

@@ -7,11 +7,18 @@ import numpy as np
 
 from mcbat.errors import InputError
 
-__all__ = ["OBSERVABLES", "PITCH_COLUMNS", "REQUIRED_PITCH", "population_table",
-           "write_pitches"]
+__all__ = ["FLIGHT_OBSERVABLES", "MEASURED_NAMES", "OBSERVABLES", "PITCH_COLUMNS",
+           "REQUIRED_PITCH", "population_table", "write_pitches"]
 
-OBSERVABLES = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg"}
-"""The batted-ball observables a population fit can bin (Statcast's names and units)."""
+OBSERVABLES = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
+               "hit_distance": "ft"}
+"""The batted-ball observables a population fit can bin (Statcast's names and units; the
+game dataset's ``hit_distance`` is Statcast's ``hit_distance_sc``)."""
+FLIGHT_OBSERVABLES = ("hit_distance",)
+"""Observables only a study with a ``[flight]`` section simulates."""
+MEASURED_NAMES = {"hit_distance": "hit_distance_sc"}
+"""Observable -> the tidy Statcast table's name of the measured quantity, where they differ
+(read when the table has no column of the observable's own name)."""
 PITCH_COLUMNS = {"pitch.speed": "pitch_speed",
                  "pitch.vertical_approach_angle": "vertical_approach_angle",
                  "pitch.horizontal_approach_angle": "horizontal_approach_angle",
@@ -27,24 +34,41 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
     uses, and the counts of rows left out.
 
     A row is used when it has every observable and the pitch at the plate
-    (:data:`REQUIRED_PITCH`) and the batter's side.
+    (:data:`REQUIRED_PITCH`) and the batter's side. An observable is read from the column
+    of its name, else from Statcast's name for it (:data:`MEASURED_NAMES`:
+    ``hit_distance_sc`` for ``hit_distance``); the rows returned hold it under the
+    observable's name. A row without a measured distance is left out (``no_hit_distance``)
+    when ``hit_distance`` is an observable: in Statcast such a ball went untracked, and its
+    launch speed and angle are then not measured either (docs/population.md).
 
     Raises
     ------
     InputError
         A table without an observable's or a pitch column, or without a usable row.
     """
+    df = df.copy(deep=False)
+    read_from = {}  # observable -> the table's column it is read from
+    for name in observables:
+        measured = MEASURED_NAMES.get(name)
+        if name not in df.columns and measured in df.columns:
+            df[name] = df[measured]
+            read_from[name] = measured
     for name in (*observables, *REQUIRED_PITCH, "handedness"):
         if name not in df.columns:
             what = ("a batted-ball observable" if name in OBSERVABLES else
                     "the measured pitch each row's template is conditioned on")
+            if name in MEASURED_NAMES:
+                what += f"; the table has neither {name} nor Statcast's {MEASURED_NAMES[name]}"
             raise InputError(name, f"missing column ({what}); a population fit reads a "
                              "Statcast export or mcbat's tidy table (mcbat statcast)", source)
     ok = np.ones(len(df), bool)
     dropped = {}
+    emptied = observables[0]  # the observable after which fewer than 2 rows are left
     for name in observables:
         good = np.isfinite(df[name].to_numpy(float))
         dropped[f"no_{name}"] = int(np.sum(ok & ~good))
+        if ok.sum() >= 2 and (ok & good).sum() < 2:
+            emptied = name
         ok &= good
     for name in REQUIRED_PITCH:
         good = np.isfinite(df[name].to_numpy(float))
@@ -54,8 +78,10 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
     dropped["no_handedness"] = int(np.sum(ok & ~good))
     ok &= good
     if ok.sum() < 2:
-        raise InputError(observables[0], f"no rows with {', '.join(observables)} and the "
-                         "pitch at the plate (a table of batted balls is needed)", source)
+        # (named after the observable that emptied the table, as the table names it)
+        raise InputError(read_from.get(emptied, emptied),
+                         f"no rows with {', '.join(observables)} and the pitch at the "
+                         "plate (a table of batted balls is needed)", source)
     return df.loc[ok].reset_index(drop=True), dropped
 
 

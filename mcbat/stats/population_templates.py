@@ -1,6 +1,6 @@
 """The simulated side of a population fit (:mod:`mcbat.stats.population`): the study
-rewritten to meet the table's own pitches, its draws solved in this process or on an
-engine, and simulated tables for injection tests."""
+rewritten to meet the table's own pitches, its draws solved (and, for ``hit_distance``,
+flown) in this process or on an engine, and simulated tables for injection tests."""
 
 from __future__ import annotations
 
@@ -11,10 +11,23 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
-from mcbat.core.swing import GAME_INPUT_FIELDS
+from mcbat.core.flight import FLIGHT_FIELDS, allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.swing import (
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    allocate_game_outputs,
+    solve_game_batch,
+)
+from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.stats.population_parameters import PHYSICS, parse_free
-from mcbat.stats.population_table import OBSERVABLES, PITCH_COLUMNS, write_pitches
+from mcbat.stats.population_table import (
+    FLIGHT_OBSERVABLES,
+    MEASURED_NAMES,
+    OBSERVABLES,
+    PITCH_COLUMNS,
+    write_pitches,
+)
 from mcbat.stats.simulate import solve_game_inputs
 from mcbat.study import units as u
 from mcbat.study.game import KEYS
@@ -27,9 +40,10 @@ ENGINES = ("memory", "local", "dask")
 
 class TemplateSimulator:
     """The study rewritten for the table (its pitches, proposals, physics nodes), solved
-    on an engine; returns the draws' free-key columns and observables."""
+    on an engine; returns the draws' free-key columns and observables. With ``flight``
+    the study's ``[flight]`` is kept and every draw is flown (``hit_distance``)."""
 
-    def __init__(self, study, table, draws, seed, engine, workdir):
+    def __init__(self, study, table, draws, seed, engine, workdir, flight=False):
         if engine not in ENGINES:
             raise InputError("engine", f"must be one of {', '.join(ENGINES)}, got {engine!r}")
         self.draws, self.seed, self.engine = draws, seed, engine
@@ -38,7 +52,7 @@ class TemplateSimulator:
         self.workdir.mkdir(parents=True, exist_ok=True)
         pitches = self.workdir / "pitches.csv"
         write_pitches(table, pitches)
-        self.base = _conditioned_definition(study, pitches)
+        self.base = _conditioned_definition(study, pitches, flight)
         self.source = study.source
         self.runs = 0
 
@@ -68,8 +82,12 @@ class TemplateSimulator:
         out = self.workdir / f"templates_{self.runs}"
         run_study(study, out, samples=self.draws, seed=self.seed, engine=self.engine,
                   progress=False, overwrite=True)
-        df = load(out, columns=[*columns, *observables, "status"])
+        flown = any(o in FLIGHT_OBSERVABLES for o in observables)
+        df = load(out, columns=[*columns, *observables, "status",
+                                *(["flight_status"] if flown else [])])
         ok = df["status"].to_numpy() == 0
+        if flown:
+            ok &= df["flight_status"].to_numpy() == 0
         # The dataset holds the pitch and the swing in Statcast's units; the proposal's
         # densities are in the kernel's SI, as the in-process draws are.
         inputs = si_units({c: df[c].to_numpy(float) for c in columns})
@@ -80,11 +98,11 @@ class TemplateSimulator:
         self._tmp.cleanup()
 
 
-def _conditioned_definition(study, pitches):
+def _conditioned_definition(study, pitches, flight=False):
     """The study's definition with its pitches drawn from ``pitches`` (the table's rows),
-    each row's batter side, no flight and no summary."""
+    each row's batter side, no summary, and its flight only with ``flight``."""
     data = study.definition()
-    for section in ("flight", "summary", "output", "pitches"):
+    for section in ("summary", "output", "pitches", *(() if flight else ("flight",))):
         data.pop(section, None)
     data.pop("handedness", None)  # each pitch meets the batter who saw it
     pitch = data.get("pitch", {})
@@ -112,10 +130,34 @@ def _solve_memory(study, draws, seed, columns, observables):
 
     study = load_pitches(study)
     inputs = study.sample_inputs(0, draws, seed)
-    batted, ok = solve_game_inputs(study, inputs)
+    if any(o in FLIGHT_OBSERVABLES for o in observables):
+        batted, ok = _solve_and_fly(study, inputs)
+    else:
+        batted, ok = solve_game_inputs(study, inputs)
     row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
     return ({c: inputs[row[c]].copy() for c in columns},
             {c: np.asarray(batted[c], float) for c in observables}, ok)
+
+
+def _solve_and_fly(study, inputs):
+    """The batted balls of a game kernel's input rows and their flight (the study's
+    ``[flight]``), as an engine's chunk solves and flies them: the Statcast outputs with
+    ``hit_distance`` (ft), and the rows both solved and flown."""
+    n = inputs.shape[1]
+    frame, out, game_out, status, end = allocate_game_outputs(n)
+    solver = study.solver
+    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
+                     out, game_out, status, end)
+    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
+    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
+    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
+    batted = derive_game(list(v), list(w))
+    start = np.repeat(np.asarray(study.flight.start, np.float64)[:, None], n, axis=1)
+    flown, flight_status = allocate_flight_outputs(n)
+    fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
+              w, flown, flight_status)
+    batted["hit_distance"] = flown[FLIGHT_FIELDS.index("hit_distance")] / u.UNITS["length"]["ft"]
+    return batted, (status == 0) & (flight_status == 0)
 
 
 def simulate_table(study, pitches, rows, seed, values=None):
@@ -123,10 +165,16 @@ def simulate_table(study, pitches, rows, seed, values=None):
     set to ``values`` (``{"swing.bat_speed.mean": 70, "e": 0.5, ...}``, reporting units:
     the study's), each ball meeting a pitch of ``pitches`` (a tidy Statcast table) drawn
     with replacement: the measured pitch columns and the observables, for injection
-    tests."""
+    tests. A study with a ``[flight]`` flies every ball and writes its distance as
+    Statcast's ``hit_distance_sc`` (ft; and as ``hit_distance`` if ``pitches`` has that
+    column); without one they are NaN (the resampled pitch row's measured distance belongs
+    to another ball)."""
     values = dict(values or {})
     keys, params, physics = parse_free(study, tuple(values)) if values else ({}, [], [])
-    sim = TemplateSimulator(study, pitches.reset_index(drop=True), rows, seed, "memory", None)
+    flight = study.flight is not None
+    observables = tuple(o for o in OBSERVABLES if flight or o not in FLIGHT_OBSERVABLES)
+    sim = TemplateSimulator(study, pitches.reset_index(drop=True), rows, seed, "memory", None,
+                            flight)
     try:
         proposal = {key: (k, k.mean, k.std) for key, k in keys.items()}
         for name, key, what in params:
@@ -134,7 +182,7 @@ def simulate_table(study, pitches, rows, seed, values=None):
             proposal[key] = (k, values[name], std) if what == "mean" else (k, mean,
                                                                             values[name])
         phys = {p: values[p] for p in physics if p in values}
-        inputs, observed, ok = sim.run(proposal, phys, ["pitch_speed"], tuple(OBSERVABLES))
+        inputs, observed, ok = sim.run(proposal, phys, ["pitch_speed"], observables)
         from mcbat.runner.pitches import load_pitches
 
         rewritten = load_pitches(Study.from_dict(sim.base, source=study.source))
@@ -143,5 +191,8 @@ def simulate_table(study, pitches, rows, seed, values=None):
         sim.close()
     table = pitches.reset_index(drop=True).iloc[ids].reset_index(drop=True).copy()
     for o in OBSERVABLES:
-        table[o] = observed[o]
+        value = observed[o] if o in observed else np.nan
+        table[MEASURED_NAMES.get(o, o)] = value  # (Statcast's name: the table is read as one)
+        if o in table.columns:  # no measured value of the resampled pitch's ball stays
+            table[o] = value
     return table.loc[ok].reset_index(drop=True)
