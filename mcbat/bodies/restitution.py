@@ -73,7 +73,7 @@ class Restitution:
 
 
 #: The game default: e* = 0.555 at a normal speed of 85 ft/s (the MLB ball specification's
-#: mean COR against a wood wall, 2017), falling linearly to 0.4755 at 165.5 mph (a 94 mph
+#: mean COR against a wood wall, 2017), falling linearly to 0.4757 at 165.5 mph (a 94 mph
 #: pitch on a 71.5 mph swing), where the rigid model then gives q = 0.21 at the R161's
 #: sweet spot: the midpoint of q ~ 0.20 (Nathan 2003) and ~ 0.22 (Statcast's squared-up
 #: examples). Derivation: docs/batting.md.

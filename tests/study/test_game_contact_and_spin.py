@@ -74,9 +74,9 @@ def test_location_table_is_flat_between_the_nodes_and_falls_outside():
 
 # --------------------------------------------------------------- the presets, sampled
 
-@pytest.fixture(scope="module")
-def fastball(tmp_path_factory):
-    study = mcbat.load_study(ROOT / "studies" / "game_fastball.toml")
+@pytest.fixture(scope="module", params=["game_fastball", "game_curveball", "mlb_balls_in_play"])
+def preset(request, tmp_path_factory):
+    study = mcbat.load_study(ROOT / "studies" / f"{request.param}.toml")
     out = tmp_path_factory.mktemp("preset") / "g"
     mcbat.run(study, out, samples=6000, progress=False)
     return mcbat.load(out, columns=["from_barrel_end", "undercut", "collision_efficiency",
@@ -84,8 +84,8 @@ def fastball(tmp_path_factory):
                                     "handedness", "status"])
 
 
-def test_preset_q_column_peaks_near_the_sweet_spot(fastball):
-    df = fastball
+def test_preset_q_column_peaks_near_the_sweet_spot(preset):
+    df = preset
     assert (df["status"] == 0).all()
     z = df["from_barrel_end"].to_numpy() / IN
     square = np.abs(df["undercut"].to_numpy()) < 0.5 * IN
@@ -98,8 +98,14 @@ def test_preset_q_column_peaks_near_the_sweet_spot(fastball):
     assert np.mean(q[square] < 0.15) > 0.1
 
 
-def test_preset_backspin_agrees_with_nathans_average_spin_model(fastball):
-    df = fastball
+# Nathan's model is an average over every pitch, most of them fastballs. The curveball
+# preset's batted balls carry several hundred rpm less backspin at a given launch angle:
+# its topspin raises the launch angle at a given undercut, so a smaller
+# undercut, with less spin, reaches each angle. That is the rigid model's prediction, not
+# a fault, and the average model is not its yardstick.
+@pytest.mark.parametrize("preset", ["game_fastball", "mlb_balls_in_play"], indirect=True)
+def test_preset_backspin_agrees_with_nathans_average_spin_model(preset):
+    df = preset
     la = df["launch_angle"].to_numpy()
     model_back, model_side = nathan_average_spin(la, df["spray_angle"].to_numpy(),
                                                  np.where(df["handedness"] > 0, "R", "L"))
