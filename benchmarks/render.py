@@ -33,6 +33,13 @@ def sig(x: float, digits: int = 3) -> str:
     return f"{rounded:,.0f}" if abs(rounded) >= 10 ** (digits - 1) else f"{rounded:g}"
 
 
+def sci(x: float, digits: int = 1) -> str:
+    """Scientific notation without padded exponents: 9.5e-9, 3.8e-11, 1e-8."""
+    text = f"{x:.{digits}e}" if digits else f"{x:.0e}"
+    mantissa, exponent = text.split("e")
+    return f"{mantissa}e{int(exponent)}"
+
+
 def verdict(target: str, ok: bool | None) -> str:
     """A target with its verdict, computed from the measured figures (never typed)."""
     if ok is None:
@@ -56,7 +63,7 @@ def _overview(r):
         ("parallel efficiency, 2 threads against 1", f"{100 * m['efficiency']:.1f} %",
          "≥ 90 %", m["efficiency"] >= 0.9),
         (f"accuracy against the scipy reference, {s['reference_impacts']} impacts of the mix",
-         f"{m['accuracy_max']:.1e} max, {m['accuracy_median']:.1e} median", "≤ 1e-8",
+         f"{sci(m['accuracy_max'])} max, {sci(m['accuracy_median'])} median", "≤ 1e-8",
          m["accuracy_max"] <= 1e-8),
         ("speed-up over the scipy reference, per impact (1 thread)",
          f"{sig(m['speedup'])}x ({1e3 * m['reference_s_per_impact']:.1f} ms against "
@@ -133,7 +140,7 @@ ROWS = {"overview": _overview, "kernel": _kernel, "run": _run, "flight": _flight
 def _long_dask(r):
     m, s = r["metrics"], r["settings"]
     ratio = m["dask_over_local"]
-    return [(f"`mcbat run {s['study']}` with `--engine dask --workers {s['workers']}` "
+    return [(f"`mcbat run` of `{s['study']}` with `--engine dask --workers {s['workers']}` "
              "(LocalCluster, 1 numba thread per worker) against the local engine, "
              f"{s['samples']:,} samples (medians of {s['repeats']})",
              f"**{100 * ratio:.1f} %** of the local engine's rows/s "
@@ -259,7 +266,7 @@ def _long_memory(r):
     m, s = r["metrics"], r["settings"]
     small, large = min(s["samples"]), max(s["samples"])
     peaks = m["peak_memory_mb"]
-    extra = f", `{s['extra']}`" if s["extra"] else ""
+    extra = f", `{s['extra']}`" if s["extra"] else ", every column"
     return [(f"peak memory of a study that stores its rows (`mcbat run studies/{s['study']}`"
              f"{extra}), {large:,} against {small:,} samples (`ru_maxrss`)",
              f"**{sig(peaks[str(large)])} MB** against **{sig(peaks[str(small)])} MB** "
@@ -272,25 +279,30 @@ LONG = [("dask", _long_dask), ("game", _long_game), ("flight", _long_flight),
         ("memory", _long_memory)]
 
 
+def _scan_sources(results, make) -> list[str]:
+    """The scan results a row made from several results reads: the largest scan, or the
+    smallest and the largest."""
+    scans = [f"pipeline_scan_{n}" for n in _scans(results)]
+    return scans[-1:] if make is _long_scan else [scans[0], scans[-1]]
+
+
 def _table(entries, results) -> str:
     """Rows of ``entries`` (``(name, make)`` pairs: ``make(results[name])``, or
-    ``make(results)`` for ``name`` None), with each row's command and the machines."""
+    ``make(results)`` for ``name`` None), with each row's commands and the machines."""
     lines = ["| metric | measured | target (full size, quiet machine): verdict of these "
              "figures | command |", "|---|---|---|---|"]
     used = []
     for name, make in entries:
         if name is None:
             rows = make(results)
-            sources = [n for n in results if n.startswith("pipeline_scan_")]
-            if rows and make is _long_scan:
-                sources = [f"pipeline_scan_{max(_scans(results))}"]
+            sources = _scan_sources(results, make) if rows else []
         elif name in results:
             rows, sources = make(results[name]), [name]
         else:
             continue
+        commands = ", ".join(f"`{results[n]['command']}`" for n in sources)
         for metric, measured, target, ok in rows:
-            command = results[sources[0]]["command"]
-            lines.append(f"| {metric} | {measured} | {verdict(target, ok)} | `{command}` |")
+            lines.append(f"| {metric} | {measured} | {verdict(target, ok)} | {commands} |")
         if rows:
             used += [n for n in sources if n not in used]
     if not used:
@@ -298,6 +310,12 @@ def _table(entries, results) -> str:
     lines += ["", "Measured on (CPU, cores, versions, numba threads, load while measured):", ""]
     lines += [f"- {line}" for line in _machines(results, used)]
     return "\n".join(lines)
+
+
+def _span(values) -> str:
+    """'1.2-3.4', or '1.2' when all are the same."""
+    lo, hi = min(values), max(values)
+    return f"{lo:g}" if lo == hi else f"{lo:g}-{hi:g}"
 
 
 def _machines(results: dict, names) -> list[str]:
@@ -311,7 +329,7 @@ def _machines(results: dict, names) -> list[str]:
         loads = [results[n]["machine"].get("load_average_1min") for n in members]
         loads = [x for x in loads if x is not None]
         dates = sorted({results[n]["date"] for n in members})
-        load = f"; load average {min(loads):g}-{max(loads):g}" if loads else ""
+        load = f"; load average {_span(loads)}" if loads else ""
         lines.append(f"{line}{load}; {', '.join(dates)} "
                      f"({', '.join(f'`{n}`' for n in members)})")
     return lines
@@ -342,7 +360,7 @@ def _error(x) -> str:
         return "—"
     if x == "inf":
         return "inf (a failure)"
-    return "0" if x == 0 else f"{x:.1e}"
+    return "0" if x == 0 else sci(x)
 
 
 def _command_line(r) -> str:
@@ -362,12 +380,12 @@ def accuracy_table(results: dict) -> str:
                                                                                        mode)
         lines.append(f"| {label} | {by['n']} | "
                      + " | ".join(_error(by[c]) for c, _ in ERROR_COLUMNS) + " |")
-    lines.append("| **target** | | " + " | ".join(f"{s['targets'][c]:g}"
+    lines.append("| **target** | | " + " | ".join(sci(s["targets"][c], 0)
                                                   for c, _ in ERROR_COLUMNS) + " |")
     lines.append("| verdict | | " + " | ".join(
         "met" if m["passed"][c] else f"**not met** ({m['over_target'][c]} cases over)"
         for c, _ in ERROR_COLUMNS) + " |")
-    lines += ["", f"At the default tolerance {s['default_tolerance']:g}; "
+    lines += ["", f"At the default tolerance {sci(s['default_tolerance'], 0)}; "
               f"{m['reference_failures']} reference failures. {_command_line(r)}."]
     return "\n".join(lines)
 
@@ -381,14 +399,14 @@ def convergence_table(results: dict) -> str:
              + " | RK4 steps per impact | kernel failures |",
              "|---" * (len(ERROR_COLUMNS) + 3) + "|"]
     for row in m["per_tolerance"]:
-        lines.append(f"| {row['tolerance']:g} | "
+        lines.append(f"| {sci(row['tolerance'], 0)} | "
                      + " | ".join(_error(row[c]) for c, _ in ERROR_COLUMNS)
                      + f" | {row['mean_rk4_steps']:.1f} | {row['kernel_failures']} |")
     if m["monotone_totals"] is not None:
         totals = m["monotone_totals"]
         lines += ["", f"Monotone convergence (a 10-fold tighter tolerance never makes an error "
-                  f"more than 2x worse, unless it stays below 1e-13): "
-                  f"{m['monotone_cases']} of the {s['n']} cases break it somewhere ("
+                  f"more than 2x worse, unless it stays below 1e-13): cases that break it "
+                  f"somewhere, {m['monotone_cases']} of {s['n']} ("
                   + ", ".join(f"{label} {totals[c]}" for c, label in ERROR_COLUMNS)
                   + " tolerance pairs)."]
     return "\n".join(lines)
@@ -410,8 +428,8 @@ def fuzz_paragraph(results: dict) -> str:
             f"momentum); {m['by_status']['max_steps']:,} rows end `max_steps` (the limit of "
             f"{s['max_steps']:,} steps), {m['mean_steps_ok']:.1f} steps per ok row on "
             f"average; the worst energy change of an ok row is "
-            f"{m['worst_energy_gain']:.1e} of `E_in`, the worst momentum error "
-            f"{m['worst_momentum_error']:.1e} of its scale. {_command_line(r)}.")
+            f"{sci(m['worst_energy_gain'])} of `E_in`, the worst momentum error "
+            f"{sci(m['worst_momentum_error'])} of its scale. {_command_line(r)}.")
 
 
 def cluster_table(results: dict) -> str:
@@ -439,15 +457,16 @@ def short_table(results: dict) -> str:
                  ("`mcbat run`, every column to Parquet, 2 threads",
                   f"{sig(m['end_to_end_rows_per_s'])} rows/s"),
                  ("velocities against an independent scipy reference",
-                  f"within {m['accuracy_max']:.0e} of the approach speed")]
+                  f"within {sci(m['accuracy_max'], 0)} of the approach speed")]
     if "accuracy_mix" in results:
         r = results["accuracy_mix"]
         worst = r["metrics"]["by_mode"]["all"]["velocity"]
         target = r["settings"]["targets"]["velocity"]
         rows.append((f"velocities on a {r['settings']['n']}-case hard mix, against the same "
                      "reference",
-                     f"within {_error(worst)} of the velocity change "
-                     f"({verdict(f'target {target:g}', worst is not None and worst <= target)})"))
+                     f"within {_error(worst)} of the velocity change ("
+                     + verdict(f"target {sci(target, 0)}", worst is not None and worst <= target)
+                     + ")"))
     if "flight" in results:
         rows.append(("flight kernel, 2 threads",
                      f"{sig(results['flight']['metrics']['flights_per_s'])} flights/s"))
@@ -456,7 +475,7 @@ def short_table(results: dict) -> str:
                    for r in results.values()})
     loads = [r["machine"]["load_average_1min"] for r in results.values()
              if "load_average_1min" in r["machine"]]
-    load = (f" (load average {min(loads):g}-{max(loads):g} while measured: the machine "
+    load = (f" (load average {_span(loads)} while measured: the machine "
             "was shared)" if loads else "")
     lines += ["", f"Measured on {'; '.join(cpus)}{load}; commands, sizes and settings in "
               "[docs/accuracy-and-speed.md](docs/accuracy-and-speed.md#speed)."]

@@ -79,7 +79,7 @@ def test_the_verdicts_follow_the_figures(committed):
     changed["memory"]["metrics"]["ratio"] = changed["memory"]["settings"]["limit"] + 0.01
     blocks = render.render_blocks(changed)
     assert "**not met** (3 cases over)" in blocks["accuracy"]
-    assert "within 2.0e-08 of the velocity change (target 1e-08: **not met**)" in (
+    assert "within 2.0e-8 of the velocity change (target 1e-8: **not met**)" in (
         blocks["speed-short"])
     assert "79.0 %**: **not met**" in blocks["cluster"]
     assert "≥ 80 %: **not met**" in blocks["long-runs"]
