@@ -1,5 +1,6 @@
-"""``python -m benchmarks NAME|all|list [ARGS]``; ``python -m benchmarks render`` writes the
-speed tables of README.md and docs/accuracy-and-speed.md from a results directory."""
+"""``python -m benchmarks NAME|all|list [ARGS]``; ``python -m benchmarks render`` writes every
+table of measured figures in the docs (speed, long runs, accuracy, fuzzing, the Dask engine)
+from a results directory."""
 
 import sys
 

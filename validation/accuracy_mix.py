@@ -47,6 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import harness
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
 from mcbat.testing import accuracy_mix, cabo2012_reference, impact_mix, reference_parts
@@ -401,6 +402,18 @@ def main(argv=None):
           + (f", reference check {check_seconds:.1f} s" if args.reference_check else "")
           + f", kernel compile/load {compile_seconds:.1f} s, kernel runs "
           f"{sum(seconds.values()):.2f} s")
+
+    # With ``python -m validation --results DIR``: the figures the docs' accuracy tables
+    # are rendered from (python -m benchmarks render).
+    harness.record("accuracy_mix", _plain(dict(
+        by_mode=summary, passed=passed, over_target=over, per_tolerance=rows,
+        monotone_totals=monotone["totals"] if monotone else None,
+        monotone_cases=len(monotone["violating_cases"]) if monotone else None,
+        reference_failures=len(failed_refs), wall_s=wall)),
+        _plain(dict(n=args.n, seed=args.seed, default_tolerance=DEFAULT_TOLERANCE,
+                    tolerances=tolerances, targets=TARGETS,
+                    reference="scipy DOP853, rtol 1e-12", jobs=args.jobs,
+                    references_cached=cached)))
 
     if args.json:
         Path(args.json).write_text(json.dumps(_plain(dict(
