@@ -127,6 +127,20 @@ def _statcast(r):
              f"({s['megabytes']:.1f} MB)", f"{sig(m['rows_per_s'])} rows/s", "—", None)]
 
 
+def _population(r):
+    m, s = r["metrics"], r["settings"]
+    return [(f"population fit (`mcbat fit --population`), {s['rows']} rows, "
+             f"{len(s['free'])} free parameters, {len(s.get('observables', [0, 0]))} "
+             f"observables, {m['draws']:,} template draws, engine {s['engine']}, "
+             f"{s['threads']} threads (median of {s['repeats']})",
+             f"{m['wall_s']:.1f} s wall, {m['cpu_s']:.1f} s CPU",
+             "< 5 min (2 cores)", m["wall_s"] < 300)]
+
+
+def population_table(results: dict) -> str:
+    return _table([("population_timing", _population)], results)
+
+
 def _inference(r):
     m, s = r["metrics"], r["settings"]
     stages = "read + infer + fly" if s["fly"] else "read + infer"
@@ -496,7 +510,8 @@ BLOCKS = {"speed": (ROOT / "docs" / "accuracy-and-speed.md", speed_table),
           "convergence": (ROOT / "docs" / "accuracy-and-speed.md", convergence_table),
           "fuzz": (ROOT / "docs" / "accuracy-and-speed.md", fuzz_paragraph),
           "cluster": (ROOT / "docs" / "cluster.md", cluster_table),
-          "speed-short": (ROOT / "README.md", short_table)}
+          "speed-short": (ROOT / "README.md", short_table),
+          "population-speed": (ROOT / "docs" / "population.md", population_table)}
 #: Where each generated block lives.
 TARGETS = {name: path for name, (path, _) in BLOCKS.items()}
 
