@@ -4,7 +4,7 @@ parameters, fitted back; prints the pulls and the MINOS intervals' coverage.
     NUMBA_NUM_THREADS=1 nice -n 15 .venv/bin/python -m validation population_injection \\
         --tables 200 --rows 500 --out fits500.jsonl      # the full check, per table size
     ... --tables 20 --rows 200 --draws 40                # a reduced one
-    ... --combine fits500.jsonl                          # summarise earlier runs
+    ... --rows 500 --combine fits500.jsonl               # summarise earlier runs
 
 Each table: ``--rows`` batted balls of ``examples/population_game.toml`` with the truth
 below, every ball meeting a real pitch of data/statcast_2020-09-03.csv (resampled). The
@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 import mcbat
+from benchmarks import harness
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table, simulate_table
 
@@ -67,7 +68,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.combine:
         fits = [json.loads(line) for name in args.combine for line in open(name)]
-        summarise(fits, len(fits), fits[0]["rows"] if fits else 0, [])
+        summarise(fits, len(fits), args.rows, [])
         return
     free, observables = SETS[args.set]
     truth = {name: TRUTH[name] for name in free}
@@ -100,7 +101,8 @@ def holds(pulls, covered):
 
 
 def summarise(fits, tables, rows, seconds):
-    """Print the pulls, coverage and p-values of ``fits`` (``to_dict`` of each)."""
+    """Print the pulls, coverage and p-values of ``fits`` (``to_dict`` of each); with the
+    run's ``--results DIR``, record them as ``population_injection_<rows>``."""
     names = list(fits[0]["truth"]) if fits else []
     pulls = {name: [] for name in names}
     covered = {name: [] for name in names}
@@ -122,15 +124,30 @@ def summarise(fits, tables, rows, seconds):
           "(a table without an interval counts as not covering)")
     print(f"{'parameter':32s} {'mean pull':>10s} {'pull sd':>8s} {'coverage':>9s} {'n':>4s} "
           f"{'no interval':>11s}")
+    table = {}
     for name in names:
         x = np.array(pulls[name])
         se = x.std(ddof=1) / np.sqrt(len(x)) if len(x) > 1 else float("nan")
+        ok = bool(holds(x, covered[name]))
+        table[name] = {"truth": fits[0]["truth"][name], "mean_pull": float(x.mean()),
+                       "mean_pull_se": float(se), "pull_sd": float(x.std(ddof=1)),
+                       "coverage": float(np.mean(covered[name])), "pulls": len(x),
+                       "no_interval": missing[name], "holds": ok}
         print(f"{name:32s} {x.mean():+10.3f} {x.std(ddof=1):8.3f} "
               f"{100 * np.mean(covered[name]):8.1f}% {len(x):4d} {missing[name]:11d}"
-              f"   (mean's se {se:.3f}){'' if holds(x, covered[name]) else '  FAILS'}")
+              f"   (mean's se {se:.3f}){'' if ok else '  FAILS'}")
     p = np.array([fit["p_value"] for fit in fits])
     print(f"goodness of fit: p-values' mean {p.mean():.3f} (0.5 expected), "
           f"{100 * np.mean(p < 0.05):.1f} % below 0.05")
+    if fits:
+        harness.record(f"population_injection_{rows}", {
+            "parameters": table, "p_value_mean": float(p.mean()),
+            "p_below_005": float(np.mean(p < 0.05))},
+            {"tables": len(fits), "rows": rows, "set": fits[0].get("set"),
+             "observables": fits[0]["observables"],
+             "seeds": sorted({fit.get("seed") for fit in fits if "seed" in fit})[:1]
+             + sorted({fit.get("seed") for fit in fits if "seed" in fit})[-1:],
+             "draws_per_row": fits[0]["draws"] // max(fits[0]["rows"], 1)})
 
 
 if __name__ == "__main__":
