@@ -47,7 +47,6 @@ the studies' ten runs and the two fits.
 from __future__ import annotations
 
 import argparse
-import difflib
 import os
 import re
 import subprocess
@@ -58,7 +57,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mcbat.papers.sawicki2003.doc import blocks, splice
+from mcbat.papers.sawicki2003.doc import splice, stale_blocks
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "batting.md"
@@ -667,12 +666,7 @@ def main(argv=None) -> int:
         doc.write_text(splice_inline(splice(text, bodies), values), encoding="utf-8")
         print(f"updated {doc}")
         return 0
-    current = blocks(text)
-    stale = [name for name in bodies if current.get(name) != bodies[name]]
-    for name in stale:
-        sys.stdout.writelines(difflib.unified_diff(
-            (current.get(name, "") + "\n").splitlines(True),
-            (bodies[name] + "\n").splitlines(True), f"{doc.name} ({name})", f"code ({name})"))
+    stale = stale_blocks(doc.name, text, bodies)
     given = inline_values(text)
     for name, value in values.items():
         if given[name] != value:

@@ -22,7 +22,6 @@ scans and the steps' two).
 from __future__ import annotations
 
 import argparse
-import difflib
 import sys
 import tempfile
 from pathlib import Path
@@ -31,7 +30,7 @@ import numpy as np
 
 from mcbat.papers.sawicki2003 import steps as st
 from mcbat.papers.sawicki2003.carry import BALL, SETTINGS, fly
-from mcbat.papers.sawicki2003.doc import blocks, splice
+from mcbat.papers.sawicki2003.doc import splice, stale_blocks
 from mcbat.papers.sawicki2003.reproduce import reproduce
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -182,12 +181,7 @@ def main(argv=None) -> int:
         doc.write_text(splice(text, bodies), encoding="utf-8")
         print(f"updated {doc}")
         return 0
-    current = blocks(text)
-    stale = [name for name in bodies if current.get(name) != bodies[name]]
-    for name in stale:
-        sys.stdout.writelines(difflib.unified_diff(
-            (current.get(name, "") + "\n").splitlines(True), (bodies[name] + "\n").splitlines(True),
-            f"{doc.name} ({name})", f"code ({name})"))
+    stale = stale_blocks(doc.name, text, bodies)
     print("up to date" if not stale else f"stale blocks: {', '.join(stale)}")
     return 1 if stale else 0
 

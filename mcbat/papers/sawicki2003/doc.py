@@ -40,3 +40,18 @@ def splice(text: str, bodies: dict) -> str:
                 f"<!-- end generated: {m['name']} -->")
 
     return _BLOCK.sub(replace, text)
+
+
+def stale_blocks(doc_name: str, text: str, bodies: dict, echo=print) -> list:
+    """Names of the ``bodies`` that differ from ``text``'s blocks; a unified diff of each
+    is passed to ``echo``."""
+    import difflib
+
+    current = blocks(text)
+    stale = [name for name in bodies if current.get(name) != bodies[name]]
+    for name in stale:
+        echo("".join(difflib.unified_diff(
+            (current.get(name, "") + "\n").splitlines(True),
+            (bodies[name] + "\n").splitlines(True),
+            f"{doc_name} ({name})", f"code ({name})")), end="")
+    return stale
