@@ -219,11 +219,6 @@ def test_impact_bad_tolerance_one_line_exit_2(capsys, monkeypatch, value):
 BASE = {"bat": {"preset": "r161"}, "mu": 0.5, "pitch": {"speed": 40}, "swing": {"bat_speed": 30}}
 
 
-def _mcbat(*args, stdin=None):
-    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
-                          capture_output=True, text=True, cwd=ROOT)
-
-
 def _with(section, **values):
     case = json.loads(json.dumps(BASE))
     case.setdefault(section, {}).update(values)
@@ -239,20 +234,20 @@ def _with(section, **values):
      "pitch.horizontal_approach_angle"),
     (_with("pitch", speed=-40), "pitch.speed"),
 ])
-def test_bad_game_case_exits_2_naming_the_key(case, key):
-    proc = _mcbat("impact", "-", stdin=json.dumps(case))
+def test_bad_game_case_exits_2_naming_the_key(case, key, cli):
+    proc = cli("impact", "-", stdin=json.dumps(case))
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and f"case 0: {key}:" in lines[0]
     assert proc.stdout == ""
 
 
-def test_game_case_and_bat_frame_case_in_one_file(tmp_path):
+def test_game_case_and_bat_frame_case_in_one_file(tmp_path, cli):
     game = json.loads((ROOT / "examples" / "game_fastball.json").read_text())
     bat_frame = json.loads((ROOT / "examples" / "cabo2012_sec5.json").read_text())
     path = tmp_path / "cases.json"
     path.write_text(json.dumps([game, bat_frame]))
-    proc = _mcbat("impact", str(path))
+    proc = cli("impact", str(path))
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     assert 90 < out[0]["launch_speed"] < 120 and "exit_speed" in out[1]
