@@ -149,7 +149,7 @@ def test_bad_input_one_line_exit_2(capsys, monkeypatch, payload, field, words):
         assert "case 1:" in lines[0]  # the second case of the array is the bad one
 
 
-def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path):
+def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path, cli):
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(_mutate(["ball", "mass"], -1.0)))
     proc = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact", str(bad)],
@@ -157,11 +157,9 @@ def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path):
     assert proc.returncode == 2
     assert proc.stdout == ""
     assert proc.stderr.strip() == f"mcbat: error: {bad}: case 0: ball.mass: must be > 0, got -1.0"
-    missing = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact",
-                              str(tmp_path / "nope.json")],
-                             capture_output=True, text=True, check=False)
+    missing = cli("impact", tmp_path / "nope.json")
     assert missing.returncode == 2 and "cannot read input" in missing.stderr
-    assert "Traceback" not in missing.stderr
+    assert "Traceback" not in missing.stderr and missing.stderr.count("\n") == 1
 
 
 def test_impact_parameter_contact_matches_angle(capsys, monkeypatch):
