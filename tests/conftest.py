@@ -1,5 +1,6 @@
 """Shared test helpers: the paper's Sec. V configuration and a dict view of the kernel."""
 
+import functools
 from pathlib import Path
 
 import pytest
@@ -48,3 +49,12 @@ def kernel(ball_v=(-4.0, 0.0, 0.0), ball_w=(0.0, 0.0, 0.0), bat_v=(0.0, 0.0, 0.0
 @pytest.fixture
 def sec5():
     return dict(SEC5)
+
+
+@pytest.fixture
+def cli(capsys, monkeypatch):
+    """Run ``mcbat`` in this process (tests/cli_runner.py):
+    ``cli("run", path, "--quiet", stdin=b"...", cwd=tmp_path)`` -> code, stdout, stderr."""
+    from tests.cli_runner import run_in_process
+
+    return functools.partial(run_in_process, capsys, monkeypatch)

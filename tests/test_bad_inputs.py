@@ -1,5 +1,8 @@
 """Every bad input exits 2 with one line naming the key or option,
-without a traceback and without leaving a directory that blocks the corrected rerun."""
+without a traceback and without leaving a directory that blocks the corrected rerun.
+
+The commands run in this process (the ``cli`` fixture); the real command runs where a
+process is the point: its exit status, a pipe closed by its reader, its peak memory."""
 
 import json
 import re
@@ -18,12 +21,15 @@ CASE = json.loads((ROOT / "examples" / "cabo2012_sec5.json").read_text())
 
 
 def mcbat_cli(*args, stdin=None, cwd=None):
+    """The real command in a subprocess."""
     return subprocess.run([sys.executable, "-m", "mcbat", *map(str, args)], input=stdin,
                           capture_output=True, cwd=cwd or ROOT)
 
 
 def assert_one_line_error(proc, *needles):
-    err = proc.stderr.decode("utf-8", "replace")
+    err = proc.stderr
+    if isinstance(err, bytes):
+        err = err.decode("utf-8", "replace")
     assert proc.returncode == 2, err
     assert "Traceback" not in err
     line, = err.strip().splitlines()
@@ -63,49 +69,60 @@ BAD_STUDIES = {
 
 
 @pytest.mark.parametrize("name", list(BAD_STUDIES))
-def test_bad_study_exits_2_and_leaves_nothing(tmp_path, name):
+def test_bad_study_exits_2_and_leaves_nothing(tmp_path, cli, name):
     text, needles = BAD_STUDIES[name]
     (tmp_path / "s.toml").write_bytes(text.encode("utf-8"))
-    proc = mcbat_cli("run", tmp_path / "s.toml", "--quiet", cwd=tmp_path)
+    proc = cli("run", tmp_path / "s.toml", "--quiet", cwd=tmp_path)
     assert_one_line_error(proc, *needles)
+    assert proc.stdout == ""
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]  # no results/ at all
 
 
-def test_utf16_and_bom_files(tmp_path):
+def test_the_real_command_refuses_a_bad_study_with_exit_status_2(tmp_path):
+    text, needles = BAD_STUDIES["400-digit integer"]
+    (tmp_path / "s.toml").write_text(text)
+    proc = mcbat_cli("run", tmp_path / "s.toml", "--quiet", cwd=tmp_path)
+    assert_one_line_error(proc, *needles)
+    assert proc.stdout == b""
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_utf16_and_bom_files(tmp_path, cli):
     (tmp_path / "u16.toml").write_text(STUDY, encoding="utf-16")
-    assert_one_line_error(mcbat_cli("run", tmp_path / "u16.toml"), "not UTF-8 text")
+    assert_one_line_error(cli("run", tmp_path / "u16.toml", cwd=tmp_path), "not UTF-8 text")
+    assert not (tmp_path / "results").exists()
     (tmp_path / "u16.json").write_text(json.dumps(CASE), encoding="utf-16")
-    assert_one_line_error(mcbat_cli("impact", tmp_path / "u16.json"), "not UTF-8 text")
+    assert_one_line_error(cli("impact", tmp_path / "u16.json"), "not UTF-8 text")
     # a UTF-8 byte-order mark is harmless: accepted in both
     (tmp_path / "bom.toml").write_bytes(b"\xef\xbb\xbf" + STUDY.encode())
-    proc = mcbat_cli("run", tmp_path / "bom.toml", "--out", tmp_path / "ds", "--samples",
-                     500, "--quiet")
+    proc = cli("run", tmp_path / "bom.toml", "--out", tmp_path / "ds", "--samples", 500,
+               "--quiet")
     assert proc.returncode == 0, proc.stderr
-    proc = mcbat_cli("impact", "-", stdin=b"\xef\xbb\xbf" + json.dumps(CASE).encode())
+    proc = cli("impact", "-", stdin=b"\xef\xbb\xbf" + json.dumps(CASE).encode())
     assert proc.returncode == 0 and json.loads(proc.stdout)["status"] == "ok"
 
 
-def test_deep_json_is_a_clear_error():
-    proc = mcbat_cli("impact", "-", stdin=b"[" * 100_000 + b"]" * 100_000)
+def test_deep_json_is_a_clear_error(cli):
+    proc = cli("impact", "-", stdin=b"[" * 100_000 + b"]" * 100_000)
     assert_one_line_error(proc, "<stdin>", "nested too deeply")
 
 
-def test_one_unsolvable_case_fails_the_call_naming_its_index():
+def test_one_unsolvable_case_fails_the_call_naming_its_index(cli):
     # Documented choice (docs/errors.md): the whole call fails cleanly (exit 2, nothing on
     # stdout), naming the case; never an internal error.
     # An approach slower than the rounding of the contact velocity (1e-13 m/s): every
     # input within its range, and still nothing the solver can answer.
     bad = json.loads(json.dumps(CASE))
     bad["ball_velocity"] = [-1e-13, 0.0, 0.0]
-    proc = mcbat_cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]).encode())
+    proc = cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]))
     assert_one_line_error(proc, "case 1", "status 'invalid_input'")
-    assert proc.stdout == b""
+    assert proc.stdout == ""
     # a speed beyond the solver's range is named as such
     bad["ball_velocity"] = [-1e300, 0.0, 0.0]
-    proc = mcbat_cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]).encode())
+    proc = cli("impact", "-", stdin=json.dumps([CASE, bad, CASE]))
     assert_one_line_error(proc, "case 1", "ball_velocity: every component must be within "
                           "+-100000 m/s")
-    assert proc.stdout == b""
+    assert proc.stdout == ""
 
 
 def test_a_reader_that_goes_away_is_not_an_error(tmp_path):
@@ -121,8 +138,8 @@ def test_a_reader_that_goes_away_is_not_an_error(tmp_path):
     (["--samples", "100000000", "--chunk-size", "100"],
      ["--chunk-size", "at most 100,000", "choose --chunk-size 1000 or more"]),
 ])
-def test_sample_counts_beyond_the_limits_are_refused_up_front(tmp_path, args, needles):
-    proc = mcbat_cli("run", EXAMPLE, "--out", tmp_path / "ds", "--quiet", *args)
+def test_sample_counts_beyond_the_limits_are_refused_up_front(tmp_path, cli, args, needles):
+    proc = cli("run", EXAMPLE, "--out", tmp_path / "ds", "--quiet", *args)
     assert_one_line_error(proc, *needles)
     assert not (tmp_path / "ds").exists()
 
@@ -154,23 +171,23 @@ def test_a_huge_scan_streams_with_the_memory_of_a_small_one(tmp_path):
     assert huge < 1.1 * small, f"peak RSS {huge / 1024:.0f} MB vs {small / 1024:.0f} MB"
 
 
-def test_sobol_limit_is_checked_before_anything_runs(tmp_path):
+def test_sobol_limit_is_checked_before_anything_runs(tmp_path, cli):
     text = _edit(STUDY, IMPACT, 'impact_parameter = { dist = "sobol", low = -1.5, high = 1.5,'
                  ' unit = "in" }')
     (tmp_path / "s.toml").write_text(text)
-    proc = mcbat_cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--samples",
-                     2**32 + 1, "--chunk-size", 2**20)
+    proc = cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--samples", 2**32 + 1,
+               "--chunk-size", 2**20)
     assert_one_line_error(proc, "--samples", "sobol", "2**32")
     assert not (tmp_path / "ds").exists()
 
 
-def test_huge_weights_keep_their_ratio(tmp_path):
+def test_huge_weights_keep_their_ratio(tmp_path, cli):
     text = _edit(STUDY, SPIN, 'z = { dist = "choice", values = [79, 0], '
                  'weights = [1e308, 1e308] }')
     (tmp_path / "s.toml").write_text(text)
-    proc = mcbat_cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--samples",
-                     4000, "--quiet")
-    assert proc.returncode == 0 and proc.stderr == b"", proc.stderr
+    proc = cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--samples", 4000,
+               "--quiet")
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
     share = (mcbat.load(tmp_path / "ds")["ball_wz_in"] == 79.0).mean()
     assert abs(share - 0.5) < 0.04  # 4000 draws: sigma 0.008
 
@@ -200,27 +217,27 @@ def test_a_failed_first_run_does_not_block_the_corrected_rerun(tmp_path, monkeyp
     ("file://otherhost/tmp/x", ["--out", "host 'otherhost' is not supported"]),
     ("s3://bucket/ds?endpoint_override=localhost:9000", ["--out", "query strings"]),
 ])
-def test_surprising_urls_are_refused(tmp_path, url, needles):
-    proc = mcbat_cli("run", EXAMPLE, "--out", url, "--samples", 100, "--quiet", cwd=tmp_path)
+def test_surprising_urls_are_refused(tmp_path, cli, url, needles):
+    proc = cli("run", EXAMPLE, "--out", url, "--samples", 100, "--quiet", cwd=tmp_path)
     assert_one_line_error(proc, *needles)
     assert list(tmp_path.iterdir()) == []  # nothing written anywhere here
 
 
-def test_a_duplicate_csv_column_is_named_as_such(tmp_path):
+def test_a_duplicate_csv_column_is_named_as_such(tmp_path, cli):
     data = tmp_path / "drops.csv"
     data.write_text("impact_parameter,exit_speed,exit_speed\n0.01,1.5,1.6\n")
-    proc = mcbat_cli("fit", "--study", ROOT / "studies" / "cross_nathan_2006.toml",
+    proc = cli("fit", "--study", ROOT / "studies" / "cross_nathan_2006.toml",
                      "--data", data)
     line = assert_one_line_error(proc, "exit_speed: duplicate column: appears 2 times")
     assert "exit_speed.1" not in line
 
 
-def test_a_std_that_is_zero_in_si_is_refused(tmp_path):
+def test_a_std_that_is_zero_in_si_is_refused(tmp_path, cli):
     # Found by the long fuzz run: 5e-324 mm is a positive number that is 0 m.
     text = _edit(STUDY, 'from_barrel_end = { dist = "uniform", low = 14, high = 16, unit = "cm" }',
                  'from_barrel_end = { dist = "truncnormal", mean = 150, std = 5e-324, '
                  'low = 140, high = 160, unit = "mm" }')
     (tmp_path / "s.toml").write_text(text)
-    proc = mcbat_cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--quiet")
+    proc = cli("run", tmp_path / "s.toml", "--out", tmp_path / "ds", "--quiet")
     assert_one_line_error(proc, "contact.from_barrel_end.std", "too small", "0 in SI")
     assert not (tmp_path / "ds").exists()

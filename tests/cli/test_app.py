@@ -3,6 +3,9 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
+
+import pytest
 
 from mcbat.cli import main
 from tests.conftest import ROOT
@@ -38,10 +41,22 @@ def test_internal_error_exits_1_and_debug_shows_the_traceback(capsys, monkeypatc
 def test_version_and_python_dash_m():
     import mcbat
 
-    for command in ([sys.executable, "-m", "mcbat", "--version"],):
-        proc = subprocess.run(command, capture_output=True, text=True, check=False)
-        assert proc.returncode == 0 and proc.stdout.strip() == f"mcbat {mcbat.__version__}"
-    proc = subprocess.run([sys.executable, "-m", "mcbat", "impact",
-                           str(ROOT / "examples" / "cabo2012_sec5.json")],
+    proc = subprocess.run([sys.executable, "-m", "mcbat", "--version"], capture_output=True,
+                          text=True, check=False)
+    assert proc.returncode == 0 and proc.stdout.strip() == f"mcbat {mcbat.__version__}"
+
+
+def test_the_installed_console_script():
+    """The ``mcbat`` script of ``[project.scripts]``: its answer and its exit status 2 on a
+    bad input, one line, no traceback."""
+    script = Path(sys.executable).with_name("mcbat")
+    if not script.exists():
+        pytest.skip(f"the package is not installed in this environment ({script})")
+    proc = subprocess.run([str(script), "impact", str(ROOT / "examples" / "cabo2012_sec5.json")],
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 0 and json.loads(proc.stdout)["status"] == "ok"
+    proc = subprocess.run([str(script), "impact", "-"], input="{", capture_output=True,
+                          text=True, check=False)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.startswith("mcbat: error: <stdin>")
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr

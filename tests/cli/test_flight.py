@@ -27,14 +27,14 @@ def _strict(text):
     return json.loads(text, parse_constant=refuse)
 
 
-def test_one_ball_and_an_array_in_the_same_order():
-    one = _mcbat("flight", "-", stdin=json.dumps(BALL))
+def test_one_ball_and_an_array_in_the_same_order(cli):
+    one = cli("flight", "-", stdin=json.dumps(BALL))
     assert one.returncode == 0, one.stderr
     single = _strict(one.stdout)
     assert 380 < single["hit_distance"] < 440
     assert single["hit_distance_m"] == pytest.approx(single["hit_distance"] * 0.3048)
     slower = {**BALL, "launch_speed": {"value": 93, "unit": "mph"}}
-    many = _mcbat("flight", "-", stdin=json.dumps([slower, BALL]))
+    many = cli("flight", "-", stdin=json.dumps([slower, BALL]))
     assert many.returncode == 0, many.stderr
     results = _strict(many.stdout)
     assert results[1] == single and results[0]["hit_distance"] < single["hit_distance"]
@@ -53,8 +53,8 @@ def test_units_are_those_of_studies():
     assert a == pytest.approx(b, rel=1e-12)
 
 
-def test_trajectory_samples_every_dt_to_the_landing():
-    proc = _mcbat("flight", "--trajectory", "0.5", "-", stdin=json.dumps(BALL))
+def test_trajectory_samples_every_dt_to_the_landing(cli):
+    proc = cli("flight", "--trajectory", "0.5", "-", stdin=json.dumps(BALL))
     assert proc.returncode == 0, proc.stderr
     out = _strict(proc.stdout)
     t = out["trajectory"]["t"]
@@ -75,18 +75,20 @@ def test_trajectory_samples_every_dt_to_the_landing():
     ({"atmosphere": {"temperature": {"value": 70, "unit": "mph"}}},
      "atmosphere.temperature.unit"),
 ])
-def test_bad_flight_inputs_exit_2_naming_the_key(change, key):
-    proc = _mcbat("flight", "-", stdin=json.dumps({**BALL, **change}))
+def test_bad_flight_inputs_exit_2_naming_the_key(change, key, cli):
+    proc = cli("flight", "-", stdin=json.dumps({**BALL, **change}))
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and f"case 0: {key}:" in lines[0], lines
     assert proc.stdout == ""
 
 
-def test_nan_and_a_bad_trajectory_step_exit_2():
+def test_nan_and_a_bad_trajectory_step_exit_2(cli):
+    # the real command, its stdin a pipe: exit status 2, one line, no traceback
     nan = _mcbat("flight", "-", stdin='{"launch_speed": NaN, "launch_angle": 0.3}')
     assert nan.returncode == 2 and len(nan.stderr.strip().splitlines()) == 1
-    bad = _mcbat("flight", "--trajectory", "0", "-", stdin=json.dumps(BALL))
+    assert "Traceback" not in nan.stderr and nan.stdout == ""
+    bad = cli("flight", "--trajectory", "0", "-", stdin=json.dumps(BALL))
     assert bad.returncode == 2 and "--trajectory" in bad.stderr
 
 

@@ -149,7 +149,7 @@ def test_bad_input_one_line_exit_2(capsys, monkeypatch, payload, field, words):
         assert "case 1:" in lines[0]  # the second case of the array is the bad one
 
 
-def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path):
+def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path, cli):
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps(_mutate(["ball", "mass"], -1.0)))
     proc = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact", str(bad)],
@@ -157,11 +157,9 @@ def test_bad_input_subprocess_exit_code_and_no_traceback(tmp_path):
     assert proc.returncode == 2
     assert proc.stdout == ""
     assert proc.stderr.strip() == f"mcbat: error: {bad}: case 0: ball.mass: must be > 0, got -1.0"
-    missing = subprocess.run([sys.executable, "-m", "mcbat.cli", "impact",
-                              str(tmp_path / "nope.json")],
-                             capture_output=True, text=True, check=False)
+    missing = cli("impact", tmp_path / "nope.json")
     assert missing.returncode == 2 and "cannot read input" in missing.stderr
-    assert "Traceback" not in missing.stderr
+    assert "Traceback" not in missing.stderr and missing.stderr.count("\n") == 1
 
 
 def test_impact_parameter_contact_matches_angle(capsys, monkeypatch):
@@ -219,11 +217,6 @@ def test_impact_bad_tolerance_one_line_exit_2(capsys, monkeypatch, value):
 BASE = {"bat": {"preset": "r161"}, "mu": 0.5, "pitch": {"speed": 40}, "swing": {"bat_speed": 30}}
 
 
-def _mcbat(*args, stdin=None):
-    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
-                          capture_output=True, text=True, cwd=ROOT)
-
-
 def _with(section, **values):
     case = json.loads(json.dumps(BASE))
     case.setdefault(section, {}).update(values)
@@ -239,20 +232,20 @@ def _with(section, **values):
      "pitch.horizontal_approach_angle"),
     (_with("pitch", speed=-40), "pitch.speed"),
 ])
-def test_bad_game_case_exits_2_naming_the_key(case, key):
-    proc = _mcbat("impact", "-", stdin=json.dumps(case))
+def test_bad_game_case_exits_2_naming_the_key(case, key, cli):
+    proc = cli("impact", "-", stdin=json.dumps(case))
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and f"case 0: {key}:" in lines[0]
     assert proc.stdout == ""
 
 
-def test_game_case_and_bat_frame_case_in_one_file(tmp_path):
+def test_game_case_and_bat_frame_case_in_one_file(tmp_path, cli):
     game = json.loads((ROOT / "examples" / "game_fastball.json").read_text())
     bat_frame = json.loads((ROOT / "examples" / "cabo2012_sec5.json").read_text())
     path = tmp_path / "cases.json"
     path.write_text(json.dumps([game, bat_frame]))
-    proc = _mcbat("impact", str(path))
+    proc = cli("impact", str(path))
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     assert 90 < out[0]["launch_speed"] < 120 and "exit_speed" in out[1]

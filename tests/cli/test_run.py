@@ -12,11 +12,6 @@ from mcbat.cli import main
 from tests.conftest import ROOT
 
 
-def _mcbat(*args, stdin=None):
-    return subprocess.run([sys.executable, "-m", "mcbat", *args], input=stdin,
-                          capture_output=True, text=True, cwd=ROOT)
-
-
 def test_library_errors_name_parameters_and_the_cli_names_flags(tmp_path, capsys):
     from mcbat.errors import InputError
     from mcbat.runner import run_study
@@ -103,7 +98,7 @@ def test_run_tolerance_flag_is_the_studys_solver_tolerance(tmp_path, capsys):
     (('low = -2, high = 2, unit = "in" }', 'low = -2, high = 3.5, unit = "in" }'),
      "contact.undercut.high"),
 ])
-def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key):
+def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key, cli):
     text = (ROOT / "studies" / "game_fastball.toml").read_text()
     if edit[0] == "[swing]":  # replace the swing section's angles
         text = text.replace("attack_angle = {", "x_attack = {").replace(
@@ -113,7 +108,7 @@ def test_bad_game_study_exits_2_naming_the_key(tmp_path, edit, key):
     text = text.replace(edit[0], edit[1], 1)
     study = tmp_path / "bad.toml"
     study.write_text(text)
-    proc = _mcbat("run", str(study), "--out", str(tmp_path / "o"), "--quiet")
+    proc = cli("run", str(study), "--out", str(tmp_path / "o"), "--quiet")
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and key in lines[0], lines

@@ -1,8 +1,6 @@
 """The manifest knows the chunks: records, checks, resume, load."""
 
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -17,11 +15,6 @@ from mcbat.study import load_study
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "studies" / "example.toml"
 SAMPLES, CHUNK, SEED = 12_000, 3_000, 17
-
-
-def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "mcbat", *map(str, args)],
-                          capture_output=True, text=True, cwd=ROOT)
 
 
 def _run(out, **kw):
@@ -58,7 +51,7 @@ def _flip_middle(path, n=64):
     path.write_bytes(bytes(data))
 
 
-def test_every_chunk_is_recorded_with_its_checksum(clean):
+def test_every_chunk_is_recorded_with_its_checksum(clean, cli):
     manifest = ds.read_manifest(clean)
     assert sorted(manifest["files"]) == [ds.chunk_name(k) for k in range(4)]
     for name, record in manifest["files"].items():
@@ -66,15 +59,15 @@ def test_every_chunk_is_recorded_with_its_checksum(clean):
         assert record == {"rows": CHUNK, "bytes": len(data), "crc32": ds.checksum(data)}
     result = mcbat.check(clean)
     assert result.ok and result.rows_good == SAMPLES and result.checksums
-    proc = _cli("check", clean)
+    proc = cli("check", clean)
     assert proc.returncode == 0 and "ok: complete" in proc.stdout
 
 
-def test_a_corrupted_chunk_is_refused_by_load_and_recomputed_at_resume(copy, clean):
+def test_a_corrupted_chunk_is_refused_by_load_and_recomputed_at_resume(copy, clean, cli):
     _flip_middle(copy / ds.chunk_name(1))
     with pytest.raises(InputError, match="chunk-000001.parquet: checksum mismatch"):
         mcbat.load(copy)
-    proc = _cli("check", copy)
+    proc = cli("check", copy)
     assert proc.returncode == 2 and "chunk-000001.parquet: checksum mismatch" in proc.stdout
     summary = _run(copy)
     assert (summary.chunks_computed, summary.chunks_kept) == (1, 3)
@@ -85,14 +78,14 @@ def test_a_corrupted_chunk_is_refused_by_load_and_recomputed_at_resume(copy, cle
     assert len(mcbat.load(copy)) == SAMPLES
 
 
-def test_an_interrupted_dataset_is_refused_unless_partial_is_allowed(copy):
+def test_an_interrupted_dataset_is_refused_unless_partial_is_allowed(copy, cli):
     (copy / ds.chunk_name(2)).unlink()
     with pytest.raises(InputError, match=r"1 of 4 chunk\(s\) missing \(2\): 9,000 of 12,000"):
         mcbat.load(copy)
     with pytest.warns(UserWarning, match="partial dataset"):
         df = mcbat.load(copy, allow_partial=True)
     assert len(df) == 9_000 and 6_000 not in set(df["sample_id"])
-    assert _cli("check", copy).returncode == 2
+    assert cli("check", copy).returncode == 2
 
 
 def test_a_chunk_copied_over_another_is_noticed_and_redone(copy, clean):
@@ -150,16 +143,16 @@ def test_chunk_names_have_no_digit_limit(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == [ds.MANIFEST]
 
 
-def test_a_comment_only_edit_before_resume_keeps_one_study_text(tmp_path):
+def test_a_comment_only_edit_before_resume_keeps_one_study_text(tmp_path, cli):
     study_file = tmp_path / "s.toml"
     study_file.write_text(EXAMPLE.read_text())
     out = tmp_path / "ds"
     args = ["run", study_file, "--out", out, "--samples", SAMPLES, "--chunk-size", CHUNK,
             "--quiet"]
-    assert _cli(*args).returncode == 0
+    assert cli(*args).returncode == 0
     (out / ds.chunk_name(3)).unlink()
     study_file.write_text("# a comment added later\n" + EXAMPLE.read_text())
-    proc = _cli(*args)
+    proc = cli(*args)
     assert proc.returncode == 0 and "(1 computed, 3 kept" in proc.stdout
     texts = {ds.json.loads(ds.read_metadata(out / ds.chunk_name(k)).metadata[
         ds.METADATA_KEY])["study_toml"] for k in range(4)}

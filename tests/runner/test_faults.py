@@ -45,11 +45,13 @@ def tmpfs(tmp_path):
 
 
 def run(*args):
+    """The real command in a subprocess."""
     return subprocess.run([sys.executable, "-m", "mcbat.cli", *map(str, args)],
                           capture_output=True, text=True, check=False)
 
 
 def test_read_only_output_directory_is_a_clear_error(tmpfs):
+    # (the real command: the fault reaches the process's exit status, without a traceback)
     target = tmpfs("ro", "ro,size=1m")
     proc = run("run", EXAMPLE, "--out", target / "ds", "--samples", 1000, "--quiet")
     assert proc.returncode == 2
@@ -59,14 +61,15 @@ def test_read_only_output_directory_is_a_clear_error(tmpfs):
     assert list(target.iterdir()) == []
 
 
-def test_full_disk_is_a_clear_error_and_the_run_resumes_identically(tmpfs, tmp_path):
+def test_full_disk_is_a_clear_error_and_the_run_resumes_identically(tmpfs, tmp_path, cli):
     # Room for the manifest and some chunk files, not for all of them.
     target = tmpfs("small", "size=3m")
     args = ("run", EXAMPLE, "--samples", 40_000, "--chunk-size", 4_000, "--seed", 8,
             "--quiet")
-    proc = run(*args, "--out", target / "ds")
+    proc = cli(*args, "--out", target / "ds")
     assert proc.returncode == 2, proc.stderr
     assert "No space left on device" in proc.stderr and "Traceback" not in proc.stderr
+    assert proc.stdout == ""
     assert len(proc.stderr.strip().splitlines()) == 1
     kept = ds.chunk_files(target / "ds")
     assert 0 < len(kept) < 10
@@ -77,17 +80,17 @@ def test_full_disk_is_a_clear_error_and_the_run_resumes_identically(tmpfs, tmp_p
     # Free space (grow the file system) and rerun: the dataset completes, identical to a
     # clean run.
     subprocess.run(["mount", "-o", "remount,size=64m", str(target)], check=True)
-    assert run(*args, "--out", target / "ds").returncode == 0
+    assert cli(*args, "--out", target / "ds").returncode == 0
     clean = tmp_path / "clean"
-    assert run(*args, "--out", clean).returncode == 0
+    assert cli(*args, "--out", clean).returncode == 0
     a, b = mcbat.load(target / "ds"), mcbat.load(clean)
     assert a.drop(columns="chunk").equals(b.drop(columns="chunk"))
 
 
-def test_full_disk_while_reproduce_writes_its_figures(tmpfs):
+def test_full_disk_while_reproduce_writes_its_figures(tmpfs, cli):
     # Room for the marker and little else: the figures cannot be written.
     target = tmpfs("tiny", "size=64k")
-    proc = run("reproduce", "sawicki2003", "--out", target)
+    proc = cli("reproduce", "sawicki2003", "--out", target)
     assert proc.returncode == 2, proc.stderr
     line, = proc.stderr.strip().splitlines()
     assert "--out" in line and "No space left on device" in line

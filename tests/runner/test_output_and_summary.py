@@ -2,8 +2,6 @@
 same statistics computed by pandas from the full rows of the same run, is identical whatever
 the threads, chunking, engine or resumption, and bad sections are one-line errors."""
 
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -39,11 +37,6 @@ def _study(tmp_path, extra, name="s.toml"):
     path = tmp_path / name
     path.write_text(THROUGHPUT.read_text() + extra)
     return load_study(path)
-
-
-def mcbat_cli(*args):
-    return subprocess.run([sys.executable, "-m", "mcbat.cli", *map(str, args)],
-                          capture_output=True, text=True, check=False)
 
 
 @pytest.fixture(scope="module")
@@ -214,10 +207,10 @@ def test_output_columns_and_float32(tmp_path):
     pd.testing.assert_frame_equal(mcbat.load(other), rows, check_exact=True)
 
 
-def test_columns_override_and_from_barrel_end(tmp_path):
+def test_columns_override_and_from_barrel_end(tmp_path, cli):
     out = tmp_path / "cli"
-    proc = mcbat_cli("run", THROUGHPUT, "--out", out, "--samples", 3000, "--quiet",
-                     "--columns", "from_barrel_end,axial")
+    proc = cli("run", THROUGHPUT, "--out", out, "--samples", 3000, "--quiet", "--columns",
+               "from_barrel_end,axial")
     assert proc.returncode == 0, proc.stderr
     rows = mcbat.load(out)
     assert list(rows.columns) == ["axial", "from_barrel_end", "sample_id"]
@@ -243,12 +236,12 @@ def test_columns_override_and_from_barrel_end(tmp_path):
     (SUMMARY.replace("bins = 14", "bins = 100000"), (),
      "summary.by: 100,000 bins x 3 columns with quantiles need"),
 ])
-def test_bad_output_and_summary_sections_exit_2(tmp_path, extra, args, words):
+def test_bad_output_and_summary_sections_exit_2(tmp_path, cli, extra, args, words):
     path = tmp_path / "bad.toml"
     path.write_text(THROUGHPUT.read_text() + extra)
-    proc = mcbat_cli("run", path, "--out", tmp_path / "ds", "--samples", 1000, "--quiet",
-                     *args)
+    proc = cli("run", path, "--out", tmp_path / "ds", "--samples", 1000, "--quiet", *args)
     assert proc.returncode == 2, proc.stderr
+    assert proc.stdout == "" and "Traceback" not in proc.stderr
     line, = proc.stderr.strip().splitlines()
     assert words in line, line
     assert not (tmp_path / "ds").exists()

@@ -1,5 +1,6 @@
 """``mcbat statcast``: the summary, strict JSON, the Parquet table with its units, and bad
-input as one line with exit code 2 (the real command, in a subprocess)."""
+input as one line with exit code 2 (in this process through ``main``; one test runs the real
+command)."""
 
 import json
 import subprocess
@@ -27,8 +28,8 @@ def _strict(text):
     return json.loads(text, parse_constant=refuse)
 
 
-def test_summary_lines():
-    proc = _mcbat("statcast", FILE_2020)
+def test_summary_lines(cli):
+    proc = cli("statcast", FILE_2020)
     assert proc.returncode == 0, proc.stderr
     out = proc.stdout
     assert "2,507 pitches, seasons 2020" in out
@@ -41,8 +42,8 @@ def test_summary_lines():
     assert proc.stderr == ""
 
 
-def test_json_is_one_strict_object_with_the_counts(tmp_path):
-    proc = _mcbat("statcast", FILE_2020, "--json")
+def test_json_is_one_strict_object_with_the_counts(tmp_path, cli):
+    proc = cli("statcast", FILE_2020, "--json")
     assert proc.returncode == 0, proc.stderr
     got = _strict(proc.stdout)
     assert {"rows", "seasons", "pitch_types", "balls_in_play", "with_distance",
@@ -54,14 +55,14 @@ def test_json_is_one_strict_object_with_the_counts(tmp_path):
     assert got["units"]["pitch_speed"] == "mph" and got["units"]["spray_angle"] == "deg"
     assert -6 < got["plate"]["FF"]["vertical_approach_angle"]["median"] < -4
     # an export where single pitch types have one pitch: sd is null, not NaN
-    one = _strict(_mcbat("statcast", str(resources.files("mcbat.data").joinpath(
+    one = _strict(cli("statcast", str(resources.files("mcbat.data").joinpath(
         "statcast_2019_darvish.csv")), "--json").stdout)
     assert one["plate"]["EP"]["pitch_speed"]["sd"] is None
 
 
-def test_out_writes_the_tidy_table_with_units(tmp_path):
+def test_out_writes_the_tidy_table_with_units(tmp_path, cli):
     out = tmp_path / "tidy.parquet"
-    proc = _mcbat("statcast", FILE_2020, "--out", str(out))
+    proc = cli("statcast", FILE_2020, "--out", str(out))
     assert proc.returncode == 0, proc.stderr
     assert f"tidy table written to {out}" in proc.stdout
     table = pq.read_table(out)
@@ -70,7 +71,7 @@ def test_out_writes_the_tidy_table_with_units(tmp_path):
     assert info["units"]["launch_speed"] == "mph"
     assert info["units"]["vertical_approach_angle"] == "deg"
     # the table reads back through the same command
-    again = _strict(_mcbat("statcast", str(out), "--json").stdout)
+    again = _strict(cli("statcast", str(out), "--json").stdout)
     assert again["rows"] == 2507 and again["balls_in_play"] == 427
 
 
@@ -125,18 +126,18 @@ def test_bad_input_through_the_real_command_has_no_traceback(tmp_path):
     assert len(proc.stderr.strip().splitlines()) == 1 and "Traceback" not in proc.stderr
 
 
-def test_a_bad_out_path_is_refused_before_reading(tmp_path):
-    proc = _mcbat("statcast", FILE_2020, "--out", str(tmp_path / "t.csv"))
+def test_a_bad_out_path_is_refused_before_reading(tmp_path, cli):
+    proc = cli("statcast", FILE_2020, "--out", str(tmp_path / "t.csv"))
     assert proc.returncode == 2
     assert proc.stderr.strip() == (f"mcbat: error: --out: unsupported file type '.csv' for "
                                    f"{tmp_path / 't.csv'} (use one of: .parquet, .pq)")
 
 
-def test_a_non_numeric_cell_is_reported_not_fatal(tmp_path):
+def test_a_non_numeric_cell_is_reported_not_fatal(tmp_path, cli):
     text = open(FILE_2020, encoding="utf-8").read()
     path = tmp_path / "cell.csv"
     path.write_text(text.replace('"106.3","28"', '"106.3","steep"', 1))
-    proc = _mcbat("statcast", str(path))
+    proc = cli("statcast", str(path))
     assert proc.returncode == 0, proc.stderr
     assert "launch_angle: 1 non-numeric cell(s) set to NaN (first at line 2: 'steep')" \
         in proc.stdout

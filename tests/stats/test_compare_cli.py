@@ -14,7 +14,9 @@ from mcbat.cli import main
 from mcbat.cli.common import as_flags
 from mcbat.cli.compare import COMPARE_PARAMETERS, _units_as_flag_values
 from mcbat.errors import InputError
+from mcbat.runner import run_study
 from mcbat.statcast import balls_in_play, read
+from mcbat.study import load_study
 from tests.conftest import ROOT
 
 REAL = [str(ROOT / "data" / "statcast_2020-09-03.csv"),
@@ -23,12 +25,10 @@ REAL = [str(ROOT / "data" / "statcast_2020-09-03.csv"),
 
 @pytest.fixture(scope="module")
 def game(tmp_path_factory):
+    # (through the library: what `mcbat run` does, without a process of its own)
     out = tmp_path_factory.mktemp("compare") / "game"
-    done = subprocess.run([sys.executable, "-m", "mcbat", "run",
-                           str(ROOT / "studies" / "game_fastball.toml"), "--samples", "3000",
-                           "--chunk-size", "1000", "--out", str(out), "--quiet"],
-                          capture_output=True, text=True, check=False)
-    assert done.returncode == 0, done.stderr
+    run_study(load_study(ROOT / "studies" / "game_fastball.toml"), out, samples=3000,
+              chunk_size=1000, progress=False)
     return str(out)
 
 

@@ -1,11 +1,11 @@
 """`mcbat fit`, `synth` and `calibrate`: every bad input exits 2 with one line naming the
-option or column, and `--json` is strict JSON."""
+option or column, and `--json` is strict JSON. The commands run in this process (the
+``cli`` fixture); one test runs the real command."""
 
 import json
 import math
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pandas as pd
@@ -14,11 +14,6 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = str(ROOT / "studies" / "cross_nathan_2006.toml")
 DATA = ROOT / "data" / "synthetic_cross_nathan_60.csv"
-
-
-def _mcbat(*args):
-    return subprocess.run([sys.executable, "-m", "mcbat", *args], capture_output=True,
-                          text=True, check=False)
 
 
 def _table(tmp_path, name, change):
@@ -69,21 +64,40 @@ BAD_FITS = {
 }
 
 
+class FitStarted(BaseException):
+    """Raised by a fit that should never have started (not an ``Exception``: ``main``
+    would turn that into exit 1; this one escapes and fails the test)."""
+
+
+def _no_fit(*args, **kwargs):
+    raise FitStarted("the fit started before the options were checked")
+
+
 @pytest.mark.parametrize("name", BAD_FITS)
-def test_bad_fit_input_exits_2_with_one_line(tmp_path, name):
+def test_bad_fit_input_exits_2_with_one_line(tmp_path, name, cli, monkeypatch):
     change, flags, words = BAD_FITS[name]
     data = _table(tmp_path, "m", change) if change else str(DATA)
-    args = ["fit", "--study", STUDY, "--data", data, "--no-compare", *flags]
-    t0 = time.perf_counter()
-    out = _mcbat(*args)
+    if flags and flags[0] != "--study":  # options are checked before any work
+        monkeypatch.setattr("mcbat.stats.fit.fit", _no_fit)
+    out = cli("fit", "--study", STUDY, "--data", data, "--no-compare", *flags, cwd=tmp_path)
     assert out.returncode == 2, out.stderr
     line = out.stderr.strip()
     assert "\n" not in line and "Traceback" not in line and line.startswith("mcbat: error:")
     for word in words:
         assert word in line, line
     assert out.stdout == ""
-    if flags and flags[0] != "--study":  # options are checked before any work
-        assert time.perf_counter() - t0 < 30
+    assert not (tmp_path / "r.txt").exists()
+
+
+def test_the_real_command_exits_2_with_one_line(tmp_path):
+    """The installed entry point: exit status 2 from the process, one line, no traceback."""
+    out = subprocess.run([sys.executable, "-m", "mcbat", "fit", "--study", STUDY, "--data",
+                          str(DATA), "--bootstrap", "1"], capture_output=True, text=True,
+                         check=False, cwd=tmp_path)
+    assert out.returncode == 2, out.stderr
+    assert out.stderr.strip().startswith("mcbat: error: --bootstrap:")
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+    assert out.stdout == "" and list(tmp_path.iterdir()) == []
 
 
 @pytest.mark.parametrize("flags, words", [
@@ -93,18 +107,19 @@ def test_bad_fit_input_exits_2_with_one_line(tmp_path, name):
     (["--impact-parameter-noise", "-0.001"], ["--impact-parameter-noise:"]),
     (["--spin-in-noise", "nan"], ["--spin-in-noise:"]),
 ])
-def test_bad_synth_input_exits_2_with_one_line(tmp_path, flags, words):
-    out = _mcbat("synth", "--study", STUDY, *flags)
+def test_bad_synth_input_exits_2_with_one_line(tmp_path, cli, flags, words):
+    out = cli("synth", "--study", STUDY, *flags, cwd=tmp_path)
     assert out.returncode == 2, out.stderr
     line = out.stderr.strip()
     assert "\n" not in line and "Traceback" not in line
     for word in words:
         assert word in line, line
+    assert out.stdout == "" and list(tmp_path.iterdir()) == []  # no table written
 
 
 @pytest.mark.parametrize("target", ["nan", "inf", "-1"])
-def test_bad_calibrate_target_exits_2(target):
-    out = _mcbat("calibrate", "--target", target)
+def test_bad_calibrate_target_exits_2(cli, target):
+    out = cli("calibrate", "--target", target)
     assert out.returncode == 2 and "--target:" in out.stderr
     assert out.stderr.strip().count("\n") == 0
 
@@ -115,10 +130,10 @@ def _strict(text):
     return json.loads(text, parse_constant=refuse)
 
 
-def test_json_is_strict_and_reports_a_one_sided_limit(tmp_path):
+def test_json_is_strict_and_reports_a_one_sided_limit(cli):
     """The shipped table has mu = 0.5: every drop sticks, the data bound mu from below only.
     The old output wrote "stderr": Infinity here."""
-    out = _mcbat("fit", "--study", STUDY, "--data", str(DATA), "--json", "--no-compare")
+    out = cli("fit", "--study", STUDY, "--data", DATA, "--json", "--no-compare")
     assert out.returncode == 0, out.stderr
     result = _strict(out.stdout)
     mu, e = result["params"]["mu"], result["params"]["e"]
@@ -130,9 +145,9 @@ def test_json_is_strict_and_reports_a_one_sided_limit(tmp_path):
     assert result["unconstrained"] == ["mu"]
 
 
-def test_synth_input_noise_round_trip(tmp_path):
+def test_synth_input_noise_round_trip(tmp_path, cli):
     path = tmp_path / "m.csv"
-    out = _mcbat("synth", "--study", STUDY, "--rows", "20", "--impact-parameter-noise",
+    out = cli("synth", "--study", STUDY, "--rows", "20", "--impact-parameter-noise",
                  "0.002", "--spin-in-noise", "2", "--out", str(path))
     assert out.returncode == 0, out.stderr
     df = pd.read_csv(path)
