@@ -43,6 +43,18 @@ def mcbat_cli(*args, cwd=None, env=None):
                           env=None if env is None else {**os.environ, **env}, timeout=TIMEOUT)
 
 
+def mcbat_main(capsys, *args):
+    """``mcbat ARGS`` in this process: (exit code, stdout, stderr). For the checks where a
+    separate interpreter adds nothing but its start-up (signals and killed processes keep
+    :func:`mcbat_cli`)."""
+    from mcbat.cli import main
+
+    capsys.readouterr()
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
 @pytest.fixture(scope="module")
 def dask_installed():
     pytest.importorskip("distributed")  # a guard only: CI installs ".[test,dask]"
@@ -156,35 +168,37 @@ def cluster(dask_installed, tmp_path_factory):
 
 
 def test_local_cluster_of_two_worker_processes_gives_the_local_dataset(
-        dask_installed, tmp_path, tmp_path_factory):
+        dask_installed, tmp_path, tmp_path_factory, capsys):
     args = ("--samples", 48_000, "--seed", 5, "--chunk-size", 6_000)
-    proc = mcbat_cli("run", THROUGHPUT, "--out", tmp_path / "ds", *args, "--quiet",
-                     "--engine", "dask", "--workers", 2)
-    assert proc.returncode == 0, proc.stderr
-    assert "rows: 48,000 in 8 chunk file(s) (8 computed, 0 kept from before)" in proc.stdout
+    code, stdout, stderr = mcbat_main(capsys, "run", THROUGHPUT, "--out", tmp_path / "ds",
+                                      *args, "--quiet", "--engine", "dask", "--workers", 2)
+    assert code == 0, stderr
+    assert "rows: 48,000 in 8 chunk file(s) (8 computed, 0 kept from before)" in stdout
     # Both worker processes computed chunks, each with its share of the cores.
-    workers, threads = engine_note(proc.stdout)
+    workers, threads = engine_note(stdout)
     assert workers == 2 and threads == str(max(1, numba.config.NUMBA_NUM_THREADS // 2))
     reference = local_reference(tmp_path_factory, THROUGHPUT, 48_000, 5, 6_000)
     assert_same_dataset(tmp_path / "ds", reference)
 
 
 def test_scheduler_and_two_dask_workers_give_the_local_dataset(cluster, tmp_path,
-                                                                tmp_path_factory):
+                                                                tmp_path_factory, capsys,
+                                                                monkeypatch):
     # The client runs elsewhere than the workers (another working directory) and names
     # the output relative to its own: the workers get the absolute path. The study has
     # simulated measurement noise, drawn on the workers too.
-    proc = mcbat_cli("run", CROSS_NATHAN, "--out", "ds", "--samples", 40_000, "--seed", 3,
-                     "--chunk-size", 5_000, "--quiet", "--engine", "dask", "--scheduler",
-                     cluster.address, cwd=tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert engine_note(proc.stdout) == (2, "1")
+    monkeypatch.chdir(tmp_path)
+    code, stdout, stderr = mcbat_main(
+        capsys, "run", CROSS_NATHAN, "--out", "ds", "--samples", 40_000, "--seed", 3,
+        "--chunk-size", 5_000, "--quiet", "--engine", "dask", "--scheduler", cluster.address)
+    assert code == 0, stderr
+    assert engine_note(stdout) == (2, "1")
     reference = local_reference(tmp_path_factory, CROSS_NATHAN, 40_000, 3, 5_000)
     assert "exit_speed_measured" in mcbat.load(reference).columns
     assert_same_dataset(tmp_path / "ds", reference)
 
 
-def test_dask_engine_resumes_a_partial_dataset(cluster, tmp_path, tmp_path_factory):
+def test_dask_engine_resumes_a_partial_dataset(cluster, tmp_path, tmp_path_factory, capsys):
     reference = local_reference(tmp_path_factory, EXAMPLE, 30_000, 11, 4_000)
     out = tmp_path / "ds"
     shutil.copytree(reference, out)
@@ -194,40 +208,41 @@ def test_dask_engine_resumes_a_partial_dataset(cluster, tmp_path, tmp_path_facto
     truncated.write_bytes(truncated.read_bytes()[:500])
     (out / ".chunk-000004.parquet.999-deadbeef.tmp").write_bytes(b"left by a killed run")
     kept = {k: p.stat().st_mtime_ns for k, p in ds.chunk_files(out).items() if k != 3}
-    proc = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 30_000, "--seed", 11,
-                     "--chunk-size", 4_000, "--engine", "dask", "--scheduler",
-                     cluster.address, "--threads", 2)
-    assert proc.returncode == 0, proc.stderr
-    assert "(3 computed, 5 kept from before)" in proc.stdout
-    assert "impacts/s" in proc.stderr  # the progress bar, as in local runs
+    code, stdout, stderr = mcbat_main(
+        capsys, "run", EXAMPLE, "--out", out, "--samples", 30_000, "--seed", 11,
+        "--chunk-size", 4_000, "--engine", "dask", "--scheduler", cluster.address,
+        "--threads", 2)
+    assert code == 0, stderr
+    assert "(3 computed, 5 kept from before)" in stdout
+    assert "impacts/s" in stderr  # the progress bar, as in local runs
     # --threads is each worker's numba budget (at most the worker's cores).
-    assert engine_note(proc.stdout)[1] == str(min(2, numba.config.NUMBA_NUM_THREADS))
+    assert engine_note(stdout)[1] == str(min(2, numba.config.NUMBA_NUM_THREADS))
     assert {k: p.stat().st_mtime_ns for k, p in ds.chunk_files(out).items()
             if k in kept} == kept
     assert_same_dataset(out, reference)
-    rerun = mcbat_cli("run", EXAMPLE, "--out", out, "--samples", 30_000, "--seed", 11,
-                      "--chunk-size", 4_000, "--quiet", "--engine", "dask", "--scheduler",
-                      cluster.address)
-    assert rerun.returncode == 0 and "(0 computed, 8 kept from before)" in rerun.stdout
+    code, stdout, _ = mcbat_main(capsys, "run", EXAMPLE, "--out", out, "--samples", 30_000,
+                                 "--seed", 11, "--chunk-size", 4_000, "--quiet", "--engine",
+                                 "dask", "--scheduler", cluster.address)
+    assert code == 0 and "(0 computed, 8 kept from before)" in stdout
 
 
 @pytest.mark.parametrize("scheme", ["file", "local"])
-def test_url_output_with_the_dask_engine(cluster, tmp_path, tmp_path_factory, scheme):
+def test_url_output_with_the_dask_engine(cluster, tmp_path, tmp_path_factory, capsys, scheme):
     # file:// is a local path; local:// goes through pyarrow.fs like s3:// or gs:// would
     # (pyarrow's LocalFileSystem), on the client and on the workers.
     url = f"{scheme}://{tmp_path / 'ds'}"
-    proc = mcbat_cli("run", EXAMPLE, "--out", url, "--samples", 30_000, "--seed", 11,
-                     "--chunk-size", 4_000, "--quiet", "--engine", "dask", "--scheduler",
-                     cluster.address)
-    assert proc.returncode == 0, proc.stderr
+    code, stdout, stderr = mcbat_main(
+        capsys, "run", EXAMPLE, "--out", url, "--samples", 30_000, "--seed", 11,
+        "--chunk-size", 4_000, "--quiet", "--engine", "dask", "--scheduler", cluster.address)
+    assert code == 0, stderr
     shown = tmp_path / "ds" if scheme == "file" else url
-    assert f"dataset: {shown}\n" in proc.stdout
+    assert f"dataset: {shown}\n" in stdout
     reference = local_reference(tmp_path_factory, EXAMPLE, 30_000, 11, 4_000)
     assert_same_dataset(tmp_path / "ds", reference)
     pd.testing.assert_frame_equal(mcbat.load(url), mcbat.load(reference), check_exact=True)
 
 
-def test_output_the_workers_cannot_see_is_a_clear_error(cluster):
+def test_output_the_workers_cannot_see_is_a_clear_error(cluster, capsys):
     # memory:// lives in one process: the workers do not see the client's dataset, as
     # with a local path on a disk that is not shared.
     # (The command line refuses memory:// up front; the Python API accepts it.)
@@ -241,9 +256,10 @@ def test_output_the_workers_cannot_see_is_a_clear_error(cluster):
     assert err.value.field == "out"
     assert err.value.message.startswith("the worker on")
     assert "storage every worker shares" in err.value.message
-    proc = mcbat_cli("run", EXAMPLE, "--out", "memory://mcbat-test/ds", "--samples", 2_000,
-                     "--quiet", "--engine", "dask", "--scheduler", cluster.address)
-    assert proc.returncode == 2 and "--out: memory:// keeps files" in proc.stderr
+    code, _, stderr = mcbat_main(capsys, "run", EXAMPLE, "--out", "memory://mcbat-test/ds",
+                                 "--samples", 2_000, "--quiet", "--engine", "dask",
+                                 "--scheduler", cluster.address)
+    assert code == 2 and "--out: memory:// keeps files" in stderr
 
 
 def test_interrupted_dask_run_resumes_identically(cluster, tmp_path, tmp_path_factory):
@@ -322,44 +338,41 @@ def test_killed_worker_is_retried_and_the_dataset_is_identical(dask_installed, t
 
 
 def test_a_lost_scheduler_is_one_line_and_exit_4_at_once_and_the_rerun_resumes(
-        dask_installed, tmp_path, tmp_path_factory):
+        cluster, tmp_path, tmp_path_factory):
     samples, chunk_size = 600_000, 20_000
-    cluster = ExternalCluster(tmp_path / "dask")
+    doomed = ExternalCluster(tmp_path / "dask")  # its scheduler is killed: not the shared one
     out = tmp_path / "ds"
     args = ["run", str(EXAMPLE), "--out", str(out), "--samples", str(samples), "--seed",
             "21", "--chunk-size", str(chunk_size), "--quiet", "--engine", "dask"]
     run = None
     try:
         run = subprocess.Popen([sys.executable, "-m", "mcbat.cli", *args, "--scheduler",
-                                cluster.address],
+                                doomed.address],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         deadline = time.monotonic() + TIMEOUT
         while not (out.is_dir() and len(ds.chunk_files(out)) >= 3):
             assert time.monotonic() < deadline and run.poll() is None, run.stderr.read()
             time.sleep(0.01)
-        os.killpg(cluster.procs[0].pid, signal.SIGKILL)  # the scheduler, mid-run
+        os.killpg(doomed.procs[0].pid, signal.SIGKILL)  # the scheduler, mid-run
         killed = time.monotonic()
         stdout, stderr = run.communicate(timeout=TIMEOUT)
         waited = time.monotonic() - killed
     finally:
         _stop(run)
-        cluster.close()
+        doomed.close()
     assert run.returncode == 4, stderr
     lines = stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in stderr, stderr
     assert lines[0].startswith("mcbat: error: lost the connection to the Dask scheduler "
-                               f"({cluster.address})")
+                               f"({doomed.address})")
     assert "rerun the same command to resume" in lines[0]
     # Dask's own reconnection attempt would take distributed.comm.timeouts.connect (30 s).
     assert waited < 10, f"{waited:.1f} s between the scheduler's death and the exit"
     assert len(ds.chunk_files(out)) < samples // chunk_size, "the run was over before"
     assert not (out / "_mcbat.lock").exists()  # released: the rerun is not blocked
-    # A new cluster: the same command resumes to the local engine's dataset.
-    again = ExternalCluster(tmp_path / "dask-again")
-    try:
-        resumed = mcbat_cli(*args, "--scheduler", again.address)
-    finally:
-        again.close()
+    # Another cluster (the shared one, alive): the same command resumes to the local
+    # engine's dataset.
+    resumed = mcbat_cli(*args, "--scheduler", cluster.address)
     assert resumed.returncode == 0, resumed.stderr
     assert "kept from before" in resumed.stdout
     assert_same_dataset(out, local_reference(tmp_path_factory, EXAMPLE, samples, 21,
@@ -431,46 +444,49 @@ def test_a_worker_with_another_environment_refuses(dask_installed, tmp_path):
     (("--workers", "2"), "--workers: only with --engine dask"),
     (("--engine", "spark"), "argument --engine: invalid choice: 'spark'"),
 ])
-def test_bad_engine_options_exit_2_and_write_nothing(dask_installed, tmp_path, args, words):
+def test_bad_engine_options_exit_2_and_write_nothing(dask_installed, tmp_path, capsys, args,
+                                                     words):
     out = tmp_path / "out"
-    proc = mcbat_cli("run", EXAMPLE, "--out", out, "--quiet", *args)
-    assert proc.returncode == 2
-    assert len(proc.stderr.strip().splitlines()) == 1 and words in proc.stderr
-    assert "Traceback" not in proc.stderr and not out.exists()
+    code, _, stderr = mcbat_main(capsys, "run", EXAMPLE, "--out", out, "--quiet", *args)
+    assert code == 2
+    assert len(stderr.strip().splitlines()) == 1 and words in stderr
+    assert "Traceback" not in stderr and not out.exists()
 
 
-def test_unreachable_scheduler_exits_2_and_writes_nothing(dask_installed, tmp_path):
+def test_unreachable_scheduler_exits_2_and_writes_nothing(dask_installed, tmp_path, capsys):
+    import dask
+
     with socket.socket() as sock:  # a free port: nobody listens there
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
     out = tmp_path / "out"
-    proc = mcbat_cli("run", EXAMPLE, "--out", out, "--quiet", "--engine", "dask",
-                     "--scheduler", f"tcp://127.0.0.1:{port}",
-                     env={"DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT": "2s"})
-    assert proc.returncode == 2
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in proc.stderr
+    with dask.config.set({"distributed.comm.timeouts.connect": "2s"}):
+        code, _, stderr = mcbat_main(capsys, "run", EXAMPLE, "--out", out, "--quiet",
+                                     "--engine", "dask", "--scheduler",
+                                     f"tcp://127.0.0.1:{port}")
+    assert code == 2
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in stderr
     assert f"--scheduler: cannot connect to tcp://127.0.0.1:{port}" in lines[0]
     assert not out.exists()
 
 
-def test_without_dask_the_engine_says_how_to_install_it(tmp_path):
-    # Runs whether or not Dask is installed: importing it is made to fail.
-    code = ("import sys; sys.modules['distributed'] = None; sys.modules['dask'] = None; "
-            "from mcbat.cli import main; sys.exit(main(sys.argv[1:]))")
+def test_without_dask_the_engine_says_how_to_install_it(tmp_path, capsys, monkeypatch):
+    # Runs whether or not Dask is installed: importing it is made to fail (a None entry in
+    # sys.modules makes `import distributed` raise ImportError, as if it were absent).
+    for name in ("distributed", "dask"):
+        monkeypatch.setitem(sys.modules, name, None)
     out = tmp_path / "out"
     for extra in ((), ("--workers", "2"), ("--scheduler", "tcp://127.0.0.1:8786")):
-        proc = subprocess.run([sys.executable, "-c", code, "run", str(EXAMPLE), "--out",
-                               str(out), "--quiet", "--engine", "dask", *extra],
-                              capture_output=True, text=True, timeout=TIMEOUT)
-        assert proc.returncode == 2
-        assert proc.stderr.strip() == INSTALL_HINT
+        code, _, stderr = mcbat_main(capsys, "run", EXAMPLE, "--out", out, "--quiet",
+                                     "--engine", "dask", *extra)
+        assert code == 2
+        assert stderr.strip() == INSTALL_HINT
         assert not out.exists()
     # The local engine does not need Dask.
-    proc = subprocess.run([sys.executable, "-c", code, "run", str(EXAMPLE), "--out", str(out),
-                           "--quiet", "--samples", "1000"], capture_output=True, text=True,
-                          timeout=TIMEOUT)
-    assert proc.returncode == 0, proc.stderr
+    code, _, stderr = mcbat_main(capsys, "run", EXAMPLE, "--out", out, "--quiet",
+                                 "--samples", "1000")
+    assert code == 0, stderr
 
 
 # ---------------------------------------------------------------- real pitches
@@ -479,14 +495,15 @@ REAL_PITCHES = ROOT / "studies" / "real_pitches.toml"
 
 
 def test_real_pitches_on_a_scheduler_and_two_workers_give_the_local_dataset(
-        cluster, tmp_path, tmp_path_factory):
+        cluster, tmp_path, tmp_path_factory, capsys, monkeypatch):
     # The workers run in another directory than the client: they read the [pitches] file
     # by the absolute path the study's definition carries, and draw the same rows.
-    proc = mcbat_cli("run", REAL_PITCHES, "--out", "ds", "--samples", 12_000, "--seed", 4,
-                     "--chunk-size", 3_000, "--quiet", "--engine", "dask", "--scheduler",
-                     cluster.address, cwd=tmp_path)
-    assert proc.returncode == 0, proc.stderr
-    assert engine_note(proc.stdout) == (2, "1")
+    monkeypatch.chdir(tmp_path)
+    code, stdout, stderr = mcbat_main(
+        capsys, "run", REAL_PITCHES, "--out", "ds", "--samples", 12_000, "--seed", 4,
+        "--chunk-size", 3_000, "--quiet", "--engine", "dask", "--scheduler", cluster.address)
+    assert code == 0, stderr
+    assert engine_note(stdout) == (2, "1")
     reference = local_reference(tmp_path_factory, REAL_PITCHES, 12_000, 4, 3_000)
     assert "source_row" in mcbat.load(reference).columns
     assert_same_dataset(tmp_path / "ds", reference)

@@ -7,7 +7,6 @@ empty filters are one-line errors, exit 2, with nothing written."""
 import json
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -25,9 +24,20 @@ STUDY = ROOT / "studies" / "real_pitches.toml"
 DATA = ROOT / "data" / "statcast_2020-09-03.csv"
 
 
-def mcbat_cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "mcbat.cli", *map(str, args)],
-                          capture_output=True, text=True, check=False, cwd=cwd)
+@pytest.fixture
+def mcbat_cli(capsys):
+    """``mcbat ARGS`` in this process, as a finished process: these tests check the
+    command's exit code, output and files, which an interpreter of its own would not
+    change."""
+    from mcbat.cli import main
+
+    def run(*args):
+        capsys.readouterr()
+        code = main([str(a) for a in args])
+        out, err = capsys.readouterr()
+        return subprocess.CompletedProcess(args, code, out, err)
+
+    return run
 
 
 def same_rows(a, b, ignore=()):
@@ -114,7 +124,7 @@ def test_seed_changes_the_pitches(baseline, tmp_path):
                               baseline["source_row"])
 
 
-def test_resumption_recomputes_the_missing_chunks_identically(baseline, tmp_path):
+def test_resumption_recomputes_the_missing_chunks_identically(baseline, tmp_path, mcbat_cli):
     study = copy_study(tmp_path, DATA.name)
     out = tmp_path / "ds"
     args = ("run", study, "--out", out, "--samples", 6_000, "--seed", 7, "--chunk-size",
@@ -129,7 +139,7 @@ def test_resumption_recomputes_the_missing_chunks_identically(baseline, tmp_path
     same_rows(mcbat.load(out), baseline)
 
 
-def test_a_changed_file_is_not_resumed_into_the_old_dataset(tmp_path):
+def test_a_changed_file_is_not_resumed_into_the_old_dataset(tmp_path, mcbat_cli):
     study = copy_study(tmp_path)
     out = tmp_path / "ds"
     args = ("run", study, "--out", out, "--samples", 2_000, "--seed", 7, "--quiet")
@@ -163,7 +173,7 @@ def one_line_exit_2(proc):
     return lines[0]
 
 
-def test_a_filter_selecting_no_row_exits_2_naming_it(tmp_path):
+def test_a_filter_selecting_no_row_exits_2_naming_it(tmp_path, mcbat_cli):
     study = copy_study(tmp_path)
     study.write_text(study.read_text().replace('p_throws = "R"', 'p_throws = "R"\n'
                                                "pitcher = 1"))
@@ -175,7 +185,7 @@ def test_a_filter_selecting_no_row_exits_2_naming_it(tmp_path):
 
 @pytest.mark.parametrize("case", ["missing", "columns", "truncated", "not a table",
                                   "empty"])
-def test_bad_files_exit_2_with_one_line_and_write_nothing(tmp_path, case):
+def test_bad_files_exit_2_with_one_line_and_write_nothing(tmp_path, mcbat_cli, case):
     study = copy_study(tmp_path)
     data = tmp_path / "pitches.csv"
     text = data.read_text(encoding="utf-8")
@@ -218,7 +228,7 @@ def test_a_tidy_parquet_file_gives_the_same_rows_as_the_savant_csv(baseline, tmp
     assert other.attrs["mcbat"]["config_hash"] != baseline.attrs["mcbat"]["config_hash"]
 
 
-def test_calibrate_and_synth_read_the_pitches_file(tmp_path):
+def test_calibrate_and_synth_read_the_pitches_file(tmp_path, mcbat_cli):
     # The commands that sample a study outside `mcbat run` load its [pitches] rows too.
     proc = mcbat_cli("calibrate", "--study", STUDY, "--target", 100, "--parameter", "e",
                      "--samples", 1000)

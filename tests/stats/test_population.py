@@ -4,6 +4,7 @@ bad input refused with one line (exit 2)."""
 
 import json
 import math
+import subprocess
 
 import numpy as np
 import pytest
@@ -11,10 +12,25 @@ import pytest
 import mcbat
 from mcbat.statcast import read, write
 from mcbat.stats.population import fit_population, population_table, simulate_table
-from tests.stats.population_shared import REAL, STUDY, assert_one_line_exit_2, run_mcbat
+from tests.stats.population_shared import REAL, STUDY, assert_one_line_exit_2
 
 TRUTH = {"swing.bat_speed.mean": 69.0, "swing.attack_angle.mean": 12.0,
          "contact.undercut.std": 0.9}
+
+
+@pytest.fixture
+def run_mcbat(capsys):
+    """``mcbat ARGS`` in this process, as a finished process (the interpreter's start-up
+    adds nothing to what these tests check)."""
+    from mcbat.cli import main
+
+    def run(*args):
+        capsys.readouterr()
+        code = main([str(a) for a in args])
+        out, err = capsys.readouterr()
+        return subprocess.CompletedProcess(args, code, out, err)
+
+    return run
 
 
 @pytest.fixture(scope="module")
@@ -60,7 +76,7 @@ def test_physics_constant_by_grid(study, pitches):
         assert abs(p["value"] - truth) < 3 * sigma, p
 
 
-def test_real_statcast_fit_cli(tmp_path):
+def test_real_statcast_fit_cli(tmp_path, run_mcbat):
     # the shipped day of 2020 games: the fit runs, with strict JSON, finite intervals and
     # a figure; the bat speed it gives is a bat speed (40-90 mph)
     figure = tmp_path / "population.png"
@@ -79,7 +95,7 @@ def test_real_statcast_fit_cli(tmp_path):
     assert figure.stat().st_size > 10_000
 
 
-def test_template_that_cannot_cover_the_data(tmp_path, pitches):
+def test_template_that_cannot_cover_the_data(tmp_path, pitches, run_mcbat):
     # launch speeds in km/h: the fastest third lies beyond every draw of the study (the
     # table written as mcbat's tidy Parquet table, as `mcbat statcast --out` writes it)
     path = tmp_path / "kmh.parquet"
@@ -91,7 +107,7 @@ def test_template_that_cannot_cover_the_data(tmp_path, pitches):
     assert_one_line_exit_2(proc, "cannot cover the data")
 
 
-def test_bad_options():
+def test_bad_options(run_mcbat):
     base = ("fit", "--population", "--study", str(STUDY), "--data", str(REAL))
     assert_one_line_exit_2(run_mcbat(*base), "--free")
     assert_one_line_exit_2(run_mcbat(*base, "--free", "swing.bat_speed.mean", "--observables",
