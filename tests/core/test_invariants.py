@@ -8,7 +8,7 @@ solution rotates with the problem about the bat axis.
 import math
 
 import numpy as np
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as hs
 
 from mcbat.core.geometry import contact_frame
@@ -69,8 +69,18 @@ SETTINGS = settings(max_examples=150, deadline=None,
                     suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 
 
+# An elastic impact with a vanishing friction coefficient: it slides throughout (so its
+# works are integrated, not exact) and dissipates nothing.
+ELASTIC_SLIDING = dict(ball_v=(-1.0, 0.0, 0.0), ball_w=(0.0, 0.0, 0.0), bat_v=(0.0, 0.0, 0.0),
+                       bat_w=(0.0, 1.0, 1.0), angle=0.0, mu=1.63158270508081e-130, e=1.0,
+                       ball_mass=0.5, ball_radius=0.03125, ball_inertia_factor=0.5,
+                       bat_mass=1.0, bat_transverse_inertia=0.125,
+                       bat_axial_inertia=0.001953125, axial=0.25, radius=0.03125, slope=0.0)
+
+
 @SETTINGS
 @given(impacts())
+@example(ELASTIC_SLIDING)
 def test_momentum_conserved_and_energy_not_gained(case):
     r = kernel(**case)
     assert r["status"] == 0
@@ -81,7 +91,14 @@ def test_momentum_conserved_and_energy_not_gained(case):
     assert np.max(np.abs(l1 - l0)) <= 1e-12 * max(sl0, sl1)
     assert np.max(np.abs(a1 - a0)) <= 1e-12 * max(sa0, sa1)
     e_in, e_out = r["energy_in"], r["energy_out"]
-    assert e_out <= e_in * (1 + 1e-13)
+    # The restitution (1 - e*^2 of the compression work) and friction dissipate; the end of
+    # the impact is found from the integrated normal work, whose error is bounded by
+    # 1e-8 E_in at the default tolerance (test_work_bookkeeping_closes_and_converges). An
+    # impact that dissipates (almost) nothing, elastic and sliding on a vanishing mu, can
+    # therefore come out above E_in by that error, and by no more.
+    assert e_out <= e_in * (1 + 1e-8)
+    if case["e"] <= 0.99:
+        assert e_out <= e_in * (1 + 1e-13)
     assert r["friction_work"] <= 1e-12 * e_in and r["normal_work"] <= 1e-12 * e_in
 
 
@@ -102,6 +119,14 @@ def test_work_bookkeeping_closes_and_converges(case):
                         - r["energy_out"]) / r["energy_in"])
     assert gaps[0] <= 1e-8
     assert gaps[1] <= 1e-10
+
+
+def test_an_elastic_sliding_impact_gains_energy_only_to_the_integration_error():
+    gains = [(r["energy_out"] - r["energy_in"]) / r["energy_in"]
+             for r in (kernel(**ELASTIC_SLIDING),
+                       kernel(settings=(8, 1e-12, 10**6), **ELASTIC_SLIDING))]
+    assert abs(gains[0]) <= 1e-8
+    assert abs(gains[1]) <= 1e-10     # and it converges with the tolerance
 
 
 @SETTINGS
