@@ -70,3 +70,13 @@ def run_in_process(capsys, monkeypatch, *args, stdin=None, cwd=None) -> CliResul
         root.handlers[:] = log_handlers
     out, err = capsys.readouterr()
     return CliResult(code, out, err)
+
+
+def mcbat_main(capsys, *args) -> tuple[int, str, str]:
+    """:func:`run_in_process` for a test without ``monkeypatch``: (exit code, stdout,
+    stderr)."""
+    import pytest
+
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        r = run_in_process(capsys, monkeypatch, *args)
+    return r.returncode, r.stdout, r.stderr

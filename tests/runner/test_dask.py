@@ -27,6 +27,7 @@ from mcbat.dataset import chunks as ds
 from mcbat.runner import plan_run, run_study
 from mcbat.runner.plan import prepare_directory
 from mcbat.study import load_study
+from tests.cli_runner import mcbat_main
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE = ROOT / "studies" / "example.toml"
@@ -41,18 +42,6 @@ def mcbat_cli(*args, cwd=None, env=None):
     return subprocess.run([sys.executable, "-m", "mcbat.cli", *map(str, args)],
                           capture_output=True, text=True, check=False, cwd=cwd,
                           env=None if env is None else {**os.environ, **env}, timeout=TIMEOUT)
-
-
-def mcbat_main(capsys, *args):
-    """``mcbat ARGS`` in this process: (exit code, stdout, stderr). For the checks where a
-    separate interpreter adds nothing but its start-up (signals and killed processes keep
-    :func:`mcbat_cli`)."""
-    from mcbat.cli import main
-
-    capsys.readouterr()
-    code = main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,6 @@ empty filters are one-line errors, exit 2, with nothing written."""
 
 import json
 import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -25,19 +24,10 @@ DATA = ROOT / "data" / "statcast_2020-09-03.csv"
 
 
 @pytest.fixture
-def mcbat_cli(capsys):
-    """``mcbat ARGS`` in this process, as a finished process: these tests check the
-    command's exit code, output and files, which an interpreter of its own would not
-    change."""
-    from mcbat.cli import main
-
-    def run(*args):
-        capsys.readouterr()
-        code = main([str(a) for a in args])
-        out, err = capsys.readouterr()
-        return subprocess.CompletedProcess(args, code, out, err)
-
-    return run
+def mcbat_cli(cli):
+    """``mcbat ARGS`` in this process (tests/cli_runner.py): the exit code, output and files
+    these tests check are the command's, which an interpreter of its own would not change."""
+    return cli
 
 
 def same_rows(a, b, ignore=()):

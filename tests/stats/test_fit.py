@@ -13,6 +13,7 @@ from mcbat.stats.fit import fit
 from mcbat.stats.measurements import synthesize
 from mcbat.stats.model_choice import compare_models
 from mcbat.study import load_study
+from tests.cli_runner import mcbat_main
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
@@ -42,17 +43,6 @@ def test_bad_free_parameter_is_a_clear_error():
     table = synthesize(STUDY, 10, seed=1)
     with pytest.raises(InputError, match="unknown parameter 'gravity'"):
         fit(STUDY, table, ("gravity",))
-
-
-def mcbat_main(capsys, *args):
-    """``mcbat ARGS`` in this process (the interpreter's start-up adds nothing to these
-    checks): (exit code, stdout, stderr)."""
-    from mcbat.cli import main
-
-    capsys.readouterr()
-    code = main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_fit_cli_json(tmp_path, capsys):

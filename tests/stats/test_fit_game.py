@@ -12,6 +12,7 @@ from mcbat.stats.fit import fit
 from mcbat.stats.likelihood import draw_moments
 from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
+from tests.cli_runner import mcbat_main
 
 ROOT = Path(__file__).resolve().parents[2]
 GAME = load_study(Path(__file__).parent / "data" / "game_fit_fastball.toml")
@@ -59,17 +60,6 @@ def test_game_fit_refuses_what_its_model_cannot_use():
     with pytest.raises(InputError) as err:
         fit(GAME, drop, ("e",))
     assert err.value.field == "exit_speed" and "game study" in str(err.value)
-
-
-def mcbat_main(capsys, *args):
-    """``mcbat ARGS`` in this process (the interpreter's start-up adds nothing to these
-    checks): (exit code, stdout, stderr)."""
-    from mcbat.cli import main
-
-    capsys.readouterr()
-    code = main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def test_game_synth_and_fit_from_the_command_line(tmp_path, capsys):

@@ -4,7 +4,6 @@ bad input refused with one line (exit 2)."""
 
 import json
 import math
-import subprocess
 
 import numpy as np
 import pytest
@@ -19,18 +18,10 @@ TRUTH = {"swing.bat_speed.mean": 69.0, "swing.attack_angle.mean": 12.0,
 
 
 @pytest.fixture
-def run_mcbat(capsys):
-    """``mcbat ARGS`` in this process, as a finished process (the interpreter's start-up
-    adds nothing to what these tests check)."""
-    from mcbat.cli import main
-
-    def run(*args):
-        capsys.readouterr()
-        code = main([str(a) for a in args])
-        out, err = capsys.readouterr()
-        return subprocess.CompletedProcess(args, code, out, err)
-
-    return run
+def run_mcbat(cli):
+    """``mcbat ARGS`` in this process (tests/cli_runner.py): the exit code, output and files
+    these tests check are the command's, which an interpreter of its own would not change."""
+    return cli
 
 
 @pytest.fixture(scope="module")
