@@ -518,9 +518,10 @@ def short_table(results: dict) -> str:
         rows.append(("flight kernel, 2 threads",
                      f"{sig(results['flight']['metrics']['flights_per_s'])} flights/s"))
     lines = ["| what | measured |", "|---|---|"] + [f"| {a} | {b} |" for a, b in rows]
-    cpus = sorted({f"{r['machine']['cpu']}, {r['machine']['cores']} cores"
-                   for r in results.values()})
-    loads = [r["machine"]["load_average_1min"] for r in results.values()
+    # the machine and load of the results this table shows, not of every recorded run
+    shown = [results[n] for n in ("overview", "accuracy_mix", "flight") if n in results]
+    cpus = sorted({f"{r['machine']['cpu']}, {r['machine']['cores']} cores" for r in shown})
+    loads = [r["machine"]["load_average_1min"] for r in shown
              if "load_average_1min" in r["machine"]]
     load = (f" (load average {_span(loads)} while measured: the machine "
             "was shared)" if loads else "")

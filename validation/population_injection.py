@@ -59,6 +59,8 @@ def main(argv=None):
     ap.add_argument("--tables", type=int, default=20)
     ap.add_argument("--rows", type=int, default=200)
     ap.add_argument("--draws", type=int, default=None, help="template draws per row")
+    ap.add_argument("--bins", type=int, default=None,
+                    help="bins per observable (default: the fit's own choice)")
     ap.add_argument("--seed", type=int, default=1000)
     ap.add_argument("--set", choices=sorted(SETS), default="spread",
                     help="the free parameters and observables (see the module's docstring)")
@@ -82,7 +84,7 @@ def main(argv=None):
         table = simulate_table(study, pitches, args.rows, seed=args.seed + k, values=truth)
         t0 = time.process_time()
         result = fit_population(study, table, list(truth), observables=observables,
-                                draws=args.draws, seed=args.seed + k)
+                                draws=args.draws, bins=args.bins, seed=args.seed + k)
         seconds.append(time.process_time() - t0)
         fits.append(result.to_dict() | {"table": k, "seed": args.seed + k,
                                         "truth": truth, "set": args.set})
