@@ -5,6 +5,7 @@ Run:  .venv/bin/python -m validation textbook_fit --settings inside,wide,slide -
           --out textbook.jsonl
       .venv/bin/python -m validation textbook_fit --summary textbook.jsonl
       .venv/bin/python -m validation textbook_fit --settings inside --hold 22 --draws 60
+      .venv/bin/python -m validation textbook_fit --settings inside --box-bias 3,9,22
 
 Each table of :mod:`mcbat.testing.fit_validation` (the same seeds and noise as the fit's
 check) is fitted by :func:`mcbat.testing.textbook_fit.textbook_fit` with its true impact
@@ -15,6 +16,9 @@ most informative rows carry (:func:`mcbat.testing.textbook_fit.mu_information_sh
 About 2 s a table; results are appended one JSON line each, so a rerun goes on.
 ``--hold K`` keeps table K's geometry (its true impact parameters, contacts and errors)
 and draws new noise ``--draws`` times: the coverage, mean pull and spread of one geometry.
+``--box-bias K,...`` prints the second-order bias of the maximum-likelihood estimate at the
+truth for those tables' geometries (Box 1971, for least squares with a smooth model),
+in units of the Fisher errors: what the model's curvature alone would shift the fit by.
 """
 
 import argparse
@@ -70,6 +74,37 @@ def held_geometry(setting, k, draws, seed=5):
     return np.array(pulls)
 
 
+def box_bias(setting, k, steps=(1e-4, 1e-3)):
+    """Box's (1971) second-order bias of ``(e*, mu)`` at the truth of table ``k``, in units
+    of the Fisher errors: ``-1/2 (J^T J)^-1 J^T d`` with ``d_i = tr((J^T J)^-1 H_i)``, ``J``
+    and ``H_i`` the Jacobian and Hessians of the error-scaled observables (central
+    differences of ``steps`` in ``e*`` and ``mu``)."""
+    from mcbat.testing.drop_tables import kernel_solver
+    from mcbat.testing.textbook_fit import _arrays
+
+    table = make_table(setting, k)
+    truth = table.attrs["truth"]
+    b, spin, axial, e_x, _, s = _arrays(table)
+
+    def scaled(theta):
+        return (kernel_solver(b, spin, axial, theta[0], theta[1], e_x) / s).ravel()
+
+    theta, h = np.array([truth["e"], truth["mu"]], float), np.asarray(steps, float)
+    unit = np.eye(2) * h
+    f0 = scaled(theta)
+    up, down = [scaled(theta + u) for u in unit], [scaled(theta - u) for u in unit]
+    jac = np.stack([(up[a] - down[a]) / (2 * h[a]) for a in range(2)], axis=1)
+    hess = np.empty((f0.size, 2, 2))
+    for a in range(2):
+        hess[:, a, a] = (up[a] - 2 * f0 + down[a]) / h[a] ** 2
+    hess[:, 0, 1] = hess[:, 1, 0] = (
+        scaled(theta + unit[0] + unit[1]) - scaled(theta + unit[0] - unit[1])
+        - scaled(theta - unit[0] + unit[1]) + scaled(theta - unit[0] - unit[1])) / (4 * h[0] * h[1])
+    cov = np.linalg.inv(jac.T @ jac)
+    bias = -0.5 * cov @ jac.T @ np.einsum("ab,iab->i", cov, hess)
+    return bias / np.sqrt(np.diag(cov))
+
+
 def _line(label, pulls):
     """Coverage (an infinite pull counts as not covered), mean pull and spread."""
     finite = pulls[np.isfinite(pulls)]
@@ -107,7 +142,16 @@ def main(argv=None):
     parser.add_argument("--hold", type=int, metavar="K",
                         help="keep table K's geometry and draw new noise --draws times")
     parser.add_argument("--draws", type=int, default=60)
+    parser.add_argument("--box-bias", metavar="K,...",
+                        help="print the second-order bias at those tables' truth")
     args = parser.parse_args(argv)
+    if args.box_bias:
+        setting = args.settings.split(",")[0]
+        for k in map(int, args.box_bias.split(",")):
+            e_bias, mu_bias = box_bias(setting, k)
+            print(f"{setting:7s} table {k}: second-order bias of e* {e_bias:+.3f}, "
+                  f"of mu {mu_bias:+.3f} (Fisher errors)")
+        return 0
     if args.hold is not None:
         setting = args.settings.split(",")[0]
         print(_line(f"{setting:7s} table {args.hold} held, new noise: ",
