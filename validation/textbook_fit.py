@@ -6,6 +6,8 @@ Run:  .venv/bin/python -m validation textbook_fit --settings inside,wide,slide -
       .venv/bin/python -m validation textbook_fit --summary textbook.jsonl
       .venv/bin/python -m validation textbook_fit --settings inside --hold 22 --draws 60
       .venv/bin/python -m validation textbook_fit --settings inside --box-bias 3,9,22
+      .venv/bin/python -m validation textbook_fit --settings inside --tables 300 \
+          --calibrate 100 --out calibrated.jsonl
 
 Each table of :mod:`mcbat.testing.fit_validation` (the same seeds and noise as the fit's
 check) is fitted by :func:`mcbat.testing.textbook_fit.textbook_fit` with its true impact
@@ -19,6 +21,10 @@ and draws new noise ``--draws`` times: the coverage, mean pull and spread of one
 ``--box-bias K,...`` prints the second-order bias of the maximum-likelihood estimate at the
 truth for those tables' geometries (Box 1971, for least squares with a smooth model),
 in units of the Fisher errors: what the model's curvature alone would shift the fit by.
+``--calibrate N`` calibrates each table's interval by a parametric bootstrap: ``N`` toy
+tables drawn at the best fit with the table's geometry give the distribution of ``mu``'s
+profile likelihood ratio, and the interval is where the table's own ratio stays below that
+distribution's 68.3 % quantile (instead of 1); the summary compares the coverage of the two.
 """
 
 import argparse
@@ -50,6 +56,53 @@ def record(setting, k):
     return {"setting": setting, "table": k, "truth": truth, **r,
             "pull": (r["mu"] - truth) / err if math.isfinite(err) else None,
             "top3_share": share, "fisher_error": fisher_error}
+
+
+def calibrated(setting, k, toys, seed=1000):
+    """Table ``k``'s profile likelihood ratio of ``mu`` at the truth, and the threshold that
+    ``toys`` parametric-bootstrap tables at its best fit give for a 68.3 % interval."""
+    from scipy import optimize
+
+    from mcbat.testing.drop_tables import kernel_solver
+    from mcbat.testing.textbook_fit import _arrays
+
+    table = make_table(setting, k)
+    b, spin, axial, e_x, y, s = _arrays(table)
+    r = textbook_fit(table)
+    mu0, e0 = r["mu"], r["e"]
+    step = max(min(r["lower_error"], r["upper_error"], 0.05), 1e-3)
+
+    def nll(data, e, mu):
+        f = kernel_solver(b, spin, axial, e, min(max(mu, 1e-3), 2.0), e_x)
+        return 0.5 * float((((data - f) / s) ** 2).sum())
+
+    def profile(data, mu):
+        return optimize.minimize_scalar(lambda e: nll(data, e, mu), bounds=(0.3, 0.95),
+                                        method="bounded", options={"xatol": 1e-7}).fun
+
+    def minimum(data):
+        # two simplex searches, one from each side of the best value (the profile in mu
+        # has kinks where rows start to roll, and a single search can stop at one)
+        found = [optimize.minimize(lambda t: nll(data, *t), start[0], method="Nelder-Mead",
+                                   options={"initial_simplex": start, "xatol": 1e-6,
+                                            "fatol": 1e-6}).fun
+                 for start in ([[e0, mu0], [e0 + 3e-3, mu0], [e0, mu0 + step]],
+                               [[e0, mu0 - step], [e0 + 3e-3, mu0 - step],
+                                [e0, mu0 - 2 * step]])]
+        return min(found)
+
+    exact = kernel_solver(b, spin, axial, e0, mu0, e_x)
+    rng = np.random.default_rng(seed + k)
+    ratios = []
+    for _ in range(toys):
+        toy = exact + s * rng.standard_normal(s.shape)
+        at_best = profile(toy, mu0)
+        ratios.append(2 * (at_best - min(at_best, minimum(toy))))
+    truth = float(table.attrs["truth"]["mu"])
+    ratio = 2 * (profile(y, truth) - r["neg_log_likelihood"])
+    threshold = float(np.quantile(ratios, 0.683))
+    return {"setting": setting, "table": k, "ratio_at_truth": ratio, "threshold": threshold,
+            "covered": bool(ratio <= 1.0), "covered_calibrated": bool(ratio <= threshold)}
 
 
 def held_geometry(setting, k, draws, seed=5):
@@ -133,6 +186,27 @@ def summary_lines(records):
     return lines
 
 
+def calibration_run(args):
+    """``--calibrate``: resumable records in ``--out``, then the two coverages."""
+    path = Path(args.out)
+    setting = args.settings.split(",")[0]
+    done = ({json.loads(line)["table"] for line in path.open()} if path.exists() else set())
+    with path.open("a") as handle:
+        for k in range(args.tables):
+            if k not in done:
+                handle.write(json.dumps(calibrated(setting, k, args.calibrate)) + "\n")
+                handle.flush()
+    records = [json.loads(line) for line in path.read_text().splitlines()]
+    n = len(records)
+    error = 100 * math.sqrt(0.683 * 0.317 / n)
+    for key, label in (("covered", "rise of 1/2"), ("covered_calibrated", "calibrated")):
+        share = 100 * np.mean([r[key] for r in records])
+        print(f"{setting:7s} mu  tables {n:4d}  coverage {share:5.1f} % (+-{error:.1f})  {label}")
+    print(f"thresholds: median {np.median([r['threshold'] for r in records]):.2f} (1 without "
+          "calibration)")
+    return 0
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=200)
@@ -142,6 +216,8 @@ def main(argv=None):
     parser.add_argument("--hold", type=int, metavar="K",
                         help="keep table K's geometry and draw new noise --draws times")
     parser.add_argument("--draws", type=int, default=60)
+    parser.add_argument("--calibrate", type=int, metavar="TOYS",
+                        help="calibrate each interval with TOYS bootstrap tables")
     parser.add_argument("--box-bias", metavar="K,...",
                         help="print the second-order bias at those tables' truth")
     args = parser.parse_args(argv)
@@ -157,6 +233,8 @@ def main(argv=None):
         print(_line(f"{setting:7s} table {args.hold} held, new noise: ",
                     held_geometry(setting, args.hold, args.draws)))
         return 0
+    if args.calibrate:
+        return calibration_run(args)
     path = Path(args.summary or args.out)
     if not args.summary:
         settings = args.settings.split(",")
