@@ -1,8 +1,10 @@
 """Shared test helpers: the paper's Sec. V configuration and a dict view of the kernel."""
 
 import functools
+import os
 from pathlib import Path
 
+import numba
 import pytest
 from hypothesis import settings
 
@@ -58,3 +60,18 @@ def cli(capsys, monkeypatch):
     from tests.cli_runner import run_in_process
 
     return functools.partial(run_in_process, capsys, monkeypatch)
+
+
+# pytest-xdist's workers share the machine's cores: each gives numba's parallel loops its
+# share of them (one on CI's two cores with two workers), not all of them. The kernels'
+# threads wait for each other at the end of every parallel loop, so oversubscribed cores
+# slow down most what the fits do thousands of times: small batches.
+WORKER_THREADS = max(1, numba.config.NUMBA_NUM_THREADS
+                     // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")))
+
+
+@pytest.fixture(autouse=True)
+def _numba_threads_of_this_worker():
+    """Every test starts with :data:`WORKER_THREADS` numba threads (a test that sets
+    another count explicitly keeps it for its own duration)."""
+    numba.set_num_threads(WORKER_THREADS)

@@ -123,8 +123,10 @@ def test_a_draw_depends_on_the_sample_index_seed_and_name_alone():
     spec = {"dist": "mixture", "weights": [0.5, 0.5],
             "components": [{"dist": "normal", "mean": 0.0, "std": 1.0}, 2.0]}
     other = {"dist": "uniform", "low": 0.0, "high": 1.0}
+    # any piece, any thread count (the whole on two threads, the pieces on one), with or
+    # without (or before) other inputs
+    numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
     whole = _program({"d.x": spec, "d.y": other}, n=10_000)
-    # any piece, any thread count, with or without (or before) other inputs
     numba.set_num_threads(1)
     try:
         piece = _program({"d.y": other, "d.x": spec}, start=1234, n=5000)

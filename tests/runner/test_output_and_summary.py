@@ -4,6 +4,7 @@ the threads, chunking, engine or resumption, and bad sections are one-line error
 
 from pathlib import Path
 
+import numba
 import numpy as np
 import pandas as pd
 import pyarrow.parquet as pq
@@ -190,7 +191,8 @@ def test_output_columns_and_float32(tmp_path):
     study = _study(tmp_path, '\n[output]\ncolumns = ["exit_speed", "mu", "status"]\n'
                              'precision = "float32"\n')
     out = tmp_path / "ds"
-    run_study(study, out, samples=10_000, seed=2, chunk_size=4_000, progress=False)
+    run_study(study, out, samples=10_000, seed=2, chunk_size=4_000, progress=False,
+              threads=min(2, numba.config.NUMBA_NUM_THREADS))
     rows = mcbat.load(out)
     assert list(rows.columns) == ["mu", "status", "exit_speed", "sample_id"]
     assert rows["exit_speed"].dtype == np.float32 and rows["mu"].dtype == np.float64

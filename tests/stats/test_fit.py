@@ -45,23 +45,6 @@ def test_bad_free_parameter_is_a_clear_error():
         fit(STUDY, table, ("gravity",))
 
 
-def test_fit_cli_json(tmp_path, capsys):
-    code, stdout, stderr = mcbat_main(
-        capsys, "fit", "--study", ROOT / "studies" / "cross_nathan_2006.toml", "--data",
-        ROOT / "data" / "synthetic_cross_nathan_60.csv", "--json", "--residuals",
-        tmp_path / "r.png")
-    assert code == 0, stderr
-    result = json.loads(stdout)
-    assert set(result) >= {"params", "chi2", "dof", "p_value"}
-    assert set(result["params"]["e"]) >= {"value", "stderr"}
-    assert (tmp_path / "r.png").stat().st_size > 10_000
-    comparison = result["model_comparison"]
-    assert comparison["preferred"] in ("rigid", "compliant")
-    assert set(comparison) >= {"delta_aic", "delta_bic", "likelihood_ratio", "lr_p_value"}
-    assert "e_x" in comparison["compliant"]["params"]
-    assert "e_x" not in comparison["rigid"]["params"]
-
-
 # The seeds are independent tables checked for the same verdicts: the default run checks
 # seed 13 (test_model_comparison_identifies_tangential_compliance_only_when_present[13],
 # the fastest), `pytest -m slow` seeds 11 and 12 as well.

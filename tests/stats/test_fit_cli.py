@@ -130,12 +130,21 @@ def _strict(text):
     return json.loads(text, parse_constant=refuse)
 
 
-def test_json_is_strict_and_reports_a_one_sided_limit(cli):
+def test_json_is_strict_and_reports_a_one_sided_limit(cli, tmp_path):
     """The shipped table has mu = 0.5: every drop sticks, the data bound mu from below only.
-    The old output wrote "stderr": Infinity here."""
-    out = cli("fit", "--study", STUDY, "--data", DATA, "--json", "--no-compare")
+    The old output wrote "stderr": Infinity here. With the default model comparison (its
+    fit of the rigid model is the one ``--no-compare`` prints alone) and a residual plot."""
+    out = cli("fit", "--study", STUDY, "--data", DATA, "--json", "--residuals",
+              tmp_path / "r.png")
     assert out.returncode == 0, out.stderr
     result = _strict(out.stdout)
+    assert set(result) >= {"params", "chi2", "dof", "p_value"}
+    assert (tmp_path / "r.png").stat().st_size > 10_000
+    comparison = result["model_comparison"]
+    assert comparison["preferred"] in ("rigid", "compliant")
+    assert set(comparison) >= {"delta_aic", "delta_bic", "likelihood_ratio", "lr_p_value"}
+    assert "e_x" in comparison["compliant"]["params"]
+    assert "e_x" not in comparison["rigid"]["params"]
     mu, e = result["params"]["mu"], result["params"]["e"]
     assert mu["status"] == "lower_limit" and mu["stderr"] is None
     assert mu["upper_error"] is None and 0.05 < mu["limit"] < 0.5

@@ -108,12 +108,13 @@ def test_the_draw_does_not_depend_on_chunks_or_threads(table_file):
 
     study = loaded(table_file, fallback={"spin_axis": {"dist": "uniform", "low": 180,
                                                        "high": 240, "unit": "deg"}})
-    whole = study.sample_inputs(0, 3000)
-    ids = study.pitch_identifiers(0, 3000)
     pieces = [(0, 1), (1, 1000), (1000, 1024), (1024, 3000)]
     threads = numba.get_num_threads()
     try:
-        numba.set_num_threads(1)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))  # the whole on two
+        whole = study.sample_inputs(0, 3000)
+        ids = study.pitch_identifiers(0, 3000)
+        numba.set_num_threads(1)  # the pieces on one
         joined = np.concatenate([study.sample_inputs(a, b) for a, b in pieces], axis=1)
         joined_ids = {k: np.concatenate([study.pitch_identifiers(a, b)[k] for a, b in pieces])
                       for k in ids}
