@@ -7,6 +7,7 @@ The clusters run on 127.0.0.1 with free ports; every process a test starts is st
 its fixture (process groups, SIGTERM then SIGKILL).
 """
 
+import contextlib
 import json
 import os
 import re
@@ -16,6 +17,7 @@ import socket
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numba
@@ -159,9 +161,17 @@ def cluster(dask_installed, tmp_path_factory):
 def test_local_cluster_of_two_worker_processes_gives_the_local_dataset(
         dask_installed, tmp_path, tmp_path_factory, capsys):
     args = ("--samples", 48_000, "--seed", 5, "--chunk-size", 6_000)
-    code, stdout, stderr = mcbat_main(capsys, "run", THROUGHPUT, "--out", tmp_path / "ds",
-                                      *args, "--quiet", "--engine", "dask", "--workers", 2)
+    # Dask's default HTTP port held, as another cluster's dashboard would hold it: the run
+    # must neither clash with it nor warn about it.
+    with socket.socket() as taken, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with contextlib.suppress(OSError):  # already held by something else: as good
+            taken.bind(("127.0.0.1", 8787))
+            taken.listen()
+        code, stdout, stderr = mcbat_main(capsys, "run", THROUGHPUT, "--out", tmp_path / "ds",
+                                          *args, "--quiet", "--engine", "dask", "--workers", 2)
     assert code == 0, stderr
+    assert not [w for w in caught if "already in use" in str(w.message)]
     assert "rows: 48,000 in 8 chunk file(s) (8 computed, 0 kept from before)" in stdout
     # Both worker processes computed chunks, each with its share of the cores.
     workers, threads = engine_note(stdout)

@@ -174,7 +174,9 @@ class DaskEngine:
     def _local_cluster(self, LocalCluster):
         return LocalCluster(
             n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-            dashboard_address=None, silence_logs=logging.CRITICAL,
+            # The scheduler serves HTTP even without a dashboard, on 8787 when given None:
+            # a free port on the loopback never meets the user's own cluster (nor warns).
+            dashboard_address="127.0.0.1:0", silence_logs=logging.CRITICAL,
             # Sizes the worker's numba pool to the budget, if numba is imported after the
             # worker starts (so with the mcbat command; a __main__ that imports numba is
             # re-imported first by the spawned worker). The budget itself is enforced in
