@@ -60,7 +60,9 @@ class FitResult:
     ``"unidentified"``, or ``"profile_failed"`` when the profile jumps at the best fit and
     no interval can be given: its ``stderr`` is then still the curvature error, which
     describes the likelihood only near the best fit), ``limit`` (the one-sided 95 % limit,
-    or None) and ``at_bound`` (the physical edge the interval reaches, or None).
+    or None; ``limit_kind`` says how: ``"conditional"`` on the profile being flat,
+    :mod:`mcbat.stats.selective`, or ``"likelihood_ratio"``) and ``at_bound`` (the
+    physical edge the interval reaches, or None).
     """
 
     params: dict
@@ -133,8 +135,10 @@ class FitResult:
                            f"{curv} describes the likelihood only near the best fit{extra}")
             elif status in ("lower_limit", "upper_limit"):
                 sign, side = (">", "above") if status == "lower_limit" else ("<", "below")
-                out.append(f"  {name} {sign} {iv['limit']:.4g} (95 % CL; the data do not "
-                           f"bound {name} from {side}: best value {value:.4g} is not a "
+                given = (", conditional on the flat likelihood"
+                         if iv.get("limit_kind") == "conditional" else "")
+                out.append(f"  {name} {sign} {iv['limit']:.4g} (95 % CL{given}; the data do "
+                           f"not bound {name} from {side}: best value {value:.4g} is not a "
                            f"measurement)")
             else:
                 lo, hi = FREE[name]
@@ -211,12 +215,12 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     err, cov = curvature_errors(like, best)
     summary = {}
     if intervals == "profile":
-        summary, better = profile_intervals(like, best, nll_min, err, cov)
+        summary, better = profile_intervals(like, best, nll_min, err, cov, seed)
         if better is not None:  # the profile found a lower point: restart from it
             res = local_minimum(like, better, search_scale(like))
             best, nll_min = res.x, float(res.fun)
             err, cov = curvature_errors(like, best)
-            summary, _ = profile_intervals(like, best, nll_min, err, cov)
+            summary, _ = profile_intervals(like, best, nll_min, err, cov, seed)
         unconstrained = [p for p in like.free
                          if summary[p]["status"] not in ("measured", "profile_failed")]
     else:

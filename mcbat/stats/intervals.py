@@ -16,6 +16,7 @@ import numpy as np
 from scipy import optimize, stats
 
 from mcbat.stats.likelihood import FREE
+from mcbat.stats.selective import conditional_limit
 
 __all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "bootstrap_errors", "curvature_errors",
            "flat_to_edge", "hessian", "profile_intervals"]
@@ -60,11 +61,14 @@ def flat_to_edge(like, best, nll_min):
     return flat
 
 
-def profile_intervals(like, best, nll_min, err, cov):
+def profile_intervals(like, best, nll_min, err, cov, seed=0):
     """Profile-likelihood intervals of every free parameter.
 
     Returns the per-parameter summary (:attr:`FitResult.intervals`) and a better point if
     the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
+    A one-sided limit is the one conditional on the profile being flat on the other side
+    (:mod:`mcbat.stats.selective`, its simulated tables seeded by ``seed``), or the
+    likelihood-ratio limit where that cannot be computed (``limit_kind`` says which).
     """
     n = len(best)
     # Steps of the profile: the curvature error, but never more than a twentieth of the
@@ -77,6 +81,7 @@ def profile_intervals(like, best, nll_min, err, cov):
     # curvature describes the likelihood: every error finite and within its step.
     on_line = bool(np.all(np.isfinite(cov)) and np.all(finite) and np.all(err <= widths))
     found = {"x": None, "nll": nll_min - 1e-3}
+    last = {}
 
     def profile(i, t):
         """Min over the other parameters of -ln L with parameter i at t; the point."""
@@ -120,7 +125,13 @@ def profile_intervals(like, best, nll_min, err, cov):
             value = float(r.fun)
         if value < found["nll"]:
             found["x"], found["nll"] = x.copy(), value
+        last["x"] = x.copy()
         return value - nll_min
+
+    def point(i, t):
+        """The profile's point (every free parameter) at parameter i = t."""
+        profile(i, t)
+        return last["x"]
 
     summary = {}
     for i, name in enumerate(like.free):
@@ -129,8 +140,18 @@ def profile_intervals(like, best, nll_min, err, cov):
         for sign, edge in ((-1, lo_edge), (1, hi_edge)):
             sides[sign] = _side(lambda t, i=i: profile(i, t), best[i], sign, edge,
                                 scale[i], (name, edge) in PHYSICAL_EDGES)
-        summary[name] = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
+        summary[name] = entry = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
             lambda t: profile(i, t), best[i], sign, side["edge"], scale[i], side["root"]))
+        if entry["status"] in ("lower_limit", "upper_limit") and entry["limit"] is not None:
+            sign, side = (-1, sides[-1]) if entry["status"] == "lower_limit" else (1, sides[1])
+            entry["limit_kind"] = "likelihood_ratio"
+            if side["root"] is not None:
+                flat_edge = sides[-sign]["edge"]
+                limit = conditional_limit(like, best, i, sign, lambda t, i=i: point(i, t),
+                                          entry["limit"], side["root"], flat_edge, seed,
+                                          ONE_SIGMA)
+                if limit is not None:
+                    entry.update(limit=limit, limit_kind="conditional")
     return summary, found["x"]
 
 

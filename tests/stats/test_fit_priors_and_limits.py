@@ -11,7 +11,13 @@ import pytest
 from mcbat.errors import InputError
 from mcbat.stats import intervals as fitting
 from mcbat.stats.fit import FitResult, Likelihood, fit
-from mcbat.stats.input_priors import WIDEN_P_VALUE, PriorFamily, beyond_range_test, prior_range
+from mcbat.stats.input_priors import (
+    PRIOR_DEGREE,
+    WIDEN_P_VALUE,
+    PriorFamily,
+    beyond_range_test,
+    prior_range,
+)
 from mcbat.stats.measurements import read_measurements, synthesize
 from mcbat.study import load_study
 from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
@@ -227,24 +233,31 @@ def test_e_far_from_the_studys_value_is_reported():
     assert math.isfinite(r.chi2)
 
 
+COEFFICIENTS = np.array([0.3, 1.5, -0.4, 0.8, -0.6, 0.4, 0.2, -0.3, 0.1, -0.1])
+"""Coefficients of the log-density's Legendre polynomials, as many as the degree needs."""
+
+
 def test_the_prior_family_is_a_normalised_density_with_its_gradient():
     family = PriorFamily(-0.0254, 0.0254)
-    alpha = np.array([0.3, 1.5, -0.4, 0.8])
+    n = family.size
+    assert n == PRIOR_DEGREE
+    alpha = COEFFICIENTS[:n]
     grid = np.linspace(-0.0254, 0.0254, 200_001)
     density = family.density(grid, alpha)
     assert np.trapezoid(density, grid) == pytest.approx(1.0, rel=1e-9)
-    assert family.density(grid, np.zeros(4)) == pytest.approx(1 / 0.0508)
+    assert family.density(grid, np.zeros(n)) == pytest.approx(1 / 0.0508)
     _, grad = family.log_norm(alpha)
-    for j in range(4):
-        step = np.eye(4)[j] * 1e-6
+    for j in range(n):
+        step = np.eye(n)[j] * 1e-6
         numeric = (family.log_norm(alpha + step)[0] - family.log_norm(alpha - step)[0]) / 2e-6
         assert grad[j] == pytest.approx(numeric, rel=1e-6, abs=1e-9)
 
 
 def test_a_prior_with_a_step_at_the_studys_range_is_normalised_with_its_gradient():
     family = PriorFamily(-0.04, 0.035, inner=(-0.0254, 0.0254))
-    assert family.step and family.size == 5
-    alpha = np.array([0.3, 1.5, -0.4, 0.8, -1.2])
+    n = family.size
+    assert family.step and n == PRIOR_DEGREE + 1
+    alpha = np.append(COEFFICIENTS[:n - 1], -1.2)  # the last: the step's
     grid = np.linspace(-0.04, 0.035, 1_500_001)
     density = family.density(grid, alpha)
     assert np.trapezoid(density, grid) == pytest.approx(1.0, rel=1e-5)
@@ -255,8 +268,8 @@ def test_a_prior_with_a_step_at_the_studys_range_is_normalised_with_its_gradient
     inner, outer = family.density(np.array([0.0254, np.nextafter(0.0254, 1.0)]), alpha)
     assert outer / inner == pytest.approx(math.exp(-1.2), rel=1e-9)
     _, grad = family.log_norm(alpha)
-    for j in range(5):
-        step = np.eye(5)[j] * 1e-6
+    for j in range(n):
+        step = np.eye(n)[j] * 1e-6
         numeric = (family.log_norm(alpha + step)[0] - family.log_norm(alpha - step)[0]) / 2e-6
         assert grad[j] == pytest.approx(numeric, rel=1e-6, abs=1e-9)
     assert not PriorFamily(-0.0254, 0.0254, inner=(-0.0254, 0.0254)).step
