@@ -181,9 +181,9 @@ PRIOR_DEGREE = 8
 """Degree of the polynomial in the log-density of a measured input's prior
 (:class:`PriorFamily`). It must follow true values piled within 5 mm of both ends of a
 drop test's +-1 in: with degree 4 such tables fitted ``e*`` and ``mu`` 0.18 and 0.24 of
-their errors high over 400 tables, a misplaced prior; degree 8 removes that (a shift of
--0.15 and -0.23 on the same tables) and leaves tables with spread-out true values as they
-were (shifts below 0.01)."""
+their errors high over 400 tables, a misplaced prior; degree 8 removes that (shifts of
+-0.15 and -0.24 on the same tables; degree 12 changes nothing more) and leaves tables
+with spread-out true values as they were (shifts below 0.01)."""
 PRIOR_RIDGE = 1e-2
 """Penalty ``ridge |alpha|^2 / 2`` on that polynomial's coefficients: it keeps them finite
 when the data cannot fix one (true values piled at one end) and is negligible otherwise."""
