@@ -10,8 +10,8 @@ and the conditional limit must hold it in about 95 %.
 import numpy as np
 import pytest
 
-from mcbat.stats.intervals import LIMIT_95, ONE_SIGMA
 from mcbat.stats import selective
+from mcbat.stats.intervals import LIMIT_95, ONE_SIGMA
 from mcbat.stats.selective import flat_side_mask, selective_limit, surrogate_rises
 
 TRUE_MU = 0.18
