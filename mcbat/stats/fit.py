@@ -62,7 +62,9 @@ class FitResult:
     describes the likelihood only near the best fit), ``limit`` (the one-sided 95 % limit,
     or None; ``limit_kind`` says how: ``"conditional"`` on the profile being flat,
     :mod:`mcbat.stats.selective`, or ``"likelihood_ratio"``) and ``at_bound`` (the
-    physical edge the interval reaches, or None).
+    physical edge the interval reaches, or None); a measured parameter whose likelihood at
+    the end of its range (not a physical edge) rises less than the 95 % level above the
+    best fit has that end as ``open_at_95`` (and a warning).
     """
 
     params: dict
@@ -261,6 +263,13 @@ def _warnings(like, result):
                        f"{slo:.4g}..{shi:.4g} (p = {prior['p_value']:.2g} if every true "
                        f"value lay within it); their true values were marginalised over the "
                        f"widened range {lo:.4g}..{hi:.4g}{fitted}")
+    for name, value in result.params.items():
+        edge = result.intervals.get(name, {}).get("open_at_95")
+        if edge is not None:
+            side = "above" if edge > value else "below"
+            out.append(f"{name}: the 68 % interval is two-sided, but the likelihood at the end "
+                       f"of the range ({name} = {edge:g}) lies within the 95 % level of its "
+                       f"best value: at 95 % the data do not bound {name} from {side}")
     for name, value in result.params.items():
         lo, hi = FREE[name]
         status = result.intervals.get(name, {}).get("status", "measured")

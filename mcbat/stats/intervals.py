@@ -18,8 +18,8 @@ from scipy import optimize, stats
 from mcbat.stats.likelihood import FREE
 from mcbat.stats.selective import conditional_limit
 
-__all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "bootstrap_errors", "curvature_errors",
-           "flat_to_edge", "hessian", "profile_intervals"]
+__all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "RISE_95", "bootstrap_errors",
+           "curvature_errors", "flat_to_edge", "hessian", "profile_intervals"]
 
 PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3),
                   ("lift_scale", 0.0)}
@@ -30,6 +30,8 @@ ONE_SIGMA = 0.5
 """Rise of ``-ln L`` that ends a 68.3 % profile-likelihood interval."""
 LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
 """Rise of ``-ln L`` (1.353) that sets a one-sided 95 % limit."""
+RISE_95 = 0.5 * stats.chi2.ppf(0.95, 1)
+"""Rise of ``-ln L`` (1.921) that ends a two-sided 95 % profile interval."""
 
 
 def curvature_errors(like, best):
@@ -142,17 +144,34 @@ def profile_intervals(like, best, nll_min, err, cov, seed=0):
                                 scale[i], (name, edge) in PHYSICAL_EDGES)
         summary[name] = entry = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
             lambda t: profile(i, t), best[i], sign, side["edge"], scale[i], side["root"]))
-        if entry["status"] in ("lower_limit", "upper_limit") and entry["limit"] is not None:
-            sign, side = (-1, sides[-1]) if entry["status"] == "lower_limit" else (1, sides[1])
-            entry["limit_kind"] = "likelihood_ratio"
-            if side["root"] is not None:
-                flat_edge = sides[-sign]["edge"]
-                limit = conditional_limit(like, best, i, sign, lambda t, i=i: point(i, t),
-                                          entry["limit"], side["root"], flat_edge, seed,
-                                          ONE_SIGMA)
-                if limit is not None:
-                    entry.update(limit=limit, limit_kind="conditional")
+        _complete(entry, sides, like, best, i, lambda t, i=i: profile(i, t),
+                  lambda t, i=i: point(i, t), seed)
     return summary, found["x"]
+
+
+def _complete(entry, sides, like, best, i, rise, point, seed):
+    """Add to parameter ``i``'s entry what its two sides alone do not give: the end of the
+    range its 95 % region reaches (``open_at_95``), and a one-sided limit conditional on
+    the flat side (:mod:`mcbat.stats.selective`). ``rise(t)`` is the profile's rise at
+    ``t``, ``point(t)`` its point there."""
+    name = like.free[i]
+    if entry["status"] == "measured":
+        # A 68 % interval can end below a plateau that the 95 % level still reaches (a
+        # drop-test table whose drops all stick, with one row that looks as if it slid):
+        # say so rather than let the interval stand for a measurement at 95 %.
+        for sign in (-1, 1):
+            edge = sides[sign]["edge"]
+            if (sides[sign]["error"] is not None and (name, edge) not in PHYSICAL_EDGES
+                    and abs(edge - best[i]) > 1e-9 and rise(edge) < RISE_95):
+                entry["open_at_95"] = edge
+    if entry["status"] in ("lower_limit", "upper_limit") and entry["limit"] is not None:
+        sign, side = (-1, sides[-1]) if entry["status"] == "lower_limit" else (1, sides[1])
+        entry["limit_kind"] = "likelihood_ratio"
+        if side["root"] is not None:
+            limit = conditional_limit(like, best, i, sign, point, entry["limit"], side["root"],
+                                      sides[-sign]["edge"], seed, ONE_SIGMA)
+            if limit is not None:
+                entry.update(limit=limit, limit_kind="conditional")
 
 
 def _entry(lower, upper, limit):

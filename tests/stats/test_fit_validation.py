@@ -63,3 +63,16 @@ def test_tables_reaching_beyond_the_studys_range_fit_without_bias(study):
     for row in summarize(records):
         assert row["refused"] == 0 and row["zero_width"] == 0, row["param"]
         assert abs(row["mean_pull"]) <= 0.3, row["param"]
+
+
+def test_an_interval_below_a_plateau_the_95_percent_level_reaches_says_so(study):
+    # Table 5 of "stick" (truth mu = 0.5, every drop sticks): one row looks as if it slid,
+    # and the best fit sits at mu = 0.203 +- 0.004 just below the plateau of mu where all
+    # rows stick, which lies less than the 95 % level above it.
+    record = fit_table("stick", 5, study)
+    mu = record["params"]["mu"]
+    assert mu["status"] == "measured" and mu["open_at_95"] == 2.0
+    assert any("at 95 % the data do not bound mu from above" in w for w in record["warnings"])
+    # A table whose rows slide bounds mu at 95 % as well: no such warning.
+    inside = fit_table("inside", 0, study)
+    assert "open_at_95" not in inside["params"]["mu"] and not inside["warnings"]
