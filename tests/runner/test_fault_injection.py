@@ -204,11 +204,16 @@ def test_a_second_writer_through_a_local_url_is_refused(tmp_path):
                              text=True, cwd=ROOT)
     try:
         lock = out / "_mcbat.lock"
-        for _ in range(1200):
+        # The first run takes the lock only once it has started (imports, a numba cache
+        # load or compile): on a loaded machine that took over a minute, and a second run
+        # started before it took the lock itself. Wait for the lock, however long.
+        for _ in range(6000):
             if lock.exists() and f"pid {first.pid} " in lock.read_text():
                 break
             assert first.poll() is None, first.communicate()
             time.sleep(0.05)
+        else:
+            pytest.fail("the first run did not take the lock within 5 minutes")
         second = _cli("run", THROUGHPUT, "--out", f"local://{out}", "--samples", "5000",
                       "--seed", "4", "--overwrite", "--quiet")
         assert second.returncode == 2 and "another mcbat run" in second.stderr
