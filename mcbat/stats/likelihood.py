@@ -245,10 +245,7 @@ class Likelihood:
         likelihood under prior ``g``, including what the measured inputs say about ``g``.
         Minimising over the coefficients profiles the prior out of the parameters'
         likelihood, so its uncertainty is in their intervals."""
-        log_density = -0.5 * ((self.y[:, None, :] - sims) ** 2 / self.s2[:, None, :]).sum(axis=2)
-        if self.model.draw_log_weight is not None:
-            log_density = log_density + self.model.draw_log_weight
-        log_density = np.where(ok, log_density, -np.inf)
+        log_density = self._draw_log_density(sims, ok)
         const = 0.5 * float(np.log(2 * math.pi * self.s2).sum()) + float(
             np.log(ok.sum(axis=1)).sum())
         if self._prior_basis is None:
@@ -313,6 +310,39 @@ class Likelihood:
                            key=lambda found: found[0])
         self.prior_coefficients = alpha
         return float(value) + const
+
+    def _draw_log_density(self, sims, ok):
+        """``ln N(y_i; sims_ik, diag(s2_i))`` up to a constant, plus the draws' own log
+        weights (:attr:`mcbat.stats.models._DrawModel.draw_log_weight`); -inf for a bad
+        draw. Shape (rows, draws)."""
+        log_density = -0.5 * ((self.y[:, None, :] - sims) ** 2 / self.s2[:, None, :]).sum(axis=2)
+        if self.model.draw_log_weight is not None:
+            log_density = log_density + self.model.draw_log_weight
+        return np.where(ok, log_density, -np.inf)
+
+    @property
+    def last_draws(self):
+        """``(sims, ok)`` of the last evaluation: each row's draws of the observables
+        (rows, draws, observables) and whether each draw is good (rows, draws); None
+        before the first."""
+        return self._draws
+
+    def posterior_log_weights(self, theta):
+        """Log weights (rows, draws; -inf for a bad draw) of each row's draws at ``theta``,
+        as the likelihood weighs them: with the mixture likelihood, the draws' posterior
+        given the row's observables under the prior fitted at ``theta``; with the normal
+        form, every good draw the same. None when ``theta`` cannot be evaluated.
+
+        Leaves :attr:`last_draws` at ``theta``."""
+        if self._evaluate(theta) is None:
+            return None
+        sims, ok = self._draws
+        if self.likelihood != "mixture":
+            return np.where(ok, 0.0, -np.inf)
+        log_w = self._draw_log_density(sims, ok)
+        if self._prior_basis is not None:
+            log_w = log_w + self._prior_basis @ self.prior_coefficients
+        return log_w
 
     def refine(self, theta):
         """With the mixture likelihood, place half of each row's draws of a smeared measured

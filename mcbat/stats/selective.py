@@ -177,15 +177,10 @@ def surrogate(like, best, grid, point):
         The grid values the model could evaluate, the predictions there (G, D), their
         variances and the measured values (D,), flattened over rows and observables.
     """
-    like(best)  # sets the draws and, with the mixture likelihood, the prior's coefficients
-    sims, ok = like._draws
-    log_w = np.where(ok, 0.0, -np.inf)
-    if like.likelihood == "mixture":
-        log_w = log_w - 0.5 * ((like.y[:, None, :] - sims) ** 2 / like.s2[:, None, :]).sum(2)
-        if like.model.draw_log_weight is not None:
-            log_w = log_w + like.model.draw_log_weight
-        if like._prior_basis is not None:
-            log_w = log_w + like._prior_basis @ like.prior_coefficients
+    log_w = like.posterior_log_weights(best)
+    if log_w is None:
+        return np.zeros(0), np.zeros((0, like.y.size)), like.s2.ravel(), like.y.ravel()
+    sims, _ = like.last_draws
     keep, curves = [], []
     weights = np.exp(log_w - log_w.max(axis=1, keepdims=True))
     mean = np.einsum("rk,rko->ro", weights, sims) / weights.sum(axis=1)[:, None]
@@ -195,7 +190,7 @@ def surrogate(like, best, grid, point):
         pred = like.predict(point(t))
         if pred is None:
             continue
-        sims_t, ok_t = like._draws
+        sims_t, ok_t = like.last_draws
         w = np.where(ok_t, weights, 0.0)
         total = w.sum(axis=1)
         if not (total > 0).all():

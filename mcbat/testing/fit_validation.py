@@ -14,6 +14,8 @@ study's range of the impact parameter is +-1 in):
   edges     mu = 0.18, b within 0.5 cm of the ends of +-2.54 cm, 60 rows
   wide      mu = 0.18, b uniform in +-4 cm (beyond the study's range), 60 rows
   stick     mu = 0.5, most drops stick (mu bounded from below only), 60 rows
+  onset     mu = 0.2, where the drops start to stick all along: many tables bound mu
+            from below only, and their limits are tested where they can fail
   slide     mu = 0.1, most drops slide, 60 rows
   small     mu = 0.18, 20 rows
   large     mu = 0.18, 3000 rows
@@ -36,6 +38,7 @@ SETTINGS = {
     "edges": {"edges": 0.005},
     "wide": {"impact_parameter": (-0.04, 0.04)},
     "stick": {"mu": 0.5},
+    "onset": {"mu": 0.2},
     "slide": {"mu": 0.1},
     "small": {"rows": 20},
     "large": {"rows": 3000},
