@@ -16,9 +16,10 @@ The case is kept simple enough to write out: a right-handed batter (a left-hande
 supported, as the mirror image in ``x``), a cylindrical bat with the R161's mass, inertias,
 length and centre of mass and its barrel radius at the sweet spot (:data:`BODIES`, numbers
 written out), the speed form of ``e*`` without a location table, and contacts on the barrel.
-``bat="r161"`` instead reads the R161 preset's *data* (mass, inertias, length, centre of
-mass and the profile's radius and slope at each contact) from :mod:`mcbat.bodies`, to
-exercise a tapered surface; no kinematics is taken from mcbat either way.
+Another bat can be passed in as data (:func:`bat_bodies`: its mass properties and its
+surface at a contact); the tests pass the R161 preset's mass properties and profile, to
+exercise a tapered surface. This module imports nothing of mcbat but the reference solver
+(the import contract of ``pyproject.toml`` holds it to that).
 
 The table has the columns a game fit reads (``mcbat/stats/columns.py``): the measured
 inputs ``pitch_speed``, ``bat_speed`` (mph), ``attack_angle`` (deg), ``undercut`` (m) and,
@@ -37,9 +38,9 @@ from scipy import stats
 
 from mcbat.testing.cabo2012_reference import reference_impact
 
-__all__ = ["BODIES", "DISTRIBUTIONS", "INPUT_NAMES", "MEASURED", "RESTITUTION", "bat_frame_case",
-           "batted_ball", "draw_inputs", "game_table", "kernel_solver", "mirrored",
-           "reference_solver", "solve_row"]
+__all__ = ["BODIES", "DISTRIBUTIONS", "INPUT_NAMES", "MEASURED", "OBSERVABLES", "RESTITUTION",
+           "bat_bodies", "bat_frame_case", "batted_ball", "draw_inputs", "game_table",
+           "mirrored", "reference_solver", "solve_row"]
 
 MPH = 0.44704
 """m/s per mph."""
@@ -138,21 +139,20 @@ def draw_inputs(rows, rng):
     return out
 
 
-def _bodies(bat):
-    """The bodies (:data:`BODIES`) and the bat's surface ``(radius, slope)`` at a contact
-    ``from_barrel_end`` (m) for ``bat`` = ``"cylinder"`` or ``"r161"`` (the preset's data)."""
-    if bat == "cylinder":
+def bat_bodies(bat):
+    """The bodies and the bat's surface of ``bat``: ``"cylinder"`` gives :data:`BODIES`
+    and the cylinder's ``(radius, 0)``; a dict gives its own numbers (the keys of
+    :data:`BODIES`) and its ``"surface"``, a callable ``surface(from_barrel_end)`` -> the
+    bat's radius (m) and profile slope ``dr/dz`` at a contact that far from the barrel end
+    (m). The caller builds such a dict from whatever data it trusts (the tests, from the
+    R161 preset's mass properties and profile)."""
+    if isinstance(bat, str) and bat == "cylinder":
         return dict(BODIES), lambda _: (BODIES["bat_radius"], 0.0)
-    if bat != "r161":
-        raise ValueError(f"bat must be 'cylinder' or 'r161', got {bat!r}")
-    from mcbat.bodies import bat_preset  # data only: mass, inertias, profile
-
-    preset = bat_preset("r161")
-    bodies = dict(BODIES, bat_mass=preset.mass,
-                  bat_transverse_inertia=preset.transverse_inertia,
-                  bat_axial_inertia=preset.axial_inertia, bat_length=preset.length,
-                  bat_cm_from_barrel_end=preset.cm_from_barrel_end)
-    return bodies, lambda d: preset.surface_at(preset.cm_from_barrel_end - d)
+    if not isinstance(bat, dict) or "surface" not in bat:
+        raise ValueError(f"bat must be 'cylinder' or a dict of bodies with a 'surface', "
+                         f"got {bat!r}")
+    bodies = {name: float(bat[name]) for name in BODIES}
+    return bodies, bat["surface"]
 
 
 def bat_frame_case(row, bodies, surface, e, handedness=1.0):
@@ -178,7 +178,9 @@ def bat_frame_case(row, bodies, surface, e, handedness=1.0):
         ``basis`` (3 x 3, rows ``i, j, k``: the bat frame's axes in the field frame),
         ``axial`` (m from the bat CM), ``angle`` (rad), ``radius`` (m), ``slope``,
         ``impact_parameter`` (m), ``ball_v``, ``ball_w``, ``bat_v``, ``bat_w`` (bat frame,
-        m/s and rad/s), ``normal_speed`` (m/s) and ``e_star``; in the field frame
+        m/s and rad/s), ``approach`` (the contact points' relative velocity along the bat's
+        outward normal, m/s, < 0 approaching), ``normal_speed`` (its magnitude) and
+        ``e_star``; in the field frame
         ``pitch_v``, ``pitch_w``, ``bat_v_field``, ``bat_w_field``, ``axis_point_v``
         (the velocity of the bat axis's point at the contact).
     """
@@ -268,7 +270,7 @@ def solve_row(row, e, e_x, bat="cylinder", handedness=1.0, rtol=1e-8):
     """One row solved by the reference solver: the bat-frame case of
     :func:`bat_frame_case` with ``"ball_velocity"``, ``"ball_spin"`` (field frame, m/s,
     rad/s) and the observables of :func:`batted_ball` added."""
-    bodies, surface = _bodies(bat)
+    bodies, surface = bat_bodies(bat)
     case = bat_frame_case(row, bodies, surface, e, handedness)
     r = reference_impact(
         bodies["ball_mass"], bodies["ball_radius"], bodies["ball_inertia_factor"],
@@ -299,8 +301,8 @@ def reference_solver(inputs, e, e_x, bat="cylinder", handedness=1.0, rtol=1e-8):
         The rows' true inputs (SI, :data:`INPUT_NAMES`).
     e, e_x : float
         ``e*`` at the reference speed and the tangential restitution.
-    bat : str
-        ``"cylinder"`` (:data:`BODIES`) or ``"r161"`` (the preset's data).
+    bat : str or dict
+        ``"cylinder"`` (:data:`BODIES`) or a bat of :func:`bat_bodies`.
     handedness : float
         +1 right-handed, -1 left-handed.
     rtol : float
@@ -315,38 +317,6 @@ def reference_solver(inputs, e, e_x, bat="cylinder", handedness=1.0, rtol=1e-8):
     for k in range(rows):
         r = solve_row(_row(inputs, k), e, e_x, bat, handedness, rtol)
         out[k] = [r[name] for name in OBSERVABLES]
-    return out
-
-
-def kernel_solver(inputs, e, e_x, bat="cylinder", handedness=1.0):
-    """As :func:`reference_solver`, each row solved by mcbat's game kernel through its
-    public API (:class:`mcbat.api.GameCase`, :func:`mcbat.api.solve_game`) with the same
-    bodies, restitution and inputs: not independent, but thousands of times faster, for
-    validation runs of many tables and for comparing the two."""
-    from mcbat.api import GameCase, solve_game
-    from mcbat.bodies import Ball, Bat, bat_preset
-    from mcbat.bodies.restitution import Restitution
-
-    b = BODIES
-    ball = Ball(mass=b["ball_mass"], radius=b["ball_radius"],
-                inertia_factor=b["ball_inertia_factor"])
-    if bat == "cylinder":
-        body = Bat(mass=b["bat_mass"], radius=b["bat_radius"],
-                   transverse_inertia=b["bat_transverse_inertia"],
-                   axial_inertia=b["bat_axial_inertia"], length=b["bat_length"],
-                   cm_from_barrel_end=b["bat_cm_from_barrel_end"])
-    else:
-        body = bat_preset(bat)
-    restitution = Restitution(e_ref=e, e_slope=RESTITUTION["e_slope"],
-                              e_speed_ref=RESTITUTION["e_speed_ref"], e_x=e_x)
-    rows = len(inputs["pitch_speed"])
-    out = np.empty((rows, len(OBSERVABLES)))
-    for k in range(rows):
-        row = _row(inputs, k)
-        case = GameCase(ball=ball, bat=body, restitution=restitution, pivot=b["pivot"],
-                        handedness="R" if handedness > 0 else "L", **row)
-        result = solve_game(case)
-        out[k] = [getattr(result, name) for name in OBSERVABLES]
     return out
 
 
@@ -387,19 +357,22 @@ def game_table(rows, seed, *, e=0.5, e_x=0.3, input_errors=None,
         Error of the launch and spray angles (deg).
     spin_err : (float, float)
         Error of the spin rate relative to the table's mean spin rate, and its floor (rpm).
-    bat : str
-        ``"cylinder"`` (:data:`BODIES`, the study's bat) or ``"r161"``.
+    bat : str or dict
+        ``"cylinder"`` (:data:`BODIES`, the study's bat) or a bat of :func:`bat_bodies`.
     handedness : float
         +1 a right-handed batter (the study's), -1 a left-handed one.
     solver : callable
         ``solver(inputs, e, e_x, bat, handedness)`` -> observables, (rows, 4):
-        :func:`reference_solver` by default. The random numbers do not depend on it, so two
-        solvers give the same table up to their difference.
+        :func:`reference_solver` by default (a solver by mcbat's own game kernel, for
+        comparison and for fast validation runs, is
+        ``validation.game_fit_validation.kernel_solver``). The random numbers do not depend
+        on it, so two solvers give the same table up to their difference.
 
     Returns
     -------
     pandas.DataFrame
-        The table; ``attrs["truth"]`` holds ``e``, ``e_x`` and the true inputs (SI).
+        The table; ``attrs["truth"]`` holds ``e``, ``e_x``, ``handedness``, the bodies,
+        the true inputs (SI) and the true observables (table units, rows x 4).
     """
     errors = {"undercut": 0.002} if input_errors is None else dict(input_errors)
     unknown = [name for name in list(measured) + list(errors) if name not in MEASURED]
@@ -425,6 +398,7 @@ def game_table(rows, seed, *, e=0.5, e_x=0.3, input_errors=None,
     for n, column in enumerate(OBSERVABLES):
         table[column] = out[:, n] + sigmas[column] * noise[n]
         table[f"{column}_err"] = sigmas[column]
-    table.attrs["truth"] = {"e": e, "e_x": e_x, "handedness": handedness, "bat": bat,
-                            "inputs": inputs, "observables": out}
+    table.attrs["truth"] = {"e": e, "e_x": e_x, "handedness": handedness,
+                            "bodies": bat_bodies(bat)[0], "inputs": inputs,
+                            "observables": out}
     return table
