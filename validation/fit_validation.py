@@ -4,6 +4,8 @@ Run:  .venv/bin/python -m validation fit_validation --settings inside,edges --ta
           --workers 2 --out fit-validation
       .venv/bin/python -m validation fit_validation --summary fit-validation
       .venv/bin/python -m validation fit_validation --crosscheck 3
+      .venv/bin/python -m validation fit_validation --summary fit-validation \
+          --figure docs/figures/fit_checks_pulls.png
 
 The tables, the fit and the summary are :mod:`mcbat.testing.fit_validation` (its docstring
 lists the settings). The impacts of the tables are solved by the kernel, because the
@@ -28,8 +30,11 @@ sys.path.insert(0, str(ROOT))
 
 from mcbat.testing.fit_validation import (  # noqa: E402
     SETTINGS,
+    TRUTH,
     fit_table,
+    limit_holds,
     make_table,
+    pull,
     summarize,
     summary_line,
 )
@@ -72,6 +77,46 @@ def crosscheck(n):
     return worst
 
 
+def figure(records, path, min_tables=30):
+    """Histograms of the pulls of each setting with at least ``min_tables`` tables, one row
+    of panels per setting and one column per parameter, over the unit normal they should
+    follow; the panel's title counts the one-sided limits and those holding the truth."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    settings = [s for s in SETTINGS
+                if sum(r["setting"] == s for r in records) >= min_tables]
+    fig, axes = plt.subplots(len(settings), len(TRUTH), figsize=(8, 2.2 * len(settings)),
+                             squeeze=False, sharex=True)
+    grid = np.linspace(-4, 4, 161)
+    edges = np.linspace(-4, 4, 33)
+    for row, setting in zip(axes, settings):
+        fitted = [r for r in records if r["setting"] == setting and "refused" not in r]
+        for ax, p in zip(row, TRUTH):
+            entries = [(r["params"][p], r["truth"][p]) for r in fitted]
+            pulls = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
+            limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
+            ax.hist(np.clip(pulls, -3.99, 3.99), bins=edges, density=True, color="0.7",
+                    label=f"{len(pulls)} intervals")
+            ax.plot(grid, np.exp(-grid ** 2 / 2) / np.sqrt(2 * np.pi), "k-", lw=1,
+                    label="unit normal")
+            title = f"{setting}, {p}: mean pull {pulls.mean():+.2f}" if len(pulls) else \
+                f"{setting}, {p}"
+            if limits:
+                title += f"; {sum(limits)} of {len(limits)} limits hold"
+            ax.set_title(title, fontsize=9)
+            ax.legend(fontsize=7, loc="upper left", frameon=False)
+    for ax in axes[-1]:
+        ax.set_xlabel("pull (clipped at +-4)")
+    fig.suptitle("The drop-test fit on independently simulated tables: pulls, (value - truth)"
+                 " / error on the truth's side", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"figure written to {path}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=400)
@@ -80,6 +125,8 @@ def main(argv=None):
     parser.add_argument("--solver", choices=("kernel", "reference"), default="kernel")
     parser.add_argument("--out", default="fit-validation")
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
+    parser.add_argument("--figure", metavar="PATH",
+                        help="also draw the pulls of the summarised tables (PNG)")
     parser.add_argument("--crosscheck", type=int, metavar="N",
                         help="compare N tables made by the reference and by the kernel")
     args = parser.parse_args(argv)
@@ -99,8 +146,11 @@ def main(argv=None):
         else:
             with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
                 pool.map(worker, jobs)
-    for row in summarize(read_records(args.summary or args.out)):
+    records = read_records(args.summary or args.out)
+    for row in summarize(records):
         print(summary_line(row))
+    if args.figure:
+        figure(records, args.figure)
 
 
 if __name__ == "__main__":

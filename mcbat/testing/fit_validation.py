@@ -107,7 +107,8 @@ def limit_holds(entry, truth):
 def summarize(records):
     """Per setting and parameter: tables, refusals, tables whose measured inputs reject the
     study's range, the median fitted share of the prior beyond it, two-sided 68 % coverage
-    (a table without an interval counts as not covered) and its binomial error, mean pull
+    (a table without an interval counts as not covered) and its binomial error, the share of
+    the two-sided intervals holding the truth, mean pull
     and its error, the pulls' spread, one-sided limits and how often they hold the truth,
     zero-width intervals, and the median seconds a fit took."""
     rows = []
@@ -130,6 +131,7 @@ def summarize(records):
                 if fitted and all("share_beyond" in r for r in fitted) else None,
                 "coverage": float((np.abs(pv) <= 1).sum() / n),
                 "coverage_se": math.sqrt(0.68 * 0.32 / n),
+                "interval_coverage": float((np.abs(pv) <= 1).mean()) if len(pv) else None,
                 "mean_pull": float(pv.mean()) if len(pv) else None,
                 "mean_pull_se": float(pv.std(ddof=1) / math.sqrt(len(pv))) if len(pv) > 1
                 else None,
@@ -142,6 +144,10 @@ def summarize(records):
     return rows
 
 
+def _percent(share):
+    return None if share is None else 100 * share
+
+
 def _fmt(value, spec):
     return "-" if value is None else format(value, spec)
 
@@ -151,7 +157,9 @@ def summary_line(row):
     return (f"{row['setting']:7s} {row['param']:3s} tables {row['tables']:4d} refused "
             f"{row['refused']:3d} rejecting the range {row['rejected']:3d} (median share "
             f"beyond {_fmt(row['share_beyond'], '.3f')})  coverage "
-            f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f})  mean pull "
+            f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f}; "
+            f"{_fmt(_percent(row['interval_coverage']), '.1f')} % of "
+            f"the intervals)  mean pull "
             f"{_fmt(row['mean_pull'], '+.3f')} (+-{_fmt(row['mean_pull_se'], '.3f')})  pull sd "
             f"{_fmt(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "
             f"{_fmt(row['limit_coverage'], '.3f')}  zero-width {row['zero_width']}  "
