@@ -19,7 +19,6 @@ what it did and a rerun goes on from there. Tables advance together across the s
 
 import argparse
 import json
-import multiprocessing
 import sys
 from pathlib import Path
 
@@ -35,6 +34,7 @@ from mcbat.testing.fit_validation import (  # noqa: E402
     limit_holds,
     make_table,
     pull,
+    run_jobs,
     summarize,
     summary_line,
 )
@@ -139,13 +139,8 @@ def main(argv=None):
         if unknown:
             parser.error(f"unknown setting {unknown[0]!r} (choose from {', '.join(SETTINGS)})")
         Path(args.out).mkdir(parents=True, exist_ok=True)
-        jobs = [(i, args.workers, args.tables, settings, args.out, args.solver)
-                for i in range(args.workers)]
-        if args.workers == 1:
-            worker(jobs[0])
-        else:
-            with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
-                pool.map(worker, jobs)
+        run_jobs(worker, [(i, args.workers, args.tables, settings, args.out, args.solver)
+                          for i in range(args.workers)])
     records = read_records(args.summary or args.out)
     for row in summarize(records):
         print(summary_line(row))

@@ -24,8 +24,6 @@ of a table (simulation and fit).
 
 import argparse
 import json
-import math
-import multiprocessing
 import sys
 import time
 from pathlib import Path
@@ -35,7 +33,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import limit_holds, pull  # noqa: E402
+from mcbat.testing.fit_validation import (  # noqa: E402
+    format_or_dash,
+    interval_statistics,
+    run_jobs,
+)
 
 STUDY = ROOT / "tests" / "stats" / "data" / "game_fit_independent.toml"
 PARAMETERS = ("e", "e_x")
@@ -132,42 +134,29 @@ def summarize(records):
     for setup in sorted({_setup(r) for r in records}):
         these = [r for r in records if _setup(r) == setup]
         fitted = [r for r in these if "refused" not in r]
-        n = max(len(fitted), 1)
         for p in PARAMETERS:
             entries = [(r["params"][p], r["truth"][p]) for r in fitted]
-            pulls = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
-            limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
             out.append({
                 "rows": setup[0], "solver": setup[1], "param": p,
                 "truth": setup[2 + PARAMETERS.index(p)], "tables": len(these),
                 "refused": len(these) - len(fitted),
-                "coverage": float((np.abs(pulls) <= 1).sum() / n),
-                "coverage_se": math.sqrt(0.68 * 0.32 / n),
-                "mean_pull": float(pulls.mean()) if len(pulls) else None,
-                "mean_pull_se": (float(pulls.std(ddof=1) / math.sqrt(len(pulls)))
-                                 if len(pulls) > 1 else None),
-                "pull_sd": float(pulls.std(ddof=1)) if len(pulls) > 1 else None,
-                "limits": len(limits),
-                "limit_coverage": float(np.mean(limits)) if limits else None,
+                **interval_statistics(entries, len(fitted)),
                 "chi2_per_dof": (float(np.median([r["chi2"] / r["dof"] for r in fitted]))
                                  if fitted else None),
                 "median_seconds": float(np.median([r["seconds"] for r in these]))})
     return out
 
 
-def _fmt(value, spec):
-    return "-" if value is None else format(value, spec)
-
-
 def summary_line(row):
     """One printed line of a :func:`summarize` row."""
+    dash = format_or_dash
     return (f"{row['rows']} rows ({row['solver']}) {row['param']:3s} = {row['truth']:g}: "
             f"tables {row['tables']} refused {row['refused']}  coverage "
             f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f})  mean pull "
-            f"{_fmt(row['mean_pull'], '+.3f')} (+-{_fmt(row['mean_pull_se'], '.3f')})  pull sd "
-            f"{_fmt(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "
-            f"{_fmt(row['limit_coverage'], '.3f')}  median chi2/dof "
-            f"{_fmt(row['chi2_per_dof'], '.3f')}  {row['median_seconds']:.1f} s/table")
+            f"{dash(row['mean_pull'], '+.3f')} (+-{dash(row['mean_pull_se'], '.3f')})  pull sd "
+            f"{dash(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "
+            f"{dash(row['limit_coverage'], '.3f')}  median chi2/dof "
+            f"{dash(row['chi2_per_dof'], '.3f')}  {row['median_seconds']:.1f} s/table")
 
 
 def worker(args):
@@ -219,13 +208,8 @@ def main(argv=None):
         return 0
     if not args.summary:
         Path(args.out).mkdir(parents=True, exist_ok=True)
-        jobs = [(i, args.workers, args.tables, args.rows, truth, args.solver, args.out)
-                for i in range(args.workers)]
-        if args.workers == 1:
-            worker(jobs[0])
-        else:
-            with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
-                pool.map(worker, jobs)
+        run_jobs(worker, [(i, args.workers, args.tables, args.rows, truth, args.solver,
+                           args.out) for i in range(args.workers)])
     for row in summarize(read_records(args.summary or args.out)):
         print(summary_line(row))
     return 0

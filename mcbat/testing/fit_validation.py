@@ -30,8 +30,8 @@ import time
 
 import numpy as np
 
-__all__ = ["SETTINGS", "TRUTH", "fit_table", "limit_holds", "make_table", "pull", "summarize",
-           "summary_line"]
+__all__ = ["SETTINGS", "TRUTH", "fit_table", "format_or_dash", "interval_statistics",
+           "limit_holds", "make_table", "pull", "run_jobs", "summarize", "summary_line"]
 
 SETTINGS = {
     "inside": {},
@@ -104,13 +104,46 @@ def limit_holds(entry, truth):
     return None
 
 
+def interval_statistics(entries, tables):
+    """Coverage, pulls and limits of one parameter over fitted tables.
+
+    Parameters
+    ----------
+    entries : list of (dict, float)
+        Each fitted table's entry of the parameter (``FitResult.to_dict()["params"]``) and
+        its true value.
+    tables : int
+        The tables fitted (a table without an interval counts as not covered).
+
+    Returns
+    -------
+    dict
+        ``coverage`` (two-sided 68 % intervals holding the truth, over all tables) and its
+        binomial error ``coverage_se``, ``interval_coverage`` (over the two-sided intervals
+        only), ``mean_pull`` and its error ``mean_pull_se``, ``pull_sd``, ``limits`` (one-sided
+        limits reported) and ``limit_coverage`` (the share holding the truth), ``zero_width``
+        (intervals with an error of zero on a side); None where undefined.
+    """
+    pv = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
+    limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
+    n = max(tables, 1)
+    return {
+        "coverage": float((np.abs(pv) <= 1).sum() / n),
+        "coverage_se": math.sqrt(0.68 * 0.32 / n),
+        "interval_coverage": float((np.abs(pv) <= 1).mean()) if len(pv) else None,
+        "mean_pull": float(pv.mean()) if len(pv) else None,
+        "mean_pull_se": float(pv.std(ddof=1) / math.sqrt(len(pv))) if len(pv) > 1 else None,
+        "pull_sd": float(pv.std(ddof=1)) if len(pv) > 1 else None,
+        "limits": len(limits),
+        "limit_coverage": float(np.mean(limits)) if limits else None,
+        "zero_width": sum(1 for e, _ in entries if e.get("status") == "measured"
+                          and (e.get("lower_error") == 0 or e.get("upper_error") == 0))}
+
+
 def summarize(records):
     """Per setting and parameter: tables, refusals, tables whose measured inputs reject the
-    study's range, the median fitted share of the prior beyond it, two-sided 68 % coverage
-    (a table without an interval counts as not covered) and its binomial error, the share of
-    the two-sided intervals holding the truth, mean pull
-    and its error, the pulls' spread, one-sided limits and how often they hold the truth,
-    zero-width intervals, and the median seconds a fit took."""
+    study's range, the median fitted share of the prior beyond it, the statistics of
+    :func:`interval_statistics` and the median seconds a fit took."""
     rows = []
     for setting in SETTINGS:
         these = [r for r in records if r["setting"] == setting]
@@ -119,9 +152,6 @@ def summarize(records):
         fitted = [r for r in these if "refused" not in r]
         for p in TRUTH:
             entries = [(r["params"][p], r["truth"][p]) for r in fitted]
-            pv = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
-            limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
-            n = max(len(fitted), 1)
             rows.append({
                 "setting": setting, "param": p, "tables": len(these),
                 "refused": len(these) - len(fitted),
@@ -129,38 +159,44 @@ def summarize(records):
                 "share_beyond": float(np.median([sum(r["share_beyond"].values())
                                                  for r in fitted]))
                 if fitted and all("share_beyond" in r for r in fitted) else None,
-                "coverage": float((np.abs(pv) <= 1).sum() / n),
-                "coverage_se": math.sqrt(0.68 * 0.32 / n),
-                "interval_coverage": float((np.abs(pv) <= 1).mean()) if len(pv) else None,
-                "mean_pull": float(pv.mean()) if len(pv) else None,
-                "mean_pull_se": float(pv.std(ddof=1) / math.sqrt(len(pv))) if len(pv) > 1
-                else None,
-                "pull_sd": float(pv.std(ddof=1)) if len(pv) > 1 else None,
-                "limits": len(limits),
-                "limit_coverage": float(np.mean(limits)) if limits else None,
-                "zero_width": sum(1 for e, _ in entries if e.get("status") == "measured"
-                                  and (e.get("lower_error") == 0 or e.get("upper_error") == 0)),
+                **interval_statistics(entries, len(fitted)),
                 "median_seconds": float(np.median([r["seconds"] for r in these]))})
     return rows
+
+
+def run_jobs(worker, jobs):
+    """``worker(job)`` for each job: in this process for one job, else in a pool of spawned
+    processes, one a job (fresh interpreters: numba and BLAS start single-threaded as the
+    environment says, not as a forked parent left them)."""
+    if len(jobs) == 1:
+        worker(jobs[0])
+        return
+    import multiprocessing
+
+    with multiprocessing.get_context("spawn").Pool(len(jobs)) as pool:
+        pool.map(worker, jobs)
 
 
 def _percent(share):
     return None if share is None else 100 * share
 
 
-def _fmt(value, spec):
+def format_or_dash(value, spec):
+    """``value`` formatted by ``spec``, or "-" for None."""
     return "-" if value is None else format(value, spec)
+
 
 
 def summary_line(row):
     """One printed line of a :func:`summarize` row."""
+    dash = format_or_dash
     return (f"{row['setting']:7s} {row['param']:3s} tables {row['tables']:4d} refused "
             f"{row['refused']:3d} rejecting the range {row['rejected']:3d} (median share "
-            f"beyond {_fmt(row['share_beyond'], '.3f')})  coverage "
+            f"beyond {dash(row['share_beyond'], '.3f')})  coverage "
             f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f}; "
-            f"{_fmt(_percent(row['interval_coverage']), '.1f')} % of "
+            f"{dash(_percent(row['interval_coverage']), '.1f')} % of "
             f"the intervals)  mean pull "
-            f"{_fmt(row['mean_pull'], '+.3f')} (+-{_fmt(row['mean_pull_se'], '.3f')})  pull sd "
-            f"{_fmt(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "
-            f"{_fmt(row['limit_coverage'], '.3f')}  zero-width {row['zero_width']}  "
+            f"{dash(row['mean_pull'], '+.3f')} (+-{dash(row['mean_pull_se'], '.3f')})  pull sd "
+            f"{dash(row['pull_sd'], '.2f')}  95 % limits {row['limits']} holding "
+            f"{dash(row['limit_coverage'], '.3f')}  zero-width {row['zero_width']}  "
             f"{row['median_seconds']:.1f} s/fit")
