@@ -12,6 +12,9 @@ is fitted as a user would fit it: ``fit(tests/stats/data/game_fit_independent.to
 ``2000 + k``, its fit the seed ``k``. ``--solver kernel`` makes the tables with mcbat's game
 kernel instead (the same random numbers; fast, but not independent); ``--crosscheck N``
 makes N tables both ways and prints their largest difference over the stated errors.
+``--measured`` chooses the measured inputs a table carries (default: pitch speed, bat speed,
+attack angle and an undercut known to 2 mm; ``none``: the observables alone, every input
+marginalised over the study's distributions).
 
 Each result is one JSON line in DIR/game.<worker>.jsonl, so an interrupted run keeps what it
 did and a rerun goes on from there (with the same ``--rows``, ``--e`` and ``--e-x``: the
@@ -41,6 +44,10 @@ from mcbat.testing.fit_validation import (  # noqa: E402
 
 STUDY = ROOT / "tests" / "stats" / "data" / "game_fit_independent.toml"
 PARAMETERS = ("e", "e_x")
+MEASURED = ("pitch_speed", "bat_speed", "attack_angle", "undercut")
+"""The measured inputs of a table unless ``--measured`` says otherwise (the undercut to
+2 mm, the others exact)."""
+
 QUICK_ARGS = ["--tables", "2", "--rows", "40", "--out", "game-fit-validation-quick"]
 
 
@@ -82,24 +89,26 @@ def kernel_solver(inputs, e, e_x, bat="cylinder", handedness=1.0):
     return out
 
 
-def make_table(k, rows, truth, solver="reference"):
-    """Table ``k`` (seed ``2000 + k``) of ``rows`` rows at ``truth``."""
+def make_table(k, rows, truth, solver="reference", measured=MEASURED):
+    """Table ``k`` (seed ``2000 + k``) of ``rows`` rows at ``truth``, carrying the measured
+    inputs ``measured``."""
     from mcbat.testing.game_tables import game_table, reference_solver
 
     chosen = kernel_solver if solver == "kernel" else reference_solver
-    return game_table(rows, 2000 + k, solver=chosen, **truth)
+    return game_table(rows, 2000 + k, solver=chosen, measured=measured, **truth)
 
 
-def fit_table(k, study, rows, truth, solver="reference"):
+def fit_table(k, study, rows, truth, solver="reference", measured=MEASURED):
     """Simulate and fit table ``k``; a JSON-ready record: the setup, the fit's parameters,
     chi2, p-value and warnings, or the refusal's message, and the seconds taken."""
     from mcbat.errors import InputError
     from mcbat.stats.fit import fit
 
     t0 = time.perf_counter()
-    table = make_table(k, rows, truth, solver)
+    table = make_table(k, rows, truth, solver, measured)
     simulated = time.perf_counter() - t0
     rec = {"table": k, "rows": rows, "solver": solver, "truth": truth,
+           "measured": list(measured),
            "simulate_seconds": simulated}
     try:
         r = fit(study, table, PARAMETERS, seed=k)
@@ -123,7 +132,8 @@ def read_records(out):
 
 
 def _setup(rec):
-    return (rec["rows"], rec["solver"], *(rec["truth"][p] for p in PARAMETERS))
+    measured = ",".join(rec.get("measured", MEASURED)) or "none"
+    return (rec["rows"], rec["solver"], measured, *(rec["truth"][p] for p in PARAMETERS))
 
 
 def summarize(records):
@@ -137,8 +147,8 @@ def summarize(records):
         for p in PARAMETERS:
             entries = [(r["params"][p], r["truth"][p]) for r in fitted]
             out.append({
-                "rows": setup[0], "solver": setup[1], "param": p,
-                "truth": setup[2 + PARAMETERS.index(p)], "tables": len(these),
+                "rows": setup[0], "solver": setup[1], "measured": setup[2], "param": p,
+                "truth": setup[3 + PARAMETERS.index(p)], "tables": len(these),
                 "refused": len(these) - len(fitted),
                 **interval_statistics(entries, len(fitted)),
                 "chi2_per_dof": (float(np.median([r["chi2"] / r["dof"] for r in fitted]))
@@ -150,7 +160,8 @@ def summarize(records):
 def summary_line(row):
     """One printed line of a :func:`summarize` row."""
     dash = format_or_dash
-    return (f"{row['rows']} rows ({row['solver']}) {row['param']:3s} = {row['truth']:g}: "
+    return (f"{row['rows']} rows ({row['solver']}; measured: {row['measured']}) "
+            f"{row['param']:3s} = {row['truth']:g}: "
             f"tables {row['tables']} refused {row['refused']}  coverage "
             f"{100 * row['coverage']:5.1f} % (+-{100 * row['coverage_se']:.1f})  mean pull "
             f"{dash(row['mean_pull'], '+.3f')} (+-{dash(row['mean_pull_se'], '.3f')})  pull sd "
@@ -160,16 +171,16 @@ def summary_line(row):
 
 
 def worker(args):
-    index, workers, tables, rows, truth, solver, out = args
+    index, workers, tables, rows, truth, solver, measured, out = args
     from mcbat.study import load_study
 
     study = load_study(STUDY)
     done = {_setup(r) + (r["table"],) for r in read_records(out)}
-    setup = (rows, solver, *(truth[p] for p in PARAMETERS))
+    setup = _setup({"rows": rows, "solver": solver, "measured": measured, "truth": truth})
     for k in range(index, tables, workers):
         if setup + (k,) in done:
             continue
-        rec = fit_table(k, study, rows, truth, solver)
+        rec = fit_table(k, study, rows, truth, solver, measured)
         with open(Path(out) / f"game.{index}.jsonl", "a") as handle:
             handle.write(json.dumps(rec) + "\n")
 
@@ -197,19 +208,29 @@ def main(argv=None):
     parser.add_argument("--e", type=float, default=0.5, help="the true e* at 85 ft/s")
     parser.add_argument("--e-x", type=float, default=0.3, help="the true e_x")
     parser.add_argument("--solver", choices=("reference", "kernel"), default="reference")
+    parser.add_argument("--measured", default=",".join(MEASURED),
+                        help="the measured inputs the tables carry, comma-separated, or "
+                        "none (default: %(default)s)")
     parser.add_argument("--out", default="game-fit-validation")
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
     parser.add_argument("--crosscheck", type=int, metavar="N",
                         help="compare N tables made by the reference and by the kernel")
     args = parser.parse_args(argv)
     truth = {"e": args.e, "e_x": args.e_x}
+    measured = tuple(m for m in args.measured.split(",") if m and m != "none")
+    from mcbat.testing.game_tables import MEASURED as MEASURABLE
+
+    unknown = [m for m in measured if m not in MEASURABLE]
+    if unknown:
+        parser.error(f"--measured: {unknown[0]!r} is not a measured input (choose from "
+                     f"{', '.join(MEASURABLE)}, or none)")
     if args.crosscheck:
         crosscheck(args.crosscheck, args.rows, truth)
         return 0
     if not args.summary:
         Path(args.out).mkdir(parents=True, exist_ok=True)
         run_jobs(worker, [(i, args.workers, args.tables, args.rows, truth, args.solver,
-                           args.out) for i in range(args.workers)])
+                           measured, args.out) for i in range(args.workers)])
     for row in summarize(read_records(args.summary or args.out)):
         print(summary_line(row))
     return 0
