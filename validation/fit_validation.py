@@ -77,7 +77,7 @@ def crosscheck(n):
     return worst
 
 
-def figure(records, path, min_tables=30):
+def figure(records, path, min_tables=50):
     """Histograms of the pulls of each setting with at least ``min_tables`` tables, one row
     of panels per setting and one column per parameter, over the unit normal they should
     follow; the panel's title counts the one-sided limits and those holding the truth."""
@@ -112,7 +112,7 @@ def figure(records, path, min_tables=30):
         ax.set_xlabel("pull (clipped at +-4)")
     fig.suptitle("The drop-test fit on independently simulated tables: pulls, (value - truth)"
                  " / error on the truth's side", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
     fig.savefig(path, dpi=110)
     print(f"figure written to {path}")
 

@@ -2,10 +2,10 @@
 
 The default run fits two tables per setting (a fit takes ~10 s) and checks what must hold
 table by table (no refusal, no zero-width interval, pulls within reason); the slow-marked
-tests run the full check (400 tables inside and at the edges of the study's range, and at
-the onset of sticking, where limits are common) with its statistical criteria: two-sided
-coverage 68 +- 3 %, one-sided 95 % limits holding the truth in 95 +- 2 % of the tables that
-report one, mean pulls within +-0.1.
+tests run the full check with its statistical criteria: on 400 tables inside and at the
+edges of the study's range, two-sided coverage 68 +- 3 %, mean pulls within +-0.1, and the
+few one-sided limits missing the truth no more often than 95 % limits may; on 400 tables
+at the onset of sticking, where limits are common, at least 93 % of them holding it.
 """
 
 import math
@@ -77,10 +77,16 @@ def _assert_limits_hold_95_percent(row, where):
 def test_one_sided_limits_hold_the_truth_where_tables_report_them_often(study):
     # At mu = 0.2 the plateau where every drop sticks begins: about half of the tables
     # bound mu from below only, and the truth lies where their limits can miss it.
+    # A 95 % limit promises to hold the truth in at least 95 % of the tables, exactly 95 %
+    # only where the data can just exclude the truth. Here the truth lies on the plateau
+    # of most flat tables, which no limit excludes, so the limits are conservative
+    # (docs/fit-checks.md): only too many misses fail.
     records = _records(study, ["onset"], 400)
     row = next(r for r in summarize(records) if r["param"] == "mu")
     assert row["limits"] >= 150 and row["refused"] == 0 and row["zero_width"] == 0
-    _assert_limits_hold_95_percent(row, "onset mu")
+    misses = round(row["limits"] * (1 - row["limit_coverage"]))
+    assert binom.sf(misses - 1, row["limits"], 0.05) > 0.005
+    assert row["limit_coverage"] >= 0.93
 
 
 @pytest.mark.slow
