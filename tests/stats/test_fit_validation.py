@@ -76,11 +76,10 @@ def _assert_limits_hold_95_percent(row, where):
 @pytest.mark.slow
 def test_one_sided_limits_hold_the_truth_where_tables_report_them_often(study):
     # At mu = 0.2 the plateau where every drop sticks begins: about half of the tables
-    # bound mu from below only, and the truth lies where their limits can miss it.
-    # A 95 % limit promises to hold the truth in at least 95 % of the tables, exactly 95 %
-    # only where the data can just exclude the truth. Here the truth lies on the plateau
-    # of most flat tables, which no limit excludes, so the limits are conservative
-    # (docs/fit-checks.md): only too many misses fail.
+    # bound mu from below only. A 95 % limit promises to hold the truth in at least 95 %
+    # of the tables, exactly 95 % only where the data can just exclude the truth. Here the
+    # truth lies on the plateau of most flat tables, which no limit excludes, so the
+    # limits are conservative (docs/fit-checks.md): only too many misses fail.
     records = _records(study, ["onset"], 400)
     row = next(r for r in summarize(records) if r["param"] == "mu")
     assert row["limits"] >= 150 and row["refused"] == 0 and row["zero_width"] == 0
