@@ -31,9 +31,8 @@ from mcbat.testing.fit_validation import (  # noqa: E402
     SETTINGS,
     TRUTH,
     fit_table,
-    limit_holds,
     make_table,
-    pull,
+    pulls_and_limits,
     run_jobs,
     summarize,
     summary_line,
@@ -95,9 +94,8 @@ def figure(records, path, min_tables=50):
     for row, setting in zip(axes, settings):
         fitted = [r for r in records if r["setting"] == setting and "refused" not in r]
         for ax, p in zip(row, TRUTH):
-            entries = [(r["params"][p], r["truth"][p]) for r in fitted]
-            pulls = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
-            limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
+            pulls, limits = pulls_and_limits([(r["params"][p], r["truth"][p])
+                                              for r in fitted])
             ax.hist(np.clip(pulls, -3.99, 3.99), bins=edges, density=True, color="0.7",
                     label=f"{len(pulls)} intervals")
             ax.plot(grid, np.exp(-grid ** 2 / 2) / np.sqrt(2 * np.pi), "k-", lw=1,

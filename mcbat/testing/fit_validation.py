@@ -31,7 +31,8 @@ import time
 import numpy as np
 
 __all__ = ["SETTINGS", "TRUTH", "fit_table", "format_or_dash", "interval_statistics",
-           "limit_holds", "make_table", "pull", "run_jobs", "summarize", "summary_line"]
+           "limit_holds", "make_table", "pull", "pulls_and_limits", "run_jobs", "summarize",
+           "summary_line"]
 
 SETTINGS = {
     "inside": {},
@@ -104,6 +105,15 @@ def limit_holds(entry, truth):
     return None
 
 
+def pulls_and_limits(entries):
+    """The pulls of the entries with a two-sided interval (an array) and, for each
+    one-sided limit, whether it holds the truth (a list of bool); ``entries`` as in
+    :func:`interval_statistics`."""
+    pulls = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
+    limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
+    return pulls, limits
+
+
 def interval_statistics(entries, tables):
     """Coverage, pulls and limits of one parameter over fitted tables.
 
@@ -124,8 +134,7 @@ def interval_statistics(entries, tables):
         limits reported) and ``limit_coverage`` (the share holding the truth), ``zero_width``
         (intervals with an error of zero on a side); None where undefined.
     """
-    pv = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
-    limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
+    pv, limits = pulls_and_limits(entries)
     n = max(tables, 1)
     return {
         "coverage": float((np.abs(pv) <= 1).sum() / n),

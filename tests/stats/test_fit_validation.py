@@ -15,7 +15,7 @@ import pytest
 from scipy.stats import binom
 
 from mcbat.study import load_study
-from mcbat.testing.fit_validation import fit_table, summarize
+from mcbat.testing.fit_validation import fit_table, interval_statistics, summarize
 from tests.conftest import ROOT
 
 
@@ -26,6 +26,28 @@ def study():
 
 def _records(study, settings, tables):
     return [fit_table(s, k, study) for k in range(tables) for s in settings]
+
+
+def test_interval_statistics_count_pulls_on_the_truths_side_and_limits_apart():
+    def interval(value, lower, upper):
+        return {"status": "measured", "value": value, "lower_error": lower,
+                "upper_error": upper}
+
+    entries = [
+        (interval(1.0, 0.5, 2.0), 2.0),   # truth above: pull (1 - 2) / 2 = -0.5, covered
+        (interval(1.0, 0.5, 2.0), 0.0),   # truth below: pull 1 / 0.5 = +2, not covered
+        (interval(1.0, 0.0, 1.0), 1.5),   # zero width below: pull -0.5, counted as such
+        ({"status": "lower_limit", "limit": 0.3}, 0.4),   # holds
+        ({"status": "lower_limit", "limit": 0.5}, 0.4),   # excludes the truth
+        ({"status": "upper_limit", "limit": 0.5}, 0.4),   # holds
+    ]
+    stats = interval_statistics(entries, tables=len(entries))
+    np.testing.assert_allclose(stats["mean_pull"], (-0.5 + 2.0 - 0.5) / 3)
+    np.testing.assert_allclose(stats["pull_sd"], np.std([-0.5, 2.0, -0.5], ddof=1))
+    assert stats["coverage"] == pytest.approx(2 / 6)
+    assert stats["interval_coverage"] == pytest.approx(2 / 3)
+    assert stats["limits"] == 3 and stats["limit_coverage"] == pytest.approx(2 / 3)
+    assert stats["zero_width"] == 1
 
 
 @pytest.mark.parametrize("setting", ["inside", "edges"])
