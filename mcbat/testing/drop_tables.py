@@ -18,7 +18,8 @@ import pandas as pd
 
 from mcbat.testing.cabo2012_reference import reference_impact
 
-__all__ = ["DROP_TEST", "drop_table", "kernel_solver", "reference_solver"]
+__all__ = ["DROP_TEST", "design_stick_onset", "drop_table", "kernel_solver",
+           "reference_solver", "stick_onset"]
 
 DROP_TEST = {
     # The baseball and the Cross & Nathan (2006) bat of Sec. V of Cabo, Soler & Gonzalez
@@ -153,3 +154,58 @@ def drop_table(rows, seed, *, e=0.6, mu=0.18, e_x=0.0, impact_parameter=(-0.0254
     table.attrs["truth"] = {"e": e, "mu": mu, "e_x": e_x, "impact_parameter": b_true,
                             "axial": axial}
     return table
+
+
+def stick_onset(b, spin_in, axial, e, e_x, solver=kernel_solver, mu_max=2.0,
+                spin_tolerance=1e-6, iterations=30):
+    """The smallest friction coefficient at which each drop sticks: from there on its
+    outgoing spin stays within ``spin_tolerance`` (rad/s) of its value at ``mu_max``
+    (found by bisection).
+
+    The spin is the mark of sticking: once the ball rolls, friction no longer sets it.
+    The exit speed and angle still move a little with ``mu`` after that (by up to about
+    1e-4 m/s and 2e-3 deg between the onset and ``mu = 2``: the ball's contact lies off the bat's
+    centre of mass), a few thousandths of any measurement's error.
+
+    Parameters
+    ----------
+    b, spin_in, axial : ndarray
+        True impact parameters (m), incoming spins (rad/s) and contacts (m from the bat
+        CM), as :func:`reference_solver` takes them.
+    e, e_x : float
+        Stronge's ``e*`` and the tangential restitution.
+
+    Returns
+    -------
+    ndarray
+        Each drop's onset of sticking (to ``mu_max / 2**iterations``).
+    """
+    b, spin_in, axial = (np.asarray(x, float) for x in (b, spin_in, axial))
+    stuck = solver(b, spin_in, axial, e, mu_max, e_x)
+    lo, hi = np.zeros(len(b)), np.full(len(b), mu_max)
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        # The solver takes one mu: solve the rows at each of their own midpoints.
+        out = np.stack([solver(b[i:i + 1], spin_in[i:i + 1], axial[i:i + 1], e, mid[i],
+                               e_x)[0] for i in range(len(b))])
+        sticks = np.abs(out[:, 2] - stuck[:, 2]) <= spin_tolerance
+        hi = np.where(sticks, mid, hi)
+        lo = np.where(sticks, lo, mid)
+    return hi
+
+
+def design_stick_onset(rows, seed, *, e=0.6, e_x=0.0, solver=kernel_solver, **design):
+    """The onset of sticking of the table that :func:`drop_table` draws for ``rows`` and
+    ``seed`` (with the same ``impact_parameter``, ``edges`` and ``spins``): the largest of
+    its drops' :func:`stick_onset`. With ``mu`` at this value every drop sticks, the
+    last of them only just; the drops drawn do not depend on ``mu``."""
+    drawn = {}
+
+    def record(b, spin_in, axial, *_):
+        drawn.update(b=b, spin_in=spin_in, axial=axial)
+        return np.ones((len(b), 3))
+
+    keep = {k: v for k, v in design.items() if k in ("impact_parameter", "edges", "spins")}
+    drop_table(rows, seed, e=e, e_x=e_x, solver=record, **keep)
+    return float(stick_onset(drawn["b"], drawn["spin_in"], drawn["axial"], e, e_x,
+                             solver=solver).max())

@@ -16,6 +16,9 @@ study's range of the impact parameter is +-1 in):
   stick     mu = 0.5, most drops stick (mu bounded from below only), 60 rows
   onset     mu = 0.2, where the drops start to stick all along: many tables bound mu
             from below only, and their limits are tested where they can fail
+  plateau   mu = each table's own onset of sticking (its design's, from 0.19 to 0.21: with
+            mu there every drop sticks, the last only just), the start of its plateau:
+            where a 95 % lower limit can hold the truth in just 95 % of the tables
   slide     mu = 0.1, most drops slide, 60 rows
   small     mu = 0.18, 20 rows
   large     mu = 0.18, 3000 rows
@@ -40,6 +43,7 @@ SETTINGS = {
     "wide": {"impact_parameter": (-0.04, 0.04)},
     "stick": {"mu": 0.5},
     "onset": {"mu": 0.2},
+    "plateau": {"mu": "design_onset"},
     "slide": {"mu": 0.1},
     "small": {"rows": 20},
     "large": {"rows": 3000},
@@ -53,11 +57,18 @@ TRUTH = {"e": 0.6, "mu": 0.18}
 
 def make_table(setting, k, solver="kernel"):
     """Table ``k`` of ``setting``, solved by ``"kernel"`` or ``"reference"``."""
-    from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
+    from mcbat.testing.drop_tables import (
+        design_stick_onset,
+        drop_table,
+        kernel_solver,
+        reference_solver,
+    )
 
     spec = {**TRUTH, **SETTINGS[setting]}
     rows = spec.pop("rows", 60)
     chosen = reference_solver if solver == "reference" else kernel_solver
+    if spec["mu"] == "design_onset":
+        spec["mu"] = design_stick_onset(rows, 1000 + k, **spec)
     return drop_table(rows, 1000 + k, solver=chosen, **spec)
 
 
