@@ -17,8 +17,8 @@ study's range of the impact parameter is +-1 in):
   onset     mu = 0.2, where the drops start to stick all along: many tables bound mu
             from below only, and their limits are tested where they can fail
   plateau   mu = each table's own onset of sticking (its design's, from 0.19 to 0.21: with
-            mu there every drop sticks, the last only just), the start of its plateau:
-            where a 95 % lower limit can hold the truth in just 95 % of the tables
+            mu there every drop sticks, the last only just): the data are distributed as
+            on the plateau above, so no lower limit can exclude the truth
   slide     mu = 0.1, most drops slide, 60 rows
   small     mu = 0.18, 20 rows
   large     mu = 0.18, 3000 rows
