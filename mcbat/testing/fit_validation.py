@@ -20,6 +20,8 @@ study's range of the impact parameter is +-1 in):
             mu there every drop sticks, the last only just): the data are distributed as
             on the plateau above, so no lower limit can exclude the truth
   slide     mu = 0.1, most drops slide, 60 rows
+  spins     mu = 0.18, spins of -200, -100, 0, 100 and 200 rad/s (the study's are 79, 0
+            and -72): the drops slide longer, and stick from mu = 0.41-0.43 on
   small     mu = 0.18, 20 rows
   large     mu = 0.18, 3000 rows
   err1      mu = 0.18, 1 mm of error on b
@@ -45,6 +47,7 @@ SETTINGS = {
     "onset": {"mu": 0.2},
     "plateau": {"mu": "design_onset"},
     "slide": {"mu": 0.1},
+    "spins": {"spins": (-200.0, -100.0, 0.0, 100.0, 200.0)},
     "small": {"rows": 20},
     "large": {"rows": 3000},
     "err1": {"impact_parameter_err": 0.001},
