@@ -33,7 +33,7 @@ distances in ft (and m). Every JSON answer (``result.to_dict()``) carries a ``un
 >>> flight = mcbat.solve({"launch_speed": {"value": 103, "unit": "mph"},
 ...                       "launch_angle": {"value": 27, "unit": "deg"},
 ...                       "backspin": {"value": 2000, "unit": "rpm"}})
->>> type(flight).__name__, flight.to_dict()["units"]["hit_distance"]
+>>> type(flight).__name__, flight.to_dict()["units"].get("hit_distance")
 ('FlightResult', 'ft')
 
 Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistics):
@@ -197,7 +197,9 @@ def run(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
     columns : list of str, optional
         Column names: override the study's ``[output] columns``.
 
-    See :func:`mcbat.runner.run_study` for the details.
+    See Also
+    --------
+    mcbat.runner.run_study : the details.
     """
     from mcbat.runner import run_study
     from mcbat.study import Study, load_study
