@@ -4,7 +4,7 @@ independent check on the fit's intervals."""
 import pytest
 
 from mcbat.testing.drop_tables import drop_table, kernel_solver
-from mcbat.testing.textbook_fit import mu_information_share, textbook_fit
+from mcbat.testing.textbook_fit import marginal_fit, mu_information_share, textbook_fit
 
 
 def exact_table(k):
@@ -42,3 +42,19 @@ def test_fit_with_exact_inputs_matches_the_textbook_fit():
     ours = fit(study, table, ("e", "mu"), seed=2).params["mu"]
     r = textbook_fit(table)
     assert abs(ours - r["mu"]) < 0.5 * 0.5 * (r["lower_error"] + r["upper_error"])
+
+
+def test_marginal_fit_converges_in_its_nodes_and_is_the_textbook_fit_for_exact_inputs():
+    table = drop_table(60, 1000, solver=kernel_solver)
+    textbook = textbook_fit(table)
+    scale = min(textbook["lower_error"], textbook["upper_error"])  # mu's error, ~0.002
+    coarse, fine = marginal_fit(table, nodes=128), marginal_fit(table, nodes=256)
+    # Doubling the nodes moves the best fit by under a hundredth of mu's error (e*'s error
+    # is of the same size), far below the shifts the marginal fit is used to measure.
+    assert abs(coarse["e"] - fine["e"]) < 0.01 * scale
+    assert abs(coarse["mu"] - fine["mu"]) < 0.01 * scale
+    # Impact parameters measured to 10 um: the marginal fit is the textbook fit.
+    exact = drop_table(60, 1000, solver=kernel_solver, impact_parameter_err=1e-5)
+    marginal = marginal_fit(exact)
+    assert abs(marginal["e"] - textbook["e"]) < 0.005 * scale
+    assert abs(marginal["mu"] - textbook["mu"]) < 0.005 * scale
