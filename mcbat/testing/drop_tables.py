@@ -164,8 +164,8 @@ def stick_onset(b, spin_in, axial, e, e_x, solver=kernel_solver, mu_max=2.0,
 
     The spin is the mark of sticking: once the ball rolls, friction no longer sets it.
     The exit speed and angle still move a little with ``mu`` after that (by up to about
-    1e-4 m/s and 2e-3 deg between the onset and ``mu = 2``: the ball's contact lies off the bat's
-    centre of mass), a few thousandths of any measurement's error.
+    1e-4 m/s and 2e-3 deg between the onset and ``mu = 2``: the ball's contact lies off
+    the bat's centre of mass), a few thousandths of any measurement's error.
 
     Parameters
     ----------

@@ -18,7 +18,8 @@ study's range of the impact parameter is +-1 in):
             from below only, and their limits are tested where they can fail
   plateau   mu = each table's own onset of sticking (its design's, from 0.19 to 0.21: with
             mu there every drop sticks, the last only just): the data are distributed as
-            on the plateau above, so no lower limit can exclude the truth
+            on the plateau above, and a lower limit excludes the truth no more often
+            than it excludes mu = 2
   slide     mu = 0.1, most drops slide, 60 rows
   spins     mu = 0.18, spins of -200, -100, 0, 100 and 200 rad/s (the study's are 79, 0
             and -72): the drops slide longer, and stick from mu = 0.41-0.43 on
