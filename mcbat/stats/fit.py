@@ -33,6 +33,7 @@ from mcbat.stats.intervals import (
     profile_intervals,
 )
 from mcbat.stats.likelihood import FREE, SEARCH, Likelihood
+from mcbat.stats.measurements import measured_fraction
 from mcbat.stats.search import local_minimum, search, search_scale
 
 __all__ = ["FREE", "FitResult", "Likelihood", "SEARCH", "check_bootstrap", "fit"]
@@ -290,6 +291,21 @@ def _warnings(like, result):
                              f"{search_hi:g})")
             out.append(f"e = {value:.4g} is {' and '.join(where)}: check the units of the "
                        f"observables (docs/fitting.md)")
+    for j, name in enumerate(like.observables):
+        if f"{name}_err" not in like.stated_errors:
+            continue
+        errors = np.sqrt(like.s2[:, j])
+        share = measured_fraction(like.y[:, j], errors)
+        if share is not None:
+            unit, pct = like.units[name], f"{100 * share:.3g} %"
+            mean = share * float(np.mean(np.abs(like.y[:, j])))
+            one = max(mean, float(errors.min()))
+            which = f"{pct} of the mean" if one == mean else "the smallest stated error"
+            out.append(f"{name}_err is {pct} of each row's measured {name}: an error stated "
+                       f"from the measured value gives the rows measured high less weight "
+                       f"and biases the fit, by more of its errors the more rows "
+                       f"(docs/fit-checks.md); state one error for all rows ({which}: "
+                       f"{one:.4g} {unit}) or the instrument's own")
     if math.isfinite(result.p_value) and result.p_value > P_VALUE_TOO_GOOD:
         out.append(f"the fit is implausibly good (p-value {result.p_value:.4f}): the stated "
                    f"errors are larger than the scatter of the data, or a column is in "

@@ -162,6 +162,9 @@ class Likelihood:
         self.s2 = np.stack([table[f"{c}_err"].to_numpy(float) ** 2 if f"{c}_err" in table
                             else default_errors(c, self.y[:, j]) ** 2
                             for j, c in enumerate(self.observables)], axis=1)
+        self.stated_errors = [f"{c}_err" for c in self.observables if f"{c}_err" in table]
+        """The observables' ``_err`` columns the table gives (the others get
+        :func:`default_errors`)."""
         self.likelihood = likelihood or self.model.LIKELIHOOD
         self.calls = 0
         self.failure = None

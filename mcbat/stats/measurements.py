@@ -59,7 +59,7 @@ from mcbat.errors import InputError
 from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GAME_WRITTEN
 from mcbat.stats.simulate import solve_study
 
-__all__ = ["COLUMNS", "DEFAULT_ERRORS", "default_errors",
+__all__ = ["COLUMNS", "DEFAULT_ERRORS", "default_errors", "measured_fraction",
            "read_measurements", "synthesize", "table_error",
            "write_table_atomic"]
 
@@ -95,6 +95,50 @@ def table_error(values, relative, floor):
     magnitude = magnitude[np.isfinite(magnitude)]
     typical = float(magnitude.mean()) if magnitude.size else 0.0
     return max(relative * typical, floor)
+
+
+MEASURED_FRACTION_SPREAD = 0.02
+"""Stated errors are read as a fraction of each row's measured value when their ratio to
+it varies by less than this share over the rows above any floor (printed errors rounded
+to three figures vary by up to 1 %)."""
+
+
+def measured_fraction(values, errors):
+    """The fraction of each row's measured value that a column of stated errors is, or None
+    when it is not one.
+
+    A column qualifies when, over the rows whose error lies above the column's smallest
+    (a floor, as in ``max(8 % |y|, 2 rad/s)``), at least five, the errors vary by more
+    than 10 % and their ratio to ``|y|`` by less than
+    :data:`MEASURED_FRACTION_SPREAD` of its median. Such an error tells the fit which rows
+    lie above the model's mean (they weigh less), which a likelihood that takes the errors
+    as given does not model: the fit is pulled towards low values, by more of its errors
+    the more rows (docs/fit-checks.md measures it).
+
+    Parameters
+    ----------
+    values, errors : array_like
+        A column's measured values and their stated 1-sigma errors (its unit).
+
+    Returns
+    -------
+    float or None
+        The median ratio ``error / |value|``.
+    """
+    values, errors = np.abs(np.asarray(values, float)), np.asarray(errors, float)
+    good = np.isfinite(values) & np.isfinite(errors) & (values > 0) & (errors > 0)
+    values, errors = values[good], errors[good]
+    if errors.size < 5:
+        return None
+    above = errors > errors.min() * (1 + 1e-6)
+    if above.sum() < 5:
+        return None
+    values, errors = values[above], errors[above]
+    ratio = errors / values
+    typical = float(np.median(ratio))
+    if errors.max() < 1.1 * errors.min() or np.ptp(ratio) > MEASURED_FRACTION_SPREAD * typical:
+        return None
+    return typical
 
 
 def read_measurements(path, required=()):

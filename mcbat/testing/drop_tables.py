@@ -90,7 +90,8 @@ def kernel_solver(b, spin_in, axial, e, mu, e_x):
 
 def drop_table(rows, seed, *, e=0.6, mu=0.18, e_x=0.0, impact_parameter=(-0.0254, 0.0254),
                impact_parameter_err=0.005, spins=(79.0, 0.0, -72.0), speed_err=0.03,
-               angle_err=2.0, spin_err=(0.08, 2.0), edges=None, solver=reference_solver):
+               angle_err=2.0, spin_err=(0.08, 2.0), edges=None, stated_errors="truth",
+               solver=reference_solver):
     """A drop-test table of ``rows`` impacts.
 
     Parameters
@@ -111,11 +112,19 @@ def drop_table(rows, seed, *, e=0.6, mu=0.18, e_x=0.0, impact_parameter=(-0.0254
     spins : sequence of float
         Nominal incoming spins (rad/s about the bat axis), cycled over the rows.
     speed_err : float
-        Relative error of the exit speed.
+        Relative error of the exit speed (of its true value, unless ``stated_errors`` is
+        ``"constant"``).
     angle_err : float
         Error of the scattering angle (deg).
     spin_err : (float, float)
         Relative error of the outgoing spin and its floor (rad/s).
+    stated_errors : {"truth", "measured", "constant"}
+        The errors of the exit speed and the outgoing spin: relative to each row's true
+        value, and stated as drawn (``"truth"``: an error that only a simulation knows,
+        and that says something of the row's true value); relative to the true value, but
+        stated relative to the measured one (``"measured"``, as a lab states it); or one
+        error for all rows, the relative error of the rows' mean true value, drawn and
+        stated (``"constant"``).
     solver : callable
         ``solver(b, spin_in, axial, e, mu, e_x)`` -> observables, (rows, 3):
         :func:`reference_solver` by default. The random numbers do not depend on it, so two
@@ -145,11 +154,22 @@ def drop_table(rows, seed, *, e=0.6, mu=0.18, e_x=0.0, impact_parameter=(-0.0254
         table["impact_parameter"] = b_true + impact_parameter_err * noise[0]
         table["impact_parameter_err"] = impact_parameter_err
     table["spin_in"] = spin_in
-    table["exit_speed"] = out[:, 0] + speed_sd * noise[1]
+    if stated_errors not in ("truth", "measured", "constant"):
+        raise ValueError(f"stated_errors must be 'truth', 'measured' or 'constant', got "
+                         f"{stated_errors!r}")
+    if stated_errors == "constant":
+        speed_sd = np.full(rows, speed_err * np.mean(out[:, 0]))
+        spin_sd = np.full(rows, max(spin_err[0] * np.mean(np.abs(out[:, 2])), spin_err[1]))
+    speed = out[:, 0] + speed_sd * noise[1]
+    spin_out = out[:, 2] + spin_sd * noise[3]
+    if stated_errors == "measured":
+        speed_sd = speed_err * np.abs(speed)
+        spin_sd = np.maximum(spin_err[0] * np.abs(spin_out), spin_err[1])
+    table["exit_speed"] = speed
     table["exit_speed_err"] = speed_sd
     table["scattering_angle"] = out[:, 1] + angle_err * noise[2]
     table["scattering_angle_err"] = angle_err
-    table["spin_out"] = out[:, 2] + spin_sd * noise[3]
+    table["spin_out"] = spin_out
     table["spin_out_err"] = spin_sd
     table.attrs["truth"] = {"e": e, "mu": mu, "e_x": e_x, "impact_parameter": b_true,
                             "axial": axial}

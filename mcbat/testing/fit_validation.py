@@ -28,7 +28,10 @@ study's range of the impact parameter is +-1 in):
   err1      mu = 0.18, 1 mm of error on b
   err10     mu = 0.18, 10 mm of error on b
 
-Table ``k`` of a setting uses the seed ``1000 + k``, its fit the seed ``k``.
+Table ``k`` of a setting uses the seed ``1000 + k``, its fit the seed ``k``. Each table
+states for the exit speed and the outgoing spin the very errors their noise was drawn with
+(relative to each row's true value), unless ``make_table`` is told otherwise
+(``stated_errors`` of :func:`mcbat.testing.drop_tables.drop_table`).
 """
 
 import math
@@ -59,8 +62,9 @@ TRUTH = {"e": 0.6, "mu": 0.18}
 """The fitted parameters and their true values, unless a setting says otherwise."""
 
 
-def make_table(setting, k, solver="kernel"):
-    """Table ``k`` of ``setting``, solved by ``"kernel"`` or ``"reference"``."""
+def make_table(setting, k, solver="kernel", stated_errors="truth"):
+    """Table ``k`` of ``setting``, solved by ``"kernel"`` or ``"reference"``, its errors
+    stated as ``stated_errors`` says (:func:`mcbat.testing.drop_tables.drop_table`)."""
     from mcbat.testing.drop_tables import (
         design_stick_onset,
         drop_table,
@@ -73,7 +77,7 @@ def make_table(setting, k, solver="kernel"):
     chosen = reference_solver if solver == "reference" else kernel_solver
     if spec["mu"] == "design_onset":
         spec["mu"] = design_stick_onset(rows, 1000 + k, **spec)
-    return drop_table(rows, 1000 + k, solver=chosen, **spec)
+    return drop_table(rows, 1000 + k, solver=chosen, stated_errors=stated_errors, **spec)
 
 
 def fit_table(setting, k, study, solver="kernel"):

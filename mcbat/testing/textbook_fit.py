@@ -16,9 +16,10 @@ sliding to rolling, where the observables turn steeply with ``mu``.
 
 :func:`marginal_fit` is the textbook fit of a table whose impact parameters are known only
 as measured: each row's likelihood integrated over its true impact parameter by quadrature
-(the true distribution of the table's impact parameters as the prior, the true contact
-points), the exact marginal likelihood that :func:`mcbat.stats.fit.fit` estimates with
-draws.
+(the true distribution of the table's impact parameters as the prior), and, with
+``contact_nodes``, over its contact point too (:func:`mcbat.stats.fit.fit` does not know
+the contact points either): the exact marginal likelihood that :func:`mcbat.stats.fit.fit`
+estimates with draws.
 """
 
 from __future__ import annotations
@@ -29,9 +30,10 @@ import numpy as np
 from scipy import optimize
 from scipy.special import roots_legendre
 
-from mcbat.testing.drop_tables import kernel_solver
+from mcbat.testing.drop_tables import DROP_TEST, kernel_solver
 
-__all__ = ["marginal_fit", "mu_information_share", "textbook_fit"]
+__all__ = ["marginal_fit", "marginal_neg_log_likelihood", "mu_information_share",
+           "textbook_fit"]
 
 OBSERVABLES = ("exit_speed", "scattering_angle", "spin_out")
 
@@ -131,12 +133,13 @@ def mu_information_share(table, rows=3, step=1e-4):
     return float(top[:rows].sum() / top.sum()), float(np.sqrt(np.linalg.inv(fisher)[1, 1]))
 
 
-def marginal_fit(table, prior_range=(-0.0254, 0.0254), nodes=128, start=None, reach=6.0):
-    """Maximum likelihood of ``e*`` and ``mu`` with each row's true impact parameter
-    integrated out exactly: its prior uniform over ``prior_range`` (m; the drop tables'
-    default draw), times the normal of its measurement, integrated by Gauss-Legendre
-    quadrature with ``nodes`` nodes over the prior's range within ``reach`` errors of the
-    measured value; the contact points at their true values.
+def marginal_neg_log_likelihood(table, prior_range=(-0.0254, 0.0254), nodes=128, reach=6.0,
+                                contact_nodes=0):
+    """Each row's exact ``-ln L_i(e*, mu)`` with its true impact parameter integrated out (up
+    to a constant that depends on neither): its prior uniform over ``prior_range`` (m; the
+    drop tables' default draw), times the normal of its measurement, integrated by
+    Gauss-Legendre quadrature with ``nodes`` nodes over the prior's range within ``reach``
+    errors of the measured value.
 
     Parameters
     ----------
@@ -144,15 +147,17 @@ def marginal_fit(table, prior_range=(-0.0254, 0.0254), nodes=128, start=None, re
         A table of :func:`mcbat.testing.drop_tables.drop_table` with an
         ``impact_parameter_err`` column, its true impact parameters drawn uniformly over
         ``prior_range`` (not at the ``edges``).
-    start : (float, float), optional
-        ``(e*, mu)`` to start from (default: the textbook fit's).
+    contact_nodes : int
+        0: each row's contact point at its true value (``attrs["truth"]["axial"]``); else
+        integrated over its true distribution, uniform over the drop test's contact range
+        (:data:`mcbat.testing.drop_tables.DROP_TEST`), by Gauss-Legendre quadrature with
+        this many nodes, as a fit that does not know the contact points must.
 
     Returns
     -------
-    dict
-        ``e``, ``mu`` (the best fit), ``neg_log_likelihood`` there and ``evaluations``.
+    callable
+        ``nll(e, mu)`` -> ndarray (rows,).
     """
-    truth = table.attrs["truth"]
     obs = list(OBSERVABLES)
     y = table[obs].to_numpy(float)
     s = table[[f"{c}_err" for c in obs]].to_numpy(float)
@@ -167,20 +172,55 @@ def marginal_fit(table, prior_range=(-0.0254, 0.0254), nodes=128, start=None, re
     # constant and the normal's own do not depend on e* or mu).
     log_weight = (np.log(0.5 * (hi - lo))[:, None] + np.log(w)[None, :]
                   - 0.5 * ((b - measured[:, None]) / sigma[:, None]) ** 2)
-    spin = np.repeat(table["spin_in"].to_numpy(float), nodes)
-    axial = np.repeat(np.asarray(truth["axial"], float), nodes)
-    y_nodes, s_nodes = np.repeat(y, nodes, axis=0), np.repeat(s, nodes, axis=0)
-    e_x = float(truth["e_x"])
+    if contact_nodes:
+        xa, wa = roots_legendre(contact_nodes)
+        near, far = DROP_TEST["from_barrel_end"]
+        centre, half = DROP_TEST["cm_from_barrel_end"] - 0.5 * (near + far), 0.5 * (far - near)
+        axial = np.broadcast_to(centre + half * xa, (rows, nodes, contact_nodes))
+        b = np.repeat(b[:, :, None], contact_nodes, axis=2)
+        log_weight = log_weight[:, :, None] + np.log(0.5 * wa)[None, None, :]
+    else:
+        axial = np.repeat(np.asarray(table.attrs["truth"]["axial"], float)[:, None], nodes,
+                          axis=1)
+    b, axial, log_weight = (a.reshape(rows, -1) for a in (b, axial, log_weight))
+    points = b.shape[1]
+    spin = np.repeat(table["spin_in"].to_numpy(float), points)
+    y_nodes, s_nodes = np.repeat(y, points, axis=0), np.repeat(s, points, axis=0)
+    e_x = float(table.attrs["truth"]["e_x"])
+
+    def nll(e, mu):
+        f = kernel_solver(b.ravel(), spin, axial.ravel(), e, mu, e_x)
+        log_l = (-0.5 * (((y_nodes - f) / s_nodes) ** 2).sum(axis=1)).reshape(rows, points)
+        log_l += log_weight
+        top = log_l.max(axis=1)
+        return -(top + np.log(np.exp(log_l - top[:, None]).sum(axis=1)))
+
+    return nll
+
+
+def marginal_fit(table, prior_range=(-0.0254, 0.0254), nodes=128, start=None, reach=6.0,
+                 contact_nodes=0):
+    """Maximum likelihood of ``e*`` and ``mu`` with each row's true impact parameter (and,
+    with ``contact_nodes``, its contact point) integrated out exactly
+    (:func:`marginal_neg_log_likelihood`, whose parameters these are).
+
+    Parameters
+    ----------
+    start : (float, float), optional
+        ``(e*, mu)`` to start from (default: the textbook fit's).
+
+    Returns
+    -------
+    dict
+        ``e``, ``mu`` (the best fit), ``neg_log_likelihood`` there and ``evaluations``.
+    """
+    rows_nll = marginal_neg_log_likelihood(table, prior_range, nodes, reach, contact_nodes)
 
     def nll(theta):
         e, mu = theta
         if not (0.05 < e < 0.99 and 1e-3 < mu < 2.0):
             return 1e30
-        f = kernel_solver(b.ravel(), spin, axial, e, mu, e_x)
-        log_l = (-0.5 * (((y_nodes - f) / s_nodes) ** 2).sum(axis=1)).reshape(rows, nodes)
-        log_l += log_weight
-        top = log_l.max(axis=1)
-        return -float((top + np.log(np.exp(log_l - top[:, None]).sum(axis=1))).sum())
+        return float(rows_nll(e, mu).sum())
 
     if start is None:
         tb = textbook_fit(table)

@@ -1,4 +1,5 @@
-"""The errors a fit gives the observables of a table without ``_err`` columns.
+"""The errors a fit gives the observables of a table without ``_err`` columns, and the
+warning for stated errors that are a fraction of each row's measured value.
 
 One error per column, not a fraction of each row's measured value: per-row errors tell the
 fit which rows lie above the model's mean (larger error, less weight) and bias the estimates
@@ -12,7 +13,13 @@ import numpy as np
 import pytest
 
 from mcbat.stats.fit import Likelihood, fit
-from mcbat.stats.measurements import DEFAULT_ERRORS, default_errors, synthesize, table_error
+from mcbat.stats.measurements import (
+    DEFAULT_ERRORS,
+    default_errors,
+    measured_fraction,
+    synthesize,
+    table_error,
+)
 from mcbat.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -88,3 +95,36 @@ def test_fit_without_error_columns_is_not_biased():
     means = {name: float(np.mean(values)) for name, values in pulls.items()}
     print("mean pulls", means)
     assert all(abs(m) < 3.0 / math.sqrt(tables) for m in means.values()), means
+
+
+def test_errors_stated_as_a_fraction_of_each_measured_value_are_recognised():
+    from mcbat.testing.drop_tables import drop_table, kernel_solver
+
+    tables = {how: drop_table(60, 1000, solver=kernel_solver, stated_errors=how)
+              for how in ("truth", "measured", "constant")}
+    measured = tables["measured"]
+    assert measured_fraction(measured["exit_speed"], measured["exit_speed_err"]) == (
+        pytest.approx(0.03))
+    # The spin's errors have a floor of 2 rad/s; above it they are 8 % of the value.
+    assert measured_fraction(measured["spin_out"], measured["spin_out_err"]) == (
+        pytest.approx(0.08))
+    for how in ("truth", "constant"):  # errors relative to the truth vary against |y|
+        for column in ("exit_speed", "spin_out", "scattering_angle"):
+            table = tables[how]
+            assert measured_fraction(table[column], table[f"{column}_err"]) is None
+    # Printed to three figures, the errors are still recognised.
+    rounded = measured["exit_speed_err"].map(lambda v: float(f"{v:.3g}"))
+    assert measured_fraction(measured["exit_speed"], rounded) == pytest.approx(0.03, rel=0.01)
+
+
+def test_a_fit_says_when_errors_are_a_fraction_of_each_measured_value():
+    from mcbat.testing.drop_tables import drop_table, kernel_solver
+
+    table = drop_table(60, 1000, solver=kernel_solver, stated_errors="measured")
+    r = fit(STUDY, table, ("e", "mu"), intervals="curvature")
+    said = [w for w in r.warnings if "of each row's measured" in w]
+    assert len(said) == 2
+    assert said[0].startswith("exit_speed_err is 3 % of each row's measured exit_speed")
+    one = 0.03 * table["exit_speed"].abs().mean()
+    assert f"(3 % of the mean: {one:.4g} m/s)" in said[0]
+    assert said[1].startswith("spin_out_err is 8 % of each row's measured spin_out")

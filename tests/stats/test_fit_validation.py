@@ -144,3 +144,33 @@ def test_an_interval_below_a_plateau_the_95_percent_level_reaches_says_so(study)
     # A table whose rows slide bounds mu at 95 % as well: no such warning.
     inside = fit_table("inside", 0, study)
     assert "open_at_95" not in inside["params"]["mu"] and not inside["warnings"]
+
+
+@pytest.mark.parametrize("k", [0, 1, 2, 3])
+def test_the_fits_likelihood_has_the_exact_marginal_likelihoods_score_at_the_truth(study, k):
+    """mcbat's likelihood (draws of the impact parameters and contact points, its prior
+    fitted with the parameters) and the exact marginal likelihood (both integrated by
+    quadrature over their true distributions) have nearly the same gradient at the truth:
+    the best fits they lead to differ by far less than half an error."""
+    from mcbat.stats.likelihood import Likelihood
+    from mcbat.testing.fit_validation import make_table
+    from mcbat.testing.textbook_fit import marginal_neg_log_likelihood
+
+    table = make_table("inside", k)
+    truth = np.array([0.6, 0.18])
+    exact_rows = marginal_neg_log_likelihood(table, nodes=64, contact_nodes=8)
+    like = Likelihood(study, table, ["e", "mu"], seed=k)
+    like.refine(truth)
+
+    def exact(p):
+        return float(exact_rows(*p).sum())
+
+    def gradient(f, p, h=2e-5):
+        return np.array([(f(p + h * d) - f(p - h * d)) / (2 * h) for d in np.eye(2)])
+
+    step = 5e-4  # a quarter of the errors
+    hessian = np.array([(gradient(exact, truth + step * d) - gradient(exact, truth - step * d))
+                        / (2 * step) for d in np.eye(2)])
+    inverse = np.linalg.inv(0.5 * (hessian + hessian.T))
+    shift = inverse @ (gradient(like, truth) - gradient(exact, truth))
+    assert np.all(np.abs(shift) < 0.5 * np.sqrt(np.diag(inverse)))

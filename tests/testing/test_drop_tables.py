@@ -60,3 +60,26 @@ def test_a_tables_onset_is_its_last_drops_and_does_not_depend_on_mu():
     table = drop_table(60, 1002, mu=onset.max(), solver=kernel_solver)
     assert table.attrs["truth"]["mu"] == onset.max()
     np.testing.assert_array_equal(table.attrs["truth"]["impact_parameter"], b)
+
+
+def test_stated_errors_follow_the_truth_the_measurement_or_a_constant():
+    tables = {how: drop_table(300, 7, solver=kernel_solver, stated_errors=how)
+              for how in ("truth", "measured", "constant")}
+    truth, measured, constant = tables["truth"], tables["measured"], tables["constant"]
+    exact = truth.attrs["truth"]
+    true_speed = kernel_solver(exact["impact_parameter"], truth["spin_in"].to_numpy(),
+                               exact["axial"], 0.6, 0.18, 0.0)[:, 0]
+    # The same drops and noise; a lab states the error from what it measured.
+    np.testing.assert_array_equal(truth["exit_speed"], measured["exit_speed"])
+    np.testing.assert_allclose(truth["exit_speed_err"], 0.03 * true_speed)
+    np.testing.assert_allclose(measured["exit_speed_err"], 0.03 * measured["exit_speed"].abs())
+    np.testing.assert_allclose(measured["spin_out_err"],
+                               np.maximum(0.08 * measured["spin_out"].abs(), 2.0))
+    # Constant errors, drawn as stated: the normalised residuals have unit spread (its
+    # standard error on 300 rows is 0.04).
+    for column in ("exit_speed_err", "spin_out_err"):
+        assert constant[column].nunique() == 1
+    residual = (constant["exit_speed"] - true_speed) / constant["exit_speed_err"]
+    assert abs(np.std(residual) - 1.0) < 0.15
+    with pytest.raises(ValueError, match="stated_errors"):
+        drop_table(3, 7, solver=kernel_solver, stated_errors="guessed")

@@ -4,7 +4,12 @@ independent check on the fit's intervals."""
 import pytest
 
 from mcbat.testing.drop_tables import drop_table, kernel_solver
-from mcbat.testing.textbook_fit import marginal_fit, mu_information_share, textbook_fit
+from mcbat.testing.textbook_fit import (
+    marginal_fit,
+    marginal_neg_log_likelihood,
+    mu_information_share,
+    textbook_fit,
+)
 
 
 def exact_table(k):
@@ -58,3 +63,20 @@ def test_marginal_fit_converges_in_its_nodes_and_is_the_textbook_fit_for_exact_i
     marginal = marginal_fit(exact)
     assert abs(marginal["e"] - textbook["e"]) < 0.005 * scale
     assert abs(marginal["mu"] - textbook["mu"]) < 0.005 * scale
+
+
+def test_marginal_likelihood_over_contact_points_converges_in_its_nodes():
+    table = drop_table(60, 1000, solver=kernel_solver)
+
+    def rise(nodes, contact_nodes):
+        """-ln L one and a half errors of e* from the truth, above its value there."""
+        nll = marginal_neg_log_likelihood(table, nodes=nodes, contact_nodes=contact_nodes)
+        return float(nll(0.603, 0.18).sum() - nll(0.6, 0.18).sum())
+
+    coarse, fine = rise(64, 8), rise(128, 16)
+    # The rise is of order 1; the fit comparisons need it to a few hundredths at 3000 rows.
+    assert abs(coarse) > 0.1
+    assert abs(coarse - fine) < 0.01
+    # Not knowing the contact points loses information: the rise differs from the one
+    # with the true contact points.
+    assert abs(coarse - rise(128, 0)) > 0.01
