@@ -118,9 +118,9 @@ def summary(records):
     pulls = {name: first_order_pulls(scores[name], fisher[name]) for name in
              ("marginal", "true_contacts")}
     pulls["mcbat"] = first_order_pulls(scores["mcbat"], fisher["marginal"])
+    errors = np.sqrt(np.diag(np.linalg.inv(fisher["marginal"])))
     lines = []
     for j, p in enumerate(TRUTH):
-        errors = np.sqrt(np.diag(np.linalg.inv(fisher["marginal"])))
         lines.append(f"{p:3s} tables {len(records):4d}  error {errors[j]:.6f}  first-order mean "
                      f"pull: marginal {_mean(pulls['marginal'][:, j])}  mcbat "
                      f"{_mean(pulls['mcbat'][:, j])}  true contacts "
