@@ -112,8 +112,8 @@ def measured_fraction(values, errors):
     than 10 % and their ratio to ``|y|`` by less than
     :data:`MEASURED_FRACTION_SPREAD` of its median. Such an error tells the fit which rows
     lie above the model's mean (they weigh less), which a likelihood that takes the errors
-    as given does not model: the fit is pulled towards low values, by more of its errors
-    the more rows (docs/fit-checks.md measures it).
+    as given does not model: the fit is biased, by more of its errors the more rows (the
+    drop test's ``e*`` low by 0.35 of its errors at 60 rows: docs/fit-checks.md).
 
     Parameters
     ----------
