@@ -24,8 +24,8 @@ import numpy as np
 
 from mcbat.stats.likelihood import FREE
 
-__all__ = ["MAX_TABLES", "MIN_SELECTED", "TABLES", "conditional_limit", "flat_side_mask",
-           "selective_limit", "surrogate", "surrogate_rises"]
+__all__ = ["MAX_TABLES", "MIN_SELECTED", "TABLES", "conditional_limit", "conditional_p_value",
+           "flat_side_mask", "selective_limit", "surrogate", "surrogate_rises"]
 
 TABLES = 20_000
 """Tables simulated at each value tried (more, up to :data:`MAX_TABLES`, when fewer than
@@ -71,6 +71,50 @@ def flat_side_mask(rises, sign, flat_rise):
     return np.where(beyond, rises, -np.inf).max(axis=1) < flat_rise
 
 
+def conditional_p_value(curves, variance, rise, j, sign, rng, flat_rise):
+    """Share of the tables simulated at grid value ``j`` whose profile is flat on the side
+    ``-sign`` that rise at ``j`` by at least ``rise`` (the p-value of that value, conditional
+    on the flat side).
+
+    Parameters
+    ----------
+    curves, variance : ndarray
+        The surrogate (:func:`surrogate_rises`).
+    rise : float
+        The data's rise of ``-ln L`` at grid value ``j``.
+    j : int
+        Index of the value tested.
+    sign : {-1, 1}
+        -1 for a lower limit (the profile is flat above).
+    rng : numpy.random.Generator
+        Draws the simulated tables: :data:`TABLES` first, doubled until
+        :data:`MIN_SELECTED` are flat or :data:`MAX_TABLES` were drawn.
+    flat_rise : float
+        See :func:`flat_side_mask`.
+
+    Returns
+    -------
+    float
+        The p-value; 0 when fewer than a quarter of :data:`MIN_SELECTED` simulated tables
+        are flat (a value under which hardly any table is flat on that side cannot have
+        given flat data: excluded rather than judged on a handful of tables).
+    """
+    sd = np.sqrt(variance)
+    selected = beyond = tables = 0
+    n = TABLES
+    while True:
+        z = rng.standard_normal((n, curves.shape[1]))
+        rises = surrogate_rises(curves, variance, curves[j] + sd * z)
+        flat = flat_side_mask(rises, sign, flat_rise)
+        selected += int(flat.sum())
+        beyond += int((flat & (rises[:, j] >= rise)).sum())
+        tables += n
+        if selected >= MIN_SELECTED or tables >= MAX_TABLES:
+            break
+        n = min(2 * n, MAX_TABLES - tables)
+    return beyond / selected if selected >= MIN_SELECTED // 4 else 0.0
+
+
 def selective_limit(grid, curves, variance, y, sign, rng, flat_rise, level=0.95):
     """The one-sided limit at ``level``, conditional on the profile being flat on the other
     side (module docstring).
@@ -104,7 +148,6 @@ def selective_limit(grid, curves, variance, y, sign, rng, flat_rise, level=0.95)
         Grid value -> the conditional p-value found there (the values tried).
     """
     grid, curves = np.asarray(grid, float), np.asarray(curves, float)
-    sd = np.sqrt(variance)
     observed = surrogate_rises(curves, variance, y)
     if not flat_side_mask(observed, sign, flat_rise)[0]:
         return None, {}
@@ -115,21 +158,7 @@ def selective_limit(grid, curves, variance, y, sign, rng, flat_rise, level=0.95)
     for j in order:
         if observed[j] < flat_rise:  # within the 68 % interval: never excluded at 95 %
             continue
-        selected = beyond = tables = 0
-        n = TABLES
-        while True:
-            z = rng.standard_normal((n, curves.shape[1]))
-            rises = surrogate_rises(curves, variance, curves[j] + sd * z)
-            flat = flat_side_mask(rises, sign, flat_rise)
-            selected += int(flat.sum())
-            beyond += int((flat & (rises[:, j] >= observed[j])).sum())
-            tables += n
-            if selected >= MIN_SELECTED or tables >= MAX_TABLES:
-                break
-            n = min(2 * n, MAX_TABLES - tables)
-        # A value under which hardly any table is flat on that side cannot have given
-        # these data: excluded (p = 0) rather than judged on a handful of tables.
-        p = beyond / selected if selected >= MIN_SELECTED // 4 else 0.0
+        p = conditional_p_value(curves, variance, observed[j], j, sign, rng, flat_rise)
         p_values[float(grid[j])] = p
         if p < alpha:
             if last is None:

@@ -7,7 +7,7 @@ edges of the study's range, two-sided coverage 68 +- 3 %, mean pulls within +-0.
 few one-sided limits missing the truth no more often than 95 % limits may; on 400 tables
 at the onset of sticking, where limits are common, at least 93 % of them holding it, and
 with the truth at each table's own onset of sticking at least 95 %; just below the
-onsets (mu = 0.19) the limits' misses a plausible draw of a 95 % limit's.
+onsets (mu = 0.19), on 1200 tables, 95 +- 2 % of the limits holding the truth.
 """
 
 import math
@@ -116,16 +116,23 @@ def test_one_sided_limits_hold_the_truth_where_tables_report_them_often(study):
 @pytest.mark.slow
 def test_one_sided_limits_just_below_the_onset_of_sticking_hold_the_truth_as_promised(study):
     # At mu = 0.19 some drop still slides in nearly every table, yet about one table in
-    # ten looks flat and bounds mu from below only: the limits are tested where they can
-    # fail, and the number that miss the truth must be a plausible draw of
-    # Binomial(limits, 0.05); the two-sided intervals are held to the inside criteria.
-    records = _records(study, ["onset_low"], 400)
+    # seven looks flat and bounds mu from below only: the limits are tested where they can
+    # fail, and 1200 tables (about 100 minutes) give enough of them, over 150, to hold
+    # their share holding the truth to 95 +- 2 %. The two-sided intervals of e* are held to
+    # the inside criteria. Those of mu are the tables not flat above: the ones whose best
+    # value lies far above the truth report a limit instead, so the intervals that remain
+    # hold the truth more often than 68 % (71 % in docs/fit-checks.md), and only too few
+    # fail.
+    records = _records(study, ["onset_low"], 1200)
     for row in summarize(records):
         where = row["param"]
         assert row["refused"] == 0 and row["zero_width"] == 0, where
         assert abs(row["mean_pull"]) <= 0.1, where
+        assert row["interval_coverage"] >= 0.65, where
+        if row["param"] == "e":
+            assert abs(row["interval_coverage"] - 0.68) <= 0.03, where
         if row["param"] == "mu":
-            assert row["limits"] >= 20, where
+            assert row["limits"] >= 150, where
             _assert_limits_hold_95_percent(row, where)
 
 
@@ -191,3 +198,29 @@ def test_the_fits_likelihood_has_the_exact_marginal_likelihoods_score_at_the_tru
     inverse = np.linalg.inv(0.5 * (hessian + hessian.T))
     shift = inverse @ (gradient(like, truth) - gradient(exact, truth))
     assert np.all(np.abs(shift) < 0.5 * np.sqrt(np.diag(inverse)))
+
+
+def test_the_test_behind_a_limit_rejects_the_truth_where_the_limit_excludes_it(study):
+    # Table 351 of "onset_low" (truth mu = 0.19) looks flat above and reports the lower
+    # limit 0.1917: it excludes the truth. The conditional test at the truth, with a
+    # profile and a grid of its own, rejects it at 95 % too; table 7's limit (0.182) holds
+    # the truth, which the test does not reject.
+    from mcbat.testing.fit_validation import limit_p_value
+
+    missed = limit_p_value("onset_low", 351, study)
+    assert missed["status"] == "lower_limit" and missed["limit"] > missed["truth"]
+    assert missed["flat"] and missed["p_value"] < 0.05 and missed["rise"] > 1.0
+    held = limit_p_value("onset_low", 7, study)
+    assert held["status"] == "lower_limit" and held["limit"] < held["truth"]
+    assert held["flat"] and held["p_value"] > 0.05
+    # A table bounded on both sides reports no limit and is not tested.
+    bounded = limit_p_value("onset_low", 0, study)
+    assert bounded["status"] == "measured" and "p_value" not in bounded
+
+
+def test_p_value_shares_count_at_or_below_each_level():
+    from mcbat.testing.fit_validation import p_value_shares
+
+    shares = p_value_shares([0.01, 0.05, 0.3, 1.0], levels=(0.05, 0.5))
+    assert [(a, s) for a, s, _ in shares] == [(0.05, 0.5), (0.5, 0.75)]
+    assert math.isclose(shares[0][2], math.sqrt(0.05 * 0.95 / 4))
