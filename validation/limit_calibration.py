@@ -4,7 +4,8 @@ Run:  .venv/bin/python -m validation fit_validation --settings onset_low --table
           --workers 2 --out fit-validation
       .venv/bin/python -m validation limit_calibration --records fit-validation \
           --setting onset_low --workers 2 --out limit-calibration
-      .venv/bin/python -m validation limit_calibration --summary limit-calibration
+      .venv/bin/python -m validation limit_calibration --summary limit-calibration \
+          --figure docs/figures/limit_calibration.png
 
 A one-sided limit holds the truth or not: one bit a table, so 100 tables that report a
 limit measure its 95 % to +-2.2 %. The test that sets a conditional limit
@@ -66,6 +67,39 @@ def summary(records, setting):
     return lines
 
 
+def figure(records, setting, path):
+    """The p-values' empirical distribution against the uniform one, with the band that
+    holds a uniform sample's share at each level 95 % of the time (pointwise, binomial)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    p = np.sort([r["p_value"] for r in records
+                 if r["setting"] == setting and r.get("flat")])
+    n = len(p)
+    levels = np.linspace(0.0, 1.0, 201)
+    share = np.searchsorted(p, levels, side="right") / n
+    band = 1.96 * np.sqrt(levels * (1 - levels) / n)
+    fig, ax = plt.subplots(figsize=(5.2, 4.4))
+    ax.fill_between(levels, levels - band, levels + band, color="0.85",
+                    label="uniform p-values: 95 % band")
+    ax.plot(levels, levels, "k-", lw=0.8)
+    ax.step(levels, share, where="post", color="C0",
+            label=f"{n} tables with a limit, flat in the surrogate")
+    ax.axvline(0.05, color="C3", lw=0.8, ls="--", label="0.05: the limit's level")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, 1)
+    ax.set_xlabel("level a")
+    ax.set_ylabel("share of tables with p-value at the truth <= a")
+    ax.set_title(f"{setting}: the conditional test at the true mu", fontsize=10)
+    ax.legend(fontsize=8, loc="upper left", frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"figure written to {path}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--records", metavar="DIR",
@@ -74,6 +108,8 @@ def main(argv=None):
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", default="limit-calibration")
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
+    parser.add_argument("--figure", metavar="PATH",
+                        help="also draw the p-values' distribution against the uniform (PNG)")
     args = parser.parse_args(argv)
     if not args.summary:
         if not args.records:
@@ -86,8 +122,11 @@ def main(argv=None):
         Path(args.out).mkdir(parents=True, exist_ok=True)
         run_jobs(worker, [(i, args.workers, tables, args.setting, args.out)
                           for i in range(args.workers)])
-    for line in summary(read_records(args.summary or args.out), args.setting):
+    records = read_records(args.summary or args.out)
+    for line in summary(records, args.setting):
         print(line)
+    if args.figure:
+        figure(records, args.setting, args.figure)
 
 
 if __name__ == "__main__":
