@@ -19,6 +19,9 @@ study's range of the impact parameter is +-1 in):
   onset_low mu = 0.19, at the low end of the tables' onsets of sticking (0.178-0.213
             over 400 tables): in nearly every table some drop still slides, yet about one
             table in seven looks flat (163 of 1200), and its limit is tested below its onset
+  edges_low mu = 0.203, b within 0.5 cm of the ends of +-2.54 cm: just below the onsets
+            of sticking of these tables (0.206-0.2125 over 40 tables; at mu = 0.19, 313
+            tables reported no limit), the limits at the edges of the study's range
   plateau   mu = each table's own onset of sticking (its design's, from 0.19 to 0.21: with
             mu there every drop sticks, the last only just): the data are distributed as
             on the plateau above, and a lower limit excludes the truth no more often
@@ -53,6 +56,7 @@ SETTINGS = {
     "stick": {"mu": 0.5},
     "onset": {"mu": 0.2},
     "onset_low": {"mu": 0.19},
+    "edges_low": {"edges": 0.005, "mu": 0.203},
     "plateau": {"mu": "design_onset"},
     "slide": {"mu": 0.1},
     "spins": {"spins": (-200.0, -100.0, 0.0, 100.0, 200.0)},
