@@ -15,6 +15,8 @@ errors, and `--solver reference` uses the reference for every table.
 
 Each result is one JSON line in DIR/<setting>.<worker>.jsonl, so an interrupted run keeps
 what it did and a rerun goes on from there. Tables advance together across the settings.
+`--refit-limits EARLIER` refits only the tables of EARLIER whose fit reported a one-sided
+limit (after a change to how limits are set) and keeps the others' records.
 """
 
 import argparse
@@ -38,11 +40,19 @@ from mcbat.testing.fit_validation import (  # noqa: E402
     summary_line,
 )
 
+BASE = "base.jsonl"
+"""With ``--refit-limits``: the earlier run's records, read before (and overridden by) the
+refits."""
 
-def read_records(out):
-    """Every record in DIR's .jsonl files (the last one of a table wins)."""
+
+def read_records(out, base=True):
+    """Every record in DIR's .jsonl files (the last one of a table wins; :data:`BASE`
+    first, or not at all with ``base=False``)."""
     recs = {}
-    for path in sorted(Path(out).glob("*.jsonl")):
+    paths = sorted(Path(out).glob("*.jsonl"), key=lambda path: (path.name != BASE, path.name))
+    for path in paths:
+        if path.name == BASE and not base:
+            continue
         for line in path.read_text().splitlines():
             rec = json.loads(line)
             recs[(rec["setting"], rec["table"])] = rec
@@ -50,18 +60,23 @@ def read_records(out):
 
 
 def worker(args):
-    index, workers, tables, settings, out, solver = args
+    index, workers, jobs, out, solver = args
     from mcbat.study import load_study
 
     study = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
-    done = {(r["setting"], r["table"]) for r in read_records(out)}
-    for k in range(index, tables, workers):
-        for setting in settings:
-            if (setting, k) in done:
-                continue
-            rec = fit_table(setting, k, study, solver)
-            with open(Path(out) / f"{setting}.{index}.jsonl", "a") as handle:
-                handle.write(json.dumps(rec) + "\n")
+    done = {(r["setting"], r["table"]) for r in read_records(out, base=False)}
+    for setting, k in jobs[index::workers]:
+        if (setting, k) in done:
+            continue
+        rec = fit_table(setting, k, study, solver)
+        with open(Path(out) / f"{setting}.{index}.jsonl", "a") as handle:
+            handle.write(json.dumps(rec) + "\n")
+
+
+def limit_jobs(records):
+    """``(setting, table)`` of each record whose fit reported a one-sided limit."""
+    return [(r["setting"], r["table"]) for r in records if "refused" not in r
+            and any(v.get("limit") is not None for v in r["params"].values())]
 
 
 def crosscheck(n):
@@ -123,6 +138,10 @@ def main(argv=None):
     parser.add_argument("--solver", choices=("kernel", "reference"), default="kernel")
     parser.add_argument("--out", default="fit-validation")
     parser.add_argument("--summary", metavar="DIR", help="only summarise DIR")
+    parser.add_argument("--refit-limits", metavar="DIR",
+                        help="refit only the tables of DIR that reported a one-sided limit, "
+                             "keeping DIR's other records (the fit of a table without a "
+                             "limit does not depend on how limits are set)")
     parser.add_argument("--figure", metavar="PATH",
                         help="also draw the pulls of the summarised tables (PNG)")
     parser.add_argument("--crosscheck", type=int, metavar="N",
@@ -137,7 +156,15 @@ def main(argv=None):
         if unknown:
             parser.error(f"unknown setting {unknown[0]!r} (choose from {', '.join(SETTINGS)})")
         Path(args.out).mkdir(parents=True, exist_ok=True)
-        run_jobs(worker, [(i, args.workers, args.tables, settings, args.out, args.solver)
+        if args.refit_limits:
+            earlier = [r for r in read_records(args.refit_limits) if r["setting"] in settings]
+            base = Path(args.out) / BASE
+            if not base.exists():
+                base.write_text("".join(json.dumps(r) + "\n" for r in earlier))
+            jobs = limit_jobs(earlier)
+        else:
+            jobs = [(setting, k) for k in range(args.tables) for setting in settings]
+        run_jobs(worker, [(i, args.workers, jobs, args.out, args.solver)
                           for i in range(args.workers)])
     records = read_records(args.summary or args.out)
     for row in summarize(records):

@@ -120,14 +120,14 @@ def limit_p_value(setting, k, study, parameter="mu", solver="kernel"):
     where its fit reports a one-sided limit; a JSON-ready record.
 
     A conditional limit (:mod:`mcbat.stats.selective`) excludes the values whose p-value,
-    among simulated tables flat on the same side, is below 5 %. Here that test is applied
-    to the truth itself: the surrogate is built along the profile (the other free
-    parameters minimised, independently of the fit's own profile), over a grid through
-    the truth, and the p-value is the share of the flat simulated tables that rise at the
-    truth by as much as the data do. Where the test is calibrated these p-values are
-    uniform over the tables that report a limit (a truth on the surrogate's plateau, where
-    nothing can be excluded, has p = 1), and the share below 0.05 is the rate at which a
-    limit with no other rule would exclude the truth. The limits themselves are, in
+    among simulated tables flat on the same side, is below 5 %. Here that test is applied to
+    the truth itself: the surrogate is built along the profile (the other free parameters
+    minimised, independently of the fit's own profile), over a grid through the truth, the
+    tables are simulated under the truth, and the p-value is the share of the flat ones that
+    rise at the truth by as much as the data do. Where the test is calibrated these p-values
+    are uniform over the tables that report a limit (a truth on the surrogate's plateau,
+    where nothing can be excluded, has p = 1), and the share below 0.05 is the rate at which
+    a limit with no other rule would exclude the truth. The limits themselves are, in
     addition, never above the 68 % interval's end.
 
     Returns
@@ -192,16 +192,19 @@ def limit_p_value(setting, k, study, parameter="mu", solver="kernel"):
     bounded = np.linspace(near + sign * 4 * span, root, 17)
     flat_side = root + (edge - root) * np.linspace(0.0, 1.0, 11)[1:] ** 2
     grid = np.unique(np.concatenate([bounded, flat_side, [truth]]))
-    grid, curves, variance, y = surrogate(like, best, grid, point)
-    rises = surrogate_rises(curves, variance, y)
-    rec["flat"] = bool(len(grid) >= 4 and truth in grid
-                       and flat_side_mask(rises, sign, ONE_SIGMA)[0])
+    sur = surrogate(like, best, grid, point)
+    rec["flat"] = False
+    if sur is None or len(sur.grid) < 4 or truth not in sur.grid:
+        return rec
+    curves, variance = sur.statistic()
+    rises = surrogate_rises(curves, variance, sur.y)
+    rec["flat"] = bool(flat_side_mask(rises, sign, ONE_SIGMA)[0])
     if rec["flat"]:
-        j = int(np.flatnonzero(grid == truth)[0])
+        j = int(np.flatnonzero(sur.grid == truth)[0])
         rng = np.random.default_rng(np.random.SeedSequence(k, spawn_key=(2**31 + 19, i)))
         rec["rise"] = float(rises[j])
         rec["p_value"] = conditional_p_value(curves, variance, rises[j], j, sign, rng,
-                                             ONE_SIGMA)
+                                             ONE_SIGMA, null=sur.null)
     return rec
 
 

@@ -13,6 +13,7 @@ import pytest
 from mcbat.stats import selective
 from mcbat.stats.intervals import LIMIT_95, ONE_SIGMA
 from mcbat.stats.selective import (
+    Surrogate,
     conditional_p_value,
     flat_side_mask,
     selective_limit,
@@ -42,6 +43,59 @@ def test_surrogate_rises_are_half_the_chi2_above_its_minimum():
     chi2 = (((y - curves) ** 2) / variance).sum(axis=1)
     np.testing.assert_allclose(surrogate_rises(curves, variance, y), 0.5 * (chi2 - chi2.min()),
                                atol=1e-9)
+
+
+def _weighted(log_w, sims, usable):
+    w = np.where(usable, np.exp(log_w), 0.0)
+    w /= w.sum(axis=1, keepdims=True)
+    mean = (w[:, :, None] * sims).sum(axis=1)
+    return w, mean, (w[:, :, None] * (sims - mean[:, None, :]) ** 2).sum(axis=1)
+
+
+def test_the_statistic_weighs_the_draws_at_the_best_fit_and_the_null_at_the_value_tested():
+    rng = np.random.default_rng(5)
+    grid, rows, draws, obs = np.array([0.1, 0.2, 0.3]), 4, 6, 2
+    sims = rng.normal(size=(3, rows, draws, obs))
+    log_w = rng.normal(size=(3, rows, draws))
+    best_sims, best_log_w = rng.normal(size=(rows, draws, obs)), rng.normal(size=(rows, draws))
+    usable = np.ones((rows, draws), bool)
+    usable[0, 2] = False  # a draw that failed somewhere weighs nothing
+    s2 = rng.uniform(0.5, 2.0, (rows, obs))
+    sur = Surrogate(grid, sims, log_w, best_sims, best_log_w, usable, s2,
+                    rng.normal(size=rows * obs))
+    curves, variance = sur.statistic()
+    w, _, spread = _weighted(best_log_w, best_sims, usable)
+    for g in range(3):
+        np.testing.assert_allclose(curves[g], (w[:, :, None] * sims[g]).sum(axis=1).ravel(),
+                                   rtol=1e-12)
+    np.testing.assert_allclose(variance, (s2 + spread).ravel(), rtol=1e-12)
+    for j in range(3):
+        centre, null_variance = sur.null(j)
+        _, mean, spread = _weighted(log_w[j], sims[j], usable)
+        np.testing.assert_allclose(centre, mean.ravel(), rtol=1e-12)
+        np.testing.assert_allclose(null_variance, (s2 + spread).ravel(), rtol=1e-12)
+    # The null differs from the statistic's prediction where the weights differ.
+    assert not np.allclose(sur.null(1)[0], curves[1])
+
+
+def test_tables_simulated_around_the_null_decide_the_p_value(monkeypatch):
+    # The same draws around the statistic's own prediction give the same p-value as the
+    # default; drawn around a prediction nearer the plateau (the flat side), more of them
+    # are flat and fewer rise as far at the value tested.
+    monkeypatch.setattr(selective, "TABLES", 4000)
+    monkeypatch.setattr(selective, "MIN_SELECTED", 200)
+    curves, variance, _ = _design(rows=20, stick=(0.16, 0.2), slope=60.0)
+    j = int(np.argmin(np.abs(GRID - TRUE_MU)))
+    rise = 1.5
+    same = conditional_p_value(curves, variance, rise, j, -1, np.random.default_rng(2),
+                               ONE_SIGMA, null=lambda i: (curves[i], variance))
+    default = conditional_p_value(curves, variance, rise, j, -1, np.random.default_rng(2),
+                                  ONE_SIGMA)
+    assert same == default
+    nearer = 0.7 * curves[j] + 0.3 * curves[-1]
+    shifted = conditional_p_value(curves, variance, rise, j, -1, np.random.default_rng(2),
+                                  ONE_SIGMA, null=lambda i: (nearer, variance))
+    assert shifted > default + 0.05
 
 
 def test_flat_side_is_read_from_the_minimum_towards_the_chosen_end():
