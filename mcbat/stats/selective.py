@@ -234,7 +234,7 @@ class Surrogate(NamedTuple):
         with each row's draws weighted by their posterior at the best fit, and the
         measurement's variance plus that posterior's spread at the best fit."""
         w = self._weights(self.best_log_weights)
-        mean, spread = _moments(w, self.best_draws)
+        _, spread = _moments(w, self.best_draws)
         curves = np.einsum("rk,grko->gro", w, self.draws).reshape(len(self.grid), -1)
         return curves, (self.s2 + spread).ravel()
 
