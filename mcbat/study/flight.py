@@ -25,7 +25,6 @@ Defaults are the calculator's standard conditions (70 degF, 29.92 inHg, 50 %, se
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -41,7 +40,8 @@ from mcbat.core.flight import (
     FlightParams,
     air_density,
     allocate_flight_outputs,
-    fly_batch,
+    fly_batch_each,
+    height_at_distance_batch,
     pack_params,
 )
 from mcbat.errors import InputError
@@ -49,7 +49,8 @@ from mcbat.study import units as u
 from mcbat.study.distributions import parse
 
 __all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FLIGHT_PRESETS", "SCALE_RANGES",
-           "FlightSettings", "fly_launches", "launch_vectors", "parse_flight"]
+           "PER_BALL", "FlightSettings", "fly_launches", "heights_at_distance", "launch_vectors",
+           "params_each", "parse_flight"]
 
 #: The spin decay time of each model when none is given (s; None: no decay).
 DEFAULT_DECAY_TIME = {"nathan": 30.0, "sawicki2003": None, "constant": None}
@@ -271,23 +272,55 @@ def launch_vectors(launch_speed, launch_angle, spray_angle, backspin, sidespin, 
     return v, w
 
 
+#: Per-ball settings :func:`fly_launches` takes (SI, as :class:`FlightSettings`).
+PER_BALL = ("temperature", "pressure", "relative_humidity", "elevation", "landing_height",
+            "drag_scale", "lift_scale", "wind_x", "wind_y", "wind_z")
+_PACKED = {"drag_scale": 5, "lift_scale": 6, "wind_x": 9, "wind_y": 10, "wind_z": 11,
+           "landing_height": 13}  # rows of pack_params
+_AIR = ("temperature", "pressure", "relative_humidity", "elevation")
+
+
+def params_each(settings: FlightSettings, mass, radius, n, per_ball=None) -> np.ndarray:
+    """The kernel's parameters of ``n`` balls (``float64[14, n]``, columns as
+    :func:`~mcbat.core.flight.pack_params`): ``settings`` with the values of ``per_ball``
+    (a mapping of :data:`PER_BALL` names to arrays of ``n``, SI) replaced ball by ball.
+    The air density follows each ball's temperature, pressure, humidity and elevation."""
+    per_ball = {} if per_ball is None else dict(per_ball)
+    unknown = sorted(set(per_ball) - set(PER_BALL))
+    if unknown:
+        raise InputError(unknown[0], f"not a per-ball flight setting (one of "
+                         f"{', '.join(PER_BALL)})")
+    params = np.repeat(pack_params(settings.params(mass, radius))[:, None], n, 1)
+    values = {k: np.broadcast_to(np.asarray(v, float), (n,)) for k, v in per_ball.items()}
+    for key, row in _PACKED.items():
+        if key in values:
+            params[row] = values[key]
+    if any(k in values for k in _AIR):
+        air = [values.get(k, np.full(n, getattr(settings, k))) for k in _AIR]
+        density = np.array([air_density(t - 273.15, p, h, e) for t, p, h, e in zip(*air)])
+        params[0] = density * math.pi * radius * radius / (2.0 * mass)
+    return np.ascontiguousarray(params)
+
+
 def fly_launches(settings: FlightSettings, mass, radius, launch_speed, launch_angle,
                  spray_angle, backspin, sidespin, gyrospin=0.0, elevation=None,
-                 landing_height=None):
-    """Fly many balls with the batch kernel; each ball may have its own park elevation and
-    landing height (the rest of ``settings`` is shared).
+                 landing_height=None, per_ball=None):
+    """Fly many balls with the batch kernel, each in its own air if asked: a park's
+    elevation, a game's weather and wind, a season's drag and lift.
 
     Parameters
     ----------
     settings : FlightSettings
-        Atmosphere, model, launch point, ...; ``elevation`` and ``landing_height`` are
-        replaced per ball when given.
+        Atmosphere, model, launch point, ...; what ``per_ball`` (or ``elevation``,
+        ``landing_height``) gives is replaced ball by ball.
     mass, radius : float
         The ball (kg, m).
     launch_speed, launch_angle, spray_angle, backspin, sidespin, gyrospin : array_like
         SI (m/s, rad, rad/s), one value per ball (or scalars).
     elevation, landing_height : array_like, optional
-        m, per ball.
+        m, per ball (shorthands for the same keys of ``per_ball``).
+    per_ball : mapping of str -> array_like, optional
+        Any of :data:`PER_BALL` (SI: K, Pa, %, m, m, 1, 1, m/s), per ball.
 
     Returns
     -------
@@ -298,28 +331,48 @@ def fly_launches(settings: FlightSettings, mass, radius, launch_speed, launch_an
     """
     speed = np.atleast_1d(np.asarray(launch_speed, float))
     n = speed.size
+    velocity, spin, start = _launch_arrays(settings, speed, launch_angle, spray_angle,
+                                           backspin, sidespin, gyrospin)
+    per_ball = _with_shorthands(per_ball, elevation, landing_height)
+    out, status = allocate_flight_outputs(n)
+    fly_batch_each(params_each(settings, mass, radius, n, per_ball), start, velocity, spin,
+                   out, status)
+    return {name: out[i] for i, name in enumerate(FLIGHT_FIELDS)}, status
+
+
+def heights_at_distance(settings: FlightSettings, mass, radius, distance, launch_speed,
+                        launch_angle, spray_angle, backspin, sidespin, gyrospin=0.0,
+                        per_ball=None):
+    """Height (m) and spray angle (rad) of each ball where its horizontal distance from
+    home plate first reaches ``distance`` (m, per ball): where it meets a fence standing
+    there; NaN where it comes down before. Arguments as :func:`fly_launches`."""
+    speed = np.atleast_1d(np.asarray(launch_speed, float))
+    n = speed.size
+    velocity, spin, start = _launch_arrays(settings, speed, launch_angle, spray_angle,
+                                           backspin, sidespin, gyrospin)
+    out = np.full((2, n), np.nan)
+    height_at_distance_batch(params_each(settings, mass, radius, n, per_ball), start,
+                             velocity, spin,
+                             np.ascontiguousarray(np.broadcast_to(
+                                 np.asarray(distance, float), (n,))), out)
+    return out[0], out[1]
+
+
+def _with_shorthands(per_ball, elevation, landing_height):
+    per_ball = {} if per_ball is None else dict(per_ball)
+    if elevation is not None:
+        per_ball["elevation"] = elevation
+    if landing_height is not None:
+        per_ball["landing_height"] = landing_height
+    return per_ball
+
+
+def _launch_arrays(settings, speed, launch_angle, spray_angle, backspin, sidespin,
+                   gyrospin):
+    n = speed.size
     v, w = launch_vectors(speed, *(np.broadcast_to(np.asarray(a, float), (n,)) for a in
                                    (launch_angle, spray_angle, backspin, sidespin, gyrospin)))
     velocity = np.ascontiguousarray(np.stack(v))
     spin = np.ascontiguousarray(np.stack(w))
     start = np.ascontiguousarray(np.repeat(np.asarray(settings.start, float)[:, None], n, 1))
-    elev = np.broadcast_to(np.asarray(settings.elevation if elevation is None else elevation,
-                                      float), (n,))
-    height = np.broadcast_to(np.asarray(settings.landing_height if landing_height is None
-                                        else landing_height, float), (n,))
-    out = np.full((len(FLIGHT_FIELDS), n), np.nan)
-    status = np.empty(n, np.int8)
-    keys = np.stack([elev, height])
-    groups, inverse = np.unique(keys, axis=1, return_inverse=True)
-    inverse = inverse.ravel()
-    for g in range(groups.shape[1]):
-        idx = np.flatnonzero(inverse == g)
-        group = dataclasses.replace(settings, elevation=float(groups[0, g]),
-                                    landing_height=float(groups[1, g]))
-        o, s = allocate_flight_outputs(idx.size)
-        fly_batch(pack_params(group.params(mass, radius)),
-                  np.ascontiguousarray(start[:, idx]), np.ascontiguousarray(velocity[:, idx]),
-                  np.ascontiguousarray(spin[:, idx]), o, s)
-        out[:, idx] = o
-        status[idx] = s
-    return {name: out[i] for i, name in enumerate(FLIGHT_FIELDS)}, status
+    return velocity, spin, start

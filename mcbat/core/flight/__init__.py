@@ -12,9 +12,13 @@ from mcbat.core.flight.trajectory import (
     allocate_flight_outputs,
     fly,
     fly_batch,
+    fly_batch_each,
+    height_at_distance,
+    height_at_distance_batch,
     pack_params,
 )
 
 __all__ = ["CONSTANT", "DEFAULT_TOLERANCE", "FLIGHT_FIELDS", "GRAVITY", "MODELS", "NATHAN",
            "SAWICKI2003", "Aero", "Flight", "FlightParams", "air_density",
-           "allocate_flight_outputs", "fly", "fly_batch", "pack_params"]
+           "allocate_flight_outputs", "fly", "fly_batch", "fly_batch_each",
+           "height_at_distance", "height_at_distance_batch", "pack_params"]

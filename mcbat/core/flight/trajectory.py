@@ -17,7 +17,8 @@ from mcbat.core.jit import njit
 
 __all__ = ["DEFAULT_TOLERANCE", "FLIGHT_FIELDS", "GRAVITY", "MAX_STEPS", "SHEET_STEP",
            "Flight", "FlightParams", "allocate_flight_outputs", "fly", "fly_batch",
-           "fly_sheet", "integrate", "pack_params", "rates"]
+           "fly_batch_each", "fly_sheet", "height_at_distance", "height_at_distance_batch",
+           "integrate", "pack_params", "rates"]
 
 #: Standard gravity (m/s^2), the calculator's 32.174 ft/s^2.
 GRAVITY = 9.80665
@@ -343,3 +344,96 @@ def fly_batch(params, start, velocity, spin, out, status):
 def allocate_flight_outputs(n):
     """``(out, status)`` for :func:`fly_batch`."""
     return np.empty((len(FLIGHT_FIELDS), n)), np.empty(n, np.int8)
+
+
+@njit(parallel=True)
+def fly_batch_each(params, start, velocity, spin, out, status):
+    """:func:`fly_batch` with every ball's own parameters: ``params`` is
+    ``float64[14, n]``, column ``i`` the :func:`pack_params` of ball ``i`` (its own air
+    density, wind, drag and lift scales, landing height)."""
+    for i in numba.prange(start.shape[1]):
+        p = _unpack(params[:, i])
+        f = fly(p, (start[0, i], start[1, i], start[2, i]),
+                (velocity[0, i], velocity[1, i], velocity[2, i]),
+                (spin[0, i], spin[1, i], spin[2, i]))
+        status[i] = f.status
+        out[0, i] = f.distance
+        out[1, i] = f.landing_x
+        out[2, i] = f.landing_y
+        out[3, i] = f.hang_time
+        out[4, i] = f.apex
+        out[5, i] = f.steps
+
+
+@njit
+def _radius_crossing(h, x, v, a, x1, v1, a1, distance):
+    """Fraction ``s`` of a step where the horizontal distance from home plate rises
+    through ``distance`` (bisection on the step's interpolant; the distance grows
+    monotonically inside a step of a batted ball)."""
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        s = 0.5 * (lo + hi)
+        px = _hermite(s, h, x[0], v[0], a[0], x1[0], v1[0], a1[0])[0]
+        py = _hermite(s, h, x[1], v[1], a[1], x1[1], v1[1], a1[1])[0]
+        if px * px + py * py < distance * distance:
+            lo = s
+        else:
+            hi = s
+        if hi - lo <= 1e-13:
+            break
+    return 0.5 * (lo + hi)
+
+
+@njit
+def height_at_distance(p, x, v, w, distance, max_steps=MAX_STEPS):
+    """Height (m) and spray angle (rad, ``atan2(x, y)``) of the ball where its horizontal
+    distance from home plate first reaches ``distance`` (m): where it meets a fence
+    standing there. NaN, NaN when it comes down (``z = 0``) before; the flight's
+    parameters as :func:`fly` (the landing height is not used)."""
+    spin = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    axis = (w[0] / spin, w[1] / spin, w[2] / spin) if spin > 0.0 else (0.0, 0.0, 0.0)
+    ok = math.isfinite(distance) and distance > 0.0
+    for i in range(3):
+        ok = ok and math.isfinite(x[i]) and math.isfinite(v[i]) and math.isfinite(w[i])
+    if not (ok and x[2] >= 0.0) or p.tolerance == 0.0:
+        return math.nan, math.nan
+    if x[0] * x[0] + x[1] * x[1] >= distance * distance:
+        return x[2], math.atan2(x[0], x[1])
+    t = 0.0
+    a = rates(p, axis, spin, t, v)
+    h = 0.2 * (p.tolerance / 1e-7) ** 0.2
+    steps = 0
+    while steps < max_steps:
+        x1, v1, a1, ratio = _dp_step(p, axis, spin, t, x, v, a, h)
+        steps += 1
+        if not ratio <= 1.0:
+            h *= max(0.2, 0.9 * ratio ** -0.2) if math.isfinite(ratio) else 0.2
+            continue
+        if x1[0] * x1[0] + x1[1] * x1[1] >= distance * distance:
+            s = _radius_crossing(h, x, v, a, x1, v1, a1, distance)
+            z = _hermite(s, h, x[2], v[2], a[2], x1[2], v1[2], a1[2])[0]
+            px = _hermite(s, h, x[0], v[0], a[0], x1[0], v1[0], a1[0])[0]
+            py = _hermite(s, h, x[1], v[1], a[1], x1[1], v1[1], a1[1])[0]
+            if z < 0.0:
+                return math.nan, math.nan
+            return z, math.atan2(px, py)
+        if x1[2] < 0.0:
+            return math.nan, math.nan
+        t += h
+        x, v, a = x1, v1, a1
+        h *= min(5.0, 0.9 * ratio ** -0.2) if ratio > 0.0 else 5.0
+    return math.nan, math.nan
+
+
+@njit(parallel=True)
+def height_at_distance_batch(params, start, velocity, spin, distance, out):
+    """:func:`height_at_distance` of ``start.shape[1]`` balls, each with its own
+    parameters (``float64[14, n]`` as :func:`fly_batch_each`) and distance (m);
+    ``out`` (``float64[2, n]``) receives the height (m) and the spray angle (rad)."""
+    for i in numba.prange(start.shape[1]):
+        p = _unpack(params[:, i])
+        z, phi = height_at_distance(p, (start[0, i], start[1, i], start[2, i]),
+                                    (velocity[0, i], velocity[1, i], velocity[2, i]),
+                                    (spin[0, i], spin[1, i], spin[2, i]), distance[i])
+        out[0, i] = z
+        out[1, i] = phi
