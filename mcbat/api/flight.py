@@ -26,7 +26,7 @@ import numpy as np
 
 from mcbat.api.contract import FT, check_object, fixed_value, flight_result_to_dict, located
 from mcbat.api.game import GameResult
-from mcbat.bodies import BALL_PRESETS, Ball
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight import fly as flight_kernel
 from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.errors import InputError
@@ -84,7 +84,7 @@ class FlightCase:
     backspin: float = 0.0
     sidespin: float = 0.0
     gyrospin: float = 0.0
-    ball: Ball = BALL_PRESETS["baseball"]
+    ball: Ball = BALL_PRESETS[DEFAULT_BALL]
     settings: FlightSettings = FlightSettings()
 
     def __post_init__(self):
@@ -257,7 +257,7 @@ def flight_case_from_dict(data) -> FlightCase:
                              "there (or give 'ball')")
         ball = located("bat_frame_case", parse_ball, case["ball"])
     else:
-        ball = BALL_PRESETS["baseball"]
+        ball = BALL_PRESETS[DEFAULT_BALL]
     settings = parse_flight({k: v for k, v in data.items() if k in FLIGHT_KEYS}, field="")
     return FlightCase(ball=ball, settings=settings, **launch)
 

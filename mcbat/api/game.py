@@ -37,7 +37,7 @@ from mcbat.api.contract import (
     located,
 )
 from mcbat.api.impact import Contact, ImpactCase, ImpactResult, SolverSettings, Vector
-from mcbat.bodies import BALL_PRESETS, Ball, Bat
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball, Bat
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.core import status as st
@@ -350,7 +350,7 @@ def game_case_from_dict(data) -> GameCase:
     ``{"value": ..., "unit": ...}``; errors name the JSON keys (``pitch.speed``)."""
     allowed = {"handedness", "ball", "bat", "pitch", "swing", "contact", "mu", "restitution"}
     check_object(data, "", allowed, ("bat", "pitch", "swing", "mu"))
-    ball = (BALL_PRESETS["baseball"] if "ball" not in data
+    ball = (BALL_PRESETS[DEFAULT_BALL] if "ball" not in data
             else located("ball", ball_from_dict, data["ball"]))
     bat = located("bat", bat_from_dict, data["bat"], game=True)
     values = {}

@@ -21,7 +21,7 @@ import dataclasses
 
 import numpy as np
 
-from mcbat.bodies import BALL_PRESETS
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.errors import InputError
 from mcbat.stats.models import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
@@ -52,8 +52,8 @@ class FlightFitSetup:
     for :class:`mcbat.stats.likelihood.Likelihood`."""
 
     settings: FlightSettings = FlightSettings()
-    mass: float = BALL_PRESETS["baseball"].mass
-    radius: float = BALL_PRESETS["baseball"].radius
+    mass: float = BALL_PRESETS[DEFAULT_BALL].mass
+    radius: float = BALL_PRESETS[DEFAULT_BALL].radius
     name: str = "flight"
     kind: str = "flight"
     inputs: dict = dataclasses.field(default_factory=dict)

@@ -103,4 +103,4 @@ def test_a_flight_case_takes_a_ball_and_flight_settings():
     with pytest.raises(InputError) as info:
         FlightCase(launch_speed=40.0, launch_angle=0.4, ball="baseball")
     assert info.value.field == "ball"
-    assert FlightCase(launch_speed=40.0, launch_angle=0.4).ball == BALL_PRESETS["baseball"]
+    assert FlightCase(launch_speed=40.0, launch_angle=0.4).ball == BALL_PRESETS["regulation"]

@@ -20,7 +20,7 @@ JSON_CASE = {"bat": {"preset": "r161"}, "mu": 0.5,
 
 
 def _case(**kw):
-    return GameCase(ball=BALL_PRESETS["baseball"], bat=bat_preset("r161"), **{**SI, **kw})
+    return GameCase(ball=BALL_PRESETS["regulation"], bat=bat_preset("r161"), **{**SI, **kw})
 
 
 def test_front_door_solves_a_game_as_object_dict_and_file(tmp_path):
