@@ -1,14 +1,10 @@
-"""Where a game was played: Statcast's ``home_team`` and season -> the park and its elevation.
+"""Where a game was played: Statcast's ``home_team`` and date -> the park, its elevation,
+orientation, roof and outfield fence.
 
-The table is ``data/mlb_parks.csv`` (provenance in ``data/README.md``): one row per park a
-team called home over a span of seasons, with Savant's team code, the park's name, its
-elevation in ft and the source of that number. Seasons in which a team played its home
-games in more than one park (Toronto 2021) or where no sourced elevation is at hand have
-no elevation: the reader gives NaN and counts those rows, it never guesses.
-
-A Savant export names the home team, not the venue, so games a team hosted away from its
-park (neutral-site series abroad, special events) get the home park's elevation; the
-export carries no venue column to tell them apart.
+The tables are ``data/mlb_parks.csv`` and ``data/park_fences.csv`` (provenance in
+``data/README.md``). A park row covers one ``home_team`` over a date span; short
+neutral-site rows (``kind`` ``neutral``) win over the home park on their dates, then
+``temporary`` rows, then ``home`` rows.
 """
 
 from __future__ import annotations
@@ -20,52 +16,207 @@ from importlib import resources
 
 import numpy as np
 
-__all__ = ["PARKS_FILE", "elevation", "parks"]
+from mcbat.errors import InputError
+
+__all__ = ["FENCES_FILE", "PARKS_FILE", "elevation", "fence", "fences", "park_of", "parks"]
 
 PARKS_FILE = "mlb_parks.csv"
 """The park table inside the resource package ``mcbat.data``."""
+FENCES_FILE = "park_fences.csv"
+"""The fence table inside the resource package ``mcbat.data``."""
+
+_PRIORITY = {"neutral": 0, "temporary": 1, "home": 2}
+_NO_END = np.datetime64("9999-12-31")
+
+
+def _read(name):
+    text = resources.files("mcbat.data").joinpath(name).read_text(encoding="utf-8")
+    return list(csv.DictReader(line for line in text.splitlines()
+                               if line.strip() and not line.startswith("#")))
+
+
+def _float(cell):
+    return float(cell) if cell.strip() else math.nan
 
 
 @functools.cache
 def parks() -> tuple[dict, ...]:
-    """The park table as dicts (``home_team``, ``park``, ``first_season``,
-    ``last_season``, ``elevation_ft``, ``source``), cached."""
-    text = resources.files("mcbat.data").joinpath(PARKS_FILE).read_text(encoding="utf-8")
+    """The park table as dicts, cached.
+
+    Keys: ``park_id``, ``home_team``, ``park``, ``first_date`` and ``last_date``
+    (``numpy.datetime64[D]``; an open span ends 9999-12-31), ``kind``, ``roof``,
+    ``elevation_ft`` (ft), ``bearing_deg`` (deg from north, home plate to centre field;
+    NaN where unsourced), ``latitude``, ``longitude`` (deg, NaN where unsourced), the
+    ``*_source`` cells, and for older callers ``first_season``, ``last_season`` and
+    ``source`` (the elevation's source).
+    """
     rows = []
-    for row in csv.DictReader(line for line in text.splitlines()
-                              if line.strip() and not line.startswith("#")):
+    for row in _read(PARKS_FILE):
+        first = np.datetime64(row["first_date"].strip(), "D")
+        last = (np.datetime64(row["last_date"].strip(), "D") if row["last_date"].strip()
+                else _NO_END)
         rows.append({
-            "home_team": row["home_team"].strip(),
-            "park": row["park"].strip(),
-            "first_season": int(row["first_season"]),
-            "last_season": int(row["last_season"]) if row["last_season"].strip() else 9999,
-            "elevation_ft": (float(row["elevation_ft"]) if row["elevation_ft"].strip()
-                             else math.nan),
-            "source": row["source"].strip(),
+            "park_id": row["park_id"].strip(), "home_team": row["home_team"].strip(),
+            "park": row["park"].strip(), "first_date": first, "last_date": last,
+            "kind": row["kind"].strip(), "roof": row["roof"].strip(),
+            "elevation_ft": _float(row["elevation_ft"]),
+            "elevation_source": row["elevation_source"].strip(),
+            "bearing_deg": _float(row["bearing_deg"]),
+            "bearing_source": row["bearing_source"].strip(),
+            "latitude": _float(row["latitude"]), "longitude": _float(row["longitude"]),
+            "coord_source": row["coord_source"].strip(),
+            "first_season": int(str(first)[:4]),
+            "last_season": 9999 if last == _NO_END else int(str(last)[:4]),
+            "source": row["elevation_source"].strip(),
         })
+    # neutral rows first so that they win
+    rows.sort(key=lambda p: _PRIORITY[p["kind"]])
     return tuple(rows)
 
 
-def elevation(home_team, game_year):
-    """Elevation (ft) of the home park of each row; NaN where the team and season are not
-    in the table or the table has no elevation for them.
+@functools.cache
+def _park_info() -> dict:
+    return {p["park_id"]: p for p in parks()}
+
+
+def _dates(game_date):
+    values = np.asarray(game_date)
+    if values.dtype.kind == "M":
+        return values.astype("datetime64[D]")
+    out = np.full(values.shape, np.datetime64("NaT"), dtype="datetime64[D]")
+    for i, v in np.ndenumerate(values):
+        try:
+            out[i] = np.datetime64(str(v)[:10], "D")
+        except ValueError:
+            pass
+    return out
+
+
+def park_of(home_team, game_date):
+    """The park (``park_id``) of each row: the row of ``data/mlb_parks.csv`` whose team and
+    date span hold the game; neutral-site rows win over temporary rows over home parks.
 
     Parameters
     ----------
     home_team : array_like of str
-        Savant's ``home_team`` codes.
-    game_year : array_like of float
-        Seasons (NaN allowed).
+        Statcast ``home_team`` codes.
+    game_date : array_like of datetime64 or str
+        Game dates (``YYYY-MM-DD``); NaT or unparsable dates give no park.
+
+    Returns
+    -------
+    ndarray of object
+        ``park_id`` per row; None where the team or date is not in the table.
+    """
+    teams = np.asarray(home_team, dtype=object)
+    dates = _dates(game_date)
+    out = np.full(teams.shape, None, dtype=object)
+    for park in reversed(parks()):  # lowest priority first, overwritten by higher
+        rows = ((teams == park["home_team"]) & (dates >= park["first_date"])
+                & (dates <= park["last_date"]))
+        out[rows] = park["park_id"]
+    return out
+
+
+def park_value(park_ids, key):
+    """One column of the park table (``elevation_ft``, ``roof``, ``bearing_deg``, ...) for
+    each ``park_id`` (None gives NaN or None)."""
+    info = _park_info()
+    ids = np.asarray(park_ids, dtype=object)
+    numeric = key in ("elevation_ft", "bearing_deg", "latitude", "longitude")
+    out = np.full(ids.shape, np.nan if numeric else None, dtype=float if numeric else object)
+    for i, pid in np.ndenumerate(ids):
+        if pid in info:
+            out[i] = info[pid][key]
+    return out
+
+
+def elevation(home_team, game_year=None, game_date=None):
+    """Elevation (ft) of the park of each row; NaN where the team and date are not in the
+    table.
+
+    Parameters
+    ----------
+    home_team : array_like of str
+        Statcast ``home_team`` codes.
+    game_year : array_like of float, optional
+        Seasons (NaN allowed); used when ``game_date`` is not given, with the park in use
+        on 1 July of that season.
+    game_date : array_like of datetime64 or str, optional
+        Game dates; when given, each row's elevation is its date's park.
 
     Returns
     -------
     ndarray of float
     """
-    teams = np.asarray(home_team, dtype=object)
-    years = np.asarray(game_year, dtype=float)
-    out = np.full(teams.shape, np.nan)
-    for park in parks():
-        rows = ((teams == park["home_team"]) & (years >= park["first_season"])
-                & (years <= park["last_season"]))
-        out[rows] = park["elevation_ft"]
-    return out
+    if game_date is None:
+        years = np.asarray(game_year, dtype=float)
+        game_date = np.array([f"{int(y):04d}-07-01" if np.isfinite(y) else "NaT"
+                              for y in years.ravel()]).reshape(years.shape)
+    return park_value(park_of(home_team, game_date), "elevation_ft")
+
+
+@functools.cache
+def fences() -> dict:
+    """The fence table: ``{park_id: (spray_angle_deg, distance_ft, height_ft)}`` arrays
+    sorted by spray angle (NaN where a cell is empty)."""
+    table: dict = {}
+    for row in _read(FENCES_FILE):
+        table.setdefault(row["park_id"].strip(), []).append(
+            (float(row["spray_angle_deg"]), _float(row["distance_ft"]),
+             _float(row["height_ft"])))
+    return {k: tuple(np.array(c) for c in zip(*sorted(v))) for k, v in table.items()}
+
+
+def fence(park, spray_angle_deg):
+    """Outfield fence distance and height along a spray angle.
+
+    Distance is interpolated linearly in spray angle between the table's points and held
+    constant beyond the outermost ones; height is piecewise constant, the height of the
+    nearest point that has one (walls change height in steps). Spray angle as Statcast:
+    ``atan2(x, y)`` with x towards first base, y towards centre field, so the LF line is
+    -45 deg and the RF line +45 deg.
+
+    Parameters
+    ----------
+    park : str or array_like of str
+        ``park_id`` (one, or one per angle), e.g. from :func:`park_of`.
+    spray_angle_deg : float or array_like
+        Spray angles (deg).
+
+    Returns
+    -------
+    distance_ft, height_ft : ndarray of float
+        NaN for an unknown park or NaN angle; height NaN where the park has no sourced
+        height.
+
+    Raises
+    ------
+    InputError
+        When a single ``park`` is not in the fence table.
+    """
+    angles = np.asarray(spray_angle_deg, dtype=float)
+    table = fences()
+    ids = np.asarray(park, dtype=object)
+    if ids.ndim == 0:
+        if ids.item() not in table:
+            raise InputError("park", f"no fence for park {ids.item()!r}; known: "
+                             + ", ".join(sorted(table)))
+        ids = np.full(angles.shape, ids.item(), dtype=object)
+    ids, angles = np.broadcast_arrays(ids, angles)
+    dist = np.full(angles.shape, np.nan)
+    height = np.full(angles.shape, np.nan)
+    for pid in set(ids.ravel()) & set(table):
+        a, d, h = table[pid]
+        rows = ids == pid
+        x = angles[rows]
+        ok = ~np.isnan(d)
+        dist[rows] = np.interp(x, a[ok], d[ok])
+        has = ~np.isnan(h)
+        if has.any():
+            ah, hh = a[has], h[has]
+            nearest = np.abs(x[:, None] - ah[None, :]).argmin(axis=1)
+            height[rows] = hh[nearest]
+        dist[rows] = np.where(np.isnan(x), np.nan, dist[rows])
+        height[rows] = np.where(np.isnan(x), np.nan, height[rows])
+    return dist, height

@@ -21,8 +21,8 @@ Savant's ``null`` marker, empty cells         NaN (not counted: that is how Sava
 an optional column the season lacks           a column of NaN, listed in
 (``spin_axis`` before 2020, bat tracking       ``attrs["statcast"]["missing_columns"]``
 before 2024, ...)
-a ``home_team`` the park table does not know  NaN elevation, counted in
-(or a park without a sourced elevation)       ``attrs["statcast"]["elevation_missing"]``
+a ``home_team`` (or date) the park table does  NaN elevation, counted in
+not know                                      ``attrs["statcast"]["elevation_missing"]``
 a column named twice (Savant writes           the first one is used (the copies hold the
 ``pitcher`` and ``fielder_2`` twice)          same values in Savant's exports)
 ============================================  =============================================
@@ -253,7 +253,9 @@ def _tidy(raw, label, lines, duplicates):
 
     speed, vertical, horizontal = kinematics.plate_crossing(
         num["vx0"], num["vy0"], num["vz0"], num["ax"], num["ay"], num["az"])
-    elevation = parks.elevation(text["home_team"], num["game_year"])
+    game_date = _dates(raw["game_date"])
+    elevation = parks.elevation(text["home_team"], num["game_year"],
+                                game_date=np.asarray(game_date, dtype="datetime64[D]"))
     known = {p["home_team"] for p in parks.parks()}
     for team, value in zip(text["home_team"], elevation):
         key = team if isinstance(team, str) else "(missing)"
@@ -264,7 +266,7 @@ def _tidy(raw, label, lines, duplicates):
 
     columns = {
         **{c: _integers(num[c]) for c in _IDENTIFIERS},
-        "game_date": _dates(raw["game_date"]),
+        "game_date": game_date,
         "game_year": num["game_year"],
         "home_team": text["home_team"],
         "elevation": elevation,
