@@ -29,7 +29,7 @@ from mcbat.study.pitches import PitchTable
 __all__ = ["load_pitches", "read_pitch_table"]
 
 #: Columns read as text (the others as numbers).
-_TEXT = ("pitch_type", "p_throws", "handedness")
+_TEXT = ("pitch_type", "p_throws", "handedness", "bb_type")
 # The tidy table is told from a raw Savant export by its plate speed.
 _TIDY_MARK = "pitch_speed"
 

@@ -209,7 +209,9 @@ def fit_population(study, table, free, *, draws=None, bins=None,
                          f"(docs/flight.md); study {study.name!r} has none")
     keys, params, physics = parse_free(study, tuple(free))
     source = table.attrs.get("source")
-    data, dropped = population_table(table, observables, source)
+    real = getattr(study, "pitches", None)
+    data, dropped = population_table(table, observables, source,
+                                     swing=bool(real is not None and real.swing))
     rows = len(data)
     # about ROWS_PER_BIN rows per bin, but at least 5 bins an axis (3 with three
     # observables): 100 rows in 3 x 3 bins left 3 degrees of freedom for 5 parameters

@@ -8,7 +8,7 @@ import numpy as np
 from mcbat.errors import InputError
 
 __all__ = ["FLIGHT_OBSERVABLES", "MEASURED_NAMES", "OBSERVABLES", "PITCH_COLUMNS",
-           "REQUIRED_PITCH", "population_table", "write_pitches"]
+           "REQUIRED_PITCH", "SWING_COLUMNS", "population_table", "write_pitches"]
 
 OBSERVABLES = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
                "hit_distance": "ft"}
@@ -24,12 +24,17 @@ PITCH_COLUMNS = {"pitch.speed": "pitch_speed",
                  "pitch.horizontal_approach_angle": "horizontal_approach_angle",
                  "pitch.spin_rate": "spin_rate", "pitch.spin_axis": "spin_axis"}
 """Study key -> the table's measured pitch column (mcbat.statcast's tidy names)."""
+SWING_COLUMNS = {"swing.bat_speed": "bat_speed", "swing.attack_angle": "attack_angle",
+                 "swing.attack_direction": "attack_direction"}
+"""Study key -> the table's measured swing column (bat tracking), written for a study whose
+``[pitches]`` draws the swing too (``swing = true``)."""
 REQUIRED_PITCH = ("pitch_speed", "vertical_approach_angle", "horizontal_approach_angle")
 """A row without these is left out (counted): its template could not be conditioned."""
 _IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter")
 
 
-def population_table(df, observables=("launch_speed", "launch_angle"), source=None):
+def population_table(df, observables=("launch_speed", "launch_angle"), source=None,
+                     swing=False):
     """The rows of a tidy Statcast table (:func:`mcbat.statcast.read`) a population fit
     uses, and the counts of rows left out.
 
@@ -39,7 +44,9 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
     ``hit_distance_sc`` for ``hit_distance``); the rows returned hold it under the
     observable's name. A row without a measured distance is left out (``no_hit_distance``)
     when ``hit_distance`` is an observable: in Statcast such a ball went untracked, and its
-    launch speed and angle are then not measured either (docs/population.md).
+    launch speed and angle are then not measured either (docs/population.md). With
+    ``swing`` (a study that draws the measured swing, ``[pitches] swing = true``) a row
+    needs a measured ``bat_speed`` too (``no_bat_speed``).
 
     Raises
     ------
@@ -74,6 +81,14 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
         good = np.isfinite(df[name].to_numpy(float))
         dropped[f"no_{name}"] = int(np.sum(ok & ~good))
         ok &= good
+    if swing:
+        if "bat_speed" not in df.columns:
+            raise InputError("bat_speed", "missing column (the measured swing of a study "
+                             "with [pitches] swing = true; bat tracking starts in 2024)",
+                             source)
+        good = np.isfinite(df["bat_speed"].to_numpy(float))
+        dropped["no_bat_speed"] = int(np.sum(ok & ~good))
+        ok &= good
     good = df["handedness"].isin(["R", "L"]).to_numpy()
     dropped["no_handedness"] = int(np.sum(ok & ~good))
     ok &= good
@@ -86,10 +101,12 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
 
 
 def write_pitches(table, path):
-    """The table's pitches as a tidy CSV a study's ``[pitches]`` reads."""
-    out = table[[c for c in (*PITCH_COLUMNS.values(), "handedness") if c in table.columns]]
+    """The table's pitches (and measured swings, NaN where a row has none) as a tidy CSV a
+    study's ``[pitches]`` reads."""
+    names = (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values(), "handedness")
+    out = table[[c for c in names if c in table.columns]]
     out = out.copy()
-    for name in PITCH_COLUMNS.values():
+    for name in (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values()):
         if name not in out.columns:
             out[name] = np.nan
     for k, name in enumerate(_IDENTIFIERS):

@@ -26,6 +26,7 @@ from mcbat.stats.population_table import (
     MEASURED_NAMES,
     OBSERVABLES,
     PITCH_COLUMNS,
+    SWING_COLUMNS,
     write_pitches,
 )
 from mcbat.stats.simulate import solve_game_inputs
@@ -102,6 +103,7 @@ def _conditioned_definition(study, pitches, flight=False):
     """The study's definition with its pitches drawn from ``pitches`` (the table's rows),
     each row's batter side, no summary, and its flight only with ``flight``."""
     data = study.definition()
+    own = data.get("pitches", {})
     for section in ("summary", "output", "pitches", *(() if flight else ("flight",))):
         data.pop(section, None)
     data.pop("handedness", None)  # each pitch meets the batter who saw it
@@ -111,11 +113,20 @@ def _conditioned_definition(study, pitches, flight=False):
         name = key.split(".", 1)[1]
         if name in pitch:
             fallback[name] = pitch.pop(name)
-        else:  # the game's default, for rows that lack the value
+        elif own.get("fallback", {}).get(name) is not None:  # the study's own fallback
+            fallback[name] = own["fallback"][name]
+        elif KEYS["pitch"][name][1] is not None:  # the game's default, for rows without
             default, quantity = KEYS["pitch"][name][1], KEYS["pitch"][name][0]
             fallback[name] = {"value": default, "unit": u.SI_UNITS[quantity]}
+        # (no default: the speed and approach angles, which every row used has)
     data["pitch"] = pitch
     data["pitches"] = {"file": str(pitches), "fallback": fallback}
+    if own.get("swing"):  # the measured swings too, with their errors and fallbacks
+        data["pitches"]["swing"] = True
+        fallback.update({k: v for k, v in own.get("fallback", {}).items()
+                         if f"swing.{k}" in SWING_COLUMNS})
+        if own.get("swing_error"):
+            data["pitches"]["swing_error"] = own["swing_error"]
     if "restitution" not in data:  # the game preset, written out so e and e_x can be set
         r = GAME_RESTITUTION
         data["restitution"] = {"e_ref": r.e_ref, "e_slope": r.e_slope,

@@ -45,10 +45,19 @@ from mcbat.checks import check_keys, check_string
 from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError
 from mcbat.study import units as u
+from mcbat.study.dist_types import Normal
 from mcbat.study.distributions import check_range, parse
 from mcbat.study.flight import parse_flight
 from mcbat.study.impact import Study
-from mcbat.study.pitches import IDENTIFIERS, PitchRows, PitchTable, parse_pitches, select_rows
+from mcbat.study.pitches import (
+    IDENTIFIERS,
+    SWING_ERROR_STREAM,
+    PitchRows,
+    PitchTable,
+    parse_pitches,
+    select_rows,
+)
+from mcbat.study.random_program import compile_program, draw
 from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
@@ -270,8 +279,41 @@ class GameStudy(Study):
                 np.copyto(column, values, where=np.isfinite(values))
             else:
                 column[:] = values
+            if self.pitches.swing_error.get(key, 0.0) > 0.0:
+                self._true_swing(key, rows.values[k], column, start, n, seed)
         if rows.handedness is not None:
             cols["handedness"][:] = rows.handedness[j]
+
+    def _true_swing(self, key, measured, column, start, n, seed) -> None:
+        """Replace the measured values of swing key ``key`` in ``column`` by draws of the
+        true values given them (:mod:`mcbat.study.pitches`, "Swing measurement error"):
+        ``m + k (x - m) + sqrt(k) s z``, ``m`` and ``v`` the mean and variance of the
+        selected rows' measured values (``measured``, SI), ``k = max(0, 1 - s^2/v)``."""
+        s = self.pitches.swing_error[key]
+        finite = measured[np.isfinite(measured)]
+        m = float(finite.mean()) if finite.size else 0.0
+        v = float(finite.var()) if finite.size > 1 else 0.0
+        k = max(0.0, 1.0 - s * s / v) if v > 0.0 else 0.0
+        name = f"{SWING_ERROR_STREAM}.{key.split('.', 1)[1]}"
+        z = np.empty((1, n))
+        draw(compile_program([(name, Normal(name, u.DIMENSIONLESS, None, mean=0.0, std=1.0,
+                                            raw={"mean": 0, "std": 1}))], {name: 0}),
+             seed, start, z)
+        true = m + k * (column - m) + math.sqrt(k) * s * z[0]
+        if key == "swing.bat_speed":
+            true = np.maximum(true, 0.0)
+        elif key == "swing.attack_angle":
+            limit = 0.5 * math.pi - 1e-6
+            vertical = self.inputs.get("swing.vertical_bat_angle")
+            if vertical is not None:
+                low, high = vertical.support()
+                largest = max(abs(low), abs(high))
+                if largest > 0.0:
+                    limit = min(limit, math.atan((1.0 - 1e-6) / math.tan(largest)))
+            true = np.clip(true, -limit, limit)
+        else:
+            true = np.clip(true, -0.5 * math.pi + 1e-6, 0.5 * math.pi - 1e-6)
+        column[:] = true
 
     def _check_ranges(self):
         inp, bat = self.inputs, self.bat

@@ -7,11 +7,14 @@ A game study with a ``[pitches]`` section resamples real pitches with replacemen
                                                # table (.parquet or .csv) or a Savant CSV
     pitch_type = ["FF", "SI"]                  # filters, each one value or a list:
     p_throws = "R"                             #   pitch_type, p_throws, pitcher, batter,
-    game_year = 2024                           #   game_year
+    game_year = 2024                           #   game_year, bb_type (balls in play:
+                                               #   ground_ball, line_drive, fly_ball, popup)
     swing = true                               # also bat_speed, attack_angle and
                                                # attack_direction from the rows (default false)
     [pitches.fallback]                         # for rows that lack a value: a number or a
     spin_axis = { dist = "uniform", low = 180, high = 240, unit = "deg" }  # distribution
+    [pitches.swing_error]                      # with swing = true: the measurement error
+    attack_angle = { value = 4, unit = "deg" } # (sd) of a drawn swing key (below)
 
 The drawn keys are :data:`PITCH_KEYS` (and :data:`SWING_KEYS` with ``swing = true``);
 ``[pitch]`` and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat
@@ -20,6 +23,16 @@ older exports have no spin axis, bat tracking starts in 2024, a pitch not swung 
 fallback when ``[pitches.fallback]`` has one; otherwise it is left out of the draw and
 counted. Rows with values outside the physical ranges the study keys are checked against
 are left out and counted too.
+
+**Swing measurement error** (``[pitches.swing_error]``, with ``swing = true``): a drawn
+swing key ``x`` measured with a Gaussian error of sd ``s`` (classical errors: the measured
+value is the true one plus the error) is replaced by a draw of the true value given the
+measured one, with the selected rows' mean ``m`` and variance ``v`` of the measured values
+as the population's: ``true = m + k (x - m) + sqrt(k) s z``, ``k = max(0, 1 - s^2 / v)``
+(``z`` a standard normal of stream ``"pitches.swing_error.<key>"``). A regression of an
+output on the measured value is then flattened by ``k``, as the data's are; ``s = 0``
+leaves the measured values as they are. Attack angles are kept within the range the vertical
+bat angle allows, bat speeds at or above 0.
 
 This module knows only plain numpy columns: reading the file (pandas, pyarrow, the Savant
 reader) is the runner's (:mod:`mcbat.runner.pitches`), which hands a :class:`PitchTable` to
@@ -49,8 +62,8 @@ from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import compile_program, draw
 
 __all__ = ["FILTERS", "IDENTIFIERS", "PITCH_KEYS", "PITCH_SOURCE_COLUMNS", "ROW_STREAM",
-           "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource", "PitchTable",
-           "parse_pitches"]
+           "SWING_ERROR_STREAM", "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource",
+           "PitchTable", "parse_pitches"]
 
 #: Study keys of ``[pitch]`` drawn from the rows -> the tidy table's column.
 PITCH_KEYS = {"speed": "pitch_speed",
@@ -70,11 +83,15 @@ IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter")
 #: The dataset columns that trace a row to its real pitch: the row of the file (from 0,
 #: in the file's order, before any filter) and the pitch's identifiers.
 PITCH_SOURCE_COLUMNS = ("source_row", *IDENTIFIERS)
-#: Filters: key -> the type of its values.
+#: Filters: key -> the type of its values (``bb_type``: Statcast's batted-ball type, which
+#: only balls in play have).
 FILTERS = {"pitch_type": str, "p_throws": str, "pitcher": int, "batter": int,
-           "game_year": int}
+           "game_year": int, "bb_type": str}
 #: The Philox stream of the row draw (as an input named so; no study key has the name).
 ROW_STREAM = "pitches.row"
+
+#: The Philox stream prefix of the swing measurement errors' draws (+ ".<key>").
+SWING_ERROR_STREAM = "pitches.swing_error"
 
 _HAND = {"R": 1.0, "L": -1.0}
 _RIGHT_ANGLE = math.pi / 2.0
@@ -102,6 +119,9 @@ class PitchSource:
         Draw :data:`SWING_KEYS` from the rows too.
     fallback : mapping
         Study input name (``"pitch.spin_axis"``) -> its fallback distribution.
+    swing_error : mapping
+        Study input name (``"swing.attack_angle"``) -> the sd of its measurement error
+        (SI: m/s or rad); empty without ``[pitches.swing_error]``.
     """
 
     file: str
@@ -109,6 +129,7 @@ class PitchSource:
     filters: MappingProxyType
     swing: bool
     fallback: MappingProxyType
+    swing_error: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def keys(self) -> dict:
@@ -128,7 +149,7 @@ class PitchSource:
 
 def parse_pitches(table, source) -> PitchSource:
     """Validate a ``[pitches]`` section; ``source`` is the study file (or None)."""
-    check_keys(table, "pitches", ("file",), (*FILTERS, "swing", "fallback"))
+    check_keys(table, "pitches", ("file",), (*FILTERS, "swing", "fallback", "swing_error"))
     file = table["file"]
     if not isinstance(file, str) or not file.strip():
         raise InputError("pitches.file", f"must be a file name (a string), got {file!r}")
@@ -160,7 +181,28 @@ def parse_pitches(table, source) -> PitchSource:
         quantity = TABLE_UNITS[{**PITCH_KEYS, **SWING_KEYS}[key]][0]
         fallback[_study_key(key)] = parse(spec, f"pitches.fallback.{key}", quantity)
     return PitchSource(file, path, MappingProxyType(filters), swing,
-                       MappingProxyType(fallback))
+                       MappingProxyType(fallback), _parse_swing_error(table, swing))
+
+
+def _parse_swing_error(table, swing) -> MappingProxyType:
+    """``[pitches.swing_error]``: drawn swing key -> the sd of its measurement error (SI)."""
+    errors = table.get("swing_error", {})
+    if not isinstance(errors, dict):
+        raise InputError("pitches.swing_error", f"must be a table ([pitches.swing_error]), "
+                         f"got {errors!r}")
+    if errors and not swing:
+        raise InputError("pitches.swing_error", "only with pitches.swing = true (the errors "
+                         "of the measured swings drawn from the rows)")
+    check_keys(errors, "pitches.swing_error", (), tuple(SWING_KEYS))
+    out = {}
+    for key, spec in errors.items():
+        name = f"pitches.swing_error.{key}"
+        dist = parse(spec, name, TABLE_UNITS[SWING_KEYS[key]][0])
+        if dist.family != "fixed" or not (math.isfinite(dist.value) and dist.value >= 0.0):
+            raise InputError(name, f"must be a fixed value >= 0 (the sd of the measurement "
+                             f"error, e.g. {{ value = 4, unit = \"deg\" }}), got {spec!r}")
+        out[f"swing.{key}"] = float(dist.value)
+    return MappingProxyType(out)
 
 
 def _filter_values(value, name, kind) -> tuple:
@@ -244,6 +286,7 @@ class PitchRows:
                 "filters": {k: list(v) for k, v in source.filters.items()},
                 "swing": source.swing, "keys": list(self.keys),
                 "fallback": sorted(source.fallback),
+                **({"swing_error": dict(source.swing_error)} if source.swing_error else {}),
                 "handedness": "rows" if self.handedness is not None else "study",
                 "draw": f"row = floor(u M), u the Philox uniform of stream {ROW_STREAM!r}",
                 **self.summary}
