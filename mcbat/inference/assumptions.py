@@ -99,7 +99,15 @@ class InferenceOptions:
     (``steps``, ``impact_tolerance``, ``max_steps``: as :class:`mcbat.api.SolverSettings`);
     the unknowns' bounds: bat speed (mph), attack direction (deg), contact position (m
     from the barrel end), and the contact azimuth ``|theta|`` (deg; the undercut is
-    ``reach sin(theta)``)."""
+    ``reach sin(theta)``).
+
+    Measured swings: ``bat_speed_floor`` (mph): a measured bat speed below it is no full
+    swing (a bunt, a check swing) and the row gets ``unusable_swing``;
+    ``bat_speed_error`` (mph): how far the bat speed may be moved from the measured one
+    when no contact position along the bat gives the ball at the measured speed (the
+    nearest bat speed that does is taken, and the move reported as
+    ``bat_speed_adjustment``); beyond it the ball is ``bat_speed_inconsistent``. 0: the
+    measured bat speed is taken as exact (``docs/spin_inference.md``)."""
 
     max_iterations: int = 30
     tolerance: float = 1e-9
@@ -108,8 +116,10 @@ class InferenceOptions:
     max_steps: int = DEFAULT_MAX_STEPS
     bat_speed_range: tuple[float, float] = (25.0, 110.0)
     attack_direction_max: float = 80.0
-    from_barrel_end_range: tuple[float, float] = (0.0, 0.4)
+    from_barrel_end_range: tuple[float, float] = (0.0, 0.55)
     contact_angle_max: float = 60.0
+    bat_speed_floor: float = 40.0
+    bat_speed_error: float = 5.0
 
     def __post_init__(self):
         check_tolerance(_real(self.impact_tolerance, "impact_tolerance"), "impact_tolerance")
@@ -130,6 +140,8 @@ class InferenceOptions:
             raise InputError("attack_direction_max", "must lie in (0, 90) deg")
         if not 0.0 < _real(self.contact_angle_max, "contact_angle_max") < 90.0:
             raise InputError("contact_angle_max", "must lie in (0, 90) deg")
+        _real(self.bat_speed_floor, "bat_speed_floor", minimum=0.0)
+        _real(self.bat_speed_error, "bat_speed_error", minimum=0.0)
 
     def kernel_settings(self, contact_side: str) -> InferenceSettings:
         """As the jitted kernel's named tuple (SI)."""

@@ -9,7 +9,8 @@ from mcbat.core.contact_inference import INFERENCE_STATUS_NAMES
 from mcbat.errors import InputError
 
 __all__ = ["INPUT_COLUMNS", "OPTIONAL_COLUMNS", "OUTPUT_UNITS", "RANGES", "STATUS_NAMES",
-           "check_range", "numeric_column", "read_column"]
+           "SWING_COLUMNS", "SWING_RANGES", "TEXT_COLUMNS", "bunt_rows", "check_range",
+           "numeric_column", "read_column", "unusable_swing_rows"]
 
 INPUT_COLUMNS = {
     "pitch_speed": "mph", "vertical_approach_angle": "deg",
@@ -26,18 +27,35 @@ OPTIONAL_COLUMNS = {"spin_axis": "deg", "bat_speed": "mph", "attack_angle": "deg
 backspin; NaN or absent: :attr:`SpinAssumptions.spin_axis`); ``bat_speed`` (where
 finite, used, and the contact position inferred instead); ``attack_angle`` (where
 finite, used instead of :attr:`SpinAssumptions.attack_angle`); ``attack_direction`` is
-accepted but not used: it is one of the unknowns that reproduce the spray angle
-(``docs/spin_inference.md``)."""
+not an input: it is one of the unknowns that reproduce the spray angle
+(``docs/spin_inference.md``), but a swing aimed 90 deg or more off the pitch's line (a
+bunt) makes the row's swing unusable."""
 
-STATUS_NAMES = (*INFERENCE_STATUS_NAMES.values(), "missing_input")
+SWING_COLUMNS = ("bat_speed", "attack_angle", "attack_direction")
+"""The optional columns of the measured swing (bat tracking). A value out of range
+never refuses the table: the row's swing is unusable (``unusable_swing``)."""
+
+TEXT_COLUMNS = ("description", "events", "des")
+"""Optional text columns (Savant's) read to tell a bunt: ``description`` (``foul_bunt``,
+``missed_bunt``, ``bunt_foul_tip``), ``events`` (``sac_bunt``,
+``sac_bunt_double_play``), ``des`` ("... bunt grounds out ...", "... on a bunt ground
+ball ...")."""
+
+STATUS_NAMES = (*INFERENCE_STATUS_NAMES.values(), "missing_input", "unusable_swing",
+                "bat_speed_inconsistent")
 """Values of the ``inference_status`` column: ``missing_input`` for a row with a NaN in
-a required column (with ``missing="flag"``)."""
+a required column (with ``missing="flag"``); ``unusable_swing`` for a row whose measured
+swing the model cannot use (a bunt, a bat speed below
+:attr:`InferenceOptions.bat_speed_floor`, a swing value out of range or partly missing);
+``bat_speed_inconsistent`` where no bat speed within
+:attr:`InferenceOptions.bat_speed_error` of the measured one gives the ball."""
 
 OUTPUT_UNITS = {
     "inference_status": "", "inferred": "", "backspin": "rpm", "sidespin": "rpm",
     "gyrospin": "rpm", "spin_rate": "rpm", "undercut": "m", "bat_speed": "mph",
     "from_barrel_end": "m", "attack_direction": "deg", "attack_angle": "deg",
-    "collision_efficiency": "1", "inference_iterations": "", "kernel_evaluations": "",
+    "collision_efficiency": "1", "bat_speed_adjustment": "mph", "inference_iterations": "",
+    "kernel_evaluations": "",
 }
 """Columns of :func:`infer_spin`'s result and their units."""
 
@@ -90,8 +108,65 @@ RANGES = {
     "launch_speed": (lambda v: v > 0.0, "must be > 0 mph"),
     "launch_angle": (lambda v: np.abs(v) < 90.0, "must lie within (-90, 90) deg"),
     "spray_angle": (lambda v: np.abs(v) <= 180.0, "must lie within [-180, 180] deg"),
-    "bat_speed": (lambda v: v > 0.0, "must be > 0 mph"),
-    "attack_angle": (lambda v: np.abs(v) < 90.0, "must lie within (-90, 90) deg"),
-    "attack_direction": (lambda v: np.abs(v) < 90.0, "must lie within (-90, 90) deg"),
     "spin_axis": (lambda v: np.abs(v) <= 360.0, "must lie within [-360, 360] deg"),
 }
+"""Ranges of the required columns and of ``spin_axis``: a value outside refuses the table
+(:class:`~mcbat.errors.InputError` naming the column and the row)."""
+
+SWING_RANGES = {
+    "bat_speed": lambda v: v > 0.0,
+    "attack_angle": lambda v: np.abs(v) < 90.0,
+    "attack_direction": lambda v: np.abs(v) < 90.0,
+}
+"""Ranges of :data:`SWING_COLUMNS`: a value outside makes the row's swing unusable."""
+
+
+def swing_column(table, name, n):
+    """An optional swing column as float64, NaN where absent or missing; infinite or
+    non-numeric cells become NaN and are returned as a mask of bad cells."""
+    values = read_column(table, name, n, required=False)
+    if values is None:
+        return np.full(n, np.nan), np.zeros(n, dtype=bool)
+    import pandas as pd
+
+    numbers = np.array(pd.to_numeric(pd.Series(values), errors="coerce")
+                       .to_numpy(dtype=float, na_value=np.nan))
+    given = ~pd.isna(pd.Series(values)).to_numpy()
+    bad = (given & np.isnan(numbers)) | np.isinf(numbers)
+    numbers[bad] = np.nan
+    return numbers, bad
+
+
+def bunt_rows(table, n):
+    """Rows Savant marks as bunts (:func:`mcbat.statcast.is_bunt` on the
+    :data:`TEXT_COLUMNS` present): boolean array."""
+    from mcbat.statcast.collision import is_bunt
+
+    text = {name: read_column(table, name, n, required=False) for name in TEXT_COLUMNS}
+    if all(v is None for v in text.values()):
+        return np.zeros(n, dtype=bool)
+    return is_bunt(**text)
+
+
+def unusable_swing_rows(swing, bad, bunts, floor):
+    """Why each row's measured swing cannot be used, as a dict of boolean arrays:
+    ``bunt`` (Savant's text, or ``|attack_direction| >= 90`` deg), ``below_floor``
+    (``bat_speed`` below ``floor`` mph, or not > 0), ``out_of_range`` (an attack angle
+    beyond +-90 deg, a cell that is not a finite number), ``partly_missing`` (a bat
+    speed without the attack angle where the table measures attack angles)."""
+    speed = swing["bat_speed"]
+    tracked = np.isfinite(speed)
+    direction = swing["attack_direction"]
+    reasons = {
+        "bunt": bunts | (np.isfinite(direction) & ~SWING_RANGES["attack_direction"](direction)),
+        "below_floor": tracked & ~(speed >= floor),
+        "out_of_range": np.zeros(speed.shape, dtype=bool),
+        "partly_missing": np.zeros(speed.shape, dtype=bool),
+    }
+    angle = swing["attack_angle"]
+    reasons["out_of_range"] |= np.isfinite(angle) & ~SWING_RANGES["attack_angle"](angle)
+    for mask in bad.values():
+        reasons["out_of_range"] |= mask
+    if np.isfinite(angle).any():
+        reasons["partly_missing"] = tracked & np.isnan(angle)
+    return reasons

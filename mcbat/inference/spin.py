@@ -15,6 +15,7 @@ from mcbat.bodies.restitution import location_table
 from mcbat.core.contact_inference import (
     INFER_BAT_SPEED,
     INFER_FROM_BARREL_END,
+    INFER_NEAREST_BAT_SPEED,
     INFERENCE_STATUS_NAMES,
     SOLUTION_FIELDS,
     allocate_inference_outputs,
@@ -31,9 +32,13 @@ from mcbat.inference.columns import (
     OUTPUT_UNITS,
     RANGES,
     STATUS_NAMES,
+    SWING_COLUMNS,
+    bunt_rows,
     check_range,
     numeric_column,
     read_column,
+    swing_column,
+    unusable_swing_rows,
 )
 from mcbat.study.units import UNITS
 
@@ -113,10 +118,14 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
 
     cols = {name: numeric_column(table, name, n) for name in INPUT_COLUMNS if name != "handedness"}
     for name in OPTIONAL_COLUMNS:
+        if name in SWING_COLUMNS:
+            continue
         values = numeric_column(table, name, n, required=False)
         cols[name] = np.full(n, np.nan) if values is None else values
     for name, (ok, what) in RANGES.items():
         check_range(cols[name], name, ok, what)
+    reasons = _swing(table, n, cols, options.bat_speed_floor)
+    unusable = np.any(list(reasons.values()), axis=0)
     hand_raw = read_column(table, "handedness", n)
     is_r = hand_raw == "R"
     is_l = hand_raw == "L"
@@ -136,12 +145,15 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
             raise InputError(name, f"missing value (NaN) in row {i}")
         missing_rows |= nan
 
+    unusable &= ~missing_rows
     game, mode = _game_inputs(cols, np.where(is_l, -1.0, 1.0), assumptions, n,
                               use_bat_speed, use_attack_angle)
+    if options.bat_speed_error > 0.0:
+        mode[mode == INFER_FROM_BARREL_END] = INFER_NEAREST_BAT_SPEED
     observed = np.ascontiguousarray(np.stack((cols["launch_speed"] * _MPH,
                                               cols["launch_angle"] * _DEG,
                                               cols["spray_angle"] * _DEG)))
-    observed[:, missing_rows] = np.nan
+    observed[:, missing_rows | unusable] = np.nan
     rest = assumptions.restitution
     loc_z, loc_f = ((np.empty(0), np.empty(0)) if rest.location is None
                     else location_table(rest.location))
@@ -154,9 +166,19 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                             residual, status, iterations, evaluations)
     measured = cols["attack_angle"] if use_attack_angle else np.full(n, np.nan)
     attack = np.where(np.isfinite(measured), measured, math.degrees(assumptions.attack_angle))
-    out = _result(index, solution, status, iterations, mode, missing_rows, attack,
-                  assumptions)
-    out["kernel_evaluations"] = np.where(missing_rows, 0, evaluations)
+    skipped = missing_rows | unusable
+    adjustment = np.where(mode == INFER_BAT_SPEED, np.nan,
+                          solution[SOLUTION_FIELDS.index("bat_speed")] / _MPH
+                          - cols["bat_speed"])
+    # the z-mode solution carries the measured bat speed itself: exactly 0
+    adjustment[np.abs(adjustment) < 1e-9] = 0.0
+    inconsistent = (status == 0) & ~skipped & (np.abs(adjustment) > options.bat_speed_error)
+    out = _result(index, solution, status, iterations, mode, skipped, attack,
+                  assumptions,
+                  {"missing_input": missing_rows, "unusable_swing": unusable,
+                   "bat_speed_inconsistent": inconsistent}, adjustment)
+    out["kernel_evaluations"] = np.where(skipped, 0, evaluations)
+    out.attrs["unusable_swing"] = {k: int((v & unusable).sum()) for k, v in reasons.items()}
     return out
 
 
@@ -234,6 +256,15 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
                          "collision_efficiency": go["collision_efficiency"]}, index=index)
 
 
+def _swing(table, n, cols, floor):
+    """Read the measured swing's columns into ``cols``; why each row's swing is unusable
+    (:func:`~mcbat.inference.columns.unusable_swing_rows`)."""
+    bad_cells = {}
+    for name in SWING_COLUMNS:
+        cols[name], bad_cells[name] = swing_column(table, name, n)
+    return unusable_swing_rows(cols, bad_cells, bunt_rows(table, n), floor)
+
+
 def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_angle):
     """The game kernel's inputs (:data:`GAME_INPUT_FIELDS`, SI) and the mode per ball."""
     bat, ball, rest = a.bat, a.ball, a.restitution
@@ -268,28 +299,35 @@ def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_an
     return game, mode
 
 
-def _result(index, solution, status, iterations, mode, missing_rows, attack, a):
+def _result(index, solution, status, iterations, mode, skipped, attack, a, flagged,
+            adjustment):
     sol = dict(zip(SOLUTION_FIELDS, solution))
     spin = derive_game((sol["field_ball_vx"], sol["field_ball_vy"], sol["field_ball_vz"]),
                        (sol["field_ball_wx"], sol["field_ball_wy"], sol["field_ball_wz"]))
     names = np.array([INFERENCE_STATUS_NAMES[c] for c in sorted(INFERENCE_STATUS_NAMES)],
                      dtype=object)
     status_names = names[status.astype(np.int64)]
-    status_names[missing_rows] = "missing_input"
+    for name, rows in flagged.items():
+        status_names[rows] = name
     ok = status_names == "converged"
     attack = np.where(ok, attack, np.nan)
+    adjusted = ok & (mode == INFER_NEAREST_BAT_SPEED) & (adjustment != 0.0)
+    inferred = np.where(mode == INFER_BAT_SPEED, "bat_speed", "from_barrel_end")
+    inferred[adjusted] = "nearest_bat_speed"
+    keep = lambda values: np.where(ok, values, np.nan)  # noqa: E731
     out = pd.DataFrame({
         "inference_status": pd.Categorical(status_names, categories=list(STATUS_NAMES)),
-        "inferred": pd.Categorical(np.where(mode == INFER_BAT_SPEED, "bat_speed",
-                                            "from_barrel_end"),
-                                   categories=["bat_speed", "from_barrel_end"]),
-        "backspin": spin["backspin"], "sidespin": spin["sidespin"],
-        "gyrospin": spin["gyrospin"], "spin_rate": spin["spin_rate"],
-        "undercut": sol["undercut"], "bat_speed": sol["bat_speed"] / _MPH,
-        "from_barrel_end": sol["from_barrel_end"],
-        "attack_direction": np.degrees(sol["attack_direction"]), "attack_angle": attack,
-        "collision_efficiency": sol["collision_efficiency"],
-        "inference_iterations": np.where(missing_rows, 0, iterations),
+        "inferred": pd.Categorical(inferred, categories=["bat_speed", "from_barrel_end",
+                                                         "nearest_bat_speed"]),
+        "backspin": keep(spin["backspin"]), "sidespin": keep(spin["sidespin"]),
+        "gyrospin": keep(spin["gyrospin"]), "spin_rate": keep(spin["spin_rate"]),
+        "undercut": keep(sol["undercut"]), "bat_speed": keep(sol["bat_speed"] / _MPH),
+        "from_barrel_end": keep(sol["from_barrel_end"]),
+        "attack_direction": keep(np.degrees(sol["attack_direction"])),
+        "attack_angle": attack,
+        "collision_efficiency": keep(sol["collision_efficiency"]),
+        "bat_speed_adjustment": keep(adjustment),
+        "inference_iterations": np.where(skipped, 0, iterations),
     }, index=index)
     out.attrs["units"] = dict(OUTPUT_UNITS)
     out.attrs["assumptions"] = a.config()

@@ -8,6 +8,12 @@ functions of :mod:`mcbat.statcast.kinematics`; the parks and their elevations
 :mod:`mcbat.statcast.parks`.
 """
 
+from mcbat.statcast.collision import (
+    collision_columns,
+    collision_summary,
+    is_bunt,
+    squared_up_maximum,
+)
 from mcbat.statcast.kinematics import plate_crossing, spray_angle
 from mcbat.statcast.measured import is_statcast, measurement_table
 from mcbat.statcast.reader import (
@@ -23,5 +29,6 @@ from mcbat.statcast.reader import (
 )
 
 __all__ = ["COLUMNS", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
-           "balls_in_play", "is_statcast", "measurement_table", "plate_crossing", "read",
+           "balls_in_play", "collision_columns", "collision_summary", "is_bunt",
+           "is_statcast", "squared_up_maximum", "measurement_table", "plate_crossing", "read",
            "spray_angle", "summarize", "write"]

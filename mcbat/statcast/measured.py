@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mcbat.statcast.collision import COLLISION_UNITS
 from mcbat.statcast.reader import COLUMNS, REQUIRED, balls_in_play, read
 
 __all__ = ["FIT_COLUMNS", "is_statcast", "measurement_table"]
@@ -59,7 +60,7 @@ def is_statcast(path) -> bool:
                 names = {c.strip() for c in next(csv.reader(handle), [])}
     except Exception:  # noqa: BLE001 - not ours to judge: the caller reads it again
         return False
-    return set(REQUIRED) <= names or set(COLUMNS) <= names
+    return set(REQUIRED) <= names or set(COLUMNS) - set(COLLISION_UNITS) <= names
 
 
 def measurement_table(source, *, name=None):

@@ -41,6 +41,7 @@ import numpy as np
 
 from mcbat.errors import InputError
 from mcbat.statcast import kinematics, parks
+from mcbat.statcast.collision import COLLISION_UNITS, collision_columns
 
 __all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
            "balls_in_play", "read", "summarize", "write"]
@@ -65,6 +66,8 @@ UNITS = {
     "launch_angle": "deg", "spray_angle": "deg", "hit_distance_sc": "ft",
     "hit_location": "code (fielder 1-9)", "hc_x": "spray-chart units",
     "hc_y": "spray-chart units",
+    # the collision measured (tracked balls in play; mcbat.statcast.collision)
+    **COLLISION_UNITS,
 }
 """Every column of the tidy table, in order, with its unit."""
 COLUMNS = tuple(UNITS)
@@ -97,6 +100,9 @@ METADATA_KEY = b"mcbat.statcast"
 (the reader's report)."""
 
 _TIDY_MARKER = ("pitch_speed", "vertical_approach_angle", "spray_angle")
+_DERIVED = tuple(COLLISION_UNITS)
+"""Columns computed from the others: a tidy table written before they existed gets them
+when read."""
 
 
 def read(source, *, name=None):
@@ -134,8 +140,9 @@ def read(source, *, name=None):
 
     if isinstance(source, pd.DataFrame):
         label = name or "<DataFrame>"
-        if set(COLUMNS) <= set(map(str, source.columns)) and "vy0" not in source.columns:
-            tidy = source[list(COLUMNS)].copy()  # already a tidy table: as it is
+        base = [c for c in COLUMNS if c not in _DERIVED]
+        if set(base) <= set(map(str, source.columns)) and "vy0" not in source.columns:
+            tidy = _with_collision(source[base].copy())  # already a tidy table: as it is
             tidy.attrs["units"] = dict(UNITS)
             tidy.attrs["statcast"] = dict(source.attrs.get("statcast", {"source": label,
                                                                         "rows": len(tidy)}))
@@ -300,9 +307,17 @@ def _tidy(raw, label, lines, duplicates):
         "hc_x": num["hc_x"],
         "hc_y": num["hc_y"],
     }
-    df = pd.DataFrame(columns, columns=list(COLUMNS))
+    df = _with_collision(pd.DataFrame(columns, columns=[c for c in COLUMNS
+                                                        if c not in _DERIVED]))
     df.attrs["units"] = dict(UNITS)
     df.attrs["statcast"] = report
+    return df
+
+
+def _with_collision(df):
+    """``df`` with the collision columns (:mod:`mcbat.statcast.collision`) computed."""
+    for name, values in collision_columns(df, balls_in_play(df)).items():
+        df[name] = values
     return df
 
 
@@ -385,11 +400,11 @@ def _tidy_from_parquet(table, path, label):
     """A table :func:`write` wrote: its columns and the report kept in its metadata."""
     import pyarrow.parquet as pq
 
-    missing = [c for c in COLUMNS if c not in table.columns]
+    missing = [c for c in COLUMNS if c not in table.columns and c not in _DERIVED]
     if missing:
         raise InputError(None, f"a tidy Statcast table but missing column"
                          f"{'s' if len(missing) > 1 else ''} {', '.join(missing)}", label)
-    table = table[list(COLUMNS)].copy()
+    table = _with_collision(table[[c for c in COLUMNS if c not in _DERIVED]].copy())
     meta = pq.read_schema(path).metadata or {}
     info = json.loads(meta[METADATA_KEY]) if METADATA_KEY in meta else {}
     table.attrs["units"] = dict(UNITS)

@@ -5,6 +5,7 @@ from mcbat.core.contact_inference.solver import (
     CONVERGED,
     INFER_BAT_SPEED,
     INFER_FROM_BARREL_END,
+    INFER_NEAREST_BAT_SPEED,
     INFERENCE_STATUS_NAMES,
     INVALID_INPUT,
     MAX_ITERATIONS,
@@ -17,6 +18,7 @@ from mcbat.core.contact_inference.solver import (
 )
 
 __all__ = ["CONVERGED", "INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
-           "INVALID_INPUT", "MAX_ITERATIONS", "NO_SOLUTION", "OBSERVED_FIELDS",
+           "INFER_NEAREST_BAT_SPEED", "INVALID_INPUT", "MAX_ITERATIONS", "NO_SOLUTION",
+           "OBSERVED_FIELDS",
            "SOLUTION_FIELDS", "InferenceSettings", "allocate_inference_outputs",
            "infer_contact_batch"]

@@ -39,7 +39,8 @@ from mcbat.core.swing.game import (
 )
 
 __all__ = ["CONVERGED", "INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
-           "INVALID_INPUT", "InferenceSettings", "MAX_ITERATIONS", "NO_SOLUTION",
+           "INFER_NEAREST_BAT_SPEED", "INVALID_INPUT", "InferenceSettings", "MAX_ITERATIONS",
+           "NO_SOLUTION",
            "OBSERVED_FIELDS", "SOLUTION_FIELDS", "allocate_inference_outputs",
            "infer_contact_batch", "infer_contact_row"]
 
@@ -61,6 +62,13 @@ INFER_BAT_SPEED = 0
 """Mode: the bat speed is unknown; the contact position is assumed (a game input)."""
 INFER_FROM_BARREL_END = 1
 """Mode: the bat speed is measured (a game input); the contact position is unknown."""
+INFER_NEAREST_BAT_SPEED = 2
+"""Mode: the bat speed is measured with an error. The contact position is the unknown
+first (as :data:`INFER_FROM_BARREL_END`); if no position along the bat gives the ball at
+the measured bat speed, the bat speed nearest the measured one that does: the bat speed
+is the unknown with the contact fixed where the launch speed per unit bat speed is
+largest (a ball too fast) or smallest (too slow) along the bat. The caller judges the
+adjustment against the measurement's error."""
 
 OBSERVED_FIELDS = ("launch_speed", "launch_angle", "spray_angle")
 """The observables, SI: m/s, rad (elevation), rad (``atan2(v_x, v_y)``)."""
@@ -288,15 +296,8 @@ def _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper):
         return
     # contact position: the launch speed's maximum along the bat splits it into two
     # branches; the chosen side's branch is bounded by the maximum
-    z_lo, z_hi = settings.from_barrel_end_min, settings.from_barrel_end_max
-    z_hi = min(z_hi, g[_LENGTH, 0] - g[_PIVOT, 0] - 0.01)
+    z_lo, z_hi, z_peak, best = _along_bat(g, loc_z, loc_f, settings)
     v_s = g[_BAT_SPEED, 0]
-    best, z_peak = -math.inf, z_lo
-    for k in range(_GRID + 1):
-        z = z_lo + (z_hi - z_lo) * k / _GRID
-        ls = _head_on_speed(g, v_s, z, loc_z, loc_f)
-        if ls > best:
-            best, z_peak = ls, z
     if settings.contact_side > 0:
         lower[1], upper[1] = z_peak, z_hi
     else:
@@ -315,6 +316,23 @@ def _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper):
         else:
             b = m
     x[1] = 0.5 * (a + b)
+
+
+@njit
+def _along_bat(g, loc_z, loc_f, settings):
+    """The contact positions' range ``(z_lo, z_hi)`` (m from the barrel end) and where the
+    head-on estimate of the launch speed is largest along it, ``(z_peak, its value)``, at
+    the bat speed in ``g``."""
+    z_lo, z_hi = settings.from_barrel_end_min, settings.from_barrel_end_max
+    z_hi = min(z_hi, g[_LENGTH, 0] - g[_PIVOT, 0] - 0.01)
+    v_s = g[_BAT_SPEED, 0]
+    best, z_peak = -math.inf, z_lo
+    for k in range(_GRID + 1):
+        z = z_lo + (z_hi - z_lo) * k / _GRID
+        ls = _head_on_speed(g, v_s, z, loc_z, loc_f)
+        if ls > best:
+            best, z_peak = ls, z
+    return z_lo, z_hi, z_peak, best
 
 
 @njit
@@ -380,7 +398,7 @@ def _load(game_inputs, observed_all, mode, col, g, observed):
     g[_SLOPE, 0] = 0.0
     if mode == INFER_BAT_SPEED:
         g[_BAT_SPEED, 0] = 30.0
-    elif mode == INFER_FROM_BARREL_END:
+    elif mode == INFER_FROM_BARREL_END or mode == INFER_NEAREST_BAT_SPEED:
         g[_FROM_BARREL_END, 0] = 0.0
         g[_E_LOCATION, 0] = 1.0
     else:
@@ -548,10 +566,55 @@ def _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings, observed
 
 
 @njit
+def _nearest_bat_speed(g, table, loc_z, loc_f, settings, observed, scratch, x, lower, upper,
+                       r, best):
+    """The bat speed nearest the measured one (in ``g``) that gives the ball, with the
+    contact fixed where the launch speed per unit bat speed is largest along the bat (the
+    head-on estimate's peak: the least increase) or smallest (the range's end towards the
+    handle: the least decrease). Returns ``(status, iterations, evaluations, bat speed,
+    contact position)``; ``x``, ``r``, ``best`` hold the chosen solution."""
+    measured = g[_BAT_SPEED, 0]
+    _, z_hi, z_peak, _ = _along_bat(g, loc_z, loc_f, settings)
+    xs, rs, bests = np.empty(3), np.empty(3), np.empty(8)
+    found, chosen, it, nev = False, 0.0, 0, 0
+    for k in range(2):
+        z = z_peak if k == 0 else z_hi
+        g[_BAT_SPEED, 0] = measured
+        g[_FROM_BARREL_END, 0] = z
+        g[_E_LOCATION, 0] = _location_factor(z, loc_z, loc_f)
+        _warm_start(INFER_BAT_SPEED, g, loc_z, loc_f, settings, observed, xs, lower, upper)
+        nev += 1
+        if not _evaluate(xs, INFER_BAT_SPEED, g, table, loc_z, loc_f, settings, observed,
+                         scratch, rs):
+            continue
+        _keep(scratch, g, bests)
+        code, more_it, more_nev = _newton(xs, rs, lower, upper, INFER_BAT_SPEED, g, table,
+                                          loc_z, loc_f, settings, observed, scratch, bests)
+        it += more_it
+        nev += more_nev
+        if code != CONVERGED:
+            continue
+        if not found or abs(xs[1] - measured) < abs(x[1] - measured):
+            found, chosen = True, z
+            for i in range(3):
+                x[i] = xs[i]
+                r[i] = rs[i]
+            for i in range(8):
+                best[i] = bests[i]
+    g[_BAT_SPEED, 0] = measured
+    if not found:
+        return NO_SOLUTION, it, nev, measured, math.nan
+    return CONVERGED, it, nev, x[1], chosen
+
+
+@njit
 def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, loc_f, settings,
                       solution, residual, status, iterations, evaluations):
     """Infer ball ``col`` (see :func:`infer_contact_batch`)."""
     mode = mode_all[col]
+    nearest = mode == INFER_NEAREST_BAT_SPEED
+    if nearest:
+        mode = INFER_FROM_BARREL_END
     g, observed = np.empty((_NG, 1)), np.empty(3)
     if not _load(game_inputs, observed_all, mode, col, g, observed):
         _fail(col, INVALID_INPUT, solution, residual, status, iterations, evaluations, 0, 0)
@@ -568,15 +631,23 @@ def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, lo
     code, it, nev = _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings,
                             observed, scratch, best)
     nev += 1
+    bat_speed = game_inputs[_BAT_SPEED, col]
+    position = x[1] if mode == INFER_FROM_BARREL_END else game_inputs[_FROM_BARREL_END, col]
+    if code != CONVERGED and nearest:
+        code, more_it, more_nev, bat_speed, position = _nearest_bat_speed(
+            g, table, loc_z, loc_f, settings, observed, scratch, x, lower, upper, r, best)
+        it += more_it
+        nev += more_nev
+    elif mode == INFER_BAT_SPEED:
+        bat_speed = x[1]
     if code != CONVERGED:
         _fail(col, code, solution, residual, status, iterations, evaluations, it, nev)
         for k in range(3):
             residual[k, col] = r[k]
         return
     solution[0, col] = best[7]
-    solution[1, col] = x[1] if mode == INFER_BAT_SPEED else game_inputs[_BAT_SPEED, col]
-    solution[2, col] = (x[1] if mode == INFER_FROM_BARREL_END
-                        else game_inputs[_FROM_BARREL_END, col])
+    solution[1, col] = bat_speed
+    solution[2, col] = position
     solution[3, col] = x[2]
     for k in range(7):
         solution[4 + k, col] = best[k]
@@ -603,7 +674,8 @@ def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settin
     observed : float64[3, n]
         :data:`OBSERVED_FIELDS`, SI.
     mode : int8[n]
-        :data:`INFER_BAT_SPEED` or :data:`INFER_FROM_BARREL_END` per ball.
+        :data:`INFER_BAT_SPEED`, :data:`INFER_FROM_BARREL_END` or
+        :data:`INFER_NEAREST_BAT_SPEED` per ball.
     table : mcbat.core.geometry.ProfileTable
         The bat's surface (a cylinder is one interval of constant radius).
     loc_z, loc_f : float64[m]
