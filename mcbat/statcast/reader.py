@@ -31,9 +31,9 @@ a column named twice (Savant writes           the first one is used (the copies 
 from __future__ import annotations
 
 import csv
-import io
 import json
 import math
+import operator
 import os
 from pathlib import Path
 
@@ -162,8 +162,7 @@ def read(source, *, name=None):
             lines = None
             duplicates = []
         else:
-            raw, duplicates = _read_csv(path, label)
-            lines = np.arange(len(raw)) + 2  # the header is line 1
+            return _read_csv_tidy(path, label)
     return _tidy(raw, label, lines, duplicates)
 
 
@@ -178,65 +177,136 @@ def _read_parquet(path, label):
         raise InputError(None, f"cannot read the Parquet file: {err}", label) from None
 
 
-def _open_text(path, label):
-    """The file's text (``.gz`` decompressed), or :class:`InputError` naming it."""
+#: Rows the CSV reader parses at a time: a season's export (~700,000 pitches, ~400 MB) is
+#: read in pieces, so that the text of only one piece is in memory with the tidy table.
+CHUNK_ROWS = 100_000
+_BLOCK_BYTES = 1 << 23
+
+
+def _text_lines(path, label):
+    """The file's lines (``.gz`` decompressed as it is read, UTF-8 with or without a BOM,
+    each line with its newline), or :class:`InputError` naming the file and the byte of a
+    decoding error."""
+    import codecs
     import gzip
 
     if not path.is_file():
         raise InputError(None, "no such file", label)
     try:
-        data = path.read_bytes()
-        if path.suffix.lower() == ".gz" or data[:2] == b"\x1f\x8b":
-            data = gzip.decompress(data)
-    except (OSError, EOFError) as err:
+        raw = path.open("rb")
+    except OSError as err:
         raise InputError(None, f"cannot read the file: {err}", label) from None
-    try:
-        return data.decode("utf-8-sig")  # Savant's newer exports start with a BOM
-    except UnicodeDecodeError as err:
-        raise InputError(None, f"not UTF-8 text (byte {err.start}); a Savant export is a "
-                         "UTF-8 CSV file", label) from None
+    with raw:
+        stream = gzip.GzipFile(fileobj=raw) if (path.suffix.lower() == ".gz"
+                                                or raw.peek(2)[:2] == b"\x1f\x8b") else raw
+        decoder = codecs.getincrementaldecoder("utf-8-sig")()
+        consumed, tail = 0, ""
+        while True:
+            try:
+                block = stream.read(_BLOCK_BYTES)
+            except (OSError, EOFError) as err:
+                raise InputError(None, f"cannot read the file: {err}", label) from None
+            try:
+                text = decoder.decode(block, final=not block)
+            except UnicodeDecodeError as err:
+                raise InputError(None, f"not UTF-8 text (byte {consumed + err.start}); a "
+                                 "Savant export is a UTF-8 CSV file", label) from None
+            consumed += len(block)
+            lines = (tail + text).split("\n")
+            tail = lines.pop()
+            for line in lines:
+                yield line + "\n"
+            if not block:
+                break
+        if tail:
+            yield tail
 
 
-def _read_csv(path, label):
-    """The export's columns as strings, and the names it repeats.
+def _csv_chunks(path, label, rows=None):
+    """The export's wanted columns as strings, ``rows`` rows at a time: yields
+    ``(frame, lines, duplicates)``, ``lines`` the file line of each row.
 
     Every row is checked to have as many fields as the header (Python's csv module, in
-    strict mode, before pandas parses the text): pandas would pad a short row with NaN,
-    and a download cut in the middle of a row would pass for a row of missing values.
+    strict mode): pandas would pad a short row with NaN, and a download cut in the middle
+    of a row would pass for a row of missing values. Blank lines are skipped.
     """
     import pandas as pd
 
-    text = _open_text(path, label)
-    reader = csv.reader(io.StringIO(text), strict=True)
+    rows = CHUNK_ROWS if rows is None else rows
+    reader = csv.reader(_text_lines(path, label), strict=True)
     try:
         header = next(reader, None)
         if not header or not any(cell.strip() for cell in header):
             raise InputError(None, "empty file: no header line (not a Savant export)",
                              label)
-        _check_required([cell.strip() for cell in header], label)
+        names = [cell.strip() for cell in header]
+        _check_required(names, label)
+        first = {}
+        for index, column in enumerate(names):
+            first.setdefault(column, index)
+        duplicates = sorted(c for c in first if names.count(c) > 1)
+        wanted = sorted(first[c] for c in (*REQUIRED, *OPTIONAL) if c in first)
+        columns = [names[i] for i in wanted]
         width = len(header)
+        pick = operator.itemgetter(*wanted)
+        body, lines = [], []
+        emitted = False
         for row in reader:
-            if len(row) != width and row:
+            if not row:
+                continue
+            if len(row) != width:
                 raise InputError(None, f"line {reader.line_num}: {len(row)} fields where "
                                  f"the header has {width}: the file is truncated or "
                                  "malformed (an interrupted download?)", label)
+            body.append(pick(row))
+            lines.append(reader.line_num)
+            if len(body) == rows:
+                yield pd.DataFrame(body, columns=columns, dtype=object), np.array(lines), \
+                    duplicates
+                body, lines, emitted = [], [], True
     except csv.Error as err:
         raise InputError(None, f"line {reader.line_num}: malformed CSV ({err}): the file "
                          "is truncated or malformed (an interrupted download?)",
                          label) from None
-    names = [cell.strip() for cell in header]
-    first = {}
-    for index, column in enumerate(names):
-        first.setdefault(column, index)
-    duplicates = sorted(c for c in first if names.count(c) > 1)
-    wanted = [first[c] for c in (*REQUIRED, *OPTIONAL) if c in first]
-    table = pd.read_csv(io.StringIO(text), header=0, usecols=wanted, dtype=str,
-                        keep_default_na=False, na_values=list(_MISSING_MARKERS),
-                        skip_blank_lines=True)
-    # usecols keeps the file's order; name the columns by position (pandas renames
-    # repeated names, "pitcher.1", which the positions avoid).
-    table.columns = [names[i] for i in sorted(wanted)]
-    return table, duplicates
+    if body or not emitted:
+        yield pd.DataFrame(body, columns=columns, dtype=object), np.array(lines, dtype=int), \
+            duplicates
+
+
+def _read_csv_tidy(path, label):
+    """The tidy table of a CSV export, parsed :data:`CHUNK_ROWS` rows at a time."""
+    import pandas as pd
+
+    parts, reports = [], []
+    for raw, lines, duplicates in _csv_chunks(path, label):
+        part = _tidy(raw, label, lines, duplicates)
+        reports.append(part.attrs["statcast"])
+        parts.append(part)
+    df = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
+    df.attrs["units"] = dict(UNITS)
+    df.attrs["statcast"] = _merged_reports(reports)
+    return df
+
+
+def _merged_reports(reports):
+    """One report of the pieces' reports: counts added, the first offending cell kept."""
+    out = dict(reports[0])
+    out["rows"] = sum(r["rows"] for r in reports)
+    for key in ("elevation_missing", "unknown_home_teams"):
+        merged = {}
+        for r in reports:
+            for name, count in r[key].items():
+                merged[name] = merged.get(name, 0) + count
+        out[key] = merged
+    non_numeric = {}
+    for r in reports:
+        for column, bad in r["non_numeric"].items():
+            if column in non_numeric:
+                non_numeric[column]["cells"] += bad["cells"]
+            else:
+                non_numeric[column] = dict(bad)
+    out["non_numeric"] = non_numeric
+    return out
 
 
 def _tidy(raw, label, lines, duplicates):
