@@ -312,7 +312,7 @@ def _result(index, solution, status, iterations, mode, skipped, attack, a, flagg
     ok = status_names == "converged"
     attack = np.where(ok, attack, np.nan)
     adjusted = ok & (mode == INFER_NEAREST_BAT_SPEED) & (adjustment != 0.0)
-    inferred = np.where(mode == INFER_BAT_SPEED, "bat_speed", "from_barrel_end")
+    inferred = np.where(mode == INFER_BAT_SPEED, "bat_speed", "from_barrel_end").astype(object)
     inferred[adjusted] = "nearest_bat_speed"
     keep = lambda values: np.where(ok, values, np.nan)  # noqa: E731
     out = pd.DataFrame({

@@ -9,6 +9,10 @@ columns to :meth:`mcbat.study.game.GameStudy.with_pitch_table`. Accepted files:
 * a raw Baseball Savant CSV (``release_speed``, ``vx0`` ...): converted by
   :func:`mcbat.statcast.read` first.
 
+With the swing drawn from the rows (``swing = true``), the rows Savant marks as bunts
+(:func:`mcbat.statcast.is_bunt`) are flagged in the column :data:`BUNT_COLUMN`; the study
+leaves them out and counts them.
+
 The bytes hashed are the bytes parsed (the file is read once), so the content hash in the
 study's config is that of the rows drawn.
 """
@@ -24,7 +28,8 @@ import numpy as np
 import pandas as pd
 
 from mcbat.errors import InputError
-from mcbat.study.pitches import PitchTable
+from mcbat.statcast.collision import is_bunt
+from mcbat.study.pitches import BUNT_COLUMN, SWING_KEYS, PitchTable
 
 __all__ = ["load_pitches", "read_pitch_table"]
 
@@ -99,6 +104,15 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
                          f"(needed: {', '.join(needed)}); expected mcbat's tidy Statcast "
                          "table or a Baseball Savant CSV")
     columns = {}
+    swing = [c for c in SWING_KEYS.values() if c in needed]
+    if swing:
+        # a bunt is no swing the game model draws: the study leaves such rows out and
+        # counts them ("bunts"), whatever their swing values
+        text = {c: frame[c].to_numpy(object) if c in frame.columns else None
+                for c in ("description", "events", "des")}
+        columns[BUNT_COLUMN] = (is_bunt(**text).astype(np.float64)
+                                if any(v is not None for v in text.values())
+                                else np.zeros(len(frame)))
     for name in needed:
         column = frame[name]
         if name in _TEXT:

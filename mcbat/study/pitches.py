@@ -61,7 +61,8 @@ from mcbat.study import units as u
 from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import compile_program, draw
 
-__all__ = ["FILTERS", "IDENTIFIERS", "PITCH_KEYS", "PITCH_SOURCE_COLUMNS", "ROW_STREAM",
+__all__ = ["BUNT_COLUMN", "FILTERS", "IDENTIFIERS", "PITCH_KEYS", "PITCH_SOURCE_COLUMNS",
+           "ROW_STREAM",
            "SWING_ERROR_STREAM", "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource",
            "PitchTable", "parse_pitches"]
 
@@ -87,6 +88,8 @@ PITCH_SOURCE_COLUMNS = ("source_row", *IDENTIFIERS)
 #: only balls in play have).
 FILTERS = {"pitch_type": str, "p_throws": str, "pitcher": int, "batter": int,
            "game_year": int, "bb_type": str}
+#: Column of a :class:`PitchTable` flagging bunts (1.0) with ``swing = true``: left out.
+BUNT_COLUMN = "bunt"
 #: The Philox stream of the row draw (as an input named so; no study key has the name).
 ROW_STREAM = "pitches.row"
 
@@ -354,6 +357,8 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
 
     for name in IDENTIFIERS:
         leave_out(~np.isfinite(cols[name]), f"without {name}")
+    if source.swing and BUNT_COLUMN in cols:
+        leave_out(np.asarray(cols[BUNT_COLUMN]) > 0.0, "bunts")
     handedness = None
     if fixed_handedness is None:
         side = cols["handedness"]
