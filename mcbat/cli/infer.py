@@ -40,6 +40,15 @@ def cmd_infer(args) -> int:
     counts = ", ".join(f"{k} {v:,}" for k, v in spin.attrs["status_counts"].items() if v)
     ok = spin["inference_status"] == "converged"
     print(f"{args.file}: {len(balls):,} balls in play: {counts or 'none'}")
+    reasons = {k: v for k, v in spin.attrs.get("unusable_swing", {}).items() if v}
+    if reasons:
+        print("  unusable swings: " + ", ".join(f"{k} {v:,}" for k, v in reasons.items()))
+    moved = spin["bat_speed_adjustment"].fillna(0.0) != 0.0
+    if moved.any():
+        adj = spin.loc[moved, "bat_speed_adjustment"]
+        print(f"  measured bat speed moved on {int(moved.sum()):,} balls (median "
+              f"{adj.median():+.1f} mph, largest {adj.abs().max():.1f} mph; see "
+              "bat_speed_adjustment)")
     if ok.any():
         print(f"  median backspin {spin.loc[ok, 'backspin'].median():.0f} rpm, spin rate "
               f"{spin.loc[ok, 'spin_rate'].median():.0f} rpm (assumptions: "
