@@ -211,22 +211,25 @@ def _climate_rows() -> dict:
                               if line.strip() and not line.startswith("#")):
         rh = row["relative_humidity"].strip()
         table[(row["park_id"].strip(), int(row["month"]))] = (
-            float(row["temperature_f"]), float(rh) if rh else math.nan)
+            float(row["temperature_f"]), float(rh) if rh else math.nan,
+            float(row["roof_closed_share"]))
     return table
 
 
 def climate(park_ids, months):
-    """Normal game-time temperature (degF) and relative humidity (%) per park and month
-    from ``data/park_climate.csv``; NaN where the table has no row."""
+    """Normal game-time temperature (degF), relative humidity (%) and the share of games
+    played under a closed roof, per park and month, from ``data/park_climate.csv``; NaN
+    where the table has no row."""
     table = _climate_rows()
     ids = np.asarray(park_ids, dtype=object)
     months = np.asarray(months, dtype=float)
     temp = np.full(ids.shape, np.nan)
     rh = np.full(ids.shape, np.nan)
+    closed = np.full(ids.shape, np.nan)
     for i, (pid, m) in enumerate(zip(ids.ravel(), months.ravel())):
         if np.isfinite(m) and (pid, int(m)) in table:
-            temp.flat[i], rh.flat[i] = table[(pid, int(m))]
-    return temp, rh
+            temp.flat[i], rh.flat[i], closed.flat[i] = table[(pid, int(m))]
+    return temp, rh, closed
 
 
 def air(table, weather=None):
@@ -248,8 +251,9 @@ def air(table, weather=None):
         ``air_source`` (``weather``, ``climate``, ``indoor``, ``standard``) and
         ``wind_source`` (``weather``, ``indoor``, ``none``). A weather row wins over the
         climate; a dome or a closed roof means indoor air and no wind whatever the weather
-        row says; an unknown wind is no wind; a retractable roof of unknown state is taken
-        as closed. ``attrs["units"]`` gives the units.
+        row says; an unknown wind is no wind; a retractable roof of unknown state is as it
+        was in most of that park's games of the month (closed where that is unknown).
+        ``attrs["units"]`` gives the units.
     """
     import pandas as pd
 
@@ -260,7 +264,7 @@ def air(table, weather=None):
     out = pd.DataFrame(index=table.index)
     out["park"] = park
     out["elevation"] = parks.park_value(park, "elevation_ft")
-    temp, rh = climate(park, dates.dt.month.to_numpy(dtype=float))
+    temp, rh, closed_share = climate(park, dates.dt.month.to_numpy(dtype=float))
     src = np.where(np.isfinite(temp), "climate", "standard").astype(object)
     temp = np.where(np.isfinite(temp), temp, STANDARD["temperature"])
     rh = np.where(np.isfinite(rh), rh, STANDARD["relative_humidity"])
@@ -291,8 +295,12 @@ def air(table, weather=None):
             wsrc[hit] = np.where(known, "weather", "none")
             roof_state[hit] = rows["roof"].to_numpy(dtype=object)
 
+    # A retractable roof of unknown state is as it most often was in that park and month
+    # (the climate table's share of games under a closed roof), closed where that is
+    # unknown too.
+    usually_closed = ~(closed_share < 0.5)
     closed = (roof_kind == "dome") | (roof_state == "closed") | \
-        ((roof_kind == "retractable") & (roof_state != "open"))
+        ((roof_kind == "retractable") & (roof_state != "open") & usually_closed)
     temp = np.where(closed, INDOOR_TEMPERATURE, temp)
     rh = np.where(closed, INDOOR_HUMIDITY, rh)
     src = np.where(closed, "indoor", src)

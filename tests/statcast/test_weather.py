@@ -52,17 +52,33 @@ def test_a_weather_row_wins_and_a_closed_roof_or_dome_is_indoor_air(tmp_path):
         assert row.roof_closed and row.air_source == "indoor"
         assert row.temperature == weather.INDOOR_TEMPERATURE
         assert row.wind_x == 0 and row.wind_y == 0 and row.wind_source == "indoor"
-    other = got.iloc[3]  # no weather row, no climate row
-    assert other.air_source == "standard" and other.temperature == 70.0
+    other = got.iloc[3]  # no weather row: Fenway's normal July game
+    normal, _, _ = weather.climate(["fenway_park"], [7])
+    assert other.air_source == "climate" and other.temperature == normal[0]
+    assert 70.0 < other.temperature < 90.0
     assert other.pressure == 29.92 and other.wind_source == "none"
     assert got.attrs["units"]["wind_x"] == "m/s"
 
 
 def test_a_climate_row_is_used_when_no_weather_row(monkeypatch):
-    monkeypatch.setattr(weather, "_climate_rows", lambda: {("fenway_park", 7): (77.0, 60.0)})
+    monkeypatch.setattr(weather, "_climate_rows",
+                        lambda: {("fenway_park", 7): (77.0, 60.0, 0.0)})
     got = weather.air(_table())
     assert got.iloc[0].air_source == "climate" and got.iloc[0].temperature == 77.0
     assert got.iloc[0].relative_humidity == 60.0
+    assert got.iloc[2].air_source == "indoor"  # Houston's roof: no climate row, closed
+
+
+def test_a_retractable_roof_of_unknown_state_is_as_it_usually_was(monkeypatch):
+    table = pd.DataFrame({"game_pk": [1, 2], "home_team": ["SEA", "HOU"],
+                          "game_date": pd.to_datetime(["2021-07-01"] * 2)})
+    monkeypatch.setattr(weather, "_climate_rows",
+                        lambda: {("t_mobile_park", 7): (73.0, float("nan"), 0.1),
+                                 ("minute_maid_park", 7): (73.0, float("nan"), 0.9)})
+    got = weather.air(table)
+    assert got.iloc[0].air_source == "climate" and got.iloc[0].temperature == 73.0
+    assert not got.iloc[0].roof_closed
+    assert got.iloc[1].air_source == "indoor" and got.iloc[1].roof_closed
 
 
 def test_doubleheaders_match_by_game_pk_order(tmp_path):
