@@ -114,16 +114,24 @@ def read_weather(path):
     import pandas as pd
 
     path = Path(path)
+    comments = 0  # leading "#" lines (a source's notice) before the header
     try:
+        if path.suffix != ".parquet":
+            with path.open(encoding="utf-8-sig") as text:
+                for first in text:
+                    if not first.startswith("#"):
+                        break
+                    comments += 1
         raw = (pd.read_parquet(path) if path.suffix == ".parquet"
-               else pd.read_csv(path, dtype=str, keep_default_na=False))
+               else pd.read_csv(path, dtype=str, keep_default_na=False, skiprows=comments,
+                                encoding="utf-8-sig"))
     except (OSError, ValueError) as err:
-        raise InputError("path", f"cannot read the weather table: {err}", str(path)) from err
+        raise InputError("path", f"cannot read the weather table: {err}", str(path)) from None
     raw = raw.astype(str).replace({"nan": "", "None": "", "<NA>": ""})
     source = str(path)
 
     def line(i):
-        return i + 2 if path.suffix != ".parquet" else i + 1
+        return i + 2 + comments if path.suffix != ".parquet" else i + 1
 
     def fail(column, i, what):
         raise InputError(column, f"line {line(i)}: {what}", source)
