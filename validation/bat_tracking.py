@@ -218,6 +218,15 @@ def judge(data, table, samples, seed, workdir) -> dict:
     out["bat_speed_bins"] = bins
     attack = (table["attack_angle"].to_numpy(float) if "attack_angle" in table
               else np.full(len(table), np.nan))
+    out["attack_bins"] = []
+    if np.isfinite(attack).sum() > 10:
+        for lo in range(-15, 35, 5):
+            rows = (attack >= lo) & (attack < lo + 5)
+            sims = (attack[row] >= lo) & (attack[row] < lo + 5)
+            if rows.sum() >= 10:
+                out["attack_bins"].append({"bin": lo + 2.5, "rows": int(rows.sum()),
+                                           "measured": float(m_la[rows].mean()),
+                                           "model": float(la[sims].mean())})
     out["slopes_model"] = slopes(bat[row], ls, attack[row], la)
     out["slopes_data"] = slopes(bat, m_ls, attack, m_la)
     out["above_50_model"] = float(np.mean(la > 50.0))
@@ -266,18 +275,72 @@ def main(argv=None):
     parser.add_argument("--judge", required=True, help="comma-separated files to judge")
     parser.add_argument("--samples", type=int, default=100000)
     parser.add_argument("--seed", type=int, default=2025)
+    parser.add_argument("--figure", help="write the figure of bin means to this PNG")
     parser.add_argument("--errors", help="attack_angle,bat_speed error sds (deg,mph): skip "
                                          "the scan")
     args = parser.parse_args(argv)
-    fit_files, judge_files = args.fit.split(","), args.judge.split(",")
+    errors = None
+    if args.errors:
+        ea, eb = (float(x) for x in args.errors.split(","))
+        errors = {"attack_angle": ea, "bat_speed": eb}
+    outcome = run(args.fit.split(","), args.judge.split(","), args.samples, args.seed, errors)
+    if args.figure:
+        figure(outcome, args.figure)
+    return 0
+
+
+def _centre(label) -> float:
+    """Where a bat-speed bin is drawn (mph): the open end bins 2.5 mph past their edge."""
+    lo = float(label.rstrip("+").split("-")[0])
+    return BINS[1] - 2.5 if lo == BINS[0] else lo + 2.5
+
+
+def figure(outcome, path):
+    """Mean launch speed per bat-speed bin and mean launch angle per attack-angle bin, data
+    and model, in sample (left) and out of sample (right)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8), sharey="row")
+    for col, label in enumerate(("in sample", "out of sample")):
+        for (lab, name), r in outcome["results"].items():
+            if lab != label:
+                continue
+            b = [x for x in r["bat_speed_bins"] if x["rows"] >= 10]
+            centres = [_centre(x["bin"]) for x in b]
+            line = axes[0, col].errorbar(centres, [x["measured"] for x in b], fmt="o",
+                                         label=f"{name} (data)")
+            axes[0, col].plot(centres, [x["model"] for x in b], "-",
+                              color=line[0].get_color(), label=f"{name} (model)")
+            if r["attack_bins"]:
+                a = r["attack_bins"]
+                line = axes[1, col].plot([x["bin"] for x in a], [x["measured"] for x in a],
+                                         "o", label=f"{name} (data)")
+                axes[1, col].plot([x["bin"] for x in a], [x["model"] for x in a], "-",
+                                  color=line[0].get_color(), label=f"{name} (model)")
+        axes[0, col].set_title(label)
+        axes[0, col].set_xlabel("measured bat speed (mph; bins of 5, < 65 and 80+ at the ends)")
+        axes[1, col].set_xlabel("measured attack angle (deg; bins of 5)")
+        for ax in axes[:, col]:
+            ax.legend(fontsize=7)
+            ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("mean launch speed (mph)")
+    axes[1, 0].set_ylabel("mean launch angle (deg)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def run(fit_files, judge_files, samples=100000, seed=2025, errors=None) -> dict:
+    """Fit on ``fit_files``, judge on both; prints the report and returns
+    ``{"errors", "values", "fit", "results": {(label, file): judge(...)}}``."""
     table = tracked(fit_files)
     with tempfile.TemporaryDirectory() as workdir:
-        if args.errors:
-            ea, eb = (float(x) for x in args.errors.split(","))
-            errors = {"attack_angle": ea, "bat_speed": eb}
-        else:
+        if errors is None:
             print(f"scanning the swing errors on {', '.join(fit_files)} ({len(table)} rows)")
-            errors = choose_errors(table, min(args.samples, 40000), workdir)
+            errors = choose_errors(table, min(samples, 40000), workdir)
         result = fit(table, errors)
         values = {p["name"]: p["value"] for p in result.parameters}
         print(f"fit on {', '.join(fit_files)} ({result.rows} rows): chi2 {result.chi2:.1f}/"
@@ -290,23 +353,21 @@ def main(argv=None):
         results = {}
         for label, names in (("in sample", fit_files), ("out of sample", judge_files)):
             for name in names:
-                results[(label, name)] = judge(data, tracked([name]), args.samples,
-                                               args.seed, workdir)
-        blocks = [report(f"{label}: {name}", r) for (label, name), r in results.items()]
-        width = max(len(line) for block in blocks for line in block) + 2
-        ins = [b for (label, _), b in zip(results, blocks) if label == "in sample"]
-        outs = [b for (label, _), b in zip(results, blocks) if label != "in sample"]
-        for k in range(max(len(ins), len(outs))):
-            left = ins[k] if k < len(ins) else []
-            right = outs[k] if k < len(outs) else []
-            for i in range(max(len(left), len(right))):
-                a = left[i] if i < len(left) else ""
-                b = right[i] if i < len(right) else ""
-                print(f"{a:<{width}}{b}")
-            print()
-    summary = {"errors": errors, "values": values,
-               "results": {f"{k[0]}: {k[1]}": v for k, v in results.items()}}
-    return 0 if summary else 1
+                results[(label, name)] = judge(data, tracked([name]), samples, seed,
+                                               workdir)
+    blocks = [report(f"{label}: {name}", r) for (label, name), r in results.items()]
+    width = max(len(line) for block in blocks for line in block) + 2
+    ins = [b for (label, _), b in zip(results, blocks) if label == "in sample"]
+    outs = [b for (label, _), b in zip(results, blocks) if label != "in sample"]
+    for k in range(max(len(ins), len(outs))):
+        left = ins[k] if k < len(ins) else []
+        right = outs[k] if k < len(outs) else []
+        for i in range(max(len(left), len(right))):
+            a = left[i] if i < len(left) else ""
+            b = right[i] if i < len(right) else ""
+            print(f"{a:<{width}}{b}")
+        print()
+    return {"errors": errors, "values": values, "fit": result, "results": results}
 
 
 if __name__ == "__main__":
