@@ -1,0 +1,87 @@
+"""Would it have left the park? A batted ball flown to a park's outfield fence.
+
+The call: the ball is flown (each in its own air) until its horizontal distance from home
+plate reaches the fence's distance along the direction in which it is travelling there;
+it is a home run when it passes that point higher than the fence
+(:func:`mcbat.study.flight.heights_at_distance`). A ball that meets the wall while still
+rising, a line drive, is no home run even if it would have carried farther. The fence's
+distance depends on the spray angle at the crossing, which the ball's curve moves a little
+from its launch spray, so the crossing is found twice: at the fence of the launch spray,
+then at the fence of the spray where the ball crossed. Fences: :func:`parks.fence` (one
+configuration per park; ``docs/parks-and-weather.md``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.statcast import parks
+from mcbat.study.flight import FlightSettings, heights_at_distance
+from mcbat.study.units import UNITS
+
+__all__ = ["home_run_call"]
+
+_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
+                          UNITS["spin"]["rpm"])
+
+
+def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, park, *,
+                  settings: FlightSettings | None = None, ball=None,
+                  per_ball=None) -> pd.DataFrame:
+    """Whether each ball clears its park's fence.
+
+    Parameters
+    ----------
+    launch_speed, launch_angle, spray_angle : array_like
+        Statcast's (mph, deg, deg; spray ``atan2(x, y)``, > 0 towards right field).
+    backspin, sidespin : array_like
+        rpm (``docs/flight.md``).
+    park : str or array_like of str
+        ``park_id`` of :func:`mcbat.statcast.parks.park_of`, one or one per ball.
+    settings : FlightSettings, optional
+        The flight (default: Nathan's model in standard air).
+    ball : mcbat.bodies.Ball, optional
+        Default: the regulation baseball.
+    per_ball : mapping, optional
+        Per-ball flight settings (SI; :data:`mcbat.study.flight.PER_BALL`): the park's
+        elevation, the game's air, a season's drag.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per ball: ``fence_distance`` and ``fence_height`` (ft) where it crosses,
+        ``height_at_fence`` (ft; NaN: down before the fence), ``clearance`` (ft, height
+        above the fence) and ``home_run`` (nullable boolean: NA where the fence's height is
+        not known).
+    """
+    settings = FlightSettings() if settings is None else settings
+    ball = BALL_PRESETS[DEFAULT_BALL] if ball is None else ball
+    speed = np.atleast_1d(np.asarray(launch_speed, float))
+    n = speed.size
+    spray = np.broadcast_to(np.asarray(spray_angle, float), (n,))
+    ids = np.broadcast_to(np.asarray(park, dtype=object), (n,))
+    launch = (speed * _MPH, np.broadcast_to(np.asarray(launch_angle, float), (n,)) * _DEG,
+              spray * _DEG, np.broadcast_to(np.asarray(backspin, float), (n,)) * _RPM,
+              np.broadcast_to(np.asarray(sidespin, float), (n,)) * _RPM)
+    crossing = spray
+    for _ in range(2):
+        distance, height = parks.fence(ids, crossing)
+        z, phi = heights_at_distance(settings, ball.mass, ball.radius, distance * _FT,
+                                     *launch, per_ball=per_ball)
+        crossing = np.where(np.isfinite(phi), np.degrees(phi), crossing)
+    distance, height = parks.fence(ids, crossing)
+    z, _ = heights_at_distance(settings, ball.mass, ball.radius, distance * _FT, *launch,
+                               per_ball=per_ball)
+    z_ft = z / _FT
+    clearance = z_ft - height
+    known = np.isfinite(height) & np.isfinite(distance)
+    call = pd.array(np.where(known, np.isfinite(clearance) & (clearance > 0), False),
+                    dtype="boolean")
+    call[~known] = pd.NA
+    out = pd.DataFrame({"fence_distance": distance, "fence_height": height,
+                        "height_at_fence": z_ft, "clearance": clearance, "home_run": call})
+    out.attrs["units"] = {"fence_distance": "ft", "fence_height": "ft",
+                          "height_at_fence": "ft", "clearance": "ft", "home_run": "bool"}
+    return out
