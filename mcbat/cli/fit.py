@@ -38,6 +38,9 @@ def add_parser(sub) -> None:
     fit.add_argument("--spin-model", default=None, metavar="NAME",
                      help="with --flight: the spin the balls are flown with, nathan (his "
                           "average model; default) or inferred (mcbat.inference)")
+    fit.add_argument("--weather", default=None, metavar="FILE",
+                     help="with --flight: a per-game weather table "
+                          "(docs/parks-and-weather.md; default each park's climate normal)")
     fit.add_argument("--free", default=None,
                      help="comma-separated (default: e,mu; with --flight "
                           "drag_scale,lift_scale)")
@@ -95,9 +98,10 @@ def _fit_flight(args) -> int:
                              "ball of --data once)")
     if args.bootstrap:
         raise InputError("--bootstrap", "not with --flight")
-    with flags("free", "intervals", "spin_model"):
+    with flags("free", "intervals", "spin_model", "weather"):
         result = calibrate_file(args.data, free=args.free, intervals=args.intervals,
-                                spin_model=args.spin_model or "nathan")
+                                spin_model=args.spin_model or "nathan",
+                                weather_path=args.weather)
     if args.json:
         print_json(result.to_dict())
         return EXIT_OK
@@ -119,6 +123,8 @@ def cmd_fit(args) -> int:
 
     if args.flight:
         return _fit_flight(args)
+    if args.weather is not None:
+        raise InputError("--weather", "applies to --flight only")
     if args.population:
         return _fit_population(args)
     if args.spin_model is not None:

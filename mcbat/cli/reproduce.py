@@ -34,6 +34,9 @@ def add_parser(sub) -> None:
     rep.add_argument("--data", default=None, metavar="FILE",
                      help="statcast: a Baseball Savant CSV export (default: the samples "
                           "shipped in data/)")
+    rep.add_argument("--weather", default=None, metavar="FILE",
+                     help="statcast: a per-game weather table (docs/parks-and-weather.md; "
+                          "default: each park's climate normal for the month)")
     rep.add_argument("--samples", type=int_arg("--samples"), metavar="N",
                      help="Monte Carlo samples (default: the study's)")
     rep.add_argument("--threads", type=int_arg("--threads"), metavar="K",
@@ -58,8 +61,9 @@ def cmd_reproduce(args) -> int:
             raise InputError(flag, f"must be an integer >= 1, got {value}")
         if value is not None and value > most:
             raise InputError(flag, f"must be <= {most:,}, got {value:,}")
-    if args.paper != "statcast" and args.data is not None:
-        raise InputError("--data", "applies to the statcast reproduction only")
+    for flag, value in (("--data", args.data), ("--weather", args.weather)):
+        if args.paper != "statcast" and value is not None:
+            raise InputError(flag, "applies to the statcast reproduction only")
     if args.paper == "statcast":
         return _reproduce_statcast(args)
     if args.out is None:
@@ -87,7 +91,8 @@ def _reproduce_statcast(args) -> int:
     if args.samples:
         raise InputError("--samples", "applies to the cabo2012 reproduction only "
                                       "(statcast flies every ball of the file)")
-    with flags("out", "threads", "overwrite"):
+    with flags("out", "threads", "overwrite", "weather"):
         reproduce_statcast(args.out or str(Path("results") / "statcast"), data=args.data,
-                           threads=args.threads, overwrite=args.overwrite)
+                           weather_path=args.weather, threads=args.threads,
+                           overwrite=args.overwrite)
     return EXIT_OK

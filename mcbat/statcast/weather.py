@@ -22,7 +22,7 @@ from mcbat.errors import InputError
 from mcbat.statcast import parks
 
 __all__ = ["CLIMATE_FILE", "INDOOR_HUMIDITY", "INDOOR_TEMPERATURE", "MPH", "STANDARD",
-           "WIND_CODES", "air", "climate", "read_weather", "wind_vector"]
+           "TEAM_ALIASES", "WIND_CODES", "air", "climate", "read_weather", "wind_vector"]
 
 CLIMATE_FILE = "park_climate.csv"
 MPH = 0.44704
@@ -332,6 +332,14 @@ def air(table, weather=None):
     return out
 
 
+#: Team codes that name the same club (Savant wrote Arizona as ARI until 2022, AZ since).
+TEAM_ALIASES = {"ARI": "AZ"}
+
+
+def _team(codes):
+    return np.array([TEAM_ALIASES.get(c, c) for c in codes], dtype=object)
+
+
 def _match(table, dates, w):
     """Index of each Statcast row's weather row (-1 for none)."""
     import pandas as pd
@@ -346,9 +354,9 @@ def _match(table, dates, w):
                 idx[r] = where.get(int(pk), -1)
     if {"game_date", "home_team", "game_number"} <= set(w.columns):
         key = {(d.strftime("%Y-%m-%d"), t, int(g)): i for i, (d, t, g) in enumerate(
-            zip(w["game_date"], w["home_team"], w["game_number"]))}
+            zip(w["game_date"], _team(w["home_team"]), w["game_number"]))}
         frame = pd.DataFrame({"date": dates.dt.strftime("%Y-%m-%d"),
-                              "team": table["home_team"].to_numpy(dtype=object),
+                              "team": _team(table["home_team"].to_numpy(dtype=object)),
                               "pk": pd.to_numeric(table["game_pk"], errors="coerce")})
         # doubleheaders: the lower game_pk of a date and home team is game 1
         games = frame.dropna().drop_duplicates().sort_values("pk")

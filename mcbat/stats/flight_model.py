@@ -27,7 +27,7 @@ from mcbat.stats.models import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
 from mcbat.study.units import UNITS
 
-__all__ = ["FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
+__all__ = ["AIR_COLUMNS", "FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
 
 _FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
                           UNITS["spin"]["rpm"])
@@ -41,8 +41,16 @@ FLIGHT_TABLE_COLUMNS = {
     "elevation": ("ft", "input"),
     "landing_height": ("ft", "input"),
     "hit_distance_sc": ("ft", "observable"),
+    "temperature": ("degF", "optional"),
+    "pressure": ("inHg", "optional"),
+    "relative_humidity": ("%", "optional"),
+    "wind_x": ("m/s", "optional"),
+    "wind_y": ("m/s", "optional"),
 }
-"""Columns of a flight measurement table (Statcast's names and units)."""
+"""Columns of a flight measurement table (Statcast's names and units). The optional ones
+are each ball's air (game-time temperature, barometric pressure corrected to sea level,
+relative humidity, wind in the field frame); where absent, the settings'."""
+AIR_COLUMNS = tuple(c for c, (_, role) in FLIGHT_TABLE_COLUMNS.items() if role == "optional")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -84,6 +92,15 @@ class FlightModel(DrawModel):
         si = {"launch_speed": _MPH, "launch_angle": _DEG, "spray_angle": _DEG,
               "backspin": _RPM, "sidespin": _RPM, "elevation": _FT, "landing_height": _FT}
         self._launch = {c: table[c].to_numpy(float) * k for c, k in si.items()}
+        self._air = {}
+        if "temperature" in table.columns:
+            self._air["temperature"] = (table["temperature"].to_numpy(float) - 32.0) / 1.8 \
+                + 273.15
+        if "pressure" in table.columns:
+            self._air["pressure"] = table["pressure"].to_numpy(float) * 3386.389
+        for column in ("relative_humidity", "wind_x", "wind_y"):
+            if column in table.columns:
+                self._air[column] = table[column].to_numpy(float)
         self.parameters = {"drag_scale": study.settings.drag_scale,
                            "lift_scale": study.settings.lift_scale}
         self.set_parameters(fixed or {})
@@ -102,6 +119,7 @@ class FlightModel(DrawModel):
                                    launch["launch_speed"], launch["launch_angle"],
                                    launch["spray_angle"], launch["backspin"],
                                    launch["sidespin"], elevation=launch["elevation"],
-                                   landing_height=launch["landing_height"])
+                                   landing_height=launch["landing_height"],
+                                   per_ball=self._air)
         return ({"hit_distance_sc": np.repeat(out["hit_distance"] / _FT, self.draws)},
                 np.repeat(status, self.draws))

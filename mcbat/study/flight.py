@@ -25,8 +25,11 @@ Defaults are the calculator's standard conditions (70 degF, 29.92 inHg, 50 %, se
 
 from __future__ import annotations
 
+import csv
+import functools
 import math
 from dataclasses import dataclass
+from importlib import resources
 
 import numpy as np
 
@@ -49,6 +52,7 @@ from mcbat.study import units as u
 from mcbat.study.distributions import parse
 
 __all__ = ["DEFAULT_DECAY_TIME", "DEFAULT_START", "FLIGHT_KEYS", "FLIGHT_PRESETS", "SCALE_RANGES",
+           "SEASONS_FILE", "flight_seasons", "season_scales", "season_wind_scale",
            "PER_BALL", "FlightSettings", "fly_launches", "heights_at_distance", "launch_vectors",
            "params_each", "parse_flight"]
 
@@ -159,24 +163,61 @@ FLIGHT_KEYS = ("atmosphere", "model", "preset", "spin_decay_time", "drag", "lift
                "tolerance")
 #: Allowed ranges of the calibration scales.
 SCALE_RANGES = {"drag_scale": (0.2, 3.0), "lift_scale": (0.0, 3.0)}
-#: Calibrated flights (``preset = NAME``): Nathan's model with its drag and lift scaled to
-#: measured Statcast distances by ``mcbat fit --flight`` (``docs/flight.md``): the fitted
-#: values with their 68 % profile-likelihood errors, and the data they came from.
-FLIGHT_PRESETS = {
-    "statcast_2019_2020": {
-        "model": "nathan",
-        "drag_scale": {"value": 0.9692, "lower_error": 0.0143, "upper_error": 0.0143},
-        "lift_scale": {"value": 1.0460, "lower_error": 0.0437, "upper_error": 0.0433},
-        "sigma_ft": 14.9,
-        "balls": 129,
-        "spin_model": "nathan",
-        "ball": "baseball",
-        "data": "the outfield catches and home runs of data/statcast_2020-09-03.csv (eight "
-                "games of 2020-09-03) and data/statcast_2019_darvish.csv (five games of "
-                "July 2019), at 70 degF, 29.92 inHg, 50 % RH and each park's elevation; "
-                "mcbat fit --flight",
-    },
-}
+#: The season table inside the resource package ``mcbat.data``: Nathan's model with its
+#: drag and lift fitted to each season's measured Statcast distances, each ball in its own
+#: park and air (``docs/flight.md``; ``python -m validation flight_seasons`` writes it).
+SEASONS_FILE = "flight_seasons.csv"
+
+
+@functools.cache
+def flight_seasons() -> dict:
+    """The fitted flight of each season, ``{season: {...}}`` (cached): ``drag_scale`` and
+    ``lift_scale`` as ``{"value", "error"}`` (68 %), ``sigma_ft`` (the per-ball scatter),
+    ``balls`` fitted, ``judged`` (balls judged out of sample), ``wind_scale`` (the share
+    of a weather table's recorded wind the balls were flown with), ``spin_model``, ``ball``
+    and ``data`` (the files it was fitted to)."""
+    text = resources.files("mcbat.data").joinpath(SEASONS_FILE).read_text(encoding="utf-8")
+    rows = csv.DictReader(line for line in text.splitlines()
+                          if line.strip() and not line.startswith("#"))
+    out = {}
+    for row in rows:
+        out[int(row["season"])] = {
+            "model": "nathan",
+            **{k: {"value": float(row[k]), "error": float(row[k + "_error"])}
+               for k in SCALE_RANGES},
+            "sigma_ft": float(row["sigma_ft"]), "balls": int(row["balls"]),
+            "judged": int(row["judged"]), "wind_scale": float(row["wind_scale"]),
+            "spin_model": row["spin_model"],
+            "ball": row["ball"], "data": row["data"],
+        }
+    return out
+
+
+def season_scales(game_year):
+    """``(drag_scale, lift_scale, fitted)`` of each row's season (arrays): the fitted
+    season's scales, or the published model's 1 and 1 (``fitted`` False) for a season the
+    table does not have."""
+    years = np.asarray(game_year, float)
+    drag, lift = np.ones(years.shape), np.ones(years.shape)
+    fitted = np.zeros(years.shape, bool)
+    for season, row in flight_seasons().items():
+        rows = years == season
+        drag[rows] = row["drag_scale"]["value"]
+        lift[rows] = row["lift_scale"]["value"]
+        fitted[rows] = True
+    return drag, lift, fitted
+
+
+def season_wind_scale() -> float:
+    """The share of a weather table's recorded wind the fitted seasons' balls feel (the
+    season table's ``wind_scale``; 1 when the table is empty)."""
+    scales = {row["wind_scale"] for row in flight_seasons().values()}
+    return scales.pop() if len(scales) == 1 else 1.0
+
+
+#: Calibrated flights (``preset = NAME``): ``statcast_SEASON``, the fitted flight of each
+#: season of :func:`flight_seasons`.
+FLIGHT_PRESETS = {f"statcast_{season}": row for season, row in flight_seasons().items()}
 
 
 def _aerodynamics(table, key) -> dict:

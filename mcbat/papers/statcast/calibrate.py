@@ -5,7 +5,10 @@ scales the spin-free drag ``C_D0`` and the lift ``C_L`` of Nathan's model so tha
 predicted distances of the balls whose measured point is known best (outfield catches at
 the catch height, home runs projected to the ground; :mod:`~mcbat.papers.statcast.compare`)
 match ``hit_distance_sc``. Hits in play are left out of the fit: a ball that struck a wall
-is measured short of its carry, and nothing in the data says which did.
+is measured short of its carry, and nothing in the data says which did. Only the fly balls
+and home runs launched at 20-50 deg are fitted
+(:func:`~mcbat.papers.statcast.compare.eligible_window`): their carry is what the drag
+decides, while a line drive caught low depends as much on the guessed catch height.
 
 The per-ball scatter ``sigma`` (ft) is not a measurement error: it is what the launch
 numbers do not determine, each ball's own spin about the average spin model, the day's
@@ -28,9 +31,9 @@ import numpy as np
 import pandas as pd
 
 from mcbat.errors import InputError
-from mcbat.papers.statcast.compare import select_balls
+from mcbat.papers.statcast.compare import eligible_window
 from mcbat.stats.fit import fit
-from mcbat.stats.flight_model import FLIGHT_TABLE_COLUMNS, FlightFitSetup
+from mcbat.stats.flight_model import AIR_COLUMNS, FLIGHT_TABLE_COLUMNS, FlightFitSetup
 from mcbat.study.flight import FlightSettings
 
 __all__ = ["FIT_CLASSES", "FREE", "FlightCalibration", "calibrate", "fit_scales",
@@ -81,8 +84,12 @@ def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame
     table["backspin"] = np.asarray(backspin, float)
     table["sidespin"] = np.asarray(sidespin, float)
     table["landing_height"] = balls["compare_height"].to_numpy(float)
+    for column in AIR_COLUMNS:
+        if column in balls.columns:
+            table[column] = balls[column].to_numpy(float)
     table["hit_distance_sc_err"] = np.broadcast_to(np.asarray(sigma, float), len(table))
-    return table[[*FLIGHT_TABLE_COLUMNS, "hit_distance_sc_err"]]
+    return table[[c for c in (*FLIGHT_TABLE_COLUMNS, "hit_distance_sc_err")
+                  if c in table.columns]]
 
 
 def check_free(free) -> tuple:
@@ -98,18 +105,21 @@ def check_free(free) -> tuple:
     return tuple(p for p in FREE if p in names)
 
 
-def calibrate_file(path=None, *, spin_model="nathan", free=None,
-                   intervals="profile") -> FlightCalibration:
-    """Read a Statcast file (None: the shipped samples), select its balls and calibrate
+def calibrate_file(path=None, *, spin_model="nathan", free=None, intervals="profile",
+                   weather_path=None) -> FlightCalibration:
+    """Read a Statcast file (None: the shipped samples), select its balls, give each its
+    air (the games' weather from ``weather_path``, else each park's climate) and calibrate
     (:func:`calibrate`) with the spin of ``spin_model``."""
-    from mcbat.papers.statcast.reproduce import SPIN_MODELS, read_statcast
+    from mcbat.papers.statcast.reproduce import SPIN_MODELS, balls_in_their_air, read_statcast
+    from mcbat.statcast.weather import read_weather
 
     free = check_free(free)
     if spin_model not in SPIN_MODELS:
         raise InputError("spin_model", f"must be one of {', '.join(SPIN_MODELS)}, got "
                          f"{spin_model!r}")
     table, source = read_statcast(path)
-    balls = select_balls(table, source)
+    balls = balls_in_their_air(table, source, None if weather_path is None
+                               else read_weather(weather_path))
     backspin, sidespin = SPIN_MODELS[spin_model](balls)
     return calibrate(balls, backspin, sidespin, spin_model=spin_model, free=free,
                      intervals=intervals, source=source)
@@ -140,7 +150,7 @@ def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
     InputError
         Naming ``hit_distance_sc`` when fewer than :data:`MIN_BALLS` balls qualify.
     """
-    use = balls["comparison"].isin(FIT_CLASSES).to_numpy(bool)
+    use = eligible_window(balls) & balls["comparison"].isin(FIT_CLASSES).to_numpy(bool)
     settings = FlightSettings() if settings is None else settings
     setup = FlightFitSetup(settings=settings) if ball is None else FlightFitSetup(
         settings=settings, mass=ball.mass, radius=ball.radius)

@@ -36,7 +36,8 @@ import pandas as pd
 
 from mcbat.errors import InputError
 
-__all__ = ["BATTED_TYPES", "CATCH_HEIGHT_FT", "COMPARED", "REQUIRED", "select_balls"]
+__all__ = ["BATTED_TYPES", "CATCH_HEIGHT_FT", "COMPARED", "REQUIRED", "WINDOW_DEG",
+           "eligible_window", "select_balls"]
 
 #: Batted-ball types compared (Statcast's ``bb_type``); home runs of any type too.
 BATTED_TYPES = ("fly_ball", "line_drive")
@@ -99,6 +100,23 @@ def select_balls(table: pd.DataFrame, source: str | None = None) -> pd.DataFrame
     balls["compare_height"] = np.where(np.isin(comparison, ("catch", "infield")),
                                        CATCH_HEIGHT_FT, 0.0)
     return balls
+
+
+#: The launch angles (deg) of the fly balls and home runs every flight is judged on: where
+#: the carry depends most on the air and the ball, and least on where a fielder stood.
+WINDOW_DEG = (20.0, 50.0)
+
+
+def eligible_window(balls: pd.DataFrame) -> np.ndarray:
+    """Boolean mask of the fly balls and home runs launched at 20-50 deg
+    (:data:`WINDOW_DEG`) among ``balls`` (a :func:`select_balls` frame), caught in the
+    outfield or home runs: the balls every flight is judged on."""
+    angle = balls["launch_angle"].to_numpy(float)
+    kind = balls["bb_type"].astype("string").fillna("")
+    comparison = balls["comparison"].astype("string").fillna("")
+    return ((angle >= WINDOW_DEG[0]) & (angle <= WINDOW_DEG[1])
+            & ((kind == "fly_ball") | (comparison == "home_run")).to_numpy(bool)
+            & comparison.isin(COMPARED).to_numpy(bool))
 
 
 def launch_angle_bins(launch_angle, width=10.0):

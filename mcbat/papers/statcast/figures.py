@@ -9,10 +9,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
-from mcbat.papers.statcast.compare import COMPARED, launch_angle_bins  # noqa: E402
+from mcbat.papers.statcast.compare import (  # noqa: E402
+    COMPARED,
+    eligible_window,
+    launch_angle_bins,
+)
 
-__all__ = ["predicted_vs_measured", "residual_vs_launch_angle"]
+__all__ = ["predicted_vs_measured", "residual_breakdowns", "residual_vs_launch_angle"]
 
 _STYLE = {"catch": ("tab:blue", "o", "outfield catch (at 6 ft)"),
           "home_run": ("tab:red", "^", "home run (projected to the ground)"),
@@ -101,6 +106,57 @@ def residual_vs_launch_angle(fig_dir, long):
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
     path = fig_dir / "residual_vs_launch_angle.png"
     fig.tight_layout(rect=(0, 0.04, 1, 1))
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def _median_with_error(residual):
+    """Median and its standard error (1.2533 sigma / sqrt(n), sigma from the MAD)."""
+    r = residual[np.isfinite(residual)]
+    if r.size < 2:
+        return np.nan, np.nan, r.size
+    sigma = 1.4826 * np.median(np.abs(r - np.median(r)))
+    return float(np.median(r)), 1.2533 * sigma / np.sqrt(r.size), r.size
+
+
+def residual_breakdowns(fig_dir, rows, min_balls=20):
+    """The median residual of the fly balls and home runs of 20-50 deg, with its error,
+    by season, by calendar month and by game temperature (groups of at least
+    ``min_balls``): ``rows`` are the long table's rows of one flight and spin model."""
+    window = rows[eligible_window(rows)]
+    residual = window["residual"].to_numpy(float)
+    dates = pd.to_datetime(window["game_date"], errors="coerce")
+    groups = {
+        "season": window["game_year"].to_numpy(float),
+        "month": dates.dt.month.to_numpy(float),
+        "game temperature (degF, 5-degree bins)":
+            np.floor(window["temperature"].to_numpy(float) / 5.0) * 5.0 + 2.5,
+    }
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), sharey=True)
+    for ax, (name, key) in zip(axes, groups.items()):
+        xs, meds, errs, ns = [], [], [], []
+        for value in np.unique(key[np.isfinite(key)]):
+            med, err, n = _median_with_error(residual[key == value])
+            if n >= min_balls:
+                xs.append(value)
+                meds.append(med)
+                errs.append(err)
+                ns.append(n)
+        ax.errorbar(xs, meds, yerr=errs, fmt="o-", color="tab:blue", capsize=3)
+        for x, m, n in zip(xs, meds, ns):
+            ax.annotate(str(n), (x, m), textcoords="offset points", xytext=(0, 8),
+                        ha="center", fontsize=7, color="0.35")
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.axhspan(-4.0, 4.0, color="tab:green", alpha=0.1, lw=0)
+        ax.set_xlabel(name)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("median predicted - measured (ft)")
+    fig.suptitle(f"fly balls and home runs of 20-50 deg ({len(window)} balls; numbers: "
+                 f"balls per point, groups of {min_balls} or more; band: +-4 ft)",
+                 fontsize=9)
+    path = fig_dir / "residual_by_season_month_temperature.png"
+    fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
     return path

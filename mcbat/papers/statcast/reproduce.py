@@ -4,19 +4,36 @@ Statcast distances.
 For the fly balls, line drives and home runs of a Statcast file (by default the real
 samples shipped in ``data/``: the 2,507 pitches of the eight games of 2020-09-03 and 438
 pitches of Yu Darvish's five starts of July 2019), each ball is flown from its measured
-launch (``launch_speed``, ``launch_angle``, ``spray_angle``) in the calculator's standard
-weather (70 degF, 29.92 inHg, 50 %) at its park's elevation, with the spin of each spin
-model, by each flight (``nathan``: the published model; a calibrated preset), and compared
-with
-``hit_distance_sc`` at the point the measurement refers to
-(:mod:`~mcbat.papers.statcast.compare`). Writes, under one results directory::
+launch (``launch_speed``, ``launch_angle``, ``spray_angle``) with the regulation ball, with
+the spin of each spin model, by each flight, and compared with ``hit_distance_sc`` at the
+point the measurement refers to (:mod:`~mcbat.papers.statcast.compare`). The flights:
+
+``season`` (the default)
+    Nathan's model with its season's fitted drag and lift
+    (:func:`mcbat.study.flight.flight_seasons`; the published model for a season the table
+    lacks), each ball in its own park and air (:func:`mcbat.statcast.weather.air`: the
+    game's weather when a weather table is given, else the park's climate normal for the
+    month; indoor air and no wind under a closed roof). A weather table's recorded wind
+    is felt at the season table's ``wind_scale`` (0.05: the recorded wind at first pitch
+    barely predicts the carry; ``docs/flight.md``).
+``published``
+    Nathan's published model in the same air.
+``standard_air``
+    Nathan's published model in the calculator's standard weather (70 degF, 29.92 inHg,
+    50 %, no wind) at the park's elevation.
+
+Writes, under one results directory::
 
     DIR/balls.parquet    one row per ball, spin model and flight: the launch, the
-                         measurement, the spin, predicted_distance, residual
+                         measurement, the ball's air, the spin, predicted_distance,
+                         residual, and ``default`` (True for the default flight and
+                         spin model: ``season`` and ``nathan``)
     DIR/summary.json     median, mean and rms of predicted minus measured, overall, per
-                         10-degree launch-angle bin, per comparison class; per spin model
-                         and flight
-    DIR/figures/         predicted_vs_measured.png, residual_vs_launch_angle.png
+                         10-degree launch-angle bin, per comparison class, and for the fly
+                         balls and home runs of 20-50 deg by season, month and game
+                         temperature; per spin model and flight
+    DIR/figures/         predicted_vs_measured.png, residual_vs_launch_angle.png,
+                         residual_by_season_month_temperature.png
 
 Deterministic: the same files at every run.
 """
@@ -34,37 +51,42 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from mcbat.bodies import BALL_PRESETS
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.dataset import storage
 from mcbat.papers.outputs import ResultsDirectory
 from mcbat.papers.statcast.compare import (
     CATCH_HEIGHT_FT,
     COMPARED,
+    eligible_window,
     launch_angle_bins,
     residual_stats,
     select_balls,
 )
 from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.runner.plan import set_threads
-from mcbat.statcast import read
-from mcbat.study.flight import FLIGHT_PRESETS, FlightSettings, fly_launches
+from mcbat.statcast import read, weather
+from mcbat.study.flight import FlightSettings, fly_launches, season_scales, season_wind_scale
 from mcbat.study.units import UNITS
 
-__all__ = ["DEFAULT_DATA", "FLIGHTS", "SPIN_MODELS", "compare_file", "reproduce",
+__all__ = ["AIR_UNITS", "DEFAULT_DATA", "DEFAULT_FLIGHT", "DEFAULT_SPIN", "FLIGHTS",
+           "SPIN_MODELS", "air_per_ball", "balls_in_their_air", "compare_file", "reproduce",
            "summarise"]
 
 _FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
                           UNITS["spin"]["rpm"])
 #: The shipped samples (resources of the ``mcbat.data`` package; ``data/README.md``).
 DEFAULT_DATA = ("statcast_2020-09-03.csv", "statcast_2019_darvish.csv")
-#: The ball every comparison flies: the project's (``mcbat flight``'s and studies').
-BALL = BALL_PRESETS["baseball"]
-#: Flights compared: name -> settings (at the calculator's standard weather).
-FLIGHTS = {"nathan": FlightSettings(),
-           **{name: FlightSettings(preset=name, model=p["model"],
-                                   drag_scale=p["drag_scale"]["value"],
-                                   lift_scale=p["lift_scale"]["value"])
-              for name, p in FLIGHT_PRESETS.items()}}
+#: The ball every comparison flies: the regulation baseball of games and flights.
+BALL = BALL_PRESETS[DEFAULT_BALL]
+#: Flights compared (module docstring): name -> (scales, air). ``scales``: "season" (each
+#: ball's season, :func:`~mcbat.study.flight.season_scales`) or "published" (1, 1);
+#: ``air``: "game" (:func:`~mcbat.statcast.weather.air`) or "standard".
+FLIGHTS = {"season": ("season", "game"), "published": ("published", "game"),
+           "standard_air": ("published", "standard")}
+#: The default flight and spin model (``balls.parquet``'s ``default`` column).
+DEFAULT_FLIGHT, DEFAULT_SPIN = "season", "nathan"
+#: The flights' shared settings: Nathan's model, the calculator's launch point and decay.
+SETTINGS = FlightSettings()
 
 
 def _nathan_spin(balls):
@@ -88,9 +110,13 @@ def _inferred_spin(balls):
 #: (NaN: no spin for that ball, which is then not compared).
 SPIN_MODELS = {"nathan": _nathan_spin, "inferred": _inferred_spin}
 
+#: Units of the air columns of ``balls.parquet`` (Statcast-style: degF, inHg, %, m/s).
+AIR_UNITS = {"temperature": "degF", "pressure": "inHg", "relative_humidity": "%",
+             "wind_x": "m/s", "wind_y": "m/s"}
 UNITS = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
          "hit_distance_sc": "ft", "elevation": "ft", "compare_height": "ft",
-         "backspin": "rpm", "sidespin": "rpm", "predicted_distance": "ft", "residual": "ft"}
+         "backspin": "rpm", "sidespin": "rpm", "predicted_distance": "ft", "residual": "ft",
+         "drag_scale": "1", "lift_scale": "1", **AIR_UNITS}
 
 
 def read_statcast(path=None) -> tuple[pd.DataFrame, str]:
@@ -106,28 +132,70 @@ def read_statcast(path=None) -> tuple[pd.DataFrame, str]:
     return table, " + ".join(f"data/{name}" for name in DEFAULT_DATA) + " (shipped)"
 
 
-def compare_file(table: pd.DataFrame, source=None) -> pd.DataFrame:
-    """Every selected ball flown by every spin model and flight: the long table written to
-    ``balls.parquet`` (module docstring)."""
+def air_per_ball(air: pd.DataFrame, wind_scale: float = 1.0) -> dict:
+    """The per-ball flight settings (SI, :data:`mcbat.study.flight.PER_BALL`) of an
+    :func:`~mcbat.statcast.weather.air` frame, its wind times ``wind_scale``."""
+    return {"temperature": (air["temperature"].to_numpy(float) - 32.0) * 5.0 / 9.0 + 273.15,
+            "pressure": air["pressure"].to_numpy(float) * 3386.389,
+            "relative_humidity": air["relative_humidity"].to_numpy(float),
+            "elevation": air["elevation"].to_numpy(float) * _FT,
+            "wind_x": air["wind_x"].to_numpy(float) * wind_scale,
+            "wind_y": air["wind_y"].to_numpy(float) * wind_scale}
+
+
+def balls_in_their_air(table: pd.DataFrame, source=None, weather_table=None) -> pd.DataFrame:
+    """The compared balls of ``table`` (:func:`~mcbat.papers.statcast.compare.select_balls`)
+    with the air each was hit in (:func:`mcbat.statcast.weather.air`: ``elevation``,
+    ``temperature``, ``pressure``, ``relative_humidity``, ``wind_x``, ``wind_y``,
+    ``roof_closed``, ``air_source``, ``wind_source``), from ``weather_table`` or the parks'
+    climate."""
     balls = select_balls(table, source)
+    air = weather.air(balls, weather_table).reset_index(drop=True)
+    for column in ("elevation", "temperature", "pressure", "relative_humidity", "wind_x",
+                   "wind_y", "roof_closed", "air_source", "wind_source"):
+        balls[column] = air[column].to_numpy()
+    return balls
+
+
+def compare_file(table: pd.DataFrame, source=None, *, weather_table=None,
+                 spin_models=None) -> pd.DataFrame:
+    """Every selected ball flown by every spin model and flight: the long table written to
+    ``balls.parquet`` (module docstring). ``weather_table``: a per-game weather table
+    (:func:`mcbat.statcast.weather.read_weather`), else each park's climate normals;
+    ``spin_models``: names of :data:`SPIN_MODELS` (default all)."""
+    balls = balls_in_their_air(table, source, weather_table)
     balls.insert(0, "ball", np.arange(len(balls)))
+    drag, lift, _ = season_scales(balls["game_year"])
+    game_air = air_per_ball(balls, season_wind_scale())
+    standard_air = {"elevation": game_air["elevation"]}
     flown = balls["comparison"].isin(COMPARED).to_numpy(bool)
     parts = []
-    for spin_name, spin in SPIN_MODELS.items():
-        backspin, sidespin = (np.asarray(x, float) for x in spin(balls))
-        for flight_name, settings in FLIGHTS.items():
+    for spin_name in (SPIN_MODELS if spin_models is None else spin_models):
+        backspin, sidespin = (np.asarray(x, float) for x in SPIN_MODELS[spin_name](balls))
+        spun = np.isfinite(backspin) & np.isfinite(sidespin)
+        for flight_name, (scales, air_kind) in FLIGHTS.items():
+            per_ball = dict(game_air if air_kind == "game" else standard_air)
+            drag_scale = drag if scales == "season" else np.ones(len(balls))
+            lift_scale = lift if scales == "season" else np.ones(len(balls))
+            per_ball.update(drag_scale=drag_scale, lift_scale=lift_scale,
+                            landing_height=balls["compare_height"].to_numpy() * _FT)
             out, status = fly_launches(
-                settings, BALL.mass, BALL.radius, balls["launch_speed"].to_numpy() * _MPH,
+                SETTINGS, BALL.mass, BALL.radius, balls["launch_speed"].to_numpy() * _MPH,
                 balls["launch_angle"].to_numpy() * _DEG,
-                balls["spray_angle"].to_numpy() * _DEG, backspin * _RPM, sidespin * _RPM,
-                elevation=balls["elevation"].to_numpy() * _FT,
-                landing_height=balls["compare_height"].to_numpy() * _FT)
-            spun = np.isfinite(backspin) & np.isfinite(sidespin)
+                balls["spray_angle"].to_numpy() * _DEG, np.where(spun, backspin, 0.0) * _RPM,
+                np.where(spun, sidespin, 0.0) * _RPM, per_ball=per_ball)
             predicted = np.where((status == 0) & flown & spun, out["hit_distance"] / _FT,
                                  np.nan)
             part = balls.copy()
             part["spin_model"] = spin_name
             part["flight"] = flight_name
+            part["default"] = spin_name == DEFAULT_SPIN and flight_name == DEFAULT_FLIGHT
+            part["drag_scale"] = drag_scale
+            part["lift_scale"] = lift_scale
+            if air_kind == "standard":
+                part["temperature"], part["pressure"] = 70.0, 29.92
+                part["relative_humidity"], part["wind_x"], part["wind_y"] = 50.0, 0.0, 0.0
+                part["air_source"] = "standard"
             part["backspin"] = backspin
             part["sidespin"] = sidespin
             part["predicted_distance"] = predicted
@@ -158,9 +226,7 @@ def summarise(long: pd.DataFrame) -> dict:
         fb_bins = launch_angle_bins(fit_like["launch_angle"])
         by_bin_fit = {_bin_label(b): residual_stats(fit_like["residual"][fb_bins == b])
                       for b in np.unique(fb_bins)}
-        window = compared[(compared["launch_angle"] >= 20) & (compared["launch_angle"] <= 50)
-                          & ((compared["bb_type"] == "fly_ball")
-                             | (compared["comparison"] == "home_run"))]
+        window = part[eligible_window(part)]
         out.setdefault(str(spin), {})[str(flight)] = {
             "all": {"overall": residual_stats(compared["residual"]),
                     "by_launch_angle": by_bin},
@@ -171,11 +237,43 @@ def summarise(long: pd.DataFrame) -> dict:
             "home_run": residual_stats(compared["residual"][
                 compared["comparison"] == "home_run"]),
             "fly_ball_and_home_run_20_to_50_deg": residual_stats(window["residual"]),
+            "fly_ball_and_home_run_20_to_50_deg_by": breakdowns(window),
+            "eligible_20_to_50_deg": int(len(window)),
+            "compared_20_to_50_deg": int(np.isfinite(window["residual"]).sum()),
             "not_risen_to_catch_height": int(((part["flight_status"] == 3)
                                               & part["comparison"].isin(COMPARED)).sum()),
             "without_spin": int((~np.isfinite(part["backspin"])
                                  & part["comparison"].isin(COMPARED)).sum()),
         }
+    return out
+
+
+#: Game temperature bin edges of the breakdowns (degF).
+TEMPERATURE_EDGES = (50.0, 60.0, 70.0, 80.0, 90.0)
+TEMPERATURE_LABELS = (f"below {TEMPERATURE_EDGES[0]:.0f}",
+                      *(f"{lo:.0f} to {hi:.0f}" for lo, hi in
+                        zip(TEMPERATURE_EDGES, TEMPERATURE_EDGES[1:])),
+                      f"{TEMPERATURE_EDGES[-1]:.0f} and above")
+
+
+def breakdowns(window: pd.DataFrame) -> dict:
+    """Residual statistics of ``window`` (rows of the long table) by season
+    (``game_year``), calendar month (of ``game_date``) and game temperature (degF, the
+    air each ball was flown in)."""
+    dates = pd.to_datetime(window["game_date"], errors="coerce")
+    residual = window["residual"].to_numpy(float)
+    out = {"season": {}, "month": {}, "temperature": {}}
+    for season in sorted(pd.unique(window["game_year"].dropna())):
+        out["season"][str(int(season))] = residual_stats(
+            residual[(window["game_year"] == season).to_numpy(bool)])
+    months = dates.dt.month.to_numpy(float)
+    for month in sorted(np.unique(months[np.isfinite(months)])):
+        out["month"][f"{int(month):02d}"] = residual_stats(residual[months == month])
+    temperature = window["temperature"].to_numpy(float)
+    index = np.searchsorted(TEMPERATURE_EDGES, temperature, side="right")
+    for i, label in enumerate(TEMPERATURE_LABELS):
+        out["temperature"][label + " degF"] = residual_stats(
+            residual[(index == i) & np.isfinite(temperature)])
     return out
 
 
@@ -217,10 +315,12 @@ def _write_parquet(long: pd.DataFrame, path: Path) -> None:
     storage.write_atomic(path, lambda fs, tmp: pq.write_table(table, tmp, filesystem=fs))
 
 
-def reproduce(out="results", *, data=None, threads=None, echo=print, overwrite=False) -> dict:
+def reproduce(out="results", *, data=None, weather_path=None, threads=None, echo=print,
+              overwrite=False) -> dict:
     """Compare, write ``balls.parquet``, ``summary.json`` and the figures under ``out``
     (module docstring); returns the paths written. ``data``: a Statcast file (default the
-    shipped sample)."""
+    shipped sample); ``weather_path``: a per-game weather table
+    (:func:`mcbat.statcast.weather.read_weather`; default: each park's climate)."""
     from mcbat.papers.statcast import figures
 
     t0 = time.perf_counter()
@@ -229,20 +329,24 @@ def reproduce(out="results", *, data=None, threads=None, echo=print, overwrite=F
     results = ResultsDirectory(Path(out), "statcast",
                                ("balls.parquet", "figures", "summary.json"),
                                overwrite=overwrite)
-    long = compare_file(table, source)
+    weather_table = None if weather_path is None else weather.read_weather(weather_path)
+    long = compare_file(table, source, weather_table=weather_table)
     residuals = summarise(long)
-    first = long[(long["spin_model"] == long["spin_model"].cat.categories[0])
-                 & (long["flight"] == "nathan")]
+    first = long[long["default"]]
     summary = {
         "data": source, "rows_read": len(table), "balls": int(len(first)),
         "by_comparison": {str(k): int(v) for k, v in
                           first["comparison"].value_counts(sort=False).items()},
         "catch_height_ft": CATCH_HEIGHT_FT,
         "ball": {"preset": BALL.preset, "mass_kg": BALL.mass, "radius_m": BALL.radius},
-        "weather": "70 degF, 29.92 inHg (sea level), 50 % RH, at each park's elevation",
-        "flights": {name: {**s.config(), "elevation_m": "each ball's park (elevation)",
-                           "landing_height_m": "each ball's compare_height"}
-                    for name, s in FLIGHTS.items()},
+        "weather": (str(weather_path) if weather_path is not None else
+                    "none given: each park's climate normal for the month"),
+        "air_sources": {str(k): int(v) for k, v in
+                        first["air_source"].value_counts(sort=False).items()},
+        "flights": {name: {"scales": scales, "air": air_kind}
+                    for name, (scales, air_kind) in FLIGHTS.items()},
+        "default": {"flight": DEFAULT_FLIGHT, "spin_model": DEFAULT_SPIN},
+        "settings": SETTINGS.config(),
         "spin_models": list(SPIN_MODELS),
         "residual": "predicted_distance - hit_distance_sc",
         "residuals": residuals,
@@ -254,7 +358,8 @@ def reproduce(out="results", *, data=None, threads=None, echo=print, overwrite=F
         _write_parquet(long, root / "balls.parquet")
         fig_dir = results.directory("figures")
         paths = [figures.predicted_vs_measured(fig_dir, long),
-                 figures.residual_vs_launch_angle(fig_dir, long)]
+                 figures.residual_vs_launch_angle(fig_dir, long),
+                 figures.residual_breakdowns(fig_dir, long[long["default"]])]
         summary_path = results.write_text(
             "summary.json", json.dumps(_finite(summary), indent=2, allow_nan=False) + "\n")
     echo(f"{summary['balls']} balls of {source} ({len(table)} rows read)")

@@ -2,6 +2,7 @@
 distances; injection on synthetic distances from known scales; the calibrated preset."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,19 +12,25 @@ from mcbat.cli import main
 from mcbat.errors import InputError
 from mcbat.papers.statcast.calibrate import (
     FIT_CLASSES,
-    calibrate_file,
     fit_scales,
     flight_table,
     predict,
 )
 from mcbat.papers.statcast.compare import select_balls
-from mcbat.papers.statcast.reproduce import read_statcast
+from mcbat.papers.statcast.reproduce import balls_in_their_air, read_statcast
 from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.stats.fit import Likelihood
 from mcbat.stats.flight_model import FlightFitSetup
-from mcbat.study.flight import FLIGHT_PRESETS, parse_flight
+from mcbat.study.flight import (
+    FLIGHT_PRESETS,
+    flight_seasons,
+    parse_flight,
+    season_wind_scale,
+)
 
-PRESET = "statcast_2019_2020"
+PRESET = "statcast_2025"
+SHARED_2025 = Path(__file__).resolve().parents[3].parent / "shared" / "data" / "statcast" / \
+    "statcast_2025-05-01.csv"
 
 
 @pytest.fixture(scope="module")
@@ -45,19 +52,34 @@ def _inject(launches, truth, sigma, rng, rows=None):
     return table
 
 
-def test_the_preset_is_what_the_shipped_samples_give():
-    cal = calibrate_file()
-    preset = FLIGHT_PRESETS[PRESET]
-    assert cal.balls == preset["balls"] and cal.sigma == pytest.approx(preset["sigma_ft"],
-                                                                       abs=0.05)
-    for name in ("drag_scale", "lift_scale"):
-        assert cal.result.params[name] == pytest.approx(preset[name]["value"], abs=1e-4)
-        iv = cal.result.intervals[name]
-        assert iv["status"] == "measured"
-        assert iv["lower_error"] == pytest.approx(preset[name]["lower_error"], abs=1e-4)
-        assert iv["upper_error"] == pytest.approx(preset[name]["upper_error"], abs=1e-4)
-    assert cal.result.dof == cal.balls - 2
-    assert cal.result.chi2 == pytest.approx(cal.balls - 2, rel=1e-6)
+def test_every_season_preset_is_its_table_row():
+    seasons = flight_seasons()
+    assert set(range(2015, 2026)) <= set(seasons)
+    for season, row in seasons.items():
+        preset = FLIGHT_PRESETS[f"statcast_{season}"]
+        assert preset["drag_scale"] == row["drag_scale"] and preset["model"] == "nathan"
+        assert 0.8 < row["drag_scale"]["value"] < 1.2 and row["drag_scale"]["error"] > 0
+        assert row["balls"] >= 40 and row["ball"] == "regulation"
+    # the ball is deader since 2022 than in 2019-2020 (more drag), beyond the errors
+    later = seasons[2024]["drag_scale"]
+    earlier = seasons[2019]["drag_scale"]
+    assert later["value"] - earlier["value"] > 3 * math.hypot(later["error"],
+                                                               earlier["error"])
+
+
+@pytest.mark.skipif(not SHARED_2025.exists(), reason="the shared 2025 export is absent")
+def test_the_2025_row_refits_from_its_file():
+    # the 2025 row rests on one real export: refitting it gives the table's value
+    from validation.flight_seasons import fit_season, read_files
+
+    balls = balls_in_their_air(read_files([SHARED_2025]))
+    balls["wind_x"] *= season_wind_scale()
+    balls["wind_y"] *= season_wind_scale()
+    cal = fit_season(balls, ("drag_scale",), "2025")
+    row = flight_seasons()[2025]
+    assert cal.balls == row["balls"]
+    assert cal.result.params["drag_scale"] == pytest.approx(row["drag_scale"]["value"],
+                                                            abs=1e-4)
 
 
 def test_injected_scales_are_recovered(launches):
@@ -123,7 +145,7 @@ def test_the_preset_in_flight_settings_and_mcbat_flight():
             "backspin": 2000 * math.pi / 30}
     default = solve_flight(flight_case_from_dict(ball)).hit_distance
     calibrated = solve_flight(flight_case_from_dict({**ball, "preset": PRESET})).hit_distance
-    assert calibrated > default  # less drag, a little more lift
+    assert calibrated < default  # the 2025 ball: more drag than the published model
 
 
 def test_fit_without_a_study_or_flight_exits_2(capsys):

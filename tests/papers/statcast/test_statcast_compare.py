@@ -12,10 +12,17 @@ import pytest
 
 from mcbat.cli import main
 from mcbat.papers.statcast.compare import CATCH_HEIGHT_FT, select_balls
-from mcbat.papers.statcast.reproduce import compare_file, read_statcast, reproduce
+from mcbat.papers.statcast.reproduce import (
+    BALL,
+    FLIGHTS,
+    compare_file,
+    read_statcast,
+    reproduce,
+)
 from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.statcast import read
-from mcbat.study.flight import FlightSettings, fly_launches
+from mcbat.statcast.weather import climate
+from mcbat.study.flight import FlightSettings, flight_seasons, fly_launches
 
 ROOT = Path(__file__).resolve().parents[3]
 DATA = ROOT / "data"
@@ -88,32 +95,46 @@ def test_real_rows_get_their_comparison(shipped):
     assert (balls.loc[outs & balls["hit_location"].between(1, 6), "comparison"]
             == "infield").all()
     assert (balls.loc[balls["comparison"] == "home_run", "compare_height"] == 0).all()
-    # ground balls and popups are not compared; rows of a park without an elevation
-    # (PHI in the park table) are left out, nothing is guessed
+    # ground balls and popups are not compared; every park of the file has its elevation,
+    # so every fly ball, line drive and home run with a distance is compared
     assert set(balls["bb_type"].dropna()) <= {"fly_ball", "line_drive"}
-    assert "PHI" in set(shipped["home_team"]) and "PHI" not in set(balls["home_team"])
+    flown = shipped["bb_type"].isin(["fly_ball", "line_drive"]) & (
+        shipped["hit_distance_sc"] > 0)
+    assert "PHI" in set(balls["home_team"]) and len(balls) == flown.sum()
 
 
 def test_pete_alonso_home_run(shipped):
     # The 2020-09-03 file's first row: Pete Alonso's home run at Citi Field (elevation
-    # 20 ft), "on a fly ball to left field".
+    # 20 ft), "on a fly ball to left field", flown by each flight with its own settings.
     row = read(DATA / "statcast_2020-09-03.csv").iloc[[0]]
     assert row["events"].iloc[0] == "home_run"
-    long = compare_file(row)
-    nathan = long[(long["spin_model"] == "nathan") & (long["flight"] == "nathan")].iloc[0]
-    assert nathan["comparison"] == "home_run" and nathan["spray_angle"] < 0
+    long = compare_file(row, spin_models=["nathan"])
+    assert set(long["flight"]) == set(FLIGHTS)
     back, side = nathan_average_spin([row["launch_angle"].iloc[0]],
                                      [row["spray_angle"].iloc[0]], ["R"])
-    assert nathan["backspin"] == pytest.approx(back[0])
-    out, status = fly_launches(FlightSettings(elevation=20 * FT), 0.145, 0.036,
-                               row["launch_speed"].to_numpy() * MPH,
-                               row["launch_angle"].to_numpy() * DEG,
-                               row["spray_angle"].to_numpy() * DEG, back * RPM, side * RPM)
-    assert nathan["predicted_distance"] == pytest.approx(out["hit_distance"][0] / FT)
-    assert nathan["residual"] == pytest.approx(nathan["predicted_distance"]
-                                               - row["hit_distance_sc"].iloc[0])
-    # a home run of this launch lands within a few tens of feet of its measured projection
-    assert abs(nathan["residual"]) < 40
+    normal, _, _ = climate(["citi_field"], [9])
+    drag = flight_seasons()[2020]["drag_scale"]["value"]
+    settings = {  # what each flight means (reproduce's module docstring)
+        "season": FlightSettings(elevation=20 * FT, drag_scale=drag,
+                                 temperature=(normal[0] - 32) / 1.8 + 273.15),
+        "published": FlightSettings(elevation=20 * FT,
+                                    temperature=(normal[0] - 32) / 1.8 + 273.15),
+        "standard_air": FlightSettings(elevation=20 * FT)}
+    for name, flight in settings.items():
+        got = long[long["flight"] == name].iloc[0]
+        assert got["comparison"] == "home_run" and got["spray_angle"] < 0
+        assert got["backspin"] == pytest.approx(back[0])
+        assert bool(got["default"]) == (name == "season")
+        out, status = fly_launches(flight, BALL.mass, BALL.radius,
+                                   row["launch_speed"].to_numpy() * MPH,
+                                   row["launch_angle"].to_numpy() * DEG,
+                                   row["spray_angle"].to_numpy() * DEG, back * RPM,
+                                   side * RPM)
+        assert got["predicted_distance"] == pytest.approx(out["hit_distance"][0] / FT)
+        assert got["residual"] == pytest.approx(got["predicted_distance"]
+                                                - row["hit_distance_sc"].iloc[0])
+        # a home run of this launch lands within a few tens of feet of its projection
+        assert abs(got["residual"]) < 40
 
 
 def test_reproduce_on_the_shipped_samples(tmp_path):
@@ -123,35 +144,59 @@ def test_reproduce_on_the_shipped_samples(tmp_path):
     long = pd.read_parquet(paths["balls"])
     for column in ("launch_speed", "launch_angle", "spray_angle", "bb_type", "events",
                    "hit_distance_sc", "predicted_distance", "backspin", "sidespin",
-                   "spin_model", "flight", "comparison", "residual"):
+                   "spin_model", "flight", "comparison", "residual", "default",
+                   "temperature", "air_source", "drag_scale"):
         assert column in long.columns
     assert set(long["spin_model"]) == {"nathan", "inferred"}
-    assert set(long["flight"]) == {"nathan", "statcast_2019_2020"}
-    assert summary["balls"] * 4 == len(long)
+    assert set(long["flight"]) == set(FLIGHTS)
+    assert summary["balls"] * 2 * len(FLIGHTS) == len(long)
+    # the default rows: one per ball, the season flight with Nathan's spin
+    default = long[long["default"]]
+    assert len(default) == summary["balls"]
+    assert set(default["flight"]) == {"season"} and set(default["spin_model"]) == {"nathan"}
     # the summary's numbers are the parquet's residuals
-    part = long[(long["spin_model"] == "nathan") & (long["flight"] == "nathan")
+    part = long[(long["spin_model"] == "nathan") & (long["flight"] == "standard_air")
                 & long["comparison"].isin(["catch", "home_run", "hit"])]
-    stats = summary["residuals"]["nathan"]["nathan"]["all"]["overall"]
+    stats = summary["residuals"]["nathan"]["standard_air"]["all"]["overall"]
     r = part["residual"].dropna()
     assert stats["n"] == len(r) and stats["median"] == pytest.approx(r.median())
     assert stats["rms"] == pytest.approx(math.sqrt((r ** 2).mean()))
-    # acceptance: with the calibrated preset the fly balls and home runs of launch angle
-    # 20-50 deg lie within 5 ft of the measured distances in the median
-    window = summary["residuals"]["nathan"]["statcast_2019_2020"][
-        "fly_ball_and_home_run_20_to_50_deg"]
-    assert window["n"] > 60 and abs(window["median"]) < 5.0
+    # every eligible fly ball and home run of 20-50 deg is compared, and the default
+    # flight brings them within 5 ft of the measured distances in the median
+    season = summary["residuals"]["nathan"]["season"]
+    window = season["fly_ball_and_home_run_20_to_50_deg"]
+    assert season["compared_20_to_50_deg"] == season["eligible_20_to_50_deg"] == window["n"]
+    assert window["n"] > 100 and abs(window["median"]) < 5.0
+    by = season["fly_ball_and_home_run_20_to_50_deg_by"]
+    assert set(by["season"]) == {"2019", "2020"} and set(by["month"]) == {"07", "09"}
+    assert sum(v["n"] for v in by["temperature"].values()) == window["n"]
     # the inferred spin: every compared ball but a few got one and sidespin's sign
     # agrees with the average model's where the ball was pulled or hit the other way
-    inferred = long[(long["spin_model"] == "inferred") & (long["flight"] == "nathan")]
+    inferred = long[(long["spin_model"] == "inferred") & (long["flight"] == "standard_air")]
     assert np.isfinite(inferred["backspin"]).mean() > 0.95
     wide = (inferred["spray_angle"].abs() > 25) & np.isfinite(inferred["sidespin"])
     nathan_side = part.set_index("ball")["sidespin"]
     agree = np.sign(inferred.loc[wide, "sidespin"].to_numpy()) == np.sign(
         nathan_side.reindex(inferred.loc[wide, "ball"]).to_numpy())
     assert wide.sum() > 20 and agree.mean() > 0.8
-    for name in ("predicted_vs_measured.png", "residual_vs_launch_angle.png"):
+    for name in ("predicted_vs_measured.png", "residual_vs_launch_angle.png",
+                 "residual_by_season_month_temperature.png"):
         assert (tmp_path / "out" / "figures" / name).read_bytes()[:4] == b"\x89PNG"
     assert any("FB+HR 20-50" in line for line in lines)
+
+
+def test_a_weather_table_sets_each_game_air(tmp_path):
+    # the shipped Retrosheet sample covers the 2020-09-03 games: their balls fly in their
+    # game's recorded temperature, the 2019 file's in the climate (or indoors)
+    paths = reproduce(tmp_path / "out", weather_path=DATA / "retrosheet_weather_sample.csv",
+                      echo=lambda *_: None)
+    long = pd.read_parquet(paths["balls"])
+    default = long[long["default"]]
+    of_2020 = default[default["game_year"] == 2020]
+    assert set(of_2020["air_source"]) <= {"weather", "indoor"}
+    assert (of_2020["air_source"] == "weather").mean() > 0.7
+    assert set(default.loc[default["game_year"] == 2019, "air_source"]) <= {"climate",
+                                                                           "indoor"}
 
 
 def test_cli_on_a_file_subset(tmp_path, capsys):
