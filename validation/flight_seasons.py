@@ -122,6 +122,9 @@ def fit_wind_scale(balls):
     that have a recorded wind, over :data:`WIND_SCALES`."""
     has_wind = (balls["wind_source"] == "weather").to_numpy(bool)
     part = balls[eligible_window(balls) & has_wind]
+    if part.empty:
+        return 1.0, {"rms": {}, "lines": ["no recorded wind (no weather table): wind scale "
+                                          "not fitted"]}
     rms = {}
     for k in WIND_SCALES:
         scaled = part.assign(wind_x=part["wind_x"] * k, wind_y=part["wind_y"] * k)
