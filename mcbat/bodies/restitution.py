@@ -18,10 +18,13 @@ from mcbat.errors import InputError
 
 __all__ = ["GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution", "location_table"]
 
-#: Tangential restitution e_x at game speeds: 0.35, between the measured ~0.30 (Nathan
-#: et al., Procedia Eng. 34, 182 (2012)) and ~0.4 (Kensrud, Nathan & Smith, Am. J. Phys.
-#: 85, 503 (2017)), as quoted in docs/batting.md.
-GAME_E_X = 0.35
+#: Tangential restitution e_x at game speeds: 0.28, the value the game presets' backspin
+#: needs against Nathan's average spin model of tracked balls (docs/batting.md), inside the
+#: laboratory range (Cross & Nathan 2006: ~0.16 in this model; Nathan et al., Procedia
+#: Eng. 34, 182 (2012): ~0.30; Kensrud, Nathan & Smith, Am. J. Phys. 85, 503 (2017):
+#: ~0.4). One value for every caller: studies without [restitution], ``mcbat impact`` and
+#: the spin inference (docs/spin_inference.md).
+GAME_E_X = 0.28
 
 #: Location tables shipped in ``data/`` (name -> file). Both are assumed shapes, not
 #: measurements: no table of a wood bat's COR against the impact point is shipped.

@@ -22,6 +22,7 @@ __all__ = ["InferenceOptions", "SpinAssumptions"]
 
 _MPH = UNITS["speed"]["mph"]
 _DEG = UNITS["angle"]["deg"]
+_INCH = 0.0254
 
 
 @dataclass(frozen=True)
@@ -37,6 +38,18 @@ class SpinAssumptions:
     convention) where the table has none. ``contact_side``: where the bat speed is
     measured, the launch speed has two contact positions, one on each side of its
     maximum along the bat: ``"handle"`` (default) or ``"end"``.
+
+    The swing the data leave open is not one value but a distribution (the game presets'
+    population, ``docs/spin_inference.md``): the reported spin is its mean over the
+    attack angles that give the ball. ``attack_angle`` and ``attack_angle_sd`` (rad) are
+    the population's mean and sd of the true attack angle (Statcast's bat-tracking mean,
+    the presets' fitted sd); ``attack_angle_error`` (rad) the sd of a measured attack
+    angle's error (2025 on), so that the true one given the measured ``m`` is
+    ``N(mean + k (m - mean), k error^2)``, ``k = sd^2 / (sd^2 + error^2)``;
+    ``undercut_mean`` and ``undercut_sd`` (m) the presets' fitted undercut, which weighs
+    each attack angle by how likely the undercut it needs is. With
+    ``InferenceOptions.attack_angle_nodes = 1`` the attack angle is taken as exact
+    (measured, else ``attack_angle``) and these are not used.
     """
 
     bat: Bat = dataclasses.field(default_factory=lambda: bat_preset("r161"))
@@ -51,6 +64,14 @@ class SpinAssumptions:
     gyro_sign: float = 1.0
     spin_axis: float = math.pi
     contact_side: str = "handle"
+    attack_angle_sd: float = 8.2 * _DEG
+    attack_angle_error: float = 5.0 * _DEG
+    undercut_mean: float = 0.24 * _INCH
+    undercut_sd: float = 0.94 * _INCH
+    attack_direction_sd: float = 8.0 * _DEG
+    bat_speed_mean: float = 69.5 * _MPH
+    bat_speed_sd: float = 6.3 * _MPH
+    from_barrel_end_sd: float = 4.6 * _INCH
 
     def __post_init__(self):
         bat = self.bat
@@ -74,6 +95,14 @@ class SpinAssumptions:
         if self.gyro_sign not in (1, -1):
             raise InputError("gyro_sign", f"must be +1 or -1, got {self.gyro_sign!r}")
         _real(self.spin_axis, "spin_axis")
+        _real(self.attack_angle_sd, "attack_angle_sd", minimum=0.0)
+        _real(self.attack_angle_error, "attack_angle_error", minimum=0.0)
+        _real(self.undercut_mean, "undercut_mean")
+        _real(self.undercut_sd, "undercut_sd", positive=True)
+        _real(self.attack_direction_sd, "attack_direction_sd", positive=True)
+        _real(self.bat_speed_mean, "bat_speed_mean", positive=True)
+        _real(self.bat_speed_sd, "bat_speed_sd", positive=True)
+        _real(self.from_barrel_end_sd, "from_barrel_end_sd", positive=True)
         if self.contact_side not in ("handle", "end"):
             raise InputError("contact_side", f'must be "handle" or "end", got '
                              f"{self.contact_side!r}")
@@ -88,7 +117,14 @@ class SpinAssumptions:
                 "mu": self.mu, "restitution": self.restitution.config(),
                 "spin_efficiency": self.spin_efficiency, "gyro_sign": self.gyro_sign,
                 "spin_axis_deg": math.degrees(self.spin_axis),
-                "contact_side": self.contact_side}
+                "contact_side": self.contact_side,
+                "attack_angle_sd_deg": math.degrees(self.attack_angle_sd),
+                "attack_angle_error_deg": math.degrees(self.attack_angle_error),
+                "undercut_mean_m": self.undercut_mean, "undercut_sd_m": self.undercut_sd,
+                "attack_direction_sd_deg": math.degrees(self.attack_direction_sd),
+                "bat_speed_mean_mph": self.bat_speed_mean / _MPH,
+                "bat_speed_sd_mph": self.bat_speed_sd / _MPH,
+                "from_barrel_end_sd_m": self.from_barrel_end_sd}
 
 
 @dataclass(frozen=True)
@@ -107,7 +143,11 @@ class InferenceOptions:
     when no contact position along the bat gives the ball at the measured speed (the
     nearest bat speed that does is taken, and the move reported as
     ``bat_speed_adjustment``); beyond it the ball is ``bat_speed_inconsistent``. 0: the
-    measured bat speed is taken as exact (``docs/spin_inference.md``)."""
+    measured bat speed is taken as exact (``docs/spin_inference.md``).
+
+    ``attack_angle_nodes``: Gauss-Hermite nodes of the attack angle's distribution
+    (:class:`SpinAssumptions`) over which the spin is averaged; 1: the attack angle taken
+    as exact (the measured one, else the assumed one), as a round trip needs."""
 
     max_iterations: int = 30
     tolerance: float = 1e-9
@@ -120,6 +160,7 @@ class InferenceOptions:
     contact_angle_max: float = 60.0
     bat_speed_floor: float = 40.0
     bat_speed_error: float = 5.0
+    attack_angle_nodes: int = 5
 
     def __post_init__(self):
         check_tolerance(_real(self.impact_tolerance, "impact_tolerance"), "impact_tolerance")
@@ -142,6 +183,10 @@ class InferenceOptions:
             raise InputError("contact_angle_max", "must lie in (0, 90) deg")
         _real(self.bat_speed_floor, "bat_speed_floor", minimum=0.0)
         _real(self.bat_speed_error, "bat_speed_error", minimum=0.0)
+        if not (isinstance(self.attack_angle_nodes, int)
+                and 1 <= self.attack_angle_nodes <= 21):
+            raise InputError("attack_angle_nodes", f"must be an integer in [1, 21], got "
+                             f"{self.attack_angle_nodes!r}")
 
     def kernel_settings(self, contact_side: str) -> InferenceSettings:
         """As the jitted kernel's named tuple (SI)."""

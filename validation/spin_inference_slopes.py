@@ -1,0 +1,119 @@
+"""Inferred backspin against launch angle on real Statcast exports, per file: the slope
+of backspin on launch angle over 10-40 deg (least squares, converged balls in play)
+against Nathan's average spin model (120 rpm per degree, and the model on the same balls,
+whose spray angles rise with the launch angle), and the convergence of the balls with a
+measured swing, with the spin averaged over the open attack angles (the default) and
+with one assumed attack angle (``attack_angle_nodes = 1``); the figure.
+
+    .venv/bin/python -m validation spin_inference_slopes \\
+        --figure docs/figures/spin_vs_launch_angle_real.png
+
+Reads ``../shared/data/statcast/`` (relative to the repository; skipped where absent)
+and the shipped ``data/`` exports.
+"""
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from mcbat import statcast
+from mcbat.inference import InferenceOptions, infer_spin
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = ROOT / ".." / "shared" / "data" / "statcast"
+FILES = (("2024, Ohtani's", SHARED / "statcast_2024_ohtani.csv"),
+         ("2024, Skubal's", SHARED / "statcast_2024_skubal.csv"),
+         ("2025-05-01", SHARED / "statcast_2025-05-01.csv"),
+         ("2021-09-01, 10, 11", SHARED / "statcast_2021-09-01_10_11.csv"),
+         ("2020-09-03 (shipped)", ROOT / "data" / "statcast_2020-09-03.csv"),
+         ("2019, Darvish's (shipped)", ROOT / "data" / "statcast_2019_darvish.csv"))
+
+
+def nathan_backspin(balls):
+    """Nathan's average model (rpm), the spray angle in the batter's frame."""
+    hand = np.where(balls["handedness"] == "L", -1.0, 1.0)
+    return (-763.0 + 120.0 * balls["launch_angle"].to_numpy()
+            + 21.0 * balls["spray_angle"].to_numpy() * hand)
+
+
+def slope(la, spin, ok):
+    sel = ok & (la >= 10) & (la <= 40) & np.isfinite(spin)
+    return np.polyfit(la[sel], spin[sel], 1), int(sel.sum())
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--figure", help="write the figure (PNG)")
+    args = parser.parse_args(argv)
+    point = InferenceOptions(attack_angle_nodes=1)
+    results = []
+    print("| file | balls in play | converged | slope, 10-40° (rpm/°) | intercept (rpm) | "
+          "Nathan on the same balls (rpm/°) | one assumed attack angle: slope | "
+          "tracked: converged (one attack angle) | tracked: statuses |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for label, path in FILES:
+        if not path.is_file():
+            print(f"| {label} | absent | | | | | | | |")
+            continue
+        pitches = statcast.read(path)
+        balls = pitches[statcast.balls_in_play(pitches)]
+        out = infer_spin(balls)
+        one = infer_spin(balls, options=point)
+        ok = (out["inference_status"] == "converged").to_numpy()
+        ok1 = (one["inference_status"] == "converged").to_numpy()
+        la = balls["launch_angle"].to_numpy()
+        (s, c), n = slope(la, out["backspin"].to_numpy(), ok)
+        (s1, _), _ = slope(la, one["backspin"].to_numpy(), ok1)
+        (sn, _), _ = slope(la, nathan_backspin(balls), ok)
+        tracked = (balls["bat_speed"].notna().to_numpy() if "bat_speed" in balls
+                   else np.zeros(len(balls), bool))
+        if tracked.any():
+            counts = out.loc[tracked, "inference_status"].value_counts()
+            statuses = ", ".join(f"{k} {v}" for k, v in counts.items()
+                                 if v and k != "converged")
+            conv = (f"{ok[tracked].sum()}/{tracked.sum()} ({ok[tracked].mean():.1%}) "
+                    f"({ok1[tracked].sum()}, {ok1[tracked].mean():.1%})")
+        else:
+            conv, statuses = "–", "–"
+        print(f"| {label} | {len(balls)} | {ok.sum()} | **{s:.0f}** (n = {n}) | {c:.0f} | "
+              f"{sn:.0f} | {s1:.0f} | {conv} | {statuses} |")
+        results.append((label, la[ok], out["backspin"].to_numpy()[ok]))
+    if args.figure:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(2, 3, figsize=(13, 7.5), sharex=True, sharey=True)
+        grid = np.linspace(-40, 70, 2)
+        for ax, (label, la, back) in zip(axes.ravel(), results):
+            ax.scatter(la, back, s=4, alpha=0.35, color="tab:blue", label="inferred")
+            edges = np.arange(-40, 75, 10)
+            mid = 0.5 * (edges[1:] + edges[:-1])
+            med = [np.median(back[(la >= a) & (la < b)]) if ((la >= a) & (la < b)).sum() > 4
+                   else np.nan for a, b in zip(edges[:-1], edges[1:])]
+            ax.plot(mid, med, "o-", color="tab:blue", label="inferred, median per 10°")
+            ax.plot(grid, -763 + 120 * grid, "k--", label="Nathan: −763 + 120 LA")
+            sel = (la >= 10) & (la <= 40)
+            if sel.sum() > 2:
+                s, c = np.polyfit(la[sel], back[sel], 1)
+                x = np.array([10.0, 40.0])
+                ax.plot(x, c + s * x, color="tab:red", lw=2,
+                        label=f"fit 10-40°: {s:.0f} rpm/°")
+            ax.set_title(label, fontsize=10)
+            ax.axhline(0, color="0.8", lw=0.8)
+            ax.legend(fontsize=7, loc="upper left")
+        for ax in axes[-1]:
+            ax.set_xlabel("launch angle (deg)")
+        for ax in axes[:, 0]:
+            ax.set_ylabel("inferred backspin (rpm)")
+        axes[0, 0].set_ylim(-8000, 10000)
+        fig.suptitle("Inferred backspin of real balls in play (mcbat infer, defaults) and "
+                     "Nathan's average spin model", fontsize=11)
+        fig.tight_layout()
+        fig.savefig(args.figure, dpi=110)
+        print(f"\nwritten: {args.figure}")
+
+
+if __name__ == "__main__":
+    main()
