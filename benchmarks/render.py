@@ -530,6 +530,64 @@ def short_table(results: dict) -> str:
     return "\n".join(lines)
 
 
+def _stats(s: dict) -> str:
+    return "—" if not s or not s.get("n") else (f"{s['median']:+.1f} / {s['rms']:.1f} "
+                                                  f"({s['n']:,})")
+
+
+def flight_seasons_table(results: dict) -> str:
+    """The season table with its in-sample and out-of-sample residuals, side by side."""
+    if "flight_seasons" not in results:
+        return "No results."
+    r = results["flight_seasons"]
+    m, s = r["metrics"], r["settings"]
+    lines = ["| season | `drag_scale` | balls fitted | in sample | out of sample "
+             "(leave one file out) | published model, same air | folds |",
+             "|---|---|---|---|---|---|---|"]
+    for season, v in m["seasons"].items():
+        lines.append(f"| {season} | {v['values']['drag_scale']:.3f} ± "
+                     f"{v['errors']['drag_scale']:.3f} | {v['balls']:,} | "
+                     f"{_stats(v['in_sample'])} | {_stats(v['out_of_sample'])} | "
+                     f"{_stats(v['published'])} | {v['folds']} |")
+    o = m["out_of_sample"]
+    months = ", ".join(f"{k} {_stats(v)}" for k, v in o["month"].items())
+    slope = o.get("temperature_slope_ft_per_degF")
+    lines += ["", "Median / rms of predicted minus measured (ft) and the number of fly balls "
+              "and home runs of 20-50 deg. Out of sample, all seasons: "
+              f"**{_stats(o['all'])}**, {o['compared']:,} of {o['eligible']:,} eligible "
+              f"balls compared ({100 * o['compared'] / o['eligible']:.1f} %). By month "
+              f"(01-12): {months}."]
+    if slope:
+        lines.append("")
+        lines.append(f"Against the recorded game temperature ({slope['balls']:,} balls with "
+                     f"a weather row): **{slope['value']:+.3f} ± {slope['error']:.3f} ft per "
+                     f"°F**. The recorded wind is felt at a scale of {m['wind_scale']:.2f} "
+                     f"(the least rms of {len(m['wind_scan'])} scales tried from 0 to "
+                     f"{max(map(float, m['wind_scan']), default=0):.2f}).")
+    lines += ["", f"{len(s['files'])} files, weather `{s['weather']}`; left out as selected "
+              f"on the outcome: {', '.join(s['left_out_selected_on_outcome']) or 'none'}. "
+              f"{_command_line(r)}."]
+    return "\n".join(lines)
+
+
+def season_benchmark_table(results: dict) -> str:
+    """A season's export through the commands: time, rows/s and peak memory."""
+    if "season" not in results:
+        return "No results."
+    r = results["season"]
+    m, s = r["metrics"], r["settings"]
+    lines = ["| command | wall time | rows/s | peak memory (target ≤ 3 GB) |",
+             "|---|---|---|---|"]
+    for name, v in m.items():
+        lines.append(f"| `mcbat {name}` | {v['median_s']:.1f} s | {sig(v['rows_per_s'])} | "
+                     f"{v['peak_mb']:,.0f} MB: "
+                     f"{'met' if v['peak_mb'] <= 3072 else '**not met**'} |")
+    lines += ["", f"An export of {s['rows']:,} pitches ({s['megabytes']:,.0f} MB, copies of "
+              f"`{s['source']}`), medians of {s['repeats']} runs, each command its own "
+              f"process. {_command_line(r)}."]
+    return "\n".join(lines)
+
+
 #: Every generated block: its name, the file it sits in and what writes it.
 BLOCKS = {"speed": (ROOT / "docs" / "accuracy-and-speed.md", speed_table),
           "long-runs": (ROOT / "docs" / "accuracy-and-speed.md", long_table),
@@ -539,7 +597,9 @@ BLOCKS = {"speed": (ROOT / "docs" / "accuracy-and-speed.md", speed_table),
           "cluster": (ROOT / "docs" / "cluster.md", cluster_table),
           "speed-short": (ROOT / "README.md", short_table),
           "population-speed": (ROOT / "docs" / "population.md", population_table),
-          "population-injection": (ROOT / "docs" / "population.md", injection_table)}
+          "population-injection": (ROOT / "docs" / "population.md", injection_table),
+          "flight-seasons": (ROOT / "docs" / "flight.md", flight_seasons_table),
+          "season-benchmark": (ROOT / "docs" / "statcast.md", season_benchmark_table)}
 #: Where each generated block lives.
 TARGETS = {name: path for name, (path, _) in BLOCKS.items()}
 

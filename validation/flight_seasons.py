@@ -4,7 +4,8 @@ distances with every ball in its own park and air, judged on files the fit never
 Run:  .venv/bin/python -m validation flight_seasons FILE... [--weather W.csv]
           [--write data/flight_seasons.csv] [--report REPORT.json] [--residuals R.parquet]
 
-Every file is a Baseball Savant export (CSV, gzip or Parquet). Pitches that appear in more
+Every file is a Baseball Savant export (CSV, gzip or Parquet); a folder stands for its
+``statcast_*.csv`` files. Pitches that appear in more
 than one file (the same ``game_pk``, ``at_bat_number``, ``pitch_number``) are kept once,
 from the first file that has them. Files whose balls are mostly home runs (searches for
 home runs) are left out: a ball that became a home run carried farther than most balls of
@@ -38,6 +39,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from benchmarks import harness
 from mcbat.papers.statcast.calibrate import calibrate
 from mcbat.papers.statcast.compare import eligible_window, residual_stats
 from mcbat.papers.statcast.reproduce import (
@@ -166,7 +168,11 @@ def main(argv=None):
     parser.add_argument("--write", default=None, metavar="CSV")
     parser.add_argument("--report", default=None, metavar="JSON")
     parser.add_argument("--residuals", default=None, metavar="PARQUET")
+    parser.add_argument("--figure", default=None, metavar="PNG",
+                        help="the out-of-sample residuals by season, month and temperature")
     args = parser.parse_args(argv)
+    args.files = [str(f) for name in args.files for f in (
+        sorted(Path(name).glob("statcast_*.csv")) if Path(name).is_dir() else [name])]
     table = read_files(args.files)
     weather = None if args.weather is None else read_weather(args.weather)
     balls = balls_in_their_air(table, "the files", weather)
@@ -245,6 +251,24 @@ def main(argv=None):
     report["out_of_sample"] = pooled(judged)
     for line in report["out_of_sample"]["lines"]:
         print(line)
+    if args.figure:
+        from mcbat.papers.statcast.figures import residual_breakdowns
+
+        figure = Path(args.figure)
+        residual_breakdowns(figure.parent, judged, name=figure.name,
+                            title="out of sample (each ball by the fit without its file): ")
+        print(f"figure: {figure}")
+    harness.record("flight_seasons", {
+        "seasons": {k: {key: v[key] for key in ("values", "errors", "sigma_ft", "balls",
+                                                "folds", "window_balls", "in_sample",
+                                                "out_of_sample", "published")}
+                    for k, v in report["seasons"].items()},
+        "out_of_sample": {k: v for k, v in report["out_of_sample"].items() if k != "lines"},
+        "wind_scale": wind_scale, "wind_scan": report["wind_scan"]},
+        {"files": [Path(f).name for f in args.files], "weather": args.weather and
+         Path(args.weather).name, "free": list(free),
+         "left_out_selected_on_outcome": selected, "min_balls": args.min_balls,
+         "min_fold_balls": args.min_fold_balls})
     if args.residuals:
         keep = ["source_file", "fold", "game_pk", "game_date", "game_year", "home_team",
                 "launch_speed", "launch_angle", "spray_angle", "hit_distance_sc",

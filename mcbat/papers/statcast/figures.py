@@ -120,7 +120,8 @@ def _median_with_error(residual):
     return float(np.median(r)), 1.2533 * sigma / np.sqrt(r.size), r.size
 
 
-def residual_breakdowns(fig_dir, rows, min_balls=20):
+def residual_breakdowns(fig_dir, rows, min_balls=20,
+                        name="residual_by_season_month_temperature.png", title=""):
     """The median residual of the fly balls and home runs of 20-50 deg, with its error,
     by season, by calendar month and by game temperature (groups of at least
     ``min_balls``): ``rows`` are the long table's rows of one flight and spin model."""
@@ -134,7 +135,7 @@ def residual_breakdowns(fig_dir, rows, min_balls=20):
             np.floor(window["temperature"].to_numpy(float) / 5.0) * 5.0 + 2.5,
     }
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), sharey=True)
-    for ax, (name, key) in zip(axes, groups.items()):
+    for ax, (label, key) in zip(axes, groups.items()):
         xs, meds, errs, ns = [], [], [], []
         for value in np.unique(key[np.isfinite(key)]):
             med, err, n = _median_with_error(residual[key == value])
@@ -149,13 +150,13 @@ def residual_breakdowns(fig_dir, rows, min_balls=20):
                         ha="center", fontsize=7, color="0.35")
         ax.axhline(0.0, color="k", lw=0.8)
         ax.axhspan(-4.0, 4.0, color="tab:green", alpha=0.1, lw=0)
-        ax.set_xlabel(name)
+        ax.set_xlabel(label)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("median predicted - measured (ft)")
-    fig.suptitle(f"fly balls and home runs of 20-50 deg ({len(window)} balls; numbers: "
-                 f"balls per point, groups of {min_balls} or more; band: +-4 ft)",
+    fig.suptitle(f"{title}fly balls and home runs of 20-50 deg ({len(window)} balls; "
+                 f"numbers: balls per point, groups of {min_balls} or more; band: +-4 ft)",
                  fontsize=9)
-    path = fig_dir / "residual_by_season_month_temperature.png"
+    path = fig_dir / name
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
