@@ -141,7 +141,7 @@ def run_game_fastball() -> tuple[str, dict]:
     """``mcbat run studies/game_fastball.toml``'s batted-ball summary (run here) and the
     numbers the text after it quotes from the same dataset."""
     import mcbat
-    from mcbat.papers.statcast.spin import nathan_average_spin
+    from mcbat.statcast.spin import nathan_average_spin
 
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "g"

@@ -30,7 +30,7 @@ import numpy as np
 from mcbat.papers.statcast.calibrate import FIT_CLASSES, fit_scales, flight_table, predict
 from mcbat.papers.statcast.compare import select_balls
 from mcbat.papers.statcast.reproduce import read_statcast
-from mcbat.papers.statcast.spin import nathan_average_spin
+from mcbat.statcast.spin import nathan_average_spin
 from mcbat.stats.flight_model import FlightFitSetup
 
 

@@ -48,8 +48,8 @@ from mcbat.papers.statcast.reproduce import (
     air_per_ball,
     balls_in_their_air,
 )
-from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.statcast import read
+from mcbat.statcast.spin import nathan_average_spin
 from mcbat.statcast.weather import read_weather
 from mcbat.study.flight import SEASONS_FILE, fly_launches
 

@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 
 import mcbat
-from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.statcast import read
+from mcbat.statcast.spin import nathan_average_spin
 from mcbat.stats.compare import ks_test
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -12,7 +12,7 @@ import mcbat
 from mcbat.api import GameCase, solve_game
 from mcbat.bodies import ball_preset, bat_preset
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution, location_table
-from mcbat.papers.statcast.spin import nathan_average_spin
+from mcbat.statcast.spin import nathan_average_spin
 from tests.conftest import ROOT
 
 IN = 0.0254

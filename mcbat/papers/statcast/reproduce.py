@@ -62,9 +62,9 @@ from mcbat.papers.statcast.compare import (
     residual_stats,
     select_balls,
 )
-from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.runner.plan import set_threads
 from mcbat.statcast import read, weather
+from mcbat.statcast.spin import nathan_average_spin
 from mcbat.study.flight import FlightSettings, fly_launches, season_scales, season_wind_scale
 from mcbat.study.units import UNITS
 

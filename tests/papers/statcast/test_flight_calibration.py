@@ -18,7 +18,7 @@ from mcbat.papers.statcast.calibrate import (
 )
 from mcbat.papers.statcast.compare import select_balls
 from mcbat.papers.statcast.reproduce import balls_in_their_air, read_statcast
-from mcbat.papers.statcast.spin import nathan_average_spin
+from mcbat.statcast.spin import nathan_average_spin
 from mcbat.stats.fit import Likelihood
 from mcbat.stats.flight_model import FlightFitSetup
 from mcbat.study.flight import (

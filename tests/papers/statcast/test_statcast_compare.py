@@ -19,8 +19,8 @@ from mcbat.papers.statcast.reproduce import (
     read_statcast,
     reproduce,
 )
-from mcbat.papers.statcast.spin import nathan_average_spin
 from mcbat.statcast import read
+from mcbat.statcast.spin import nathan_average_spin
 from mcbat.statcast.weather import climate
 from mcbat.study.flight import FlightSettings, flight_seasons, fly_launches
 
