@@ -4,7 +4,9 @@ orientation, roof and outfield fence.
 The tables are ``data/mlb_parks.csv`` and ``data/park_fences.csv`` (provenance in
 ``data/README.md``). A park row covers one ``home_team`` over a date span; short
 neutral-site rows (``kind`` ``neutral``) win over the home park on their dates, then
-``temporary`` rows, then ``home`` rows.
+``temporary`` rows, then ``home`` rows. A park's fences may have several configurations
+over time (date spans in the fence table); :func:`fence` picks the one standing on a
+game's date when given the date.
 """
 
 from __future__ import annotations
@@ -18,7 +20,8 @@ import numpy as np
 
 from mcbat.errors import InputError
 
-__all__ = ["FENCES_FILE", "PARKS_FILE", "elevation", "fence", "fences", "park_of", "parks"]
+__all__ = ["FENCES_FILE", "PARKS_FILE", "elevation", "fence", "fence_config",
+           "fence_configurations", "fences", "park_of", "park_value", "parks"]
 
 PARKS_FILE = "mlb_parks.csv"
 """The park table inside the resource package ``mcbat.data``."""
@@ -27,6 +30,7 @@ FENCES_FILE = "park_fences.csv"
 
 _PRIORITY = {"neutral": 0, "temporary": 1, "home": 2}
 _NO_END = np.datetime64("9999-12-31")
+_NO_START = np.datetime64("0001-01-01")
 
 
 def _read(name):
@@ -157,18 +161,76 @@ def elevation(home_team, game_year=None, game_date=None):
 
 
 @functools.cache
-def fences() -> dict:
-    """The fence table: ``{park_id: (spray_angle_deg, distance_ft, height_ft)}`` arrays
-    sorted by spray angle (NaN where a cell is empty)."""
-    table: dict = {}
+def fence_configurations() -> tuple[dict, ...]:
+    """The fence configurations of ``data/park_fences.csv``, one dict per park and span.
+
+    Keys: ``config_id`` (``park_id@first_date``, or ``park_id@opening`` for a
+    configuration standing since the park opened), ``park_id``, ``first_date`` and
+    ``last_date`` (``numpy.datetime64[D]``; open ends 0001-01-01 and 9999-12-31), and
+    ``spray_angle_deg``, ``distance_ft``, ``height_ft`` (arrays sorted by spray angle, NaN
+    where a cell is empty). Sorted by park and first date.
+    """
+    groups: dict = {}
     for row in _read(FENCES_FILE):
-        table.setdefault(row["park_id"].strip(), []).append(
+        pid = row["park_id"].strip()
+        first, last = row["first_date"].strip(), row["last_date"].strip()
+        groups.setdefault((pid, first, last), []).append(
             (float(row["spray_angle_deg"]), _float(row["distance_ft"]),
              _float(row["height_ft"])))
-    return {k: tuple(np.array(c) for c in zip(*sorted(v))) for k, v in table.items()}
+    configs = []
+    for (pid, first, last), points in groups.items():
+        a, d, h = (np.array(c) for c in zip(*sorted(points)))
+        configs.append({
+            "config_id": f"{pid}@{first or 'opening'}", "park_id": pid,
+            "first_date": np.datetime64(first, "D") if first else _NO_START,
+            "last_date": np.datetime64(last, "D") if last else _NO_END,
+            "spray_angle_deg": a, "distance_ft": d, "height_ft": h})
+    configs.sort(key=lambda c: (c["park_id"], c["first_date"]))
+    return tuple(configs)
 
 
-def fence(park, spray_angle_deg):
+@functools.cache
+def fences() -> dict:
+    """The fence table: ``{key: (spray_angle_deg, distance_ft, height_ft)}`` arrays sorted
+    by spray angle (NaN where a cell is empty). A ``park_id`` key gives the park's latest
+    configuration (the one standing now); a ``config_id`` key
+    (:func:`fence_configurations`) gives that configuration."""
+    table: dict = {}
+    for c in fence_configurations():  # sorted by first date: the latest overwrites
+        arrays = (c["spray_angle_deg"], c["distance_ft"], c["height_ft"])
+        table[c["config_id"]] = arrays
+        table[c["park_id"]] = arrays
+    return table
+
+
+def fence_config(park, game_date):
+    """The fence configuration standing at each park on each date.
+
+    Parameters
+    ----------
+    park : str or array_like of str
+        ``park_id`` (one, or one per date), e.g. from :func:`park_of`.
+    game_date : array_like of datetime64 or str
+        Game dates (``YYYY-MM-DD``).
+
+    Returns
+    -------
+    ndarray of object
+        ``config_id`` per row (accepted by :func:`fence` and, as the ``park`` argument, by
+        :func:`mcbat.statcast.home_runs.home_run_call`); None where the park has no fence
+        or no configuration stood on that date (or the date is missing).
+    """
+    dates = _dates(game_date)
+    ids, dates = np.broadcast_arrays(np.asarray(park, dtype=object), dates)
+    out = np.full(ids.shape, None, dtype=object)
+    for c in fence_configurations():
+        rows = ((ids == c["park_id"]) & (dates >= c["first_date"])
+                & (dates <= c["last_date"]))
+        out[rows] = c["config_id"]
+    return out
+
+
+def fence(park, spray_angle_deg, game_date=None):
     """Outfield fence distance and height along a spray angle.
 
     Distance is interpolated linearly in spray angle between the table's points and held
@@ -180,9 +242,14 @@ def fence(park, spray_angle_deg):
     Parameters
     ----------
     park : str or array_like of str
-        ``park_id`` (one, or one per angle), e.g. from :func:`park_of`.
+        ``park_id`` (one, or one per angle), e.g. from :func:`park_of`, or a ``config_id``
+        from :func:`fence_config`. Without ``game_date`` a ``park_id`` means the park's
+        latest configuration (the fences standing now).
     spray_angle_deg : float or array_like
         Spray angles (deg).
+    game_date : array_like of datetime64 or str, optional
+        Game dates; when given, each row gets the configuration standing at its park on
+        that date (:func:`fence_config`), and NaN where none did.
 
     Returns
     -------
@@ -201,8 +268,11 @@ def fence(park, spray_angle_deg):
     if ids.ndim == 0:
         if ids.item() not in table:
             raise InputError("park", f"no fence for park {ids.item()!r}; known: "
-                             + ", ".join(sorted(table)))
+                             + ", ".join(sorted(k for k in table if "@" not in k)))
         ids = np.full(angles.shape, ids.item(), dtype=object)
+    if game_date is not None:
+        ids, dates = np.broadcast_arrays(ids, _dates(game_date))
+        ids = fence_config(ids, dates)
     ids, angles = np.broadcast_arrays(ids, angles)
     dist = np.full(angles.shape, np.nan)
     height = np.full(angles.shape, np.nan)

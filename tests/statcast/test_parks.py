@@ -1,5 +1,6 @@
 """The park table: every real export resolves, date spans pick the right park, fences."""
 
+import csv
 import glob
 import math
 from pathlib import Path
@@ -81,3 +82,144 @@ def test_the_fence_interpolates_linearly_and_holds_heights_in_steps():
 def test_the_yearly_elevation_still_works():
     got = parks.elevation(["COL", "ATL", "ATL", "XYZ"], [2024, 2016, 2017, 2020])
     assert list(got[:3]) == [5200.0, 939.0, 1000.0] and math.isnan(got[3])
+
+
+# --- neutral sites ---------------------------------------------------------------------
+
+NEUTRAL_SERIES = [  # (park, first day, last day, the two clubs)
+    ("estadio_monterrey", "2018-05-04", "2018-05-06", ("SD", "LAD")),
+    ("estadio_monterrey", "2019-04-13", "2019-04-14", ("CIN", "STL")),
+    ("estadio_monterrey", "2019-05-04", "2019-05-05", ("HOU", "LAA")),
+    ("estadio_alfredo_harp_helu", "2023-04-29", "2023-04-30", ("SD", "SF")),
+    ("estadio_alfredo_harp_helu", "2024-04-27", "2024-04-28", ("HOU", "COL")),
+    ("london_stadium", "2019-06-29", "2019-06-30", ("BOS", "NYY")),
+    ("london_stadium", "2023-06-24", "2023-06-25", ("STL", "CHC")),
+    ("tokyo_dome", "2019-03-20", "2019-03-21", ("OAK", "SEA")),
+    ("tokyo_dome", "2025-03-18", "2025-03-19", ("CHC", "LAD")),
+    ("field_of_dreams", "2021-08-12", "2021-08-12", ("CWS", "NYY")),
+    ("field_of_dreams", "2022-08-11", "2022-08-11", ("CHC", "CIN")),
+    ("rickwood_field", "2024-06-20", "2024-06-20", ("STL", "SF")),
+    ("bowman_field", "2017-08-20", "2017-08-20", ("PIT", "STL")),
+    ("bowman_field", "2018-08-19", "2018-08-19", ("PHI", "NYM")),
+    ("bowman_field", "2019-08-18", "2019-08-18", ("PIT", "CHC")),
+    ("bowman_field", "2021-08-22", "2021-08-22", ("CLE", "LAA")),
+    ("bowman_field", "2022-08-21", "2022-08-21", ("BAL", "BOS")),
+    ("bowman_field", "2023-08-20", "2023-08-20", ("WSH", "PHI")),
+    ("bowman_field", "2024-08-18", "2024-08-18", ("DET", "NYY")),
+    ("bowman_field", "2025-08-17", "2025-08-17", ("NYM", "SEA")),
+    ("fort_bragg_field", "2016-07-03", "2016-07-03", ("ATL", "MIA")),
+    ("hiram_bithorn_stadium", "2018-04-17", "2018-04-18", ("MIN", "CLE")),
+    ("bristol_motor_speedway", "2025-08-02", "2025-08-03", ("CIN", "ATL")),
+    ("gocheok_sky_dome", "2024-03-20", "2024-03-21", ("LAD", "SD")),
+]
+
+
+@pytest.mark.parametrize("park, first, last, teams", NEUTRAL_SERIES,
+                         ids=[f"{s[0]}-{s[1]}" for s in NEUTRAL_SERIES])
+def test_a_neutral_series_takes_both_clubs_to_its_park_and_only_on_its_dates(
+        park, first, last, teams):
+    days = np.arange(np.datetime64(first), np.datetime64(last) + 1)
+    for team in teams:
+        assert list(parks.park_of([team] * len(days), days)) == [park] * len(days)
+        around = [np.datetime64(first) - 1, np.datetime64(last) + 1]
+        got = parks.park_of([team, team], around)
+        assert all(p is not None and p != park for p in got), (team, got)
+
+
+def test_mexico_city_is_a_mile_and_a_half_up_and_the_padres_are_home_the_next_day():
+    got = parks.elevation(["SD", "SD", "SD"],
+                          game_date=["2023-04-29", "2023-04-30", "2023-05-01"])
+    assert got[0] > 7000 and got[1] > 7000
+    assert parks.park_of(["SD"], ["2023-05-01"])[0] == "petco_park"
+    assert got[2] == parks.park_value(["petco_park"], "elevation_ft")[0] < 100
+
+
+def test_a_neutral_row_wins_over_a_temporary_and_a_home_park():
+    # the Athletics' Tokyo games of 2019 are not at the Coliseum
+    assert parks.park_of(["OAK", "OAK"], ["2019-03-21", "2019-03-28"]).tolist() == [
+        "tokyo_dome", "oakland_coliseum"]
+    # every neutral row sorts ahead of every temporary and home row
+    kinds = [p["kind"] for p in parks.parks()]
+    order = {"neutral": 0, "temporary": 1, "home": 2}
+    assert [order[k] for k in kinds] == sorted(order[k] for k in kinds)
+
+
+# --- sources -------------------------------------------------------------------------
+
+# parks whose elevation has no sourced number yet (each an "assumed: ..." source)
+UNSOURCED_ELEVATIONS = {
+    "citizens_bank_park", "petco_park", "nationals_park", "steinbrenner_field",
+    "globe_life_park", "sahlen_field", "td_ballpark", "gocheok_sky_dome",
+    "london_stadium", "tokyo_dome", "fort_bragg_field", "hiram_bithorn_stadium",
+}
+
+
+def test_every_elevation_is_sourced_but_for_the_listed_parks():
+    assumed = {p["park_id"] for p in parks.parks()
+               if p["elevation_source"].startswith("assumed")}
+    assert assumed == UNSOURCED_ELEVATIONS
+    for p in parks.parks():
+        assert p["elevation_source"] and not math.isnan(p["elevation_ft"]), p
+
+
+def test_every_fence_source_key_is_defined_in_the_data_readme():
+    readme = (ROOT / "data" / "README.md").read_text(encoding="utf-8")
+    text = (ROOT / "data" / "park_fences.csv").read_text(encoding="utf-8")
+    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    keys = {cell.split()[0] for row in rows
+            for cell in (row["distance_source"], row["height_source"]) if cell.strip()}
+    missing = {k for k in keys if f"`{k}" not in readme}
+    assert not missing, missing
+
+
+# --- fence configurations ------------------------------------------------------------
+
+def test_the_configurations_of_a_park_do_not_overlap():
+    by_park: dict = {}
+    for c in parks.fence_configurations():
+        assert c["first_date"] <= c["last_date"], c["config_id"]
+        by_park.setdefault(c["park_id"], []).append((c["first_date"], c["last_date"]))
+    for park, spans in by_park.items():
+        spans.sort()
+        assert all(a[1] < b[0] for a, b in zip(spans, spans[1:])), park
+
+
+@pytest.mark.parametrize("park, spray, before, after, dist_before, dist_after", [
+    ("camden_yards", -22.6, "2021-09-30", "2022-04-08", 368.0, 384.0),  # LF pushed back
+    ("camden_yards", -22.6, "2024-09-29", "2025-03-31", 384.0, 374.0),  # and half back in
+    ("comerica_park", 0.0, "2022-10-05", "2023-04-06", 420.0, 412.0),
+    ("minute_maid_park", 0.0, "2016-09-28", "2017-04-03", 435.0, 409.0),  # Tal's Hill
+    ("loandepot_park", 0.0, "2015-10-04", "2016-04-05", 422.0, 407.0),
+    ("loandepot_park", 0.0, "2019-09-29", "2020-07-24", 407.0, 400.0),
+    ("london_stadium", 0.0, "2019-06-29", "2023-06-24", 385.0, 392.0),
+])
+def test_a_fence_change_picks_the_configuration_of_the_date(
+        park, spray, before, after, dist_before, dist_after):
+    d, _ = parks.fence(park, [spray, spray], game_date=[before, after])
+    assert list(d) == [dist_before, dist_after]
+
+
+def test_fence_heights_follow_the_date_too():
+    _, h = parks.fence("camden_yards", [-40.0] * 3,
+                       game_date=["2021-06-01", "2023-06-01", "2025-06-01"])
+    assert list(h) == [7.0, 13.0, 7.0]
+    _, h = parks.fence("comerica_park", [0.0, 0.0], game_date=["2022-06-01", "2023-06-01"])
+    assert list(h) == [8.0, 7.0]
+
+
+def test_without_a_date_a_park_means_its_fences_of_now_and_config_ids_are_accepted():
+    d_now, _ = parks.fence("camden_yards", -22.6)
+    d_2025, _ = parks.fence("camden_yards", -22.6, game_date="2025-06-01")
+    assert d_now == d_2025 == 374.0
+    ids = parks.fence_config(["camden_yards"] * 2 + ["fenway_park", "nowhere"],
+                             ["2021-06-01", "2023-06-01", "2023-06-01", "2023-06-01"])
+    assert list(ids) == ["camden_yards@opening", "camden_yards@2022-01-01",
+                         "fenway_park@opening", None]
+    d, h = parks.fence(ids, [-22.6, -22.6, -45.0, 0.0])
+    assert list(d[:3]) == [368.0, 384.0, 310.0] and h[2] == 37.0 and np.isnan(d[3])
+
+
+def test_a_missing_date_or_a_park_without_fences_gives_nan():
+    d, h = parks.fence(["fenway_park", "fenway_park", "rickwood_field"], [0.0, 0.0, 0.0],
+                       game_date=["2020-06-01", "not a date", "2024-06-20"])
+    assert d[0] == 390.0 and np.isnan(d[1]) and np.isnan(d[2]) and np.isnan(h[2])
