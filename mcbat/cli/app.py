@@ -15,6 +15,7 @@ from mcbat.cli import (
     flight,
     impact,
     infer,
+    replay,
     reproduce,
     run,
     statcast,
@@ -56,6 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_parser(sub)
     statcast.add_parser(sub)
     infer.add_parser(sub)
+    replay.add_parser(sub)
     compare.add_parser(sub)
     return parser
 

@@ -28,7 +28,7 @@ _FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["an
 
 
 def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, park, *,
-                  settings: FlightSettings | None = None, ball=None,
+                  game_date=None, settings: FlightSettings | None = None, ball=None,
                   per_ball=None) -> pd.DataFrame:
     """Whether each ball clears its park's fence.
 
@@ -40,6 +40,9 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
         rpm (``docs/flight.md``).
     park : str or array_like of str
         ``park_id`` of :func:`mcbat.statcast.parks.park_of`, one or one per ball.
+    game_date : array_like, optional
+        Each ball's date: the fences standing at its park that day
+        (:func:`mcbat.statcast.parks.fence`); without it, the fences standing now.
     settings : FlightSettings, optional
         The flight (default: Nathan's model in standard air).
     ball : mcbat.bodies.Ball, optional
@@ -62,16 +65,18 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
     n = speed.size
     spray = np.broadcast_to(np.asarray(spray_angle, float), (n,))
     ids = np.broadcast_to(np.asarray(park, dtype=object), (n,))
+    dates = None if game_date is None else np.broadcast_to(
+        np.asarray(game_date, dtype="datetime64[D]"), (n,))
     launch = (speed * _MPH, np.broadcast_to(np.asarray(launch_angle, float), (n,)) * _DEG,
               spray * _DEG, np.broadcast_to(np.asarray(backspin, float), (n,)) * _RPM,
               np.broadcast_to(np.asarray(sidespin, float), (n,)) * _RPM)
     crossing = spray
     for _ in range(2):
-        distance, height = parks.fence(ids, crossing)
+        distance, height = parks.fence(ids, crossing, dates)
         z, phi = heights_at_distance(settings, ball.mass, ball.radius, distance * _FT,
                                      *launch, per_ball=per_ball)
         crossing = np.where(np.isfinite(phi), np.degrees(phi), crossing)
-    distance, height = parks.fence(ids, crossing)
+    distance, height = parks.fence(ids, crossing, dates)
     z, _ = heights_at_distance(settings, ball.mass, ball.radius, distance * _FT, *launch,
                                per_ball=per_ball)
     z_ft = z / _FT
