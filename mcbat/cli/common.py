@@ -15,8 +15,8 @@ from mcbat.errors import InputError, call_syntax
 
 __all__ = ["EXIT_BROKEN_PIPE", "EXIT_ENVIRONMENT", "EXIT_INTERNAL", "EXIT_OK", "EXIT_USER",
            "FIGURE_FORMATS", "ArgumentParser", "UsageError", "as_flags", "check_output",
-           "flag_of", "flags", "int_arg", "json_value", "located", "one_line", "print_json",
-           "read_cases"]
+           "check_input_file", "flag_of", "flags", "int_arg", "json_value", "located",
+           "note_left_out", "one_line", "print_json", "read_cases"]
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -168,3 +168,24 @@ def check_output(path, flag, suffixes):
         raise InputError(flag, f"cannot write {path}: it is a directory")
     if not os.access(parent, os.W_OK):
         raise InputError(flag, f"cannot write {path}: the directory is not writable")
+
+
+def note_left_out(source, left_out, what="row(s)") -> None:
+    """Print on stderr, in one line, the rows a command left out of ``source``, by reason
+    (``{"duplicate pitches": 3, ...}``; reasons counted 0 are not named). Commands call it
+    once their work is done, so that a failing command's stderr is its one error line."""
+    items = {k: int(v) for k, v in (left_out or {}).items() if v}
+    if not items:
+        return
+    total = sum(items.values())
+    reasons = ", ".join(f"{n:,} {reason}" for reason, n in items.items())
+    print(one_line(f"mcbat: {source}: {total:,} {what} left out: {reasons}"),
+          file=sys.stderr)
+
+
+def check_input_file(path, flag=None):
+    """Refuse, before any work, an input path that is not a regular file (a directory, a
+    device, a FIFO: :func:`mcbat.statcast.files.check_regular_file`) or does not exist."""
+    from mcbat.statcast.files import check_regular_file
+
+    check_regular_file(path, str(path), flag)

@@ -3,7 +3,7 @@ tidy table."""
 
 from __future__ import annotations
 
-from mcbat.cli.common import EXIT_OK, check_output, print_json
+from mcbat.cli.common import EXIT_OK, check_output, flags, note_left_out, print_json
 from mcbat.errors import InputError
 
 __all__ = ["add_parser", "cmd_statcast", "statcast_lines"]
@@ -23,6 +23,9 @@ def add_parser(sub) -> None:
     sc.add_argument("--json", action="store_true", help="print one JSON object")
     sc.add_argument("--out", metavar="TABLE.parquet", help="write the tidy table (Parquet, "
                     "units in the schema metadata)")
+    sc.add_argument("--strict", action="store_true", help="refuse a pitch given twice "
+                    "(the same game_pk, at_bat_number and pitch_number) instead of dropping "
+                    "the copy and counting it")
     sc.set_defaults(func=cmd_statcast)
 
 
@@ -32,7 +35,8 @@ def cmd_statcast(args) -> int:
 
     if args.out:
         check_output(args.out, "--out", (".parquet", ".pq"))
-    table = read(args.file)
+    with flags("strict"):
+        table = read(args.file, strict=args.strict)
     summary = summarize(table)
     if args.out:
         try:
@@ -43,8 +47,9 @@ def cmd_statcast(args) -> int:
         summary["out"] = args.out
     if args.json:
         print_json(summary)
-        return EXIT_OK
-    print("\n".join(statcast_lines(summary)))
+    else:
+        print("\n".join(statcast_lines(summary)))
+    note_left_out(summary["source"], summary["left_out"], "pitch(es)")
     return EXIT_OK
 
 
@@ -82,6 +87,10 @@ def statcast_lines(summary):
         unknown = ", ".join(summary.get("unknown_home_teams", {}))
         lines.append(f"  rows without a park elevation (NaN), by home_team: {teams}"
                      + (f"; not in the park table: {unknown}" if unknown else ""))
+    if summary.get("duplicate_pitches"):
+        dup = summary["duplicate_pitches"]
+        lines.append(f"  pitches given twice, the copies left out: {dup['rows']:,} (the first "
+                     f"at {dup['first']}, a copy of {dup['repeats']})")
     if summary.get("out"):
         lines.append(f"  tidy table written to {summary['out']}")
     return lines

@@ -42,6 +42,7 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.statcast import kinematics, parks
 from mcbat.statcast.collision import COLLISION_UNITS, collision_columns
+from mcbat.statcast.files import MAX_LINE_BYTES, CappedReader, check_regular_file
 
 __all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
            "balls_in_play", "read", "summarize", "write"]
@@ -105,36 +106,46 @@ _DERIVED = tuple(COLLISION_UNITS)
 when read."""
 
 
-def read(source, *, name=None):
+def read(source, *, name=None, strict=False):
     """Read a Savant export into mcbat's tidy table, one row per pitch.
 
     Parameters
     ----------
     source : str, os.PathLike or pandas.DataFrame
         A Savant CSV export (``.csv`` or ``.csv.gz``; any season 2015-2025, the columns of
-        its year), a Parquet file holding such an export or a table :func:`write` wrote,
-        or a DataFrame (pybaseball's ``statcast()`` result, a raw export read by pandas, or
-        a tidy table, returned as it is).
+        its year), a Parquet file holding such an export or a table :func:`write` wrote
+        (told by its content, whatever its name), or a DataFrame (pybaseball's
+        ``statcast()`` result, a raw export read by pandas, or a tidy table). A path must
+        be a regular file (:func:`mcbat.statcast.files.check_regular_file`).
     name : str, optional
         How errors and the report name the input (default: the path, or
         ``"<DataFrame>"``).
+    strict : bool
+        Refuse a pitch given twice (the same ``game_pk``, ``at_bat_number`` and
+        ``pitch_number``) instead of dropping the copy and counting it.
 
     Returns
     -------
     pandas.DataFrame
         The columns of :data:`COLUMNS` (``docs/statcast.md``). ``df.attrs["units"]`` maps
         each column to its unit; ``df.attrs["statcast"]`` is the reader's report:
-        ``source``, ``rows``, ``missing_columns`` (optional columns the input lacks, NaN
-        here), ``non_numeric`` (per column: cells that were not numbers, set to NaN, and
-        the first one's line and value), ``elevation_missing`` (rows without a park
-        elevation, per ``home_team``), ``unknown_home_teams`` (codes the park table does not
-        know, with their rows), ``duplicate_columns``.
+        ``source``, ``rows`` (pitches kept), ``missing_columns`` (optional columns the
+        input lacks, NaN here), ``non_numeric`` (per column: cells that were not numbers,
+        set to NaN, and the first one's line and value), ``elevation_missing`` (rows
+        without a park elevation, per ``home_team``), ``unknown_home_teams`` (codes the
+        park table does not know, with their rows), ``duplicate_columns``,
+        ``duplicate_pitches`` (rows dropped as copies of an earlier pitch, the first one's
+        line and the line of the pitch it repeats) and ``left_out`` (rows the reader left
+        out, by reason: ``{"duplicate pitches": n}``).
 
     Raises
     ------
     mcbat.errors.InputError
         One line naming the input and what is wrong: a missing required column, a
-        truncated or malformed CSV, a file that cannot be read.
+        truncated or malformed CSV, a header line repeated inside the file, an identifier
+        that is not a whole number in range (naming its column and line), a pitch given
+        twice with ``strict``, a file that cannot be read, a path that is not a regular
+        file.
     """
     import pandas as pd
 
@@ -143,10 +154,11 @@ def read(source, *, name=None):
         base = [c for c in COLUMNS if c not in _DERIVED]
         if set(base) <= set(map(str, source.columns)) and "vy0" not in source.columns:
             tidy = _with_collision(source[base].copy())  # already a tidy table: as it is
+            _check_identifiers({c: tidy[c] for c in _IDENTIFIERS}, label, None)
             tidy.attrs["units"] = dict(UNITS)
             tidy.attrs["statcast"] = dict(source.attrs.get("statcast", {"source": label,
                                                                         "rows": len(tidy)}))
-            return tidy
+            return _without_duplicates(tidy, label, None, strict)
         raw = source.copy()
         raw.columns = [str(c) for c in raw.columns]
         lines = None
@@ -155,22 +167,72 @@ def read(source, *, name=None):
     else:
         path = Path(os.fspath(source))
         label = name or str(path)
-        if path.suffix.lower() in (".parquet", ".pq"):
+        check_regular_file(path, label)
+        if path.suffix.lower() in (".parquet", ".pq") or _is_parquet(path, label):
             raw = _read_parquet(path, label)
             if all(c in raw.columns for c in _TIDY_MARKER):
-                return _tidy_from_parquet(raw, path, label)
+                return _without_duplicates(_tidy_from_parquet(raw, path, label), label,
+                                           None, strict)
             lines = None
             duplicates = []
         else:
-            return _read_csv_tidy(path, label)
-    return _tidy(raw, label, lines, duplicates)
+            df, lines = _read_csv_tidy(path, label)
+            return _without_duplicates(df, label, lines, strict)
+    return _without_duplicates(_tidy(raw, label, lines, duplicates), label, None, strict)
+
+
+def _is_parquet(path, label):
+    """Whether the file starts with Parquet's magic bytes (a Parquet file named ``.csv``)."""
+    try:
+        with path.open("rb") as handle:
+            return handle.read(4) == b"PAR1"
+    except OSError as err:
+        raise InputError(None, f"cannot read the file: {err.strerror or err}", label) from None
+
+
+#: The columns that identify a pitch: a second row with the same values is a copy.
+PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
+
+
+def _without_duplicates(df, label, lines, strict):
+    """``df`` without the rows that repeat an earlier pitch (:data:`PITCH_KEY`), counted
+    in the report (or :class:`InputError` with ``strict``). Rows missing a part of the key
+    cannot be told apart and are all kept."""
+    report = dict(df.attrs.get("statcast", {}))
+    report.setdefault("left_out", {})
+    key = df[list(PITCH_KEY)]
+    known = key.notna().all(axis=1).to_numpy()
+    repeated = np.zeros(len(df), dtype=bool)
+    if known.any():
+        repeated[known] = key[known].duplicated(keep="first").to_numpy()
+    if not repeated.any():
+        df.attrs["statcast"] = report
+        return df
+    first = int(np.flatnonzero(repeated)[0])
+    values = key.iloc[first]
+    same = np.flatnonzero(known & (key == values).all(axis=1).to_numpy())[0]
+    where = (lambda i: f"line {int(lines[i])}") if lines is not None else \
+        (lambda i: f"row {i + 1}")
+    pitch = ", ".join(f"{c} {values[c]}" for c in PITCH_KEY)
+    if strict:
+        raise InputError(None, f"{where(first)}: the pitch of {where(same)} again ({pitch}): "
+                         f"{int(repeated.sum()):,} pitch(es) given twice (two overlapping "
+                         "downloads concatenated?); read without {strict} to drop the "
+                         "copies and count them", label, mentions={"strict": True})
+    out = df.loc[~repeated].reset_index(drop=True)
+    out.attrs = df.attrs
+    report["rows"] = int(len(out))
+    report["duplicate_pitches"] = {"rows": int(repeated.sum()), "first": where(first),
+                                   "repeats": where(same)}
+    report["left_out"] = {**report["left_out"], "duplicate pitches": int(repeated.sum())}
+    out.attrs["statcast"] = report
+    return out
 
 
 def _read_parquet(path, label):
     import pandas as pd
 
-    if not path.is_file():
-        raise InputError(None, "no such file", label)
+    check_regular_file(path, label)
     try:
         return pd.read_parquet(path)
     except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault
@@ -184,40 +246,55 @@ _BLOCK_BYTES = 1 << 23
 
 
 def _text_lines(path, label):
-    """The file's lines (``.gz`` decompressed as it is read, UTF-8 with or without a BOM,
-    each line with its newline), or :class:`InputError` naming the file and the byte of a
-    decoding error."""
+    """The file's lines (``.gz`` decompressed as it is read, with the cap of
+    :mod:`mcbat.statcast.files`; UTF-8 with or without a BOM; each line with its newline),
+    or :class:`InputError` naming the file, and the line and byte of a decoding error."""
     import codecs
     import gzip
+    import zlib
 
-    if not path.is_file():
-        raise InputError(None, "no such file", label)
+    status = check_regular_file(path, label)
     try:
         raw = path.open("rb")
     except OSError as err:
-        raise InputError(None, f"cannot read the file: {err}", label) from None
+        raise InputError(None, f"cannot read the file: {err.strerror or err}", label) from None
     with raw:
-        stream = gzip.GzipFile(fileobj=raw) if (path.suffix.lower() == ".gz"
-                                                or raw.peek(2)[:2] == b"\x1f\x8b") else raw
+        gz = path.suffix.lower() == ".gz" or raw.peek(2)[:2] == b"\x1f\x8b"
+        stream = CappedReader.for_file(gzip.GzipFile(fileobj=raw), status.st_size,
+                                       label) if gz else raw
         decoder = codecs.getincrementaldecoder("utf-8-sig")()
-        consumed, tail = 0, ""
+        consumed, line, pending, pending_size = 0, 1, [], 0
         while True:
             try:
                 block = stream.read(_BLOCK_BYTES)
-            except (OSError, EOFError) as err:
+            except (OSError, EOFError, zlib.error) as err:
                 raise InputError(None, f"cannot read the file: {err}", label) from None
             try:
                 text = decoder.decode(block, final=not block)
             except UnicodeDecodeError as err:
-                raise InputError(None, f"not UTF-8 text (byte {consumed + err.start}); a "
-                                 "Savant export is a UTF-8 CSV file", label) from None
+                at = line + block.count(b"\n", 0, max(err.start, 0))
+                raise InputError(None, f"line {at}: not UTF-8 text (byte "
+                                 f"{consumed + err.start}); a Savant export is a UTF-8 CSV "
+                                 "file", label) from None
             consumed += len(block)
-            lines = (tail + text).split("\n")
-            tail = lines.pop()
-            for line in lines:
-                yield line + "\n"
+            pieces = text.split("\n")
+            if len(pieces) > 1:
+                pending.append(pieces[0])
+                yield "".join(pending) + "\n"
+                line += 1
+                for piece in pieces[1:-1]:
+                    yield piece + "\n"
+                    line += 1
+                pending, pending_size = [], 0
+            pending.append(pieces[-1])
+            pending_size += len(pieces[-1])
+            if pending_size > MAX_LINE_BYTES:
+                raise InputError(None, f"line {line}: longer than "
+                                 f"{MAX_LINE_BYTES >> 20} MiB without a line break: not a "
+                                 "CSV table", label)
             if not block:
                 break
+        tail = "".join(pending)
         if tail:
             yield tail
 
@@ -249,6 +326,7 @@ def _csv_chunks(path, label, rows=None):
         columns = [names[i] for i in wanted]
         width = len(header)
         pick = operator.itemgetter(*wanted)
+        marks = [(first[c], c) for c in ("pitch_type", "game_date", "game_pk")]
         body, lines = [], []
         emitted = False
         for row in reader:
@@ -258,6 +336,11 @@ def _csv_chunks(path, label, rows=None):
                 raise InputError(None, f"line {reader.line_num}: {len(row)} fields where "
                                  f"the header has {width}: the file is truncated or "
                                  "malformed (an interrupted download?)", label)
+            if all(row[i].strip() == c for i, c in marks):
+                raise InputError(None, f"line {reader.line_num}: the header line again "
+                                 "(the column names as a row): two exports concatenated "
+                                 "with their headers? Remove the line (and check for "
+                                 "pitches given twice)", label)
             body.append(pick(row))
             lines.append(reader.line_num)
             if len(body) == rows:
@@ -274,18 +357,20 @@ def _csv_chunks(path, label, rows=None):
 
 
 def _read_csv_tidy(path, label):
-    """The tidy table of a CSV export, parsed :data:`CHUNK_ROWS` rows at a time."""
+    """The tidy table of a CSV export, parsed :data:`CHUNK_ROWS` rows at a time, and the
+    file line of each row."""
     import pandas as pd
 
-    parts, reports = [], []
+    parts, reports, all_lines = [], [], []
     for raw, lines, duplicates in _csv_chunks(path, label):
         part = _tidy(raw, label, lines, duplicates)
         reports.append(part.attrs["statcast"])
         parts.append(part)
+        all_lines.append(np.asarray(lines, dtype=np.int64))
     df = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
     df.attrs["units"] = dict(UNITS)
     df.attrs["statcast"] = _merged_reports(reports)
-    return df
+    return df, np.concatenate(all_lines)
 
 
 def _merged_reports(reports):
@@ -324,8 +409,13 @@ def _tidy(raw, label, lines, duplicates):
             num[column] = np.full(n, np.nan)
             continue
         num[column], bad = _numbers(raw[column], lines)
+        if column in _IDENTIFIERS and bad:
+            where = f"line {bad['line']}" if "line" in bad else f"row {bad['row']}"
+            raise InputError(column, f"{where}: {bad['value']!r} is not an identifier (a "
+                             "whole number)", label)
         if bad:
             report["non_numeric"][column] = bad
+    _check_identifiers({c: num[c] for c in _IDENTIFIERS}, label, lines)
     text = {c: _text(raw[c]) for c in _TEXT}
 
     speed, vertical, horizontal = kinematics.plate_crossing(
@@ -415,16 +505,28 @@ def _numbers(values, lines):
     import pandas as pd
 
     series = values
-    converted = pd.to_numeric(series, errors="coerce")
-    out = np.array(converted.to_numpy(dtype=float, na_value=np.nan))
-    if not (pd.api.types.is_numeric_dtype(series) or pd.api.types.is_bool_dtype(series)):
-        given = np.array(series.notna().to_numpy(), dtype=bool)
-        if given.any():
-            stripped = series[given].astype(str).str.strip()
-            given[given] = ~stripped.isin(_MISSING_MARKERS).to_numpy()
-        bad = given & np.isnan(out)
+    if pd.api.types.is_bool_dtype(series):
+        # True/False is no measurement: pandas would make it 1.0/0.0
+        out = np.full(len(series), np.nan)
+        bad = np.array(series.notna().to_numpy(), dtype=bool)
     else:
-        bad = np.zeros(len(out), dtype=bool)
+        flags = np.array([isinstance(v, (bool, np.bool_)) for v in series.tolist()],
+                         dtype=bool) if series.dtype == object else None
+        if flags is not None and flags.any():
+            series = series.where(~flags, None)
+        converted = pd.to_numeric(series, errors="coerce")
+        out = np.array(converted.to_numpy(dtype=float, na_value=np.nan))
+        if not pd.api.types.is_numeric_dtype(series):
+            given = np.array(series.notna().to_numpy(), dtype=bool)
+            if given.any():
+                stripped = series[given].astype(str).str.strip()
+                given[given] = ~stripped.isin(_MISSING_MARKERS).to_numpy()
+            bad = given & np.isnan(out)
+        else:
+            bad = np.zeros(len(out), dtype=bool)
+        if flags is not None and flags.any():
+            bad |= flags
+            series = values
     # inf is not a measurement either
     infinite = np.isinf(out)
     bad |= infinite
@@ -435,7 +537,39 @@ def _numbers(values, lines):
     report = {"cells": int(bad.sum()), "value": str(series.iloc[first])}
     if lines is not None:
         report["line"] = int(lines[first])
+    else:
+        report["row"] = first + 1
     return out, report
+
+
+#: Identifiers are whole numbers from 0 to this (2**53: every such integer is exact in the
+#: float64 the reader parses numbers into; MLBAM ids are below 10**7).
+MAX_IDENTIFIER = 2**53
+
+
+def _check_identifiers(columns, label, lines):
+    """:class:`InputError` naming the column and line (or row) of the first identifier that
+    is not a whole number in 0..:data:`MAX_IDENTIFIER` (missing values are allowed)."""
+    import pandas as pd
+
+    for column, values in columns.items():
+        x = pd.to_numeric(pd.Series(values), errors="coerce").to_numpy(dtype=float,
+                                                                        na_value=np.nan)
+        given = ~np.isnan(x)
+        with np.errstate(invalid="ignore"):
+            bad = given & ~(np.isfinite(x) & (x >= 0) & (x <= MAX_IDENTIFIER)
+                            & (x == np.round(x)))
+        if not bad.any():
+            continue
+        i = int(np.flatnonzero(bad)[0])
+        where = f"line {int(lines[i])}" if lines is not None else f"row {i + 1}"
+        value = x[i]
+        shown = f"{value:.17g}" if np.isfinite(value) else str(value)
+        reason = ("not a whole number" if np.isfinite(value) and value == value
+                  and 0 <= value <= MAX_IDENTIFIER else
+                  f"outside 0..2**53 = {MAX_IDENTIFIER:,}")
+        raise InputError(column, f"{where}: {shown} is not an identifier ({reason}); "
+                         f"{int(bad.sum()):,} such row(s)", label)
 
 
 def _integers(values):
@@ -474,6 +608,7 @@ def _tidy_from_parquet(table, path, label):
     if missing:
         raise InputError(None, f"a tidy Statcast table but missing column"
                          f"{'s' if len(missing) > 1 else ''} {', '.join(missing)}", label)
+    _check_identifiers({c: table[c] for c in _IDENTIFIERS}, label, None)
     table = _with_collision(table[[c for c in COLUMNS if c not in _DERIVED]].copy())
     meta = pq.read_schema(path).metadata or {}
     info = json.loads(meta[METADATA_KEY]) if METADATA_KEY in meta else {}
@@ -524,7 +659,8 @@ def summarize(df):
     standard deviation of the plate speed and approach angles per pitch type),
     ``attack_direction_check`` (see ``docs/statcast.md``), ``units`` and the reader's
     report (``missing_columns``, ``non_numeric``, ``elevation_missing``,
-    ``unknown_home_teams``, ``duplicate_columns``).
+    ``unknown_home_teams``, ``duplicate_columns``, ``duplicate_pitches``) and ``left_out``
+    (rows the reader left out, by reason).
     """
     seasons = sorted({int(y) for y in df["game_year"].dropna()})
     types = df["pitch_type"].fillna("(none)").value_counts()
@@ -553,8 +689,9 @@ def summarize(df):
         "attack_direction_check": attack_direction_check(df),
         "units": dict(UNITS),
     }
+    out["left_out"] = dict(report.get("left_out", {}))
     for key in ("source", "missing_columns", "non_numeric", "elevation_missing",
-                "unknown_home_teams", "duplicate_columns"):
+                "unknown_home_teams", "duplicate_columns", "duplicate_pitches"):
         if key in report:
             out[key] = report[key]
     return out

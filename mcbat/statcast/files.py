@@ -1,0 +1,121 @@
+"""Input files as the Statcast readers take them: regular files only, compressed ones with a
+cap on what they may expand to.
+
+A Statcast command reads its file at least once from the start (often twice: the header to
+tell what it is, then the rows). A device (``/dev/zero``, ``/dev/urandom``), a named pipe
+(FIFO) or a directory cannot be read that way: the first never ends, the second blocks
+until someone writes and cannot be read again, the third holds no rows. They are refused
+before anything is opened, with what they are.
+
+A gzip file is read as it is decompressed; the text it expands to may be at most
+:data:`MAX_EXPANSION` times the file's size (a Savant export compresses about 4-5 times),
+and at least :data:`MIN_EXPANDED_BYTES`: a file that expands beyond that (a "gzip bomb", a
+few MB of zeros that would become gigabytes) is refused when the cap is reached, naming the
+cap.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+
+from mcbat.errors import InputError
+
+__all__ = ["MAX_EXPANSION", "MAX_LINE_BYTES", "MIN_EXPANDED_BYTES", "CappedReader",
+           "check_regular_file", "file_kind"]
+
+MAX_EXPANSION = 50
+"""A compressed input may expand to at most this many times its size on disk."""
+MIN_EXPANDED_BYTES = 64 << 20
+"""... and always to this many bytes (64 MiB): a small compressed file is never refused."""
+MAX_LINE_BYTES = 16 << 20
+"""The longest line a CSV reader accepts (16 MiB; a Savant row is 1-2 kB): a longer one is
+not a table (a binary file, or a compressed one that expands to a single line)."""
+
+_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
+          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISSOCK, "a socket"))
+
+
+def file_kind(mode) -> str | None:
+    """What a file of ``st_mode`` ``mode`` is when it is not a regular file, else None."""
+    if stat.S_ISREG(mode):
+        return None
+    for test, name in _KINDS:
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def check_regular_file(path, label=None, field=None) -> os.stat_result:
+    """``path``'s status if it is a regular file (symbolic links followed), else
+    :class:`~mcbat.errors.InputError` saying what it is, before anything is opened.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    label : str, optional
+        How the error names the file (default ``path``).
+    field : str, optional
+        The field the error is about (``"pitches.file"``, ``"--data"``).
+    """
+    label = os.fspath(path) if label is None else label
+    try:
+        status = os.stat(path)
+    except FileNotFoundError:
+        raise InputError(field, "no such file", label) from None
+    except NotADirectoryError:
+        raise InputError(field, "no such file (a part of its path is not a directory)",
+                         label) from None
+    except (OSError, ValueError) as err:  # permission, a NUL in the name, a name too long
+        reason = getattr(err, "strerror", None) or str(err)
+        raise InputError(field, f"cannot read the file: {reason}", label) from None
+    kind = file_kind(status.st_mode)
+    if kind is not None:
+        raise InputError(field, f"is {kind}, not a regular file: mcbat reads tables from "
+                         "regular files only (save the data to a file first)", label)
+    return status
+
+
+class CappedReader:
+    """A binary stream (a decompressor) that refuses to give more than ``limit`` bytes.
+
+    Parameters
+    ----------
+    stream : file-like
+        Read with ``read(n)``.
+    limit : int
+        Bytes it may give in all.
+    label : str
+        The file, for the error.
+    on_disk : int
+        The file's size, for the error.
+    field : str, optional
+        The field the error is about.
+    """
+
+    def __init__(self, stream, limit, label, on_disk, field=None):
+        self.stream, self.limit, self.label = stream, int(limit), label
+        self.on_disk, self.field, self.given = int(on_disk), field, 0
+
+    @classmethod
+    def for_file(cls, stream, on_disk, label, field=None):
+        """A reader capped at :data:`MAX_EXPANSION` times ``on_disk`` bytes (at least
+        :data:`MIN_EXPANDED_BYTES`)."""
+        return cls(stream, max(MAX_EXPANSION * on_disk, MIN_EXPANDED_BYTES), label, on_disk,
+                   field)
+
+    def read(self, n=-1):
+        """Up to ``n`` bytes; :class:`~mcbat.errors.InputError` once the cap is passed."""
+        want = self.limit + 1 - self.given if n is None or n < 0 else \
+            min(n, self.limit + 1 - self.given)
+        block = self.stream.read(max(want, 0))
+        self.given += len(block)
+        if self.given > self.limit:
+            raise InputError(self.field, f"the compressed file ({self.on_disk:,} bytes) "
+                             f"expands to more than {self.limit:,} bytes, the most mcbat "
+                             f"reads from it ({MAX_EXPANSION} times its size, at least "
+                             f"{MIN_EXPANDED_BYTES >> 20} MiB): not a compressed export "
+                             "(decompress it yourself if it really is one)", self.label)
+        return block
