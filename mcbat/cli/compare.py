@@ -8,9 +8,11 @@ from mcbat.cli.common import (
     EXIT_OK,
     FIGURE_FORMATS,
     as_flags,
+    check_input_file,
     check_output,
     flags,
     int_arg,
+    note_left_out,
     print_json,
 )
 from mcbat.errors import InputError, Metavar
@@ -53,10 +55,13 @@ def add_parser(sub) -> None:
     cmp.add_argument("--figure", metavar="FIG.png", help="write the figure (.png, .pdf or "
                      ".svg)")
     cmp.add_argument("--json", action="store_true", help="print one JSON object")
+    cmp.add_argument("--strict", action="store_true", help="refuse a Statcast export's pitch "
+                     "given twice instead of dropping the copy and counting it")
     cmp.set_defaults(func=cmd_compare)
 
 
-COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns", "units")
+COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns", "units",
+                      "strict")
 
 
 def cmd_compare(args) -> int:
@@ -74,6 +79,8 @@ def cmd_compare(args) -> int:
     for path in (args.dataset, *args.measured):  # before the readers' imports (seconds)
         if "://" not in path and not Path(path).exists():
             raise InputError(None, "no such file or directory", path)
+        if "://" not in path and not Path(path).is_dir():
+            check_input_file(path)  # a device or a FIFO would never end or block
     units = {}
     for item in args.units:
         name, sep, unit = (part.strip() for part in item.partition("="))
@@ -87,7 +94,8 @@ def cmd_compare(args) -> int:
         if columns == []:
             raise InputError("columns", "no column given")
     simulated = read_simulated(args.dataset)
-    measured = read_measured(args.measured, units)
+    with flags(*COMPARE_PARAMETERS):
+        measured = read_measured(args.measured, units, strict=args.strict)
     try:
         result = compare(simulated, measured, columns, permutations=args.permutations,
                          seed=args.seed, max_rows=args.max_rows, plane_rows=args.plane_rows)
@@ -106,6 +114,7 @@ def cmd_compare(args) -> int:
         if args.figure:
             out["figure"] = args.figure
         print_json(out)
+        _note_left_out(measured)
         return EXIT_OK
     study = result.simulated["study"]
     print(f"simulated: {args.dataset} ({f'study {study}, ' if study else ''}"
@@ -117,7 +126,15 @@ def cmd_compare(args) -> int:
     print("\n".join(result.lines()))
     if args.figure:
         print(f"figure: {args.figure}")
+    _note_left_out(measured)
     return EXIT_OK
+
+
+def _note_left_out(measured) -> None:
+    """The measured rows left out, per source, on stderr (each column's rows without a
+    value are in the table and the JSON)."""
+    for source in measured.attrs["sources"]:
+        note_left_out(source["path"], source.get("left_out", {}), "pitch(es)")
 
 
 def _units_as_flag_values(error: InputError) -> InputError:

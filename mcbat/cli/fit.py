@@ -4,9 +4,16 @@ scales to measured distances (``--flight``); a game study's distributions to bat
 
 from __future__ import annotations
 
-import sys
-
-from mcbat.cli.common import EXIT_OK, FIGURE_FORMATS, check_output, flags, int_arg, print_json
+from mcbat.cli.common import (
+    EXIT_OK,
+    FIGURE_FORMATS,
+    check_input_file,
+    check_output,
+    flags,
+    int_arg,
+    note_left_out,
+    print_json,
+)
 from mcbat.errors import InputError
 
 __all__ = ["add_parser", "cmd_fit"]
@@ -71,6 +78,10 @@ def add_parser(sub) -> None:
     fit.add_argument("--json", action="store_true", help="print the result as JSON")
     fit.add_argument("--no-compare", action="store_true",
                      help="skip the rigid-versus-compliant model comparison")
+    fit.add_argument("--strict", action="store_true",
+                     help="refuse a Statcast export's pitch given twice (the same game_pk, "
+                          "at_bat_number and pitch_number) instead of dropping the copy and "
+                          "counting it")
     pop = fit.add_argument_group("population fits (--population, docs/population.md)")
     pop.add_argument("--population", action="store_true",
                      help="fit the study's distributions (--free swing.bat_speed.mean,... "
@@ -90,7 +101,11 @@ def add_parser(sub) -> None:
 
 
 def _fit_flight(args) -> int:
-    from mcbat.papers.statcast.calibrate import calibrate_file
+    from mcbat.papers.statcast.calibrate import calibrate, check_free
+    from mcbat.papers.statcast.left_out import flight_left_out
+    from mcbat.papers.statcast.reproduce import SPIN_MODELS, balls_in_their_air, read_statcast
+    from mcbat.statcast import read
+    from mcbat.statcast.weather import read_weather
 
     for flag in ("study", "residuals", "draws"):
         if getattr(args, flag) is not None:
@@ -98,19 +113,56 @@ def _fit_flight(args) -> int:
                              "ball of --data once)")
     if args.bootstrap:
         raise InputError("--bootstrap", "not with --flight")
-    with flags("free", "intervals", "spin_model", "weather"):
-        result = calibrate_file(args.data, free=args.free, intervals=args.intervals,
-                                spin_model=args.spin_model or "nathan",
-                                weather_path=args.weather)
+    spin_model = args.spin_model or "nathan"
+    with flags("free", "intervals", "spin_model", "weather", "strict"):
+        free = check_free(args.free)
+        if spin_model not in SPIN_MODELS:
+            raise InputError("spin_model", f"must be one of {', '.join(SPIN_MODELS)}, got "
+                             f"{spin_model!r}")
+        if args.data is not None:
+            check_input_file(args.data, "--data")
+        if args.weather is not None:
+            check_input_file(args.weather, "--weather")
+        if args.data is None:
+            table, source = read_statcast(None)
+        else:
+            table, source = read(args.data, strict=args.strict), str(args.data)
+        weather = None if args.weather is None else read_weather(args.weather)
+        try:
+            balls = balls_in_their_air(table, source, weather)
+        except InputError as err:
+            raise _unmeasured_launch(table, source) or err from None
+        backspin, sidespin = SPIN_MODELS[spin_model](balls)
+        result = calibrate(balls, backspin, sidespin, spin_model=spin_model, free=free,
+                           intervals=args.intervals, source=source)
+    left_out = flight_left_out(table, balls, result.balls)
     if args.json:
-        print_json(result.to_dict())
-        return EXIT_OK
-    print(f"fit of {', '.join(result.result.params)} to {result.balls} outfield catches and "
-          f"home runs of {result.source} (flight model nathan, spin model "
-          f"{result.spin_model}):")
-    for line in result.lines():
-        print(line)
+        print_json({**result.to_dict(), "rows": int(len(table)), "left_out": left_out})
+    else:
+        print(f"fit of {', '.join(result.result.params)} to {result.balls} outfield catches "
+              f"and home runs of {result.source} (flight model nathan, spin model "
+              f"{result.spin_model}):")
+        for line in result.lines():
+            print(line)
+    note_left_out(source, left_out)
     return EXIT_OK
+
+
+def _unmeasured_launch(table, source):
+    """When no ball is left to fly, an :class:`InputError` naming the launch column the
+    reader set to NaN (cells out of range or not numbers, with the first one's line), or
+    None when the cause is elsewhere."""
+    report = table.attrs.get("statcast", {})
+    for column in ("launch_speed", "launch_angle", "hit_distance_sc"):
+        for key, what in (("out_of_range", "outside the range of a measurement"),
+                          ("non_numeric", "not numbers")):
+            bad = report.get(key, {}).get(column)
+            if bad:
+                where = f"line {bad['line']}" if "line" in bad else f"row {bad.get('row')}"
+                return InputError(column, f"no ball is left to fly: {bad['cells']:,} cells "
+                                  f"are {what} (the first at {where}: {bad['value']})",
+                                  source)
+    return None
 
 
 def cmd_fit(args) -> int:
@@ -118,7 +170,6 @@ def cmd_fit(args) -> int:
     from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.fit import check_bootstrap, fit
     from mcbat.stats.likelihood import check_free
-    from mcbat.stats.measurements import read_measurements
     from mcbat.stats.model_choice import compare_models
 
     if args.flight:
@@ -127,27 +178,12 @@ def cmd_fit(args) -> int:
         raise InputError("--weather", "applies to --flight only")
     if args.population:
         return _fit_population(args)
-    if args.spin_model is not None:
-        raise InputError("--spin-model", "applies to --flight only")
-    if args.study is None:
-        raise InputError("--study", "required (or --flight: the flight model's drag and "
-                         "lift against measured distances)")
-    if args.data is None:
-        raise InputError("--data", "required")
+    _check_required(args)
     free = _fit_options(args, check_free, check_bootstrap)
     if args.residuals:
         check_output(args.residuals, "--residuals", FIGURE_FORMATS)
     study = load_study(args.study)
-    table = read_measurements(args.data)
-    if "statcast" in table.attrs:  # a Savant export: say which rows the fit uses
-        kept = table.attrs["statcast"]
-        print(f"mcbat: {args.data}: Statcast export: {kept['used']:,} of {kept['rows']:,} "
-              f"pitches used (balls in play with launch speed, angle, spray and plate "
-              f"speed{' and bat tracking' if 'bat_speed' in table else ''}); dropped: "
-              f"{kept['not_in_play']:,} not in play, {kept['no_launch']:,} without launch, "
-              f"{kept['foul_territory']:,} fielded in foul territory, "
-              f"{kept['no_plate_speed']:,} without plate speed, {kept['no_bat_tracking']:,} "
-              f"without bat tracking", file=sys.stderr)
+    table, left_out = _measurement_table(args)
     with flags("free", "bootstrap", "draws", "seed", "intervals"):
         result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
                      seed=args.seed, intervals=args.intervals, input_prior=args.input_prior,
@@ -163,18 +199,64 @@ def cmd_fit(args) -> int:
         out = result.to_dict()
         if comparison is not None:
             out["model_comparison"] = comparison.to_dict()
+        if left_out is not None:
+            out["left_out"] = left_out
         print_json(out)
-        return EXIT_OK
-    print(f"fit of {', '.join(free)} to {len(table)} rows of {args.data} "
-          f"(study {study.name}):")
-    for line in result.lines():
-        print(line)
-    print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = {result.p_value:.3f}")
-    for warning in result.warnings:
-        print(f"  note: {warning}")
-    if comparison is not None:
-        print("\n".join(comparison.lines()))
+    else:
+        print(f"fit of {', '.join(free)} to {len(table)} rows of {args.data} "
+              f"(study {study.name}):")
+        for line in result.lines():
+            print(line)
+        print(f"  chi2 / dof = {result.chi2:.1f} / {result.dof}, p-value = "
+              f"{result.p_value:.3f}")
+        for warning in result.warnings:
+            print(f"  note: {warning}")
+        if comparison is not None:
+            print("\n".join(comparison.lines()))
+    if left_out is not None:
+        note_left_out(f"{args.data}: Statcast export", left_out, "pitch(es)")
     return EXIT_OK
+
+
+def _check_required(args):
+    """The options a study fit needs, and none that only --flight takes."""
+    if args.spin_model is not None:
+        raise InputError("--spin-model", "applies to --flight only")
+    if args.study is None:
+        raise InputError("--study", "required (or --flight: the flight model's drag and "
+                         "lift against measured distances)")
+    if args.data is None:
+        raise InputError("--data", "required")
+
+
+def _measurement_table(args):
+    """The game fit's table of ``--data`` (a file checked first: a regular file, within
+    the cap of a compressed one) and, for a Savant export, the pitches left out."""
+    from mcbat.statcast import is_statcast, read
+    from mcbat.statcast.files import check_expansion
+    from mcbat.stats.measurements import read_measurements
+
+    check_input_file(args.data, "--data")
+    check_expansion(args.data, args.data, "--data")
+    if args.strict and is_statcast(args.data):
+        with flags("strict"):
+            read(args.data, strict=True)  # refuses a pitch given twice
+    table = read_measurements(args.data)
+    return table, _statcast_left_out(table)
+
+
+def _statcast_left_out(table):
+    """The pitches of a Savant export a game fit leaves out, by reason (None for a
+    measurement table that is not one)."""
+    if "statcast" not in table.attrs:
+        return None
+    kept = table.attrs["statcast"]
+    out = dict(kept.get("left_out", {}))
+    out.update({"not in play": kept["not_in_play"], "without launch": kept["no_launch"],
+                "fielded in foul territory": kept["foul_territory"],
+                "without plate speed": kept["no_plate_speed"],
+                "without bat tracking": kept["no_bat_tracking"]})
+    return out
 
 
 def _fit_population(args) -> int:
@@ -190,8 +272,10 @@ def _fit_population(args) -> int:
             raise InputError(flag, "required with --population")
     if args.figure:
         check_output(args.figure, "--figure", FIGURE_FORMATS)
+    check_input_file(args.data, "--data")
     study = load_study(args.study)
-    table = read(args.data)
+    with flags("strict"):
+        table = read(args.data, strict=args.strict)
     with flags("free", "draws", "seed", "bins", "observables", "engine"):
         result = fit_population(study, table, [f for f in args.free.split(",") if f],
                                 draws=args.draws, bins=args.bins, seed=args.seed,
@@ -200,9 +284,12 @@ def _fit_population(args) -> int:
         from mcbat.stats.population_figure import fig_population
 
         fig_population(args.figure, result)
+    left_out = table.attrs["statcast"].get("left_out", {})
     if args.json:
-        print_json(result.to_dict())
+        print_json({**result.to_dict(), "left_out": left_out})
+        note_left_out(args.data, left_out, "pitch(es)")
         return EXIT_OK
+    note_left_out(args.data, left_out, "pitch(es)")
     print(f"population fit of {args.free} to {result.rows} batted balls of {args.data} "
           f"in {' x '.join(result.observables)} (study {study.name}; {result.draws:,} "
           f"template draws, effective {result.effective_draws:,.0f}):")

@@ -80,8 +80,14 @@ def statcast_lines(summary):
     if summary.get("missing_columns"):
         lines.append(f"  columns this export lacks (NaN): {', '.join(summary['missing_columns'])}")
     for column, bad in summary.get("non_numeric", {}).items():
-        where = f" (first at line {bad['line']}: {bad['value']!r})" if "line" in bad else ""
+        where = (f" (first at line {bad['line']}: {bad['value']!r})" if "line" in bad else
+                 f" (first at row {bad['row']}: {bad['value']!r})" if "row" in bad else "")
         lines.append(f"  {column}: {bad['cells']:,} non-numeric cell(s) set to NaN{where}")
+    for column, far in summary.get("out_of_range", {}).items():
+        where = f"line {far['line']}" if "line" in far else f"row {far['row']}"
+        low, high = far["range"]
+        lines.append(f"  {column}: {far['cells']:,} cell(s) outside {low:g}..{high:g} set to "
+                     f"NaN (first at {where}: {far['value']})")
     if summary.get("elevation_missing"):
         teams = ", ".join(f"{k} {v:,}" for k, v in summary["elevation_missing"].items())
         unknown = ", ".join(summary.get("unknown_home_teams", {}))

@@ -22,7 +22,7 @@ import stat
 from mcbat.errors import InputError
 
 __all__ = ["MAX_EXPANSION", "MAX_LINE_BYTES", "MIN_EXPANDED_BYTES", "CappedReader",
-           "check_regular_file", "file_kind"]
+           "check_expansion", "check_regular_file", "file_kind"]
 
 MAX_EXPANSION = 50
 """A compressed input may expand to at most this many times its size on disk."""
@@ -119,3 +119,26 @@ class CappedReader:
                              f"{MIN_EXPANDED_BYTES >> 20} MiB): not a compressed export "
                              "(decompress it yourself if it really is one)", self.label)
         return block
+
+
+def check_expansion(path, label=None, field=None) -> None:
+    """Read a gzip file through to its end under the cap (:class:`CappedReader`), keeping
+    nothing: :class:`~mcbat.errors.InputError` if it expands beyond the cap or is broken.
+    Nothing happens for a file that is not gzip. For readers that would decompress the
+    whole file at once (pandas) or read its first line without a limit."""
+    import gzip
+    import zlib
+
+    label = os.fspath(path) if label is None else label
+    status = check_regular_file(path, label, field)
+    try:
+        with open(path, "rb") as raw:
+            if raw.read(2) != b"\x1f\x8b":
+                return
+            raw.seek(0)
+            stream = CappedReader.for_file(gzip.GzipFile(fileobj=raw), status.st_size,
+                                           label, field)
+            while stream.read(1 << 23):
+                pass
+    except (OSError, EOFError, zlib.error) as err:
+        raise InputError(field, f"cannot read the compressed file: {err}", label) from None

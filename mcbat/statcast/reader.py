@@ -89,6 +89,21 @@ _NUMERIC = ("release_speed", "batter", "pitcher", "hit_location", "game_year", "
             "plate_z", "hc_x", "hc_y", "vx0", "vy0", "vz0", "ax", "ay", "az",
             "hit_distance_sc", "launch_speed", "launch_angle", "release_spin_rate",
             "game_pk", "at_bat_number", "pitch_number", *OPTIONAL)
+#: The range of a numeric cell (in the export's units: mph, ft, ft/s, ft/s^2, deg, rpm)
+#: outside which it is no measurement: such a cell is read as NaN and counted per column
+#: (``attrs["statcast"]["out_of_range"]``). The ranges are wide (the fastest pitch measured
+#: is near 106 mph, the fastest batted ball near 122 mph, the longest drive near 505 ft).
+RANGES = {
+    "release_speed": (0.0, 150.0), "launch_speed": (0.0, 150.0), "bat_speed": (0.0, 150.0),
+    "plate_x": (-20.0, 20.0), "plate_z": (-20.0, 20.0), "hc_x": (-500.0, 1000.0),
+    "hc_y": (-500.0, 1000.0), "vx0": (-250.0, 250.0), "vy0": (-250.0, 250.0),
+    "vz0": (-250.0, 250.0), "ax": (-150.0, 150.0), "ay": (-150.0, 150.0),
+    "az": (-150.0, 150.0), "hit_distance_sc": (0.0, 1000.0), "launch_angle": (-90.0, 90.0),
+    "release_spin_rate": (0.0, 10000.0), "hit_location": (1.0, 9.0),
+    "game_year": (1900.0, 2100.0), "spin_axis": (0.0, 360.0), "swing_length": (0.0, 20.0),
+    "attack_angle": (-90.0, 90.0), "attack_direction": (-180.0, 180.0),
+    "swing_path_tilt": (-90.0, 90.0),
+}
 _TEXT = ("pitch_type", "events", "description", "stand", "p_throws", "home_team",
          "bb_type", "des")
 _IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitcher")
@@ -131,7 +146,8 @@ def read(source, *, name=None, strict=False):
         each column to its unit; ``df.attrs["statcast"]`` is the reader's report:
         ``source``, ``rows`` (pitches kept), ``missing_columns`` (optional columns the
         input lacks, NaN here), ``non_numeric`` (per column: cells that were not numbers,
-        set to NaN, and the first one's line and value), ``elevation_missing`` (rows
+        set to NaN, and the first one's line and value), ``out_of_range`` (likewise, cells
+        outside :data:`RANGES`), ``elevation_missing`` (rows
         without a park elevation, per ``home_team``), ``unknown_home_teams`` (codes the
         park table does not know, with their rows), ``duplicate_columns``,
         ``duplicate_pitches`` (rows dropped as copies of an earlier pitch, the first one's
@@ -383,14 +399,15 @@ def _merged_reports(reports):
             for name, count in r[key].items():
                 merged[name] = merged.get(name, 0) + count
         out[key] = merged
-    non_numeric = {}
-    for r in reports:
-        for column, bad in r["non_numeric"].items():
-            if column in non_numeric:
-                non_numeric[column]["cells"] += bad["cells"]
-            else:
-                non_numeric[column] = dict(bad)
-    out["non_numeric"] = non_numeric
+    for key in ("non_numeric", "out_of_range"):
+        merged = {}
+        for r in reports:
+            for column, bad in r[key].items():
+                if column in merged:
+                    merged[column]["cells"] += bad["cells"]
+                else:
+                    merged[column] = dict(bad)
+        out[key] = merged
     return out
 
 
@@ -401,7 +418,8 @@ def _tidy(raw, label, lines, duplicates):
     n = len(raw)
     report = {"source": label, "rows": n,
               "missing_columns": [c for c in OPTIONAL if c not in raw.columns],
-              "non_numeric": {}, "elevation_missing": {}, "unknown_home_teams": {},
+              "non_numeric": {}, "out_of_range": {}, "elevation_missing": {},
+              "unknown_home_teams": {},
               "duplicate_columns": duplicates}
     num = {}
     for column in _NUMERIC:
@@ -415,6 +433,10 @@ def _tidy(raw, label, lines, duplicates):
                              "whole number)", label)
         if bad:
             report["non_numeric"][column] = bad
+        if column in RANGES:
+            far = _out_of_range(num[column], RANGES[column], lines)
+            if far:
+                report["out_of_range"][column] = far
     _check_identifiers({c: num[c] for c in _IDENTIFIERS}, label, lines)
     text = {c: _text(raw[c]) for c in _TEXT}
 
@@ -540,6 +562,25 @@ def _numbers(values, lines):
     else:
         report["row"] = first + 1
     return out, report
+
+
+def _out_of_range(values, bounds, lines):
+    """Set the values outside ``bounds`` to NaN (in place); None or ``{"cells", "line"
+    (CSV) or "row", "value", "range"}`` of the first."""
+    low, high = bounds
+    with np.errstate(invalid="ignore"):
+        far = (values < low) | (values > high)
+    if not far.any():
+        return None
+    first = int(np.flatnonzero(far)[0])
+    report = {"cells": int(far.sum()), "value": f"{values[first]:.6g}",
+              "range": [low, high]}
+    if lines is not None:
+        report["line"] = int(lines[first])
+    else:
+        report["row"] = first + 1
+    values[far] = np.nan
+    return report
 
 
 #: Identifiers are whole numbers from 0 to this (2**53: every such integer is exact in the
@@ -690,8 +731,9 @@ def summarize(df):
         "units": dict(UNITS),
     }
     out["left_out"] = dict(report.get("left_out", {}))
-    for key in ("source", "missing_columns", "non_numeric", "elevation_missing",
-                "unknown_home_teams", "duplicate_columns", "duplicate_pitches"):
+    for key in ("source", "missing_columns", "non_numeric", "out_of_range",
+                "elevation_missing", "unknown_home_teams", "duplicate_columns",
+                "duplicate_pitches"):
         if key in report:
             out[key] = report[key]
     return out

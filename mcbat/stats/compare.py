@@ -20,7 +20,13 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.stats.compare_figure import fig_compare
 from mcbat.stats.compare_inputs import read_measured, read_simulated
-from mcbat.stats.compare_units import UNIT_FACTORS, column_values, convert, unit_suspicion
+from mcbat.stats.compare_units import (
+    UNIT_FACTORS,
+    column_values,
+    convert,
+    unit_contradiction,
+    unit_suspicion,
+)
 from mcbat.stats.two_sample import (
     PERMUTATIONS,
     energy_test,
@@ -100,9 +106,12 @@ class Comparison:
                      if c["converted_from"]]
         if converted:
             out.append("converted to the unit shown: " + ", ".join(converted))
-        out.append(f"p-values: KS from scipy (exact or asymptotic); energy from "
-                   f"{s['permutations']:,} permutations (seed {s['seed']}), resolution "
-                   f"{s['p_value_resolution']:.2g}; energy tests on at most "
+        energy = (f"energy from {s['permutations']:,} permutations (seed {s['seed']}), "
+                  f"resolution {s['p_value_resolution']:.2g}"
+                  if s["p_value_resolution"] is not None else
+                  "energy without p-values (0 permutations)")
+        out.append(f"p-values: KS from scipy (exact or asymptotic); {energy}; energy tests "
+                   f"on at most "
                    f"{s['max_rows']:,} rows a side (plane: {s['plane_rows']:,}), "
                    "subsampled with the seed")
         capped = [c["column"] for c in self.columns if c["energy"]["subsampled"]]
@@ -145,7 +154,8 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
     mcbat.errors.InputError
         An empty table, a requested column missing on either side, units that differ and
         cannot be converted, a measured column that looks like another unit than the one
-        it is read in, no shared column.
+        it is read in (stating no unit), a stated unit the values contradict
+        (:func:`~mcbat.stats.compare_units.unit_contradiction`), no shared column.
     """
     check_settings(permutations, seed, max_rows, plane_rows, units)
     if len(measured) == 0:
@@ -277,6 +287,10 @@ def _compare_column(name, sim_series, meas_series, sim_unit, meas_unit, permutat
         suspicion = unit_suspicion(name, sim, meas, unit)
         if suspicion is not None:
             raise suspicion
+    else:
+        contradiction = unit_contradiction(name, meas, meas_unit)
+        if contradiction is not None:
+            raise contradiction
     stream = [seed, zlib.crc32(name.encode())]
     rng = np.random.default_rng([*stream, 1])
     sim_cap, meas_cap = _subsample(sim, max_rows, rng), _subsample(meas, max_rows, rng)

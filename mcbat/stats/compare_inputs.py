@@ -37,7 +37,7 @@ def read_simulated(directory):
     return load(directory)
 
 
-def read_measured(paths, units=None):
+def read_measured(paths, units=None, *, strict=False):
     """One or more measured tables, concatenated, with the units they state.
 
     Each path is a Baseball Savant (Statcast) export or mcbat's tidy Statcast table (read by
@@ -56,7 +56,8 @@ def read_measured(paths, units=None):
     -------
     pandas.DataFrame
         ``attrs["units"]`` (the stated units), ``attrs["sources"]`` (per path: ``path``,
-        ``kind``, ``rows``, and for a Statcast export ``pitches``).
+        ``kind``, ``rows``, and for a Statcast export ``pitches`` and ``left_out`` (the
+        pitches not used, by reason: not in play, duplicate pitches).
     """
     import pandas as pd
 
@@ -64,7 +65,7 @@ def read_measured(paths, units=None):
         paths = [paths]
     tables, sources, stated = [], [], None
     for path in paths:
-        table, source = _read_one(path)
+        table, source = _read_one(path, strict)
         table_units = dict(table.attrs.get("units", {}))
         if stated is not None:
             for name in set(table.columns) & set(stated):
@@ -86,8 +87,9 @@ def read_measured(paths, units=None):
     return combined
 
 
-def _read_one(path):
+def _read_one(path, strict=False):
     from mcbat.statcast import balls_in_play, is_statcast, read
+    from mcbat.statcast.files import check_expansion
 
     label = os.fspath(path)
     path = Path(label)
@@ -98,8 +100,9 @@ def _read_one(path):
         return df, {"path": label, "kind": "dataset", "rows": len(df)}
     if not path.exists():
         raise InputError(None, "no such file or directory", label)
+    check_expansion(path, label)  # (is_statcast reads a header line without a limit)
     if is_statcast(path):
-        pitches = read(path)
+        pitches = read(path, strict=strict)
         balls = pitches[balls_in_play(pitches)]
         table = balls[list(_STATCAST_COLUMNS)].rename(columns=_STATCAST_NAMES)
         table = table.reset_index(drop=True).astype(float)
@@ -111,9 +114,11 @@ def _read_one(path):
         if len(table) == 0:
             raise InputError(None, f"the Statcast export has no ball in play (of "
                              f"{len(pitches):,} pitches)", label)
+        left_out = {"not in play": int(len(pitches) - len(balls)),
+                    **pitches.attrs["statcast"].get("left_out", {})}
         return table, {"path": label, "kind": "statcast", "rows": len(table),
                        "pitches": len(pitches),
-                       "foul_territory": int(foul.sum())}
+                       "foul_territory": int(foul.sum()), "left_out": left_out}
     table, units = _read_table(path, label)
     if len(table) == 0:
         raise InputError(None, "the table has no data rows", label)
@@ -127,6 +132,12 @@ def _read_table(path, label):
 
     suffix = path.suffix.lower()
     units = {}
+    with path.open("rb") as handle:
+        magic = handle.read(4)
+    if magic == b"PAR1":
+        suffix = ".parquet"  # a Parquet file, whatever its name
+    elif magic[:2] == b"\x1f\x8b":
+        suffix = ".gz"
     try:
         if suffix in (".parquet", ".pq"):
             import pyarrow.parquet as pq
@@ -139,7 +150,8 @@ def _read_table(path, label):
                     raise ValueError("the 'units' metadata is not a JSON object")
                 units = {str(k): str(v) for k, v in units.items()}
         elif suffix in (".csv", ".gz"):
-            table = pd.read_csv(path, comment="#", skipinitialspace=True)
+            table = pd.read_csv(_text_source(path, label), comment="#",
+                                skipinitialspace=True)
         else:
             raise InputError(None, f"unknown table format {suffix or '(none)'!r} (use .csv "
                              "or .parquet, or a dataset directory)", label)
@@ -152,3 +164,20 @@ def _read_table(path, label):
     if duplicated:
         raise InputError(duplicated[0], "duplicate column", label)
     return table, units
+
+
+def _text_source(path, label):
+    """What pandas reads a CSV table from: the path, or for a gzip file its text
+    decompressed under the cap of :mod:`mcbat.statcast.files`."""
+    import gzip
+    import io
+
+    from mcbat.statcast.files import CappedReader
+
+    with path.open("rb") as handle:
+        if handle.read(2) != b"\x1f\x8b":
+            return path
+    with path.open("rb") as raw:
+        stream = CappedReader.for_file(gzip.GzipFile(fileobj=raw), path.stat().st_size,
+                                       label)
+        return io.BytesIO(stream.read())

@@ -11,8 +11,8 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.study.units import UNITS
 
-__all__ = ["UNIT_FACTORS", "UNIT_MATCH", "UNIT_SUSPICION", "column_values", "convert",
-           "unit_suspicion"]
+__all__ = ["PLAUSIBLE_MEDIANS", "PLAUSIBLE_ROWS", "UNIT_FACTORS", "UNIT_MATCH", "UNIT_SUSPICION",
+           "column_values", "convert", "unit_contradiction", "unit_suspicion"]
 
 _SPEED, _ANGLE, _SPIN, _LENGTH, _MASS = (UNITS[q] for q in ("speed", "angle", "spin", "length",
                                                             "mass"))
@@ -39,6 +39,65 @@ one by more than this factor *and* lies within :data:`UNIT_MATCH` of the factor 
 unit and another of its quantity (launch speeds in m/s: 0.447 of mph)."""
 UNIT_MATCH = 1.3
 """See :data:`UNIT_SUSPICION`."""
+
+
+PLAUSIBLE_MEDIANS = {
+    # column: (unit, low, high): where the median of real measured values lies
+    "launch_speed": ("mph", 50.0, 125.0),   # batted balls (bunts and dribblers included)
+    "exit_speed": ("mph", 50.0, 125.0),
+    "pitch_speed": ("mph", 45.0, 110.0),    # at the plate: eephus to the fastest fastball
+    "bat_speed": ("mph", 40.0, 100.0),
+    "spin_rate": ("rpm", 300.0, 6000.0),    # a batted ball's
+    "pitch_spin_rate": ("rpm", 300.0, 4000.0),
+    "backspin": ("rpm", -6000.0, 6000.0),
+    "hit_distance": ("ft", 10.0, 500.0),
+    "launch_angle": ("deg", -60.0, 80.0),
+    "spray_angle": ("deg", -50.0, 50.0),
+    "attack_angle": ("deg", -45.0, 60.0),
+    "attack_direction": ("deg", -60.0, 60.0),
+    "pitch_vertical_approach_angle": ("deg", -20.0, 5.0),
+    "pitch_horizontal_approach_angle": ("deg", -15.0, 15.0),
+}
+"""Where the median of a column's real values lies, in its Statcast unit: a measured
+column whose stated unit puts its median outside is refused
+(:func:`unit_contradiction`): launch speeds near 90 stated in m/s would be 200 mph, launch
+speeds near 40 stated in mph slower than the batted balls of any table. The ranges are wide
+(a table of one batter's or one pitch type's balls lies inside); they catch a unit off by
+the factor between two units of the quantity, not every mistake."""
+PLAUSIBLE_ROWS = 10
+"""The fewest values whose median :func:`unit_contradiction` judges."""
+
+
+def unit_contradiction(column, measured, unit):
+    """An :class:`~mcbat.errors.InputError` about ``column`` when the median of
+    ``measured`` (finite values, stated to be in ``unit``) lies outside where the column's
+    real values lie (:data:`PLAUSIBLE_MEDIANS`), else None. The message names the column,
+    the unit, the median and, when one puts it in range, the unit the values look like."""
+    if column not in PLAUSIBLE_MEDIANS or unit not in UNIT_FACTORS:
+        return None
+    expected, low, high = PLAUSIBLE_MEDIANS[column]
+    kind = UNIT_FACTORS[expected][0]
+    values = np.asarray(measured, dtype=float)
+    values = values[np.isfinite(values)]
+    if UNIT_FACTORS[unit][0] != kind or values.size < PLAUSIBLE_ROWS:
+        return None
+    median = float(np.median(values))
+    as_expected = median * UNIT_FACTORS[unit][1] / UNIT_FACTORS[expected][1]
+    if low <= as_expected <= high:
+        return None
+    fits = [other for other, (other_kind, factor) in UNIT_FACTORS.items()
+            if other_kind == kind and other != unit
+            and low <= median * factor / UNIT_FACTORS[expected][1] <= high]
+    centre = math.sqrt(abs(low * high)) if low > 0 else 0.5 * (low + high)
+    fits.sort(key=lambda other: abs(median * UNIT_FACTORS[other][1]
+                                    / UNIT_FACTORS[expected][1] - centre))
+    hint = f"; the values look like {fits[0]}: state that unit ({{units}})" if fits else ""
+    return InputError(
+        column, f"stated in {unit}, but the values' median {median:.4g} {unit}"
+        f"{'' if unit == expected else f' is {as_expected:.4g} {expected}'} lies outside "
+        f"{low:g}..{high:g} {expected}, where the "
+        f"median of real {column} lies: the stated unit contradicts the values{hint}",
+        mentions={"units": {column: fits[0]}} if fits else None)
 
 
 def convert(values, unit, to):

@@ -36,7 +36,9 @@ from mcbat.stats.fit import fit
 from mcbat.stats.flight_model import AIR_COLUMNS, FLIGHT_TABLE_COLUMNS, FlightFitSetup
 from mcbat.study.flight import FlightSettings
 
-__all__ = ["FIT_CLASSES", "FREE", "FlightCalibration", "calibrate", "fit_scales",
+__all__ = ["DISTANCE_SLOPE", "FIT_CLASSES", "FREE", "LAUNCH_SPEED_MEDIAN",
+           "MIN_DISTANCE_CORRELATION", "FlightCalibration", "calibrate",
+           "check_distances_follow_launch", "check_launch_speeds", "fit_scales",
            "flight_table", "predict"]
 
 #: Comparison classes the fit uses.
@@ -148,9 +150,13 @@ def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
     Raises
     ------
     InputError
-        Naming ``hit_distance_sc`` when fewer than :data:`MIN_BALLS` balls qualify.
+        Naming ``hit_distance_sc`` when fewer than :data:`MIN_BALLS` balls qualify or the
+        distances do not follow the launches (:func:`check_distances_follow_launch`);
+        naming ``launch_speed`` when the launch speeds are not in mph
+        (:func:`check_launch_speeds`).
     """
     use = eligible_window(balls) & balls["comparison"].isin(FIT_CLASSES).to_numpy(bool)
+    check_launch_speeds(balls["launch_speed"].to_numpy(float)[use], source)
     settings = FlightSettings() if settings is None else settings
     setup = FlightFitSetup(settings=settings) if ball is None else FlightFitSetup(
         settings=settings, mass=ball.mass, radius=ball.radius)
@@ -180,6 +186,7 @@ def fit_scales(table: pd.DataFrame, setup: FlightFitSetup | None = None, *,
     table = table.copy()
     setup = FlightFitSetup() if setup is None else setup
     model = predict(setup, table)
+    check_distances_follow_launch(table["hit_distance_sc"].to_numpy(float), model, source)
     residual = model - table["hit_distance_sc"].to_numpy()
     sigma0 = 1.4826 * float(np.median(np.abs(residual - np.median(residual))))
     table["hit_distance_sc_err"] = max(sigma0, 0.1)
@@ -193,6 +200,65 @@ def fit_scales(table: pd.DataFrame, setup: FlightFitSetup | None = None, *,
     result = fit(setup, table, free, start=best, intervals=intervals)
     return FlightCalibration(result=result, sigma=sigma, balls=n, spin_model=spin_model,
                              source=source)
+
+
+#: The median launch speed (mph) of the fitted balls (fly balls launched at 20-50 deg and
+#: home runs) lies in this range in every real export (90-100 mph): outside it the launch
+#: speeds are in another unit (m/s: ~42, km/h: ~150).
+LAUNCH_SPEED_MEDIAN = (70.0, 125.0)
+#: Measured distances follow the model's uncalibrated predictions of the same launches
+#: with a correlation of 0.95-0.98 and a slope of 0.92-1.07 on the real exports: a table
+#: whose correlation is below this, or whose slope lies outside :data:`DISTANCE_SLOPE`,
+#: does not hold distances of balls flown from those launches, and a fit of the scales to
+#: it would be meaningless (the scatter model, one sigma about the flight, would not hold).
+MIN_DISTANCE_CORRELATION = 0.5
+DISTANCE_SLOPE = (0.5, 2.0)
+
+
+def check_launch_speeds(launch_speed, source=None) -> None:
+    """:class:`InputError` naming ``launch_speed`` when the fitted balls' median launch
+    speed (mph) lies outside :data:`LAUNCH_SPEED_MEDIAN`."""
+    values = np.asarray(launch_speed, float)
+    values = values[np.isfinite(values)]
+    if values.size < MIN_BALLS:
+        return
+    median = float(np.median(values))
+    low, high = LAUNCH_SPEED_MEDIAN
+    if not low <= median <= high:
+        hint = " (in m/s?)" if median < low else " (in km/h?)"
+        raise InputError("launch_speed", f"the median launch speed of the fly balls and "
+                         f"home runs launched at 20-50 deg is {median:.4g} mph, outside "
+                         f"{low:g}..{high:g} mph where it lies in real exports{hint}: the "
+                         "values are not launch speeds in mph", source)
+
+
+def check_distances_follow_launch(distance, model, source=None) -> None:
+    """:class:`InputError` naming ``hit_distance_sc`` unless the measured distances vary
+    with the model's predictions of the same launches as real balls' do
+    (:data:`MIN_DISTANCE_CORRELATION`, :data:`DISTANCE_SLOPE`): distances all alike,
+    shuffled, or in another unit cannot calibrate the flight."""
+    distance = np.asarray(distance, float)
+    model = np.asarray(model, float)
+    ok = np.isfinite(distance) & np.isfinite(model)
+    distance, model = distance[ok], model[ok]
+    if distance.size < 3 or np.ptp(model) == 0.0:
+        return
+    if np.ptp(distance) == 0.0:
+        raise InputError("hit_distance_sc", f"every distance of the {distance.size} balls "
+                         f"fitted is {distance[0]:g} ft: real distances vary with the launch "
+                         f"(here the model predicts {np.min(model):.0f}..{np.max(model):.0f} "
+                         "ft); these cannot calibrate the flight", source)
+    r = float(np.corrcoef(distance, model)[0, 1])
+    slope = float(np.polyfit(model, distance, 1)[0])
+    low, high = DISTANCE_SLOPE
+    if not (r >= MIN_DISTANCE_CORRELATION and low <= slope <= high):
+        raise InputError("hit_distance_sc", f"the distances of the {distance.size} balls "
+                         f"fitted do not vary with their launches as balls do: correlation "
+                         f"{r:.2f} with the model's predictions (at least "
+                         f"{MIN_DISTANCE_CORRELATION:g}; real exports 0.95-0.98), slope "
+                         f"{slope:.2f} (within {low:g}..{high:g}; real exports 0.92-1.07): "
+                         "distances in another unit, or of other balls? The scatter model of "
+                         "the fit (one sigma about the flight) would not hold", source)
 
 
 def predict(setup, table, scales=None) -> np.ndarray:
