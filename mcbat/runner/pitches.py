@@ -29,12 +29,15 @@ import pandas as pd
 
 from mcbat.errors import InputError
 from mcbat.statcast.collision import is_bunt
-from mcbat.study.pitches import BUNT_COLUMN, SWING_KEYS, PitchTable
+from mcbat.statcast.files import check_regular_file
+from mcbat.study.pitches import BUNT_COLUMN, DUPLICATE_COLUMN, IDENTIFIERS, SWING_KEYS, PitchTable
 
 __all__ = ["load_pitches", "read_pitch_table"]
 
 #: Columns read as text (the others as numbers).
 _TEXT = ("pitch_type", "p_throws", "handedness", "bb_type")
+#: Cells that are a missing value (pandas writes NaN and <NA>, Savant null).
+_MISSING = ("", "nan", "NaN", "NA", "<NA>", "null", "NULL", "None")
 # The tidy table is told from a raw Savant export by its plate speed.
 _TIDY_MARK = "pitch_speed"
 
@@ -79,6 +82,12 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
         On ``pitches.file``: unreadable, not a table, or a needed column missing.
     """
     where = str(path) if where is None else where
+    # a device (/dev/zero) would never end, a FIFO would block: refused before opening
+    try:
+        if os.path.exists(path):  # (a missing file: the open below says so)
+            check_regular_file(path, where, "pitches.file")
+    except InputError as err:
+        raise InputError("pitches.file", f"cannot read {where}: {err.message}") from None
     try:
         with open(path, "rb") as handle:
             stamp = os.fstat(handle.fileno())
@@ -86,7 +95,7 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
     except OSError as err:
         reason = os.strerror(err.errno) if err.errno else str(err)
         raise InputError("pitches.file", f"cannot read {where}: {reason}") from None
-    frame = _parse(data, where)
+    frame, lines = _parse(data, where)
     if frame is None:
         # A raw export: the Savant reader converts it, from the file itself (its CSV
         # checks report line numbers), which must still hold the bytes hashed above.
@@ -98,6 +107,11 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
         if now is None or (now.st_size, now.st_mtime_ns) != (stamp.st_size,
                                                                stamp.st_mtime_ns):
             raise InputError("pitches.file", f"{where} changed while it was read; rerun")
+    if lines is None:  # Parquet, or rows the Savant reader renumbered: rows from 1
+        lines = np.arange(1, len(frame) + 1)
+        unit = "row"
+    else:
+        unit = "line"
     missing = [name for name in needed if name not in frame.columns]
     if missing:
         raise InputError("pitches.file", f"{where} has no column {', '.join(missing)} "
@@ -116,10 +130,14 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
     for name in needed:
         column = frame[name]
         if name in _TEXT:
-            columns[name] = column.astype(object).where(column.notna(), "").astype(str) \
+            given = column.notna() & ~column.astype(str).str.strip().isin(_MISSING)
+            columns[name] = column.astype(object).where(given, "").astype(str) \
                 .to_numpy(object)
         else:
-            columns[name] = _numbers(column, name, where)
+            columns[name] = _numbers(column, name, where, lines, unit)
+        if name in IDENTIFIERS:
+            _check_identifier(columns[name], name, where, lines, unit)
+    columns[DUPLICATE_COLUMN] = _repeated(frame)
     return PitchTable(columns, len(frame), hashlib.sha256(data).hexdigest(),
                       os.path.basename(str(path)))
 
@@ -136,27 +154,36 @@ def _parse(data: bytes, where: str) -> pd.DataFrame | None:
         except (pa.ArrowException, OSError, ValueError) as err:
             raise InputError("pitches.file", f"{where}: not a readable Parquet file "
                              f"({_first_line(err)})") from None
-        return table.to_pandas() if _TIDY_MARK in table.column_names else None
+        return (table.to_pandas(), None) if _TIDY_MARK in table.column_names else (None, None)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
-        return None  # (the Savant reader says what is wrong with it)
+        return None, None  # (the Savant reader says what is wrong with it)
     rows = csv.reader(io.StringIO(text), strict=True)
+    lines = []
     try:
         header = [cell.strip() for cell in next(rows, [])]
         if _TIDY_MARK not in header:
-            return None
+            return None, None
         # Every row as wide as the header (pandas would pad a row cut short with NaN: a
         # truncated file would pass for missing values).
         for row in rows:
-            if row and len(row) != len(header):
+            if not row:
+                continue
+            if len(row) != len(header):
                 raise InputError("pitches.file", f"{where}: line {rows.line_num}: "
                                  f"{len(row)} fields where the header has {len(header)}: "
                                  "the file is truncated or malformed")
+            if [cell.strip() for cell in row] == header:
+                raise InputError("pitches.file", f"{where}: line {rows.line_num}: the "
+                                 "header line again (two tables concatenated?); remove it")
+            lines.append(rows.line_num)
     except csv.Error as err:
         raise InputError("pitches.file", f"{where}: line {rows.line_num}: malformed CSV "
                          f"({err}): the file is truncated or malformed") from None
-    return pd.read_csv(io.StringIO(text), low_memory=False)
+    frame = pd.read_csv(io.StringIO(text), low_memory=False, skip_blank_lines=True,
+                        dtype=object, keep_default_na=False, na_values=[""])
+    return frame, (np.asarray(lines) if len(lines) == len(frame) else None)
 
 
 def _from_savant(path, where: str) -> pd.DataFrame:
@@ -164,21 +191,65 @@ def _from_savant(path, where: str) -> pd.DataFrame:
     from mcbat.statcast import read
 
     try:
-        return read(path, name=where)
+        return read(path, name=where, keep_duplicates=True)
     except InputError as err:
-        raise InputError("pitches.file", f"{where}: {err.message}") from None
+        field = f"column {err.field}: " if err.field else ""
+        raise InputError("pitches.file", f"{where}: {field}{err.message}") from None
 
 
-def _numbers(column, name, where) -> np.ndarray:
-    """A numeric column as float64 (missing: NaN). Text that is not a number is refused:
-    it means the wrong column or a broken file, not a missing value."""
-    values = pd.to_numeric(column, errors="coerce")
-    bad = values.isna() & column.notna() & (column.astype(str).str.strip() != "")
+def _numbers(column, name, where, lines, unit) -> np.ndarray:
+    """A numeric column as float64 (missing: NaN). Text that is not a number, or a bool,
+    is refused: it means the wrong column or a broken file, not a missing value."""
+    if pd.api.types.is_bool_dtype(column):
+        raise InputError("pitches.file", f"{where}: column {name} holds true/false, not "
+                         "numbers")
+    text = column.astype(str).str.strip()
+    values = pd.to_numeric(column.where(~text.isin(_MISSING), None), errors="coerce")
+    bad = values.isna() & column.notna() & ~text.isin(_MISSING)
     if bad.any():
         first = int(np.flatnonzero(bad.to_numpy())[0])
-        raise InputError("pitches.file", f"{where}: column {name} holds "
-                         f"{str(column.iloc[first])[:40]!r} (row {first}), not a number")
-    return values.to_numpy(np.float64, na_value=np.nan)
+        raise InputError("pitches.file", f"{where}: {unit} {int(lines[first])}: column "
+                         f"{name} holds {str(column.iloc[first])[:40]!r}, not a number")
+    out = values.to_numpy(np.float64, na_value=np.nan)
+    if np.isinf(out).any():
+        first = int(np.flatnonzero(np.isinf(out))[0])
+        raise InputError("pitches.file", f"{where}: {unit} {int(lines[first])}: column "
+                         f"{name} holds {str(column.iloc[first])[:40]!r}, not a finite "
+                         "number")
+    return out
+
+
+#: Identifiers are whole numbers from 0 to 2**53 (exact in float64; MLBAM ids are below
+#: 10**7).
+MAX_IDENTIFIER = 2**53
+
+
+def _check_identifier(values, name, where, lines, unit) -> None:
+    """:class:`InputError` naming the line (or row) of the first identifier that is not a
+    whole number in 0..2**53 (a missing one is allowed: the study leaves its row out)."""
+    given = np.isfinite(values)
+    with np.errstate(invalid="ignore"):
+        bad = given & ~((values >= 0) & (values <= MAX_IDENTIFIER)
+                        & (values == np.round(values)))
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise InputError("pitches.file", f"{where}: {unit} {int(lines[first])}: column "
+                         f"{name} holds {values[first]:.17g}, not an identifier (a whole "
+                         f"number from 0 to 2**53)")
+
+
+def _repeated(frame) -> np.ndarray:
+    """1.0 for each row whose ``game_pk``, ``at_bat_number`` and ``pitch_number`` repeat
+    an earlier row's (all three given), else 0.0."""
+    key = ["game_pk", "at_bat_number", "pitch_number"]
+    out = np.zeros(len(frame))
+    if not all(c in frame.columns for c in key):
+        return out
+    ids = frame[key].apply(pd.to_numeric, errors="coerce")
+    known = ids.notna().all(axis=1).to_numpy()
+    if known.any():
+        out[known] = ids[known].duplicated(keep="first").to_numpy(np.float64)
+    return out
 
 
 def _first_line(err) -> str:

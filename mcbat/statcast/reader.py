@@ -121,7 +121,7 @@ _DERIVED = tuple(COLLISION_UNITS)
 when read."""
 
 
-def read(source, *, name=None, strict=False):
+def read(source, *, name=None, strict=False, keep_duplicates=False):
     """Read a Savant export into mcbat's tidy table, one row per pitch.
 
     Parameters
@@ -138,6 +138,9 @@ def read(source, *, name=None, strict=False):
     strict : bool
         Refuse a pitch given twice (the same ``game_pk``, ``at_bat_number`` and
         ``pitch_number``) instead of dropping the copy and counting it.
+    keep_duplicates : bool
+        Keep every row as it is, copies too (for a caller that numbers the rows as in the
+        file and counts the copies itself).
 
     Returns
     -------
@@ -174,7 +177,7 @@ def read(source, *, name=None, strict=False):
             tidy.attrs["units"] = dict(UNITS)
             tidy.attrs["statcast"] = dict(source.attrs.get("statcast", {"source": label,
                                                                         "rows": len(tidy)}))
-            return _without_duplicates(tidy, label, None, strict)
+            return _without_duplicates(tidy, label, None, strict, keep_duplicates)
         raw = source.copy()
         raw.columns = [str(c) for c in raw.columns]
         lines = None
@@ -188,13 +191,14 @@ def read(source, *, name=None, strict=False):
             raw = _read_parquet(path, label)
             if all(c in raw.columns for c in _TIDY_MARKER):
                 return _without_duplicates(_tidy_from_parquet(raw, path, label), label,
-                                           None, strict)
+                                           None, strict, keep_duplicates)
             lines = None
             duplicates = []
         else:
             df, lines = _read_csv_tidy(path, label)
-            return _without_duplicates(df, label, lines, strict)
-    return _without_duplicates(_tidy(raw, label, lines, duplicates), label, None, strict)
+            return _without_duplicates(df, label, lines, strict, keep_duplicates)
+    return _without_duplicates(_tidy(raw, label, lines, duplicates), label, None, strict,
+                               keep_duplicates)
 
 
 def _is_parquet(path, label):
@@ -210,10 +214,12 @@ def _is_parquet(path, label):
 PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
 
 
-def _without_duplicates(df, label, lines, strict):
+def _without_duplicates(df, label, lines, strict, keep=False):
     """``df`` without the rows that repeat an earlier pitch (:data:`PITCH_KEY`), counted
     in the report (or :class:`InputError` with ``strict``). Rows missing a part of the key
     cannot be told apart and are all kept."""
+    if keep:
+        return df
     report = dict(df.attrs.get("statcast", {}))
     report.setdefault("left_out", {})
     key = df[list(PITCH_KEY)]

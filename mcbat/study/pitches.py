@@ -21,8 +21,11 @@ The drawn keys are :data:`PITCH_KEYS` (and :data:`SWING_KEYS` with ``swing = tru
 angle, ...), drawn from their distributions as always. A row that lacks a drawn value (NaN:
 older exports have no spin axis, bat tracking starts in 2024, a pitch not swung at) takes the key's
 fallback when ``[pitches.fallback]`` has one; otherwise it is left out of the draw and
-counted. Rows with values outside the physical ranges the study keys are checked against
-are left out and counted too.
+counted. Rows with values outside the ranges of :data:`ROW_RANGES` (those a study's own
+values are checked against, and at most what was ever measured: pitch and bat speeds up to
+150 mph, spins up to 10,000 rpm) are left out and counted too, and so are the copies of a
+pitch the file gives twice (the same ``game_pk``, ``at_bat_number`` and ``pitch_number``:
+two overlapping downloads concatenated), flagged by the runner in :data:`DUPLICATE_COLUMN`.
 
 **Swing measurement error** (``[pitches.swing_error]``, with ``swing = true``): a drawn
 swing key ``x`` measured with a Gaussian error of sd ``s`` (classical errors: the measured
@@ -61,10 +64,10 @@ from mcbat.study import units as u
 from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import compile_program, draw
 
-__all__ = ["BUNT_COLUMN", "FILTERS", "IDENTIFIERS", "PITCH_KEYS", "PITCH_SOURCE_COLUMNS",
-           "ROW_STREAM",
-           "SWING_ERROR_STREAM", "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource",
-           "PitchTable", "parse_pitches"]
+__all__ = ["BUNT_COLUMN", "DUPLICATE_COLUMN", "FILTERS", "IDENTIFIERS", "PITCH_KEYS",
+           "PITCH_SOURCE_COLUMNS", "ROW_RANGES", "ROW_STREAM", "SWING_ERROR_STREAM",
+           "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource", "PitchTable",
+           "parse_pitches"]
 
 #: Study keys of ``[pitch]`` drawn from the rows -> the tidy table's column.
 PITCH_KEYS = {"speed": "pitch_speed",
@@ -90,6 +93,14 @@ FILTERS = {"pitch_type": str, "p_throws": str, "pitcher": int, "batter": int,
            "game_year": int, "bb_type": str}
 #: Column of a :class:`PitchTable` flagging bunts (1.0) with ``swing = true``: left out.
 BUNT_COLUMN = "bunt"
+#: Column of a :class:`PitchTable` flagging (1.0) a row that repeats an earlier pitch: left
+#: out and counted as "duplicate pitches".
+DUPLICATE_COLUMN = "duplicate"
+#: The largest value a drawn key may take, in the table's unit (beyond: the row is left
+#: out): the fastest pitch measured is near 106 mph, the fastest swing near 90 mph, the
+#: highest spin near 3,800 rpm. With the signs and angle limits of :func:`_in_range`.
+ROW_RANGES = {"pitch.speed": (150.0, "mph"), "swing.bat_speed": (150.0, "mph"),
+              "pitch.spin_rate": (10_000.0, "rpm"), "pitch.spin_axis": (720.0, "deg")}
 #: The Philox stream of the row draw (as an input named so; no study key has the name).
 ROW_STREAM = "pitches.row"
 
@@ -357,6 +368,8 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
 
     for name in IDENTIFIERS:
         leave_out(~np.isfinite(cols[name]), f"without {name}")
+    if DUPLICATE_COLUMN in cols:
+        leave_out(np.asarray(cols[DUPLICATE_COLUMN]) > 0.0, "duplicate pitches")
     if source.swing and BUNT_COLUMN in cols:
         leave_out(np.asarray(cols[BUNT_COLUMN]) > 0.0, "bunts")
     handedness = None
@@ -413,12 +426,16 @@ def _show(value) -> str:
 def _in_range(key, values, inputs) -> np.ndarray:
     """Rows whose value of ``key`` (SI) lies where the study's range checks put it."""
     with np.errstate(invalid="ignore"):
+        if key in ROW_RANGES:
+            most, unit = ROW_RANGES[key]
+            quantity = TABLE_UNITS[{**PITCH_KEYS, **SWING_KEYS}[key.split(".")[1]]][0]
+            below = np.abs(values) <= most * u.UNITS[quantity][unit]
         if key == "pitch.speed":
-            return values > 0.0
+            return (values > 0.0) & below
         if key in ("pitch.spin_rate", "swing.bat_speed"):
-            return values >= 0.0
+            return (values >= 0.0) & below
         if key == "pitch.spin_axis":
-            return np.isfinite(values)
+            return np.isfinite(values) & below
         ok = np.abs(values) < _RIGHT_ANGLE
         if key == "swing.attack_angle":
             # The bat axis must be perpendicular to the sweet spot's velocity:

@@ -36,6 +36,8 @@ def tidy_table(n=60, seed=1):
         "attack_direction": rng.normal(0, 8, n)})
     df.loc[df.game_year == 2019, ["bat_speed", "attack_angle", "attack_direction"]] = np.nan
     df.loc[:3, "spin_axis"] = np.nan
+    # distinct pitches (a repeated game_pk, at_bat_number, pitch_number is a copy, left out)
+    df["at_bat_number"] = np.arange(1, n + 1)
     return df
 
 
