@@ -185,8 +185,6 @@ def test_the_configurations_of_a_park_do_not_overlap():
 
 
 @pytest.mark.parametrize("park, spray, before, after, dist_before, dist_after", [
-    ("camden_yards", -22.6, "2021-09-30", "2022-04-08", 368.0, 384.0),  # LF pushed back
-    ("camden_yards", -22.6, "2024-09-29", "2025-03-31", 384.0, 374.0),  # and half back in
     ("comerica_park", 0.0, "2022-10-05", "2023-04-06", 420.0, 412.0),
     ("minute_maid_park", 0.0, "2016-09-28", "2017-04-03", 435.0, 409.0),  # Tal's Hill
     ("loandepot_park", 0.0, "2015-10-04", "2016-04-05", 422.0, 407.0),
@@ -197,6 +195,15 @@ def test_a_fence_change_picks_the_configuration_of_the_date(
         park, spray, before, after, dist_before, dist_after):
     d, _ = parks.fence(park, [spray, spray], game_date=[before, after])
     assert list(d) == [dist_before, dist_after]
+
+
+def test_camden_yards_left_field_moved_back_in_2022_and_half_way_in_again_in_2025():
+    d = parks.fence("camden_yards", [-22.6] * 4,
+                    game_date=["2021-09-30", "2022-04-08", "2024-09-29", "2025-03-31"])[0]
+    assert d[1] - d[0] > 15  # the 2022 outline's wall, about 25 ft back
+    assert d[1] == d[2] and d[3] == pytest.approx((d[0] + d[1]) / 2, abs=0.2)
+    d = parks.fence("camden_yards", [10.0] * 2, game_date=["2021-06-01", "2023-06-01"])[0]
+    assert d[0] == d[1]  # right field did not move
 
 
 def test_fence_heights_follow_the_date_too():
@@ -210,16 +217,53 @@ def test_fence_heights_follow_the_date_too():
 def test_without_a_date_a_park_means_its_fences_of_now_and_config_ids_are_accepted():
     d_now, _ = parks.fence("camden_yards", -22.6)
     d_2025, _ = parks.fence("camden_yards", -22.6, game_date="2025-06-01")
-    assert d_now == d_2025 == 374.0
+    d_2021, _ = parks.fence("camden_yards", -22.6, game_date="2021-06-01")
+    d_2023, _ = parks.fence("camden_yards", -22.6, game_date="2023-06-01")
+    assert d_now == d_2025 != d_2021
     ids = parks.fence_config(["camden_yards"] * 2 + ["fenway_park", "nowhere"],
                              ["2021-06-01", "2023-06-01", "2023-06-01", "2023-06-01"])
     assert list(ids) == ["camden_yards@opening", "camden_yards@2022-01-01",
                          "fenway_park@opening", None]
     d, h = parks.fence(ids, [-22.6, -22.6, -45.0, 0.0])
-    assert list(d[:3]) == [368.0, 384.0, 310.0] and h[2] == 37.0 and np.isnan(d[3])
+    assert list(d[:3]) == [d_2021, d_2023, 310.0] and h[2] == 37.0 and np.isnan(d[3])
 
 
 def test_a_missing_date_or_a_park_without_fences_gives_nan():
     d, h = parks.fence(["fenway_park", "fenway_park", "rickwood_field"], [0.0, 0.0, 0.0],
                        game_date=["2020-06-01", "not a date", "2024-06-20"])
     assert d[0] == 390.0 and np.isnan(d[1]) and np.isnan(d[2]) and np.isnan(h[2])
+
+
+# --- the dense outline ------------------------------------------------------------------
+
+def test_every_outlined_park_has_its_wall_every_few_degrees():
+    for c in parks.fence_configurations():
+        sources = c["config_id"]
+        a = c["spray_angle_deg"]
+        if len(a) <= 5:  # a park without an outline keeps its published points
+            continue
+        assert len(a) >= 30, sources
+        assert np.all(np.diff(a) > 0) and a[0] == -45.0 and a[-1] == 45.0, sources
+        inner = a[(a >= -40) & (a <= 40)]
+        assert np.diff(inner).max() < 4.0, sources
+
+
+def test_fenways_wall_follows_its_published_turns():
+    # Published: 310 ft at the pole, 379 ft in left-centre, 390 ft in centre, 420 ft at the
+    # triangle, 380 ft in right field, 302 ft at the pole (the sparse table cut 15-35 ft
+    # inside between them). The outline's angles are its own, the distances checked here.
+    a, d, h = parks.fences()["fenway_park"]
+    lcf = (a > -12) & (a < -5)
+    assert 376 <= d[lcf].max() <= 388 and (h[a < -10] == 37.0).all()
+    assert abs(d[(a > 5) & (a < 15)].max() - 420) <= 5
+    assert abs(np.median(d[(a > 18) & (a < 38)]) - 380) <= 5
+    dist, _ = parks.fence("fenway_park", [-25.0, 25.0])
+    assert dist[0] > 325 and dist[1] > 370
+
+
+def test_the_outline_is_scaled_to_the_published_centre_field():
+    for pid in ("yankee_stadium", "comerica_park", "fenway_park", "tropicana_field"):
+        a, d, _ = parks.fences()[pid]
+        near = (np.abs(a) < 2.5) & (a != 0.0)
+        assert near.any(), pid
+        assert np.abs(d[near] - d[a == 0.0][0]).max() < 6, pid
