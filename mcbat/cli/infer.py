@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from mcbat.cli.common import EXIT_OK, check_output
+import re
+
+from mcbat.cli.common import EXIT_OK, check_input_file, check_output, flags, note_left_out
 from mcbat.errors import InputError
 
 __all__ = ["add_parser", "cmd_infer"]
@@ -18,26 +20,40 @@ def add_parser(sub) -> None:
     inf.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
     inf.add_argument("--out", metavar="TABLE.parquet",
                      help="write the balls and their inferred contact and spin (Parquet)")
+    inf.add_argument("--strict", action="store_true", help="refuse a pitch given twice (the "
+                     "same game_pk, at_bat_number and pitch_number) instead of dropping the "
+                     "copy and counting it")
     inf.set_defaults(func=cmd_infer)
 
 
 def cmd_infer(args) -> int:
     """Infer the spin of the export's balls in play; print the counts."""
     from mcbat.inference import infer_spin, write
-    from mcbat.statcast import balls_in_play, read
+    from mcbat.inference.columns import INPUT_COLUMNS
+    from mcbat.statcast import balls_in_play
+    from mcbat.statcast.reader import read_with_lines
 
     if args.out:
         check_output(args.out, "--out", (".parquet", ".pq"))
-    pitches = read(args.file)
-    balls = pitches[balls_in_play(pitches)]
-    spin = infer_spin(balls)
+    check_input_file(args.file)
+    with flags("strict"):
+        pitches, lines = read_with_lines(args.file, strict=args.strict)
+    bip = balls_in_play(pitches)
+    balls = pitches[bip]
+    try:
+        spin = infer_spin(balls)
+    except InputError as err:
+        raise _at_file_line(err, args.file, None if lines is None else lines[bip]) from None
+    counts = spin.attrs["status_counts"]
+    if len(balls) and counts.get("missing_input", 0) == len(balls):
+        raise _nothing_to_infer(balls, args.file, INPUT_COLUMNS)
     if args.out:
         try:
             write(balls, spin, args.out)
         except OSError as err:
             raise InputError("--out", f"cannot write: {err.strerror or err}",
                              args.out) from None
-    counts = ", ".join(f"{k} {v:,}" for k, v in spin.attrs["status_counts"].items() if v)
+    counts = ", ".join(f"{k} {v:,}" for k, v in counts.items() if v)
     ok = spin["inference_status"] == "converged"
     print(f"{args.file}: {len(balls):,} balls in play: {counts or 'none'}")
     reasons = {k: v for k, v in spin.attrs.get("unusable_swing", {}).items() if v}
@@ -55,4 +71,37 @@ def cmd_infer(args) -> int:
               "docs/spin_inference.md)")
     if args.out:
         print(f"  written: {args.out}")
+    note_left_out(args.file, {**pitches.attrs["statcast"].get("left_out", {}),
+                              "not in play": int((~bip).sum())}, "pitch(es)")
     return EXIT_OK
+
+
+_ROW = re.compile(r"\bin row (\d+)\b")
+
+
+def _at_file_line(error, path, lines):
+    """``error`` (about row ``i`` of the balls in play, from 0) located in ``path``: the
+    row named by its line in the file (a CSV export) or its row among the balls (from
+    1)."""
+    def where(match):
+        i = int(match.group(1))
+        if lines is not None and 0 <= i < len(lines):
+            return f"at line {int(lines[i])}"
+        return f"in ball in play {i + 1}"
+
+    return InputError(error.field, _ROW.sub(where, error.message), error.source or path)
+
+
+def _nothing_to_infer(balls, path, required):
+    """The error of an export whose every ball in play lacks an input of the inference:
+    naming the columns empty in every ball (the plate speed and approach angles come from
+    vx0, vy0, vz0, ax, ay, az)."""
+    empty = [c for c in required if c in balls.columns and c != "handedness"
+             and balls[c].isna().all()]
+    derived = {"pitch_speed", "vertical_approach_angle", "horizontal_approach_angle"}
+    plate = [c for c in empty if c in derived]
+    named = ", ".join([*(c for c in empty if c not in derived),
+                       *([f"{', '.join(plate)} (computed from vx0, vy0, vz0, ax, ay, az)"]
+                         if plate else [])]) or "a required column"
+    return InputError(None, f"none of the {len(balls):,} balls in play can be inferred: "
+                      f"{named} missing in every one", path)

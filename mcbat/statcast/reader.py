@@ -44,8 +44,9 @@ from mcbat.statcast import kinematics, parks
 from mcbat.statcast.collision import COLLISION_UNITS, collision_columns
 from mcbat.statcast.files import MAX_LINE_BYTES, CappedReader, check_regular_file
 
-__all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
-           "balls_in_play", "read", "summarize", "write"]
+__all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "PITCH_KEY", "RANGES", "REQUIRED", "UNITS",
+           "attack_direction_check", "balls_in_play", "read", "read_with_lines", "summarize",
+           "write"]
 
 UNITS = {
     # identifiers
@@ -166,6 +167,14 @@ def read(source, *, name=None, strict=False, keep_duplicates=False):
         twice with ``strict``, a file that cannot be read, a path that is not a regular
         file.
     """
+    return read_with_lines(source, name=name, strict=strict,
+                           keep_duplicates=keep_duplicates)[0]
+
+
+def read_with_lines(source, *, name=None, strict=False, keep_duplicates=False):
+    """:func:`read`, and the file line (from 1, as an editor counts) of each row of the
+    table: an int64 array for a CSV export, None for Parquet or a DataFrame. For messages
+    about a row that name the line of the file it came from."""
     import pandas as pd
 
     if isinstance(source, pd.DataFrame):
@@ -216,10 +225,10 @@ PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
 
 def _without_duplicates(df, label, lines, strict, keep=False):
     """``df`` without the rows that repeat an earlier pitch (:data:`PITCH_KEY`), counted
-    in the report (or :class:`InputError` with ``strict``). Rows missing a part of the key
-    cannot be told apart and are all kept."""
+    in the report (or :class:`InputError` with ``strict``), and the lines of its rows.
+    Rows missing a part of the key cannot be told apart and are all kept."""
     if keep:
-        return df
+        return df, lines
     report = dict(df.attrs.get("statcast", {}))
     report.setdefault("left_out", {})
     key = df[list(PITCH_KEY)]
@@ -229,7 +238,7 @@ def _without_duplicates(df, label, lines, strict, keep=False):
         repeated[known] = key[known].duplicated(keep="first").to_numpy()
     if not repeated.any():
         df.attrs["statcast"] = report
-        return df
+        return df, lines
     first = int(np.flatnonzero(repeated)[0])
     values = key.iloc[first]
     same = np.flatnonzero(known & (key == values).all(axis=1).to_numpy())[0]
@@ -248,7 +257,7 @@ def _without_duplicates(df, label, lines, strict, keep=False):
                                    "repeats": where(same)}
     report["left_out"] = {**report["left_out"], "duplicate pitches": int(repeated.sum())}
     out.attrs["statcast"] = report
-    return out
+    return out, (None if lines is None else np.asarray(lines)[~repeated])
 
 
 def _read_parquet(path, label):
