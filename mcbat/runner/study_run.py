@@ -391,8 +391,9 @@ def batted_ball_lines(b: dict) -> list[str]:
         med, lo, hi = b[name]
         out.append(f"  {name}: {med:.1f} {unit} ({lo:.1f} to {hi:.1f})")
     q, n = b["collision_efficiency_sweet_spot"]
+    value = f"{q:.3f} (median of {n:,} rows)" if n else "no row in that window"
     out.append(f"  collision_efficiency at the sweet spot (6 +- 0.5 in, |undercut| <= 0.25 in): "
-               f"{q:.3f} (median of {n:,} rows)")
+               f"{value}")
     return out
 
 

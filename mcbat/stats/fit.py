@@ -126,9 +126,12 @@ class FitResult:
                 lo, hi = iv.get("lower_error"), iv.get("upper_error")
                 edge = (f", reaching the physical bound {name} = {iv['at_bound']:g}"
                         if iv.get("at_bound") is not None else "")
-                if lo is None:
+                if lo is None and math.isfinite(self.stderr.get(name, math.nan)):
                     out.append(f"  {name} = {value:.6g} +- {self.stderr[name]:.2g} "
                                f"(curvature{extra})")
+                elif lo is None:
+                    out.append(f"  {name} = {value:.6g} (no error: the data do not constrain "
+                               f"it{extra})")
                 else:
                     out.append(f"  {name} = {value:.6g} -{lo:.2g} +{hi:.2g} (68 % profile "
                                f"likelihood{edge}; {curv}{extra})")

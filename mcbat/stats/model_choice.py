@@ -80,8 +80,10 @@ class ModelComparison:
         verdict = ("the data prefer tangential compliance (e_x > 0)"
                    if self.preferred == "compliant" else
                    "the data do not call for tangential compliance (rigid, e_x = 0)")
+        error = f" +- {err:.2g}" if math.isfinite(err) else " (no error: the data do not " \
+            "constrain it)"
         return [f"model comparison: {verdict}",
-                f"  compliant fit e_x = {e_x:.4g} +- {err:.2g}; delta BIC = "
+                f"  compliant fit e_x = {e_x:.4g}{error}; delta BIC = "
                 f"{self.delta_bic:+.1f}, delta AIC = {self.delta_aic:+.1f} (negative favours "
                 f"compliance); likelihood ratio {self.likelihood_ratio:.2f}, "
                 f"p = {self.lr_p_value:.3g}"]
