@@ -40,15 +40,31 @@ def _figure(grid, height):
                         sharex=True, sharey=True)
 
 
+#: The widest distance axis drawn (ft): a value beyond (a launch speed of 1e20 flown to
+#: 1e30 ft) is off the axes rather than stretching them past what matplotlib can draw.
+DISTANCE_AXIS = (-100.0, 2000.0)
+
+
+def _distance_limits(parts):
+    """The axis limits (ft) of the distance panels: the finite values' range with a 10 ft
+    margin, within :data:`DISTANCE_AXIS` (0..500 ft when nothing is finite)."""
+    values = np.concatenate([np.asarray(p[c], float) for p in parts
+                             for c in ("hit_distance_sc", "predicted_distance")] or [[]])
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return 0.0, 500.0
+    low, high = DISTANCE_AXIS
+    lo = float(np.clip(values.min() - 10.0, low, high - 20.0))
+    hi = float(np.clip(values.max() + 10.0, lo + 20.0, high))
+    return lo, hi
+
+
 def predicted_vs_measured(fig_dir, long):
     """Predicted against measured distance, by comparison class."""
     grid = _panels(long)
     fig, axes = _figure(grid, 5.0)
     parts = [p for row in grid for _, _, p in row]
-    lo = min(min(p["hit_distance_sc"].min(), p["predicted_distance"].min())
-             for p in parts) - 10
-    hi = max(max(p["hit_distance_sc"].max(), p["predicted_distance"].max())
-             for p in parts) + 10
+    lo, hi = _distance_limits(parts)
     for ax, (spin, flight, part) in zip(axes.ravel(), (c for row in grid for c in row)):
         for kind, (colour, marker, label) in _STYLE.items():
             sel = part[part["comparison"] == kind]
