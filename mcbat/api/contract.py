@@ -1,7 +1,16 @@
 """The JSON contract of ``mcbat impact`` and ``mcbat flight``, shared by the case types:
 the units of every answer, the answers themselves (a result -> a JSON-ready dict whose
-``units`` block names the unit of every quantity), and the readers of the parts the JSON
-cases share (``{"value": ..., "unit": ...}`` numbers, balls, bats, key checks).
+``units`` block names the unit of every quantity), the unit of a bare number in each key
+(:data:`FIELD_KEYS`, :func:`field_value`), and the readers of the parts the JSON cases
+share (``{"value": ..., "unit": ...}`` numbers, balls, bats, key checks).
+
+**Bare numbers.** In the keys of a game case and a flight case that the field measures
+(:data:`FIELD_KEYS`: speeds, angles, spins, distances on the field, the weather), a bare
+number is read in the field's unit, the one the JSON answers use: mph, deg, rpm, ft (and
+degF, inHg for the air); a bare number outside the key's plausible range in that unit is
+refused, naming the key, the unit and the range. Everywhere else (a bat-frame case, the
+bat, the ball, the contact point, the restitution) a bare number is SI. ``{"value": ...,
+"unit": ...}`` gives any value in any unit of its quantity.
 
 Each case type reads its own JSON with these (:func:`mcbat.api.impact.impact_case_from_dict`,
 :func:`mcbat.api.game.game_case_from_dict`, :func:`mcbat.api.flight.flight_case_from_dict`;
@@ -21,21 +30,25 @@ the other way round.
 >>> flight = flight_case_from_dict(answer)              # mph, deg, rpm -> SI
 >>> abs(flight.launch_speed - answer["launch_speed"] * 0.44704) < 1e-9
 True
+>>> field_value(94, "pitch.speed")                      # a bare number: mph
+42.02176
 """
 
 from __future__ import annotations
 
 import copy
+import math
 
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.dataset.schema import UNITS as COLUMN_UNITS
 from mcbat.errors import InputError
+from mcbat.study import units as u
 from mcbat.study.distributions import parse
 
-__all__ = ["FLIGHT_UNITS", "FT", "GAME_UNITS", "IMPACT_CASE_UNITS", "IMPACT_UNITS",
-           "ball_from_dict", "bat_from_dict", "check_object", "fixed_value",
-           "flight_result_to_dict", "game_result_to_dict", "impact_case_to_dict",
-           "impact_result_to_dict", "located"]
+__all__ = ["FIELD_KEYS", "FLIGHT_UNITS", "FT", "GAME_UNITS", "IMPACT_CASE_UNITS",
+           "IMPACT_UNITS", "ball_from_dict", "bat_from_dict", "check_object", "field_spec",
+           "field_value", "fixed_value", "flight_result_to_dict", "game_result_to_dict",
+           "impact_case_to_dict", "impact_result_to_dict", "located"]
 
 #: One foot in metres: Statcast gives distances in ft.
 FT = 0.3048
@@ -171,6 +184,85 @@ def impact_case_to_dict(case) -> dict:
             "ball_velocity": list(case.ball_velocity), "ball_spin": list(case.ball_spin),
             "bat_velocity": list(case.bat_velocity), "bat_spin": list(case.bat_spin),
             "mu": case.mu, "restitution": {"e": case.e, "e_x": case.e_x}}
+
+
+# ---- bare numbers: the field's units ----
+
+FIELD_KEYS = {
+    # a game case
+    "pitch.speed": ("mph", u.SPEED, (25.0, 110.0)),
+    "pitch.release_speed": ("mph", u.SPEED, (25.0, 110.0)),
+    "pitch.extension": ("ft", u.LENGTH, (3.0, 9.0)),
+    "pitch.vertical_approach_angle": ("deg", u.ANGLE, (-45.0, 45.0)),
+    "pitch.horizontal_approach_angle": ("deg", u.ANGLE, (-45.0, 45.0)),
+    "pitch.spin_rate": ("rpm", u.SPIN, (0.0, 4500.0)),
+    "pitch.spin_axis": ("deg", u.ANGLE, (0.0, 360.0)),
+    "swing.bat_speed": ("mph", u.SPEED, (0.0, 100.0)),
+    "swing.attack_angle": ("deg", u.ANGLE, (-60.0, 60.0)),
+    "swing.attack_direction": ("deg", u.ANGLE, (-90.0, 90.0)),
+    "swing.vertical_bat_angle": ("deg", u.ANGLE, (-90.0, 90.0)),
+    # a flight case (and a game's answer read as one)
+    "launch_speed": ("mph", u.SPEED, (0.0, 130.0)),
+    "launch_angle": ("deg", u.ANGLE, (-90.0, 90.0)),
+    "spray_angle": ("deg", u.ANGLE, (-180.0, 180.0)),
+    "backspin": ("rpm", u.SPIN, (-10000.0, 10000.0)),
+    "sidespin": ("rpm", u.SPIN, (-10000.0, 10000.0)),
+    "gyrospin": ("rpm", u.SPIN, (-10000.0, 10000.0)),
+    "position": ("ft", u.LENGTH, (-200.0, 200.0)),
+    "wind": ("mph", u.SPEED, (-100.0, 100.0)),
+    "landing_height": ("ft", u.LENGTH, (0.0, 30.0)),
+    "atmosphere.temperature": ("degF", u.TEMPERATURE, (-20.0, 130.0)),
+    "atmosphere.pressure": ("inHg", u.PRESSURE, (25.0, 33.0)),
+    "atmosphere.elevation": ("ft", u.LENGTH, (-1500.0, 15000.0)),
+}
+"""The unit a bare number is read in, key by key, in a game case and a flight case of
+``mcbat impact``, ``mcbat flight`` and :func:`mcbat.solve`: ``key -> (unit, quantity,
+(low, high) in that unit)``, the range a bare number must lie within (the field's
+values, with room: a number outside it was written in another unit). The units are the
+field's, those of the JSON answers (mph, deg, rpm, ft; degF and inHg for the air, as
+Nathan's calculator takes them). Keys not listed here read a bare number in SI."""
+
+# The unit suggested for a value the field's unit does not fit.
+_OTHER_UNIT = {u.SPEED: "m/s", u.ANGLE: "rad", u.SPIN: "rad/s", u.LENGTH: "m",
+               u.TEMPERATURE: "K", u.PRESSURE: "hPa"}
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def field_spec(spec, key):
+    """``spec`` with the unit of a bare number made explicit: a number (or a list of
+    numbers, a vector) becomes ``{"value": ..., "unit": <the field's unit>}`` once it is
+    found within the key's plausible range (:data:`FIELD_KEYS`); anything else is
+    returned as it is, for its reader to check. The one place the rule is applied.
+
+    Raises
+    ------
+    InputError
+        Naming ``key``, the unit assumed and the range, for a bare number outside it.
+    """
+    if key not in FIELD_KEYS:
+        return spec
+    unit, quantity, (low, high) = FIELD_KEYS[key]
+    numbers = spec if isinstance(spec, list) else [spec]
+    if not numbers or not all(_is_number(x) for x in numbers):
+        return spec
+    for x in numbers:
+        if math.isfinite(x) and not low <= x <= high:
+            raise InputError(key, f"a bare number here is in {unit}, and {x!r} {unit} lies "
+                             f"outside [{low:g}, {high:g}] {unit}; for another unit write "
+                             f'{{"value": ..., "unit": "{_OTHER_UNIT[quantity]}"}}')
+    return {"value": spec, "unit": unit}
+
+
+def field_value(spec, key, quantity=None):
+    """A game or flight key's value in SI: a bare number in the field's unit
+    (:func:`field_spec`), or ``{"value": ..., "unit": ...}``. A key not in
+    :data:`FIELD_KEYS` (``quantity`` needed) reads a bare number in SI."""
+    if key in FIELD_KEYS:
+        quantity = FIELD_KEYS[key][1]
+    return fixed_value(field_spec(spec, key), key, quantity)
 
 
 # ---- readers of the parts the JSON cases share ----

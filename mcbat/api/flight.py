@@ -1,8 +1,10 @@
 """One batted ball's flight to the landing point (``docs/flight.md``).
 
-:class:`FlightCase` takes plain numbers in SI units (m/s, rad, rad/s). A game's batted
-ball, :class:`~mcbat.api.GameResult`, is in Statcast's units (mph, deg, rpm): fly it with
-:meth:`FlightCase.from_result`, which converts them.
+:class:`FlightCase`, the Python class, takes plain numbers in SI units (m/s, rad, rad/s).
+A game's batted ball, :class:`~mcbat.api.GameResult`, is in Statcast's units (mph, deg,
+rpm): fly it with :meth:`FlightCase.from_result`, which converts them. The JSON of
+``mcbat flight`` (:func:`flight_case_from_dict`) reads a bare number in the field's unit
+(mph, deg, rpm, ft: :data:`mcbat.api.contract.FIELD_KEYS`), as the answers give them.
 
 Example
 -------
@@ -24,7 +26,16 @@ import math
 
 import numpy as np
 
-from mcbat.api.contract import FT, check_object, fixed_value, flight_result_to_dict, located
+from mcbat.api.contract import (
+    FIELD_KEYS,
+    FT,
+    check_object,
+    field_spec,
+    field_value,
+    fixed_value,
+    flight_result_to_dict,
+    located,
+)
 from mcbat.api.game import GameResult
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight import fly as flight_kernel
@@ -38,11 +49,10 @@ from mcbat.study.spec import parse_ball
 __all__ = ["MAX_TRAJECTORY_POINTS", "FlightCase", "FlightResult", "flight_case_from_dict",
            "solve_flight"]
 
-#: Statcast's unit of each launch number of a :class:`~mcbat.api.GameResult`, and its
-#: quantity (for :func:`mcbat.study.units.to_si`).
-_STATCAST_UNITS = {"launch_speed": ("mph", u.SPEED), "launch_angle": ("deg", u.ANGLE),
-                   "spray_angle": ("deg", u.ANGLE), "backspin": ("rpm", u.SPIN),
-                   "sidespin": ("rpm", u.SPIN), "gyrospin": ("rpm", u.SPIN)}
+#: The launch numbers of a flight, as a :class:`~mcbat.api.GameResult` reports them (in
+#: the field's units, :data:`mcbat.api.contract.FIELD_KEYS`).
+_LAUNCH_NAMES = ("launch_speed", "launch_angle", "spray_angle", "backspin", "sidespin",
+                 "gyrospin")
 
 
 def _angle(value, name, limit, shown):
@@ -136,8 +146,8 @@ class FlightCase:
         if not isinstance(result, GameResult):
             raise InputError("result", "must be a GameResult (a solved game case: its batted "
                              f"ball is in the field frame), got {type(result).__name__}")
-        launch = {name: u.to_si(result.batted_ball[name], unit, quantity, name)
-                  for name, (unit, quantity) in _STATCAST_UNITS.items()}
+        launch = {name: u.to_si(result.batted_ball[name], FIELD_KEYS[name][0],
+                                FIELD_KEYS[name][1], name) for name in _LAUNCH_NAMES}
         return cls(**launch, ball=result.case.ball if ball is None else ball,
                    settings=FlightSettings() if settings is None else settings)
 
@@ -182,13 +192,9 @@ _GAME_ANSWER_KEYS = {"status", "end_state", "spin_rate", "collision_efficiency",
 
 
 def _launch_units(data, game_answer) -> dict:
-    """The ``units`` block of a flight's input: the unit of each plain-number launch key."""
+    """The ``units`` block of a flight's input: the unit of each bare launch number (a key
+    it does not name: the field's unit)."""
     if "units" not in data:
-        if game_answer:
-            raise InputError("units", "missing: the answer of a game gives launch_speed, "
-                             "launch_angle and the spins in mph, deg and rpm, and its units "
-                             "block says so; keep it (or write each value as "
-                             "{value, unit})")
         return {}
     units = data["units"]
     if not isinstance(units, dict):
@@ -208,9 +214,12 @@ def _launch_units(data, game_answer) -> dict:
 
 
 def flight_case_from_dict(data) -> FlightCase:
-    """A :class:`FlightCase` from a ``mcbat flight`` JSON object: values in SI, or as
-    ``{"value": ..., "unit": ...}``, or plain numbers in the units a ``units`` block names
-    (``{"launch_speed": "mph", ...}``).
+    """A :class:`FlightCase` from a ``mcbat flight`` JSON object: bare numbers in the
+    field's units (``launch_speed`` mph, angles deg, spins rpm, ``position`` and
+    ``landing_height`` ft, ``wind`` mph, ``atmosphere`` degF, inHg, ft:
+    :data:`mcbat.api.contract.FIELD_KEYS`; the other keys SI), or in the units a ``units``
+    block names for the launch numbers (``{"launch_speed": "m/s", ...}``), or values as
+    ``{"value": ..., "unit": ...}``.
 
     The answer of ``mcbat impact`` for a game case is such an object: its launch numbers
     are read in its units (mph, deg, rpm), its ball is the game's (``bat_frame_case.ball``,
@@ -229,17 +238,21 @@ def flight_case_from_dict(data) -> FlightCase:
         raise InputError("status", f"the game was not solved (status {data['status']!r})")
     units = _launch_units(data, game_answer)
 
-    def shown(key):  # the value as written, with the unit the units block gives it
+    def shown(key):  # the value as written, with the unit it is read in
         value = data[key]
-        return f"{value!r} {units[key]}" if key in units and not isinstance(value, dict) \
-            else repr(value)
+        if isinstance(value, dict):
+            return repr(value)
+        return f"{value!r} {units.get(key, FIELD_KEYS[key][0])}"
 
     launch = {}
     for key, (quantity, default) in _LAUNCH_KEYS.items():
         spec = data.get(key, default)
-        if key in units and not isinstance(spec, dict):
-            spec = {"value": spec, "unit": units[key]}
-        value = fixed_value(spec, key, quantity) if key in data else default
+        if key not in data:
+            value = default
+        elif key in units and not isinstance(spec, dict):
+            value = fixed_value({"value": spec, "unit": units[key]}, key, quantity)
+        else:
+            value = field_value(spec, key, quantity)
         if not math.isfinite(value):
             raise InputError(key, f"must be a finite number, got {shown(key)}")
         launch[key] = value
@@ -258,8 +271,19 @@ def flight_case_from_dict(data) -> FlightCase:
         ball = located("bat_frame_case", parse_ball, case["ball"])
     else:
         ball = BALL_PRESETS[DEFAULT_BALL]
-    settings = parse_flight({k: v for k, v in data.items() if k in FLIGHT_KEYS}, field="")
+    settings = parse_flight(_settings_in_field_units(data), field="")
     return FlightCase(ball=ball, settings=settings, **launch)
+
+
+def _settings_in_field_units(data) -> dict:
+    """The flight keys of a case, their bare numbers given the field's units
+    (:func:`mcbat.api.contract.field_spec`), for :func:`mcbat.study.flight.parse_flight`
+    (which reads bare numbers in SI, as a study's ``[flight]`` section)."""
+    out = {k: field_spec(v, k) for k, v in data.items() if k in FLIGHT_KEYS}
+    if isinstance(out.get("atmosphere"), dict):
+        out["atmosphere"] = {k: field_spec(v, f"atmosphere.{k}")
+                             for k, v in out["atmosphere"].items()}
+    return out
 
 
 #: Most points of a sampled trajectory (``mcbat flight --trajectory DT``); a flight is also

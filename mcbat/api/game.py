@@ -32,11 +32,13 @@ from mcbat.api.contract import (
     ball_from_dict,
     bat_from_dict,
     check_object,
+    field_value,
     fixed_value,
     game_result_to_dict,
     located,
 )
 from mcbat.api.impact import Contact, ImpactCase, ImpactResult, SolverSettings, Vector
+from mcbat.api.pitch import DEFAULT_EXTENSION, plate_speed
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball, Bat
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
@@ -57,6 +59,7 @@ from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.study.game import KEYS as GAME_KEYS
 from mcbat.study.game import check_swing_angles, parse_handedness
+from mcbat.study.units import LENGTH, SPEED
 
 __all__ = ["GAME_JSON_KEYS", "GameCase", "GameResult", "game_case_from_dict", "solve_game"]
 
@@ -234,6 +237,11 @@ class GameCase:
         return game_case_from_dict(data)
 
 
+#: The pitch keys of a game case besides a study's: its speed at release instead of
+#: at the plate (section key -> (quantity, default, name)).
+_RELEASE_KEYS = {"release_speed": (SPEED, 0.0, "release_speed"),
+                 "extension": (LENGTH, DEFAULT_EXTENSION, "extension")}
+
 _PITCH_COLUMNS = ("speed", "vertical_approach_angle", "horizontal_approach_angle",
                   "spin_rate", "spin_axis", "spin_efficiency", "gyro_sign")
 
@@ -346,8 +354,17 @@ def solve_game(case: GameCase,
 
 
 def game_case_from_dict(data) -> GameCase:
-    """A game case of ``mcbat impact`` (``docs/batting.md``): numbers in SI or as
-    ``{"value": ..., "unit": ...}``; errors name the JSON keys (``pitch.speed``)."""
+    """A game case of ``mcbat impact`` (``docs/batting.md``): numbers as
+    ``{"value": ..., "unit": ...}``, or bare numbers in the field's units where the field
+    measures the key (``pitch.speed`` mph, angles deg, ``pitch.spin_rate`` rpm:
+    :data:`mcbat.api.contract.FIELD_KEYS`) and in SI elsewhere (the bat, the contact,
+    ``swing.pivot``, the restitution); errors name the JSON keys (``pitch.speed``).
+
+    The pitch's speed is ``pitch.speed``, at the front of the plate, or
+    ``pitch.release_speed`` (with ``pitch.extension``, default 6.3 ft), at release, as
+    Statcast gives it: converted to the plate by the pitch's flight
+    (:func:`mcbat.api.pitch.plate_speed`).
+    """
     allowed = {"handedness", "ball", "bat", "pitch", "swing", "contact", "mu", "restitution"}
     check_object(data, "", allowed, ("bat", "pitch", "swing", "mu"))
     ball = (BALL_PRESETS[DEFAULT_BALL] if "ball" not in data
@@ -355,12 +372,30 @@ def game_case_from_dict(data) -> GameCase:
     bat = located("bat", bat_from_dict, data["bat"], game=True)
     values = {}
     for section in ("pitch", "swing", "contact"):
-        keys = GAME_KEYS[section]
+        keys = dict(GAME_KEYS[section])
+        if section == "pitch":
+            keys.update(_RELEASE_KEYS)
         table = check_object(data.get(section, {}), section, set(keys),
-                             [k for k, spec in keys.items() if spec[1] is None])
+                             [k for k, spec in keys.items()
+                              if spec[1] is None and k != "speed"])
         for key, spec in table.items():
             values[keys[key][2].removeprefix("pitch_") if section == "pitch" else
-                   keys[key][2]] = fixed_value(spec, f"{section}.{key}", keys[key][0])
+                   keys[key][2]] = field_value(spec, f"{section}.{key}", keys[key][0])
+    pitch = data["pitch"]
+    if ("speed" in pitch) == ("release_speed" in pitch):
+        raise InputError("pitch.speed", "give exactly one of pitch.speed (at the front of "
+                         "the plate) and pitch.release_speed (at release, Statcast's "
+                         "release_speed)")
+    if "extension" in pitch and "release_speed" not in pitch:
+        raise InputError("pitch.extension", "only with pitch.release_speed (the release "
+                         "point's distance in front of the rubber)")
+    if "release_speed" in pitch:
+        release = values.pop("release_speed")
+        extension = values.pop("extension", DEFAULT_EXTENSION)
+        spin = {k: values[k] for k in ("spin_rate", "spin_axis", "spin_efficiency",
+                                       "gyro_sign") if k in values}
+        values["speed"] = located("pitch", plate_speed, release, extension, ball=ball,
+                                  **spin)
     values["pitch_speed"] = values.pop("speed")
     mu = fixed_value(data["mu"], "mu", "dimensionless")
     restitution = GAME_RESTITUTION
@@ -379,6 +414,9 @@ def game_case_from_dict(data) -> GameCase:
         return GameCase(ball=ball, bat=bat, mu=mu, handedness=handedness,
                         restitution=restitution, **values)
     except InputError as err:
+        if err.field == "pitch_speed" and "release_speed" in pitch:
+            raise InputError("pitch.release_speed", f"{err.message} (the speed at the "
+                             "plate, from this release speed)") from None
         if err.field in GAME_JSON_KEYS:
             section, key = GAME_JSON_KEYS[err.field]
             raise InputError(f"{section}.{key}", err.message) from None

@@ -13,9 +13,14 @@ from mcbat.errors import InputError
 # A 40 m/s (89.5 mph) fastball met by a 31 m/s (69.3 mph) swing 10 deg upwards: SI numbers.
 SI = dict(pitch_speed=40.0, bat_speed=31.0, mu=0.5, vertical_approach_angle=-0.1,
           attack_angle=0.17, spin_rate=240.0, undercut=0.01)
+# The same case in JSON: SI numbers with their units (a bare number of pitch and swing is
+# in the field's units, mph, deg, rpm; the contact's in m).
 JSON_CASE = {"bat": {"preset": "r161"}, "mu": 0.5,
-             "pitch": {"speed": 40.0, "vertical_approach_angle": -0.1, "spin_rate": 240.0},
-             "swing": {"bat_speed": 31.0, "attack_angle": 0.17},
+             "pitch": {"speed": {"value": 40.0, "unit": "m/s"},
+                       "vertical_approach_angle": {"value": -0.1, "unit": "rad"},
+                       "spin_rate": {"value": 240.0, "unit": "rad/s"}},
+             "swing": {"bat_speed": {"value": 31.0, "unit": "m/s"},
+                       "attack_angle": {"value": 0.17, "unit": "rad"}},
              "contact": {"undercut": 0.01}}
 
 

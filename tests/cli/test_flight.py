@@ -40,17 +40,22 @@ def test_one_ball_and_an_array_in_the_same_order(cli):
     assert results[1] == single and results[0]["hit_distance"] < single["hit_distance"]
 
 
-def test_units_are_those_of_studies():
-    si = {"launch_speed": 103 * 0.44704, "launch_angle": 27 * math.pi / 180,
-          "backspin": 2000 * 2 * math.pi / 60,
-          "atmosphere": {"temperature": 294.26111111111111, "pressure": 101320.75888,
-                         "elevation": 0.0}}
+def test_units_are_those_of_studies_and_a_bare_number_is_in_the_fields_unit():
+    si = {"launch_speed": {"value": 103 * 0.44704, "unit": "m/s"},
+          "launch_angle": {"value": 27 * math.pi / 180, "unit": "rad"},
+          "backspin": {"value": 2000 * 2 * math.pi / 60, "unit": "rad/s"},
+          "atmosphere": {"temperature": {"value": 294.26111111111111, "unit": "K"},
+                         "pressure": {"value": 101320.75888, "unit": "Pa"},
+                         "elevation": {"value": 0.0, "unit": "m"}}}
     written = {**BALL, "atmosphere": {"temperature": {"value": 70, "unit": "degF"},
                                       "pressure": {"value": 29.92, "unit": "inHg"},
                                       "elevation": {"value": 0, "unit": "ft"}}}
+    bare = {"launch_speed": 103, "launch_angle": 27, "backspin": 2000,
+            "atmosphere": {"temperature": 70, "pressure": 29.92, "elevation": 0}}
     a = solve_flight(flight_case_from_dict(si)).hit_distance
     b = solve_flight(flight_case_from_dict(written)).hit_distance
     assert a == pytest.approx(b, rel=1e-12)
+    assert flight_case_from_dict(bare) == flight_case_from_dict(written)
 
 
 def test_trajectory_samples_every_dt_to_the_landing(cli):
@@ -74,6 +79,8 @@ def test_trajectory_samples_every_dt_to_the_landing(cli):
     ({"colour": "red"}, "colour"),
     ({"atmosphere": {"temperature": {"value": 70, "unit": "mph"}}},
      "atmosphere.temperature.unit"),
+    ({"launch_speed": 300}, "launch_speed"),            # beyond 130 mph: another unit
+    ({"atmosphere": {"temperature": 294}}, "atmosphere.temperature"),   # kelvins, bare
 ])
 def test_bad_flight_inputs_exit_2_naming_the_key(change, key, cli):
     proc = cli("flight", "-", stdin=json.dumps({**BALL, **change}))
@@ -110,7 +117,8 @@ def test_landing_height_and_scales_in_a_case(tmp_path, capsys):
     assert 0 < ground["hit_distance"] - caught["hit_distance"] < 10
     _, less_drag, _ = run({**BALL, "drag_scale": 0.9})
     assert less_drag["hit_distance"] > ground["hit_distance"]
-    code, _, err = run({"launch_speed": 10, "launch_angle": 0.05, "landing_height": 2})
+    # launched 3 ft up nearly level: it never rises to a 6 ft catch height
+    code, _, err = run({"launch_speed": 10, "launch_angle": 3, "landing_height": 6})
     assert code == 2 and "landing_height" in err and len(err.strip().splitlines()) == 1
     code, _, err = run({**BALL, "model": "constant", "drag": 0.3, "lift": 0.2,
                         "lift_scale": 1.1})

@@ -214,7 +214,8 @@ def test_impact_bad_tolerance_one_line_exit_2(capsys, monkeypatch, value):
 
 # ---------------------------------------------------------------- game cases
 
-BASE = {"bat": {"preset": "r161"}, "mu": 0.5, "pitch": {"speed": 40}, "swing": {"bat_speed": 30}}
+# bare numbers of pitch and swing: the field's units (mph)
+BASE = {"bat": {"preset": "r161"}, "mu": 0.5, "pitch": {"speed": 90}, "swing": {"bat_speed": 70}}
 
 
 def _with(section, **values):
@@ -231,6 +232,10 @@ def _with(section, **values):
     (_with("pitch", horizontal_approach_angle={"value": 120, "unit": "deg"}),
      "pitch.horizontal_approach_angle"),
     (_with("pitch", speed=-40), "pitch.speed"),
+    (_with("pitch", speed=192), "pitch.speed"),             # 86 m/s written as mph
+    (_with("swing", attack_angle=120), "swing.attack_angle"),
+    (_with("pitch", release_speed=94), "pitch.speed"),      # both speeds
+    (_with("pitch", extension=6.5), "pitch.extension"),     # without a release speed
 ])
 def test_bad_game_case_exits_2_naming_the_key(case, key, cli):
     proc = cli("impact", "-", stdin=json.dumps(case))

@@ -141,8 +141,7 @@ def test_the_preset_in_flight_settings_and_mcbat_flight():
         with pytest.raises(InputError) as err:
             parse_flight(bad)
         assert err.value.field in ("flight.drag_scale", "flight.model", "flight.preset")
-    ball = {"launch_speed": 103 * 0.44704, "launch_angle": math.radians(27),
-            "backspin": 2000 * math.pi / 30}
+    ball = {"launch_speed": 103, "launch_angle": 27, "backspin": 2000}  # mph, deg, rpm
     default = solve_flight(flight_case_from_dict(ball)).hit_distance
     calibrated = solve_flight(flight_case_from_dict({**ball, "preset": PRESET})).hit_distance
     assert calibrated < default  # the 2025 ball: more drag than the published model
