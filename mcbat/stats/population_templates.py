@@ -80,6 +80,11 @@ class TemplateSimulator:
         from mcbat.dataset.schema import si_units
         from mcbat.runner.study_run import run_study
 
+        if "from_barrel_end" in columns and getattr(study, "contact_trend", None) is not None:
+            raise InputError("engine", "a fit of contact.from_barrel_end with a "
+                             "[contact.bat_speed_trend] runs on engine 'memory' only (the "
+                             "datasets hold the contact after the trend moved it)")
+
         out = self.workdir / f"templates_{self.runs}"
         run_study(study, out, samples=self.draws, seed=self.seed, engine=self.engine,
                   progress=False, overwrite=True)
@@ -146,8 +151,14 @@ def _solve_memory(study, draws, seed, columns, observables):
     else:
         batted, ok = solve_game_inputs(study, inputs)
     row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
-    return ({c: inputs[row[c]].copy() for c in columns},
-            {c: np.asarray(batted[c], float) for c in observables}, ok)
+    drawn = {c: inputs[row[c]].copy() for c in columns}
+    if "from_barrel_end" in drawn and getattr(study, "contact_trend", None) is not None:
+        # The weights are densities of the drawn contact, before the bat-speed trend
+        # moved it (the same random numbers without the trend).
+        plain = copy.copy(study)
+        plain.contact_trend = None
+        drawn["from_barrel_end"] = plain.sample_inputs(0, draws, seed)[row["from_barrel_end"]]
+    return drawn, {c: np.asarray(batted[c], float) for c in observables}, ok
 
 
 def _solve_and_fly(study, inputs):

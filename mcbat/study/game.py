@@ -16,6 +16,10 @@ section::
     bat_speed = { value = 72, unit = "mph" }  # attack_direction (0), vertical_bat_angle
                                   # (0), pivot (6 in from the knob)
     [contact]                     # from_barrel_end (6 in), undercut (0)
+    [contact.bat_speed_trend]     # optional: the contact moves with the bat speed
+    reference = { value = 70, unit = "mph" }   # (module docstring, "The contact and the
+    per = { value = 10, unit = "mph" }          #  bat speed")
+    from_barrel_end = { value = 1, unit = "in" }
     [friction]  mu = 0.5          # required
     [restitution]                 # optional; default: the game preset
                                   # (mcbat.bodies.restitution.GAME_RESTITUTION). Either e (constant)
@@ -30,6 +34,16 @@ section::
 Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
 Samples are the float64 columns of :data:`COLUMNS`, the inputs of
 :func:`mcbat.core.swing.solve_game_batch`.
+
+**The contact and the bat speed** (``[contact.bat_speed_trend]``): a faster swing need not
+meet the ball as well. With this table each sample's ``from_barrel_end`` (drawn from its
+distribution, or fixed) moves by ``from_barrel_end`` for every ``per`` of the sample's bat
+speed above ``reference`` (the true bat speed the sample swings with: with
+``[pitches.swing_error]`` the draw given the measured one), and is then held inside the
+distribution's support (within the bat for a fixed value): ``d = clip(d0 + s (V - V0))``,
+``s = from_barrel_end / per``. The distribution's mean is so the mean at ``reference``.
+``from_barrel_end = 0`` (the default without the table) is a contact independent of the
+swing.
 """
 
 from __future__ import annotations
@@ -128,6 +142,35 @@ def check_swing_angles(attack_angle, vertical_bat_angle, field="swing.vertical_b
                          f"got {product:.4g})")
 
 
+_TREND = {"reference": u.SPEED, "per": u.SPEED, "from_barrel_end": u.LENGTH}
+
+
+def _parse_trend(table):
+    """``[contact.bat_speed_trend]`` -> ``(reference bat speed m/s, slope m per m/s)``, or
+    None without the table."""
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        raise InputError("contact.bat_speed_trend", f"must be a table "
+                         f"([contact.bat_speed_trend]), got {table!r}")
+    check_keys(table, "contact.bat_speed_trend", tuple(_TREND), ())
+    values = {}
+    for key, quantity in _TREND.items():
+        name = f"contact.bat_speed_trend.{key}"
+        dist = parse(table[key], name, quantity)
+        if dist.family != "fixed" or not math.isfinite(dist.value):
+            raise InputError(name, f"must be a fixed value (e.g. {{ value = 10, unit = "
+                             f"\"mph\" }}), got {table[key]!r}")
+        values[key] = float(dist.value)
+    if not values["per"] > 0.0:
+        raise InputError("contact.bat_speed_trend.per", f"must be > 0 (the bat-speed step "
+                         f"the shift is given for), got {table['per']!r}")
+    if not values["reference"] >= 0.0:
+        raise InputError("contact.bat_speed_trend.reference", f"must be >= 0, got "
+                         f"{table['reference']!r}")
+    return values["reference"], values["from_barrel_end"] / values["per"]
+
+
 def _largest(dist):
     low, high = dist.support()
     return max(abs(low), abs(high))
@@ -178,8 +221,11 @@ class GameStudy(Study):
         inputs = {}
         location = None
         drawn = self.pitches.keys if real else {}
+        self.contact_trend = _parse_trend(data.get("contact", {}).get("bat_speed_trend"))
         for section, keys in KEYS.items():
             table = data.get(section, {})
+            if section == "contact":
+                table = {k: v for k, v in table.items() if k != "bat_speed_trend"}
             optional = tuple(keys) + (("location",) if section == "restitution" else ())
             required = tuple(k for k, (_, default, _) in keys.items()
                              if default is None and section != "restitution"
@@ -280,13 +326,16 @@ class GameStudy(Study):
             else:
                 column[:] = values
             if self.pitches.swing_error.get(key, 0.0) > 0.0:
-                self._true_swing(key, rows.values[k], column, start, n, seed)
+                # (a value drawn from the key's fallback is no measurement: left as drawn)
+                self._true_swing(key, rows.values[k], column, start, n, seed,
+                                 np.isfinite(values))
         if rows.handedness is not None:
             cols["handedness"][:] = rows.handedness[j]
 
-    def _true_swing(self, key, measured, column, start, n, seed) -> None:
-        """Replace the measured values of swing key ``key`` in ``column`` by draws of the
-        true values given them (:mod:`mcbat.study.pitches`, "Swing measurement error"):
+    def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
+        """Replace the measured values of swing key ``key`` in ``column`` (the samples
+        flagged by ``where``; the others took the key's fallback) by draws of the true
+        values given them (:mod:`mcbat.study.pitches`, "Swing measurement error"):
         ``m + k (x - m) + sqrt(k) s z``, ``m`` and ``v`` the mean and variance of the
         selected rows' measured values (``measured``, SI), ``k = max(0, 1 - s^2/v)``."""
         s = self.pitches.swing_error[key]
@@ -313,7 +362,7 @@ class GameStudy(Study):
             true = np.clip(true, -limit, limit)
         else:
             true = np.clip(true, -0.5 * math.pi + 1e-6, 0.5 * math.pi - 1e-6)
-        column[:] = true
+        np.copyto(column, true, where=where)
 
     def _check_ranges(self):
         inp, bat = self.inputs, self.bat
@@ -369,6 +418,10 @@ class GameStudy(Study):
                    if any(k.startswith("restitution.") for k in self.inputs)
                    else {"preset": "game", **GAME_RESTITUTION.config()})
         out["contact"] = {"position": "from_barrel_end", "offset": "undercut"}
+        if self.contact_trend is not None:
+            out["contact"]["bat_speed_trend"] = {
+                "reference": self.contact_trend[0], "from_barrel_end_per_bat_speed":
+                self.contact_trend[1], "form": "d = clip(d0 + s (V - V0)) to the support"}
         if self.flight is not None:
             out["flight"] = self.flight.config()
         if self.pitches is not None:
@@ -429,8 +482,19 @@ class GameStudy(Study):
             cols["handedness"][:] = HANDEDNESS[self.handedness]
         if self.pitches is not None:
             self._fill_pitches(cols, start, n, seed)
+        if self.contact_trend is not None:
+            self._apply_trend(cols)
         self.fill_contact(cols)
         return table
+
+    def _apply_trend(self, cols) -> None:
+        """Move each sample's contact with its bat speed (``[contact.bat_speed_trend]``)."""
+        reference, slope = self.contact_trend
+        dist = self.inputs.get("contact.from_barrel_end")
+        fixed = dist is None or dist.family == "fixed"
+        low, high = (0.0, self.bat.length) if fixed else dist.support()
+        moved = cols["from_barrel_end"] + slope * (cols["bat_speed"] - reference)
+        cols["from_barrel_end"][:] = np.clip(moved, max(low, 0.0), min(high, self.bat.length))
 
     def fill_contact(self, cols):
         """Write the columns that follow from the contact's place on the bat: the barrel's

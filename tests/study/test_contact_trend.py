@@ -1,0 +1,148 @@
+"""The contact's bat-speed trend (``[contact.bat_speed_trend]``) and measurement errors that
+apply to measured swings only (not to values drawn from ``[pitches.fallback]``)."""
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from mcbat.errors import InputError
+from mcbat.runner.pitches import load_pitches
+from mcbat.stats.population_table import write_pitches
+from mcbat.study.spec import Study
+
+MPH, INCH = 0.44704, 0.0254
+
+
+def _rows(n=400, seed=3, attack=True):
+    rng = np.random.default_rng(seed)
+    return pd.DataFrame({
+        "pitch_speed": rng.normal(85.0, 4.0, n), "vertical_approach_angle": -6.0,
+        "horizontal_approach_angle": 0.0, "spin_rate": 2200.0, "spin_axis": 200.0,
+        "bat_speed": rng.normal(70.0, 5.0, n),
+        "attack_angle": rng.normal(9.0, 8.0, n) if attack else np.nan,
+        "attack_direction": rng.normal(0.0, 12.0, n), "handedness": "R",
+        "launch_speed": 90.0, "launch_angle": 10.0})
+
+
+def _data(tmp_path, rows, contact=None, **pitches):
+    path = tmp_path / "rows.csv"
+    write_pitches(rows, path)
+    return {"study": {"name": "t", "samples": 20000, "seed": 5},
+            "ball": {"preset": "baseball"}, "bat": {"preset": "r161"},
+            "pitches": {"file": str(path), "swing": True, **pitches},
+            "pitch": {"spin_efficiency": 0.9},
+            "swing": {"vertical_bat_angle": {"value": -30, "unit": "deg"}},
+            "contact": contact or {"from_barrel_end": {"dist": "truncnormal", "mean": 7,
+                                                       "std": 3, "low": 0.5, "high": 18,
+                                                       "unit": "in"},
+                                   "undercut": 0.0},
+            "friction": {"mu": 0.5},
+            "restitution": {"e_ref": 0.555, "e_slope": 0.00165,
+                            "e_speed_ref": {"value": 85, "unit": "ft/s"}, "e_x": 0.28,
+                            "location": "assumed"}}
+
+
+def _trend(shift=1.0, reference=70.0, per=10.0):
+    return {"reference": {"value": reference, "unit": "mph"},
+            "per": {"value": per, "unit": "mph"},
+            "from_barrel_end": {"value": shift, "unit": "in"}}
+
+
+def test_trend_moves_the_contact_with_the_bat_speed(tmp_path):
+    plain = _data(tmp_path, _rows())
+    moved = _data(tmp_path, _rows())
+    moved["contact"]["bat_speed_trend"] = _trend(1.5)
+    a = load_pitches(Study.from_dict(plain)).sample()
+    b = load_pitches(Study.from_dict(moved)).sample()
+    np.testing.assert_array_equal(a["bat_speed"], b["bat_speed"])
+    expected = np.clip(a["from_barrel_end"] + 1.5 * INCH / (10 * MPH)
+                       * (a["bat_speed"] - 70 * MPH), 0.5 * INCH, 18 * INCH)
+    np.testing.assert_allclose(b["from_barrel_end"], expected, rtol=0, atol=1e-15)
+    # the restitution's location factor and the barrel's radius follow the moved contact
+    assert not np.array_equal(a["e_location_factor"], b["e_location_factor"])
+    fast = a["bat_speed"] > 75 * MPH
+    assert np.mean(b["from_barrel_end"][fast]) > np.mean(a["from_barrel_end"][fast]) + 0.5 * INCH
+
+
+def test_zero_trend_is_no_trend_and_changes_the_config(tmp_path):
+    plain = load_pitches(Study.from_dict(_data(tmp_path, _rows())))
+    data = _data(tmp_path, _rows())
+    data["contact"]["bat_speed_trend"] = _trend(0.0)
+    zero = load_pitches(Study.from_dict(data))
+    np.testing.assert_array_equal(plain.sample()["from_barrel_end"],
+                                  zero.sample()["from_barrel_end"])
+    assert plain.config_hash() != zero.config_hash()
+    again = load_pitches(Study.from_dict(zero.definition()))
+    assert again.config() == zero.config()
+    assert zero.config()["contact"]["bat_speed_trend"]["from_barrel_end_per_bat_speed"] == 0
+
+
+def test_trend_on_a_fixed_contact_stays_on_the_bat(tmp_path):
+    data = _data(tmp_path, _rows(), contact={"from_barrel_end": {"value": 1, "unit": "in"},
+                                             "undercut": 0.0,
+                                             "bat_speed_trend": _trend(-20.0)})
+    cols = load_pitches(Study.from_dict(data)).sample()
+    assert cols["from_barrel_end"].min() >= 0.0
+    assert np.any(cols["from_barrel_end"] == 0.0)
+
+
+@pytest.mark.parametrize("key, value, field", [
+    ("per", {"value": 0, "unit": "mph"}, "contact.bat_speed_trend.per"),
+    ("from_barrel_end", {"dist": "normal", "mean": 1, "std": 1, "unit": "in"},
+     "contact.bat_speed_trend.from_barrel_end"),
+    ("reference", {"value": 70, "unit": "in"}, "contact.bat_speed_trend.reference"),
+])
+def test_bad_trend_names_its_field(tmp_path, key, value, field):
+    data = _data(tmp_path, _rows())
+    data["contact"]["bat_speed_trend"] = {**_trend(), key: value}
+    with pytest.raises(InputError) as err:
+        Study.from_dict(data)
+    assert field in str(err.value)
+
+
+def test_trend_missing_key_names_it(tmp_path):
+    data = _data(tmp_path, _rows())
+    trend = _trend()
+    del trend["per"]
+    data["contact"]["bat_speed_trend"] = trend
+    with pytest.raises(InputError, match="per"):
+        Study.from_dict(data)
+
+
+def test_swing_error_leaves_fallback_draws_alone(tmp_path):
+    # rows without an attack angle (2024 exports) take the fallback distribution: those
+    # draws are the true values' distribution, not measurements, and keep their width
+    rows = _rows(attack=False)
+    rows.loc[:199, "attack_angle"] = np.random.default_rng(1).normal(9.0, 8.0, 200)
+    fallback = {"attack_angle": {"dist": "truncnormal", "mean": 8.7, "std": 8.3, "low": -35,
+                                 "high": 35, "unit": "deg"}}
+    errors = {"attack_angle": {"value": 6, "unit": "deg"}}
+    plain = load_pitches(Study.from_dict(_data(tmp_path, rows, fallback=fallback)))
+    noisy = load_pitches(Study.from_dict(_data(tmp_path, rows, fallback=fallback,
+                                               swing_error=errors)))
+    a, b = plain.sample()["attack_angle"], noisy.sample()["attack_angle"]
+    j = plain.pitch_rows.draw_rows(plain.seed, 0, plain.samples)
+    from_fallback = ~np.isfinite(plain.pitch_rows.values[
+        plain.pitch_rows.keys.index("swing.attack_angle"), j])
+    assert 0.3 < from_fallback.mean() < 0.7
+    np.testing.assert_array_equal(a[from_fallback], b[from_fallback])
+    assert math.degrees(np.std(b[from_fallback])) == pytest.approx(8.3, rel=0.05)
+    # the measured ones are shrunk towards their mean and scattered
+    assert not np.array_equal(a[~from_fallback], b[~from_fallback])
+
+
+def test_population_templates_weigh_the_contact_before_the_trend(tmp_path):
+    # a population fit reweights the drawn contact by its distribution's density: the
+    # templates hand it the draws before the trend moved them (the same random numbers)
+    from mcbat.stats.population_templates import _solve_memory
+
+    plain = Study.from_dict(_data(tmp_path, _rows()))
+    data = _data(tmp_path, _rows())
+    data["contact"]["bat_speed_trend"] = _trend(2.0)
+    moved = Study.from_dict(data)
+    a, obs_a, _ = _solve_memory(plain, 3000, 9, ["from_barrel_end"], ["launch_speed"])
+    b, obs_b, _ = _solve_memory(moved, 3000, 9, ["from_barrel_end"], ["launch_speed"])
+    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
+    assert not np.allclose(obs_a["launch_speed"], obs_b["launch_speed"], equal_nan=True)
