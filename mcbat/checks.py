@@ -88,7 +88,7 @@ def check_keys(table, field, required=(), optional=()) -> dict:
     """``table`` must be a dict with every ``required`` key and nothing else but ``optional``."""
     if not isinstance(table, dict):
         raise InputError(field, f"must be a table, got {type_name(table)} {table!r}")
-    allowed = tuple(required) + tuple(optional)
+    allowed = tuple(dict.fromkeys((*required, *optional)))  # each key once, in order
     for key in table:
         if key not in allowed:
             raise InputError(subfield(field, key),

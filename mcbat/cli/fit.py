@@ -167,6 +167,17 @@ def _unmeasured_launch(table, source):
 
 def cmd_fit(args) -> int:
     """Fit the study's free parameters to the table (or --flight, --population)."""
+    try:
+        return _cmd_fit(args)
+    except KeyboardInterrupt:  # a fit writes no chunk files: nothing is kept to resume
+        import sys
+
+        print("mcbat: interrupted; a fit keeps no partial results: rerun the same command "
+              "to start it again", file=sys.stderr)
+        return 130
+
+
+def _cmd_fit(args) -> int:
     from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.fit import check_bootstrap, fit
     from mcbat.stats.likelihood import check_free

@@ -1,17 +1,74 @@
-"""``mcbat run``: a study into a Parquet dataset."""
+"""``mcbat run``: a study into a Parquet dataset; the studies mcbat ships (the resource
+package ``mcbat.studies``) run by name from any directory (``mcbat run game_fastball``)."""
 
 from __future__ import annotations
 
+import argparse
+import contextlib
+import sys
+import tomllib
+from importlib import resources
 from pathlib import Path
 
 from mcbat.cli.common import EXIT_OK, flags, int_arg
 from mcbat.errors import InputError
 
-__all__ = ["RUN_PARAMETERS", "add_parser", "cmd_run"]
+__all__ = ["RUN_PARAMETERS", "add_parser", "cmd_run", "shipped_studies"]
 
 #: The parameters of :func:`mcbat.runner.run_study` that are flags of ``mcbat run``.
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
                   "workers", "overwrite", "summary_only", "columns", "tolerance")
+
+
+class _ChunkSize(argparse.Action):
+    """``--chunk-size``, whose help gives the runner's default chunk
+    (:data:`mcbat.runner.plan.DEFAULT_CHUNK_SIZE`), read only when the help is shown:
+    the runner is not imported to build the parser."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+
+    @property
+    def help(self):
+        from mcbat.runner.plan import DEFAULT_CHUNK_SIZE
+
+        return f"rows per Parquet file (default: the study's, or {DEFAULT_CHUNK_SIZE:,})"
+
+    @help.setter
+    def help(self, value):  # argparse sets it; the property above gives it
+        pass
+
+
+def shipped_studies() -> dict[str, str]:
+    """The studies mcbat ships (``studies/`` of the repository, the resource package
+    ``mcbat.studies``): name (the file's stem) -> its ``[study] description``."""
+    out = {}
+    for entry in sorted(resources.files("mcbat.studies").iterdir(), key=lambda e: e.name):
+        if entry.name.endswith(".toml"):
+            try:
+                study = tomllib.loads(entry.read_text(encoding="utf-8")).get("study", {})
+            except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+                study = {}
+            out[entry.name.removesuffix(".toml")] = str(study.get("description", ""))
+    return out
+
+
+def _study_file(given):
+    """A context giving the path of the study ``given``: a file that exists, else the
+    shipped study of that name (``game_fastball``, ``game_fastball.toml`` or
+    ``studies/game_fastball.toml`` run from any directory)."""
+    path = Path(given)
+    if path.exists() or not (len(path.parts) == 1 or path.parent == Path("studies")):
+        return contextlib.nullcontext(path)  # load_study reports a missing or bad file
+    name = path.name.removesuffix(".toml")
+    shipped = shipped_studies()
+    if name not in shipped:
+        raise InputError(None, f"{given}: no such study file, and no study of that name "
+                         f"ships with mcbat (shipped: {', '.join(shipped)}; mcbat run "
+                         "--list describes them)")
+    print(f"mcbat: {given}: not found here; running the study {name!r} shipped with mcbat",
+          file=sys.stderr)
+    return resources.as_file(resources.files("mcbat.studies").joinpath(f"{name}.toml"))
 
 
 def add_parser(sub) -> None:
@@ -20,8 +77,12 @@ def add_parser(sub) -> None:
         "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
         description="Sample the study's inputs, solve every impact with the parallel kernel "
                     "and write a Parquet dataset (one file per chunk). An interrupted run "
-                    "resumes: complete chunk files are kept.")
-    run.add_argument("study", metavar="STUDY.toml")
+                    "resumes: complete chunk files are kept. STUDY is a TOML file, or the "
+                    "name of a study shipped with mcbat (mcbat run game_fastball, from any "
+                    "directory; --list names them).")
+    run.add_argument("study", metavar="STUDY.toml|NAME", nargs="?", default=None)
+    run.add_argument("--list", action="store_true",
+                     help="list the studies shipped with mcbat, and exit")
     run.add_argument("--out", metavar="DIR", help="dataset directory, or a URL that pyarrow "
                      "or fsspec can write (default: results/<study name>)")
     run.add_argument("--samples", type=int_arg("--samples"), metavar="N",
@@ -33,7 +94,7 @@ def add_parser(sub) -> None:
                           "threads per worker (default: cores / workers, or 1 with "
                           "--scheduler)")
     run.add_argument("--chunk-size", type=int_arg("--chunk-size"), metavar="C",
-                     help="rows per Parquet file (default: the study's, or 262,144 = 4 x 65,536)")
+                     action=_ChunkSize, help="rows per Parquet file")
     run.add_argument("--engine", choices=("local", "dask"), default="local",
                      help="local: numba threads in this process (default); dask: one task "
                           "per chunk on a Dask cluster (docs/cluster.md)")
@@ -64,10 +125,18 @@ def add_parser(sub) -> None:
 
 def cmd_run(args) -> int:
     """Run the study ``args.study`` into a dataset and print the run's report."""
+    if args.list:
+        for name, description in shipped_studies().items():
+            print(f"{name:<24} {description}".rstrip())
+        return EXIT_OK
+    if args.study is None:
+        raise InputError("STUDY", "required: a study file, or the name of a study shipped "
+                         "with mcbat (mcbat run --list)")
     from mcbat.runner import run_study
     from mcbat.study import load_study
 
-    study = load_study(args.study)  # validates everything before anything is written
+    with _study_file(args.study) as path:
+        study = load_study(path)  # validates everything before anything is written
     if args.columns is not None:
         with flags("columns"):
             study = study.with_overrides(columns=args.columns)

@@ -17,7 +17,8 @@ from mcbat.errors import InputError
 from mcbat.stats.columns import UNITS_HINT
 from mcbat.stats.models import OUTLIER_SIGMA, rows_text
 
-__all__ = ["MAGNITUDES", "MEDIAN_FACTOR", "MEDIAN_MAXIMUM", "UNIT_SIGMA", "check_units"]
+__all__ = ["MAGNITUDES", "MEDIAN_FACTOR", "MEDIAN_MAXIMUM", "SIGN_CONVENTION", "UNIT_SIGMA",
+           "check_units"]
 
 UNIT_SIGMA = 3.0
 """When half the rows of an observable or more lie this many sigma beyond every model
@@ -32,6 +33,18 @@ MEDIAN_MAXIMUM = {"launch_speed": 125.0}
 """A magnitude column whose median lies above this (its unit) is in another unit whatever
 the model gives: the fastest batted balls Statcast has measured are near 122 mph, so no
 table of real balls has a median near 125 mph (km/h would put a typical 90 mph at 145)."""
+
+SIGN_CONVENTION = {
+    "scattering_angle": "atan2(v_y, v_x) of the outgoing ball in degrees, positive towards "
+                        "+y (docs/physics.md)",
+    "spin_out": "the spin about the bat's axis +z in rad/s (docs/physics.md)",
+    "launch_angle": "the elevation in degrees, positive upwards",
+    "spray_angle": "in degrees, positive towards right field (docs/batting.md)",
+    "backspin": "in rpm, positive for backspin (docs/batting.md)",
+    "sidespin": "in rpm, positive curving towards left field (docs/batting.md)",
+}
+"""The sign convention of each observable that can be negative, named when a column's
+negatives fit where the column does not."""
 
 
 def check_units(like):
@@ -77,10 +90,17 @@ def check_units(like):
         many = beyond > UNIT_SIGMA
         span = f"{np.min(lo[:, j]):.3g}..{np.max(hi[:, j]):.3g} {like.units[col]}"
         if many.sum() >= 0.5 * like.rows:
+            # A column of the opposite sign convention is a mirror image, not a scaled
+            # copy: its negatives fit where it does not, and the unit is not the fault.
+            flipped = np.maximum(lo[:, j] + y, -y - hi[:, j]) / sd[:, j]
+            hint = UNITS_HINT[col]
+            if (flipped > UNIT_SIGMA).sum() < 0.5 * like.rows:
+                hint = (f"their negatives would fit: the sign flipped? {col} is "
+                        f"{SIGN_CONVENTION.get(col, 'as docs/fitting.md defines it')}")
             raise InputError(col, f"{int(many.sum())} of {like.rows} rows lie far outside "
                              f"anything the model gives for this study (model "
                              f"{span}, measured median {np.median(y):.3g}): "
-                             f"{UNITS_HINT[col]}", like.source)
+                             f"{hint}", like.source)
         if not far.any():
             continue
         raise InputError(col, f"{rows_text(far, y)}: more than {OUTLIER_SIGMA:g} sigma "

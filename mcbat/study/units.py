@@ -94,6 +94,11 @@ SI_UNITS: dict[str, str] = {
 _QUANTITY_OF = {unit: quantity for quantity, table in UNITS.items() for unit in table}
 
 
+def _article(word):
+    """``"an angle"``, ``"a length"``."""
+    return f"{'an' if word[0] in 'aeiou' else 'a'} {word}"
+
+
 def factor(unit, quantity, field=None):
     """SI factor of ``unit`` (``None``: the SI unit, factor 1) for a ``quantity``.
 
@@ -115,8 +120,8 @@ def factor(unit, quantity, field=None):
         return table[unit]
     other = _QUANTITY_OF.get(unit)
     if other is not None:
-        kind = "dimensionless" if quantity == DIMENSIONLESS else f"a {quantity}"
-        raise InputError(field, f"unit {unit!r} is a {other} unit, but this input is "
+        kind = "dimensionless" if quantity == DIMENSIONLESS else _article(quantity)
+        raise InputError(field, f"unit {unit!r} is {_article(other)} unit, but this input is "
                                 f"{kind} (use one of: {accepted})")
     raise InputError(field, f"unknown unit {unit!r} ({quantity} units: {accepted})")
 

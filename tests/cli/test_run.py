@@ -189,3 +189,33 @@ def test_the_kernels_of_a_run_are_those_of_its_study():
     assert kernels_for(load_study(ROOT / "studies" / "example.toml")) == [solve_batch]
     game = load_study(ROOT / "studies" / "game_fastball.toml")  # (with [flight])
     assert kernels_for(game) == [solve_game_batch, fly_batch]
+
+
+def test_the_help_gives_the_runners_default_chunk(capsys):
+    from mcbat.runner.plan import DEFAULT_CHUNK_SIZE
+
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"or {DEFAULT_CHUNK_SIZE:,})" in text and "262,144" not in text
+
+
+def test_a_shipped_study_runs_by_name_from_any_directory(tmp_path, cli):
+    """From a directory without studies/: by name, and by the path it has in the
+    repository; --list names them; an unknown name lists them."""
+    listed = cli("run", "--list", cwd=tmp_path)
+    assert listed.returncode == 0
+    names = [line.split()[0] for line in listed.stdout.splitlines()]
+    assert "game_fastball" in names and "example" in names
+    assert sorted(names) == sorted(p.stem for p in (ROOT / "studies").glob("*.toml"))
+    for given, out in (("example", "a"), ("studies/example.toml", "b")):
+        proc = cli("run", given, "--samples", "40", "--out", out, "--quiet", cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        assert "shipped with mcbat" in proc.stderr
+        assert "rows: 40 in 1 chunk file(s)" in proc.stdout
+        assert (tmp_path / out / "_mcbat.json").is_file()
+    unknown = cli("run", "game_fastbal", cwd=tmp_path)
+    assert unknown.returncode == 2 and "game_fastball" in unknown.stderr
+    assert len(unknown.stderr.strip().splitlines()) == 1
+    missing = cli("run", str(tmp_path / "elsewhere" / "example.toml"), cwd=tmp_path)
+    assert missing.returncode == 2 and "cannot read the study file" in missing.stderr
