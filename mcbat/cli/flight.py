@@ -16,8 +16,10 @@ def add_parser(sub) -> None:
         "flight", help="fly batted balls to the landing point (JSON: one ball or an array)",
         description="Read one JSON ball, or a JSON array of balls, from FILE (or '-' for "
                     "stdin): launch_speed, launch_angle, spray_angle, backspin, sidespin, "
-                    "gyrospin, position, ball, atmosphere, model, spin_decay_time (values in "
-                    "SI or as {\"value\": ..., \"unit\": ...}; docs/flight.md). Prints "
+                    "gyrospin, position, ball, atmosphere, model, spin_decay_time (a bare "
+                    "number in the field's units: speeds mph, angles deg, spins rpm, "
+                    "distances ft, temperature degF, pressure inHg; any value as "
+                    "{\"value\": ..., \"unit\": ...}; docs/flight.md). Prints "
                     "hit_distance, hang_time, apex, landing_x, landing_y (ft, s) and their "
                     "SI counterparts (*_m) as JSON, in the same order.")
     flight.add_argument("file", nargs="?", default="-", metavar="FILE|-")
