@@ -14,9 +14,13 @@ One job per module:
 :mod:`mcbat.api.flight`    one batted ball's flight (SI in; ft and m out):
                            :class:`FlightCase` (:meth:`FlightCase.from_result` for a game's
                            ball), :func:`solve_flight` -> :class:`FlightResult`
+:mod:`mcbat.api.pitch`     a pitch's speed at the plate from its release speed (the
+                           JSON's ``pitch.release_speed``): :func:`~mcbat.api.pitch.plate_speed`
 
 Each case type reads its own JSON (``impact_case_from_dict``, ``game_case_from_dict``,
-``flight_case_from_dict``); :func:`case_from_dict` and :func:`any_case_from_dict` pick one.
+``flight_case_from_dict``; a game's or flight's bare numbers in the field's units, mph,
+deg, rpm, ft: :data:`mcbat.api.contract.FIELD_KEYS`); :func:`case_from_dict` and
+:func:`any_case_from_dict` pick one.
 :func:`mcbat.solve` takes any of the three cases, a JSON object or a JSON file.
 
 Example
