@@ -320,9 +320,8 @@ def _text_lines(path, label):
             pending.append(pieces[-1])
             pending_size += len(pieces[-1])
             if pending_size > MAX_LINE_BYTES:
-                raise InputError(None, f"line {line}: longer than "
-                                 f"{MAX_LINE_BYTES >> 20} MiB without a line break: not a "
-                                 "CSV table", label)
+                raise InputError(None, f"line {line}: longer than {MAX_LINE_BYTES:,} "
+                                 "characters without a line break: not a CSV table", label)
             if not block:
                 break
         tail = "".join(pending)
@@ -620,7 +619,8 @@ def _check_identifiers(columns, label, lines):
         i = int(np.flatnonzero(bad)[0])
         where = f"line {int(lines[i])}" if lines is not None else f"row {i + 1}"
         value = x[i]
-        shown = f"{value:.17g}" if np.isfinite(value) else str(value)
+        shown = (f"{int(value)}" if np.isfinite(value) and value == np.round(value)
+                 and abs(value) < 1e21 else f"{value:.17g}")
         reason = ("not a whole number" if np.isfinite(value) and value == value
                   and 0 <= value <= MAX_IDENTIFIER else
                   f"outside 0..2**53 = {MAX_IDENTIFIER:,}")
