@@ -127,7 +127,7 @@ def collision_summary(table, *, bat_speed_floor=40.0, exclude_bunts=True,
         ``low``, ``high``, ``balls``, mean ``collision_efficiency``, its ``p90``, mean
         ``squared_up_fraction``, mean ``launch_speed``).
     """
-    from mcbat.statcast.reader import balls_in_play
+    from mcbat.statcast.plays import balls_in_play
 
     columns = collision_columns(table, balls_in_play(table))
     q = columns["collision_efficiency"]

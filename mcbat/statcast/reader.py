@@ -43,6 +43,7 @@ from mcbat.errors import InputError
 from mcbat.statcast import kinematics, parks
 from mcbat.statcast.collision import COLLISION_UNITS, collision_columns
 from mcbat.statcast.files import MAX_LINE_BYTES, CappedReader, check_regular_file
+from mcbat.statcast.plays import balls_in_play
 
 __all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "PITCH_KEY", "RANGES", "REQUIRED", "UNITS",
            "attack_direction_check", "balls_in_play", "read", "read_with_lines", "summarize",
@@ -696,13 +697,6 @@ def write(df, path):
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
-
-
-def balls_in_play(df):
-    """Boolean mask of the balls put in play (``description`` starting with
-    ``hit_into_play``: Savant's ``hit_into_play``, and ``hit_into_play_no_out`` /
-    ``hit_into_play_score`` of exports before 2019's change)."""
-    return df["description"].astype(str).str.startswith("hit_into_play").to_numpy()
 
 
 def summarize(df):
