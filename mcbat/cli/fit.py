@@ -101,7 +101,7 @@ def add_parser(sub) -> None:
 
 
 def _fit_flight(args) -> int:
-    from mcbat.papers.statcast.calibrate import calibrate, check_free
+    from mcbat.papers.statcast.calibrate import calibrate, check_free, hold_out
     from mcbat.papers.statcast.left_out import flight_left_out
     from mcbat.papers.statcast.reproduce import SPIN_MODELS, balls_in_their_air, read_statcast
     from mcbat.statcast import read
@@ -135,6 +135,7 @@ def _fit_flight(args) -> int:
         backspin, sidespin = SPIN_MODELS[spin_model](balls)
         result = calibrate(balls, backspin, sidespin, spin_model=spin_model, free=free,
                            intervals=args.intervals, source=source)
+        result.holdout = hold_out(balls, backspin, sidespin, result, free=free)
     left_out = flight_left_out(table, balls, result.balls)
     if args.json:
         print_json({**result.to_dict(), "rows": int(len(table)), "left_out": left_out})

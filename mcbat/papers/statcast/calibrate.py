@@ -31,7 +31,7 @@ import numpy as np
 import pandas as pd
 
 from mcbat.errors import InputError
-from mcbat.papers.statcast.compare import eligible_window
+from mcbat.papers.statcast.compare import eligible_window, residual_stats
 from mcbat.stats.fit import fit
 from mcbat.stats.flight_model import AIR_COLUMNS, FLIGHT_TABLE_COLUMNS, FlightFitSetup
 from mcbat.study.flight import FlightSettings
@@ -59,21 +59,35 @@ class FlightCalibration:
     balls: int
     spin_model: str
     source: str | None = None
+    holdout: dict | None = None
+    """In-sample and held-out residuals (:func:`hold_out`), when computed."""
 
     def to_dict(self) -> dict:
         """JSON-ready: the fit (:meth:`FitResult.to_dict`), ``sigma_ft``, ``balls``, the
-        spin model and the data."""
+        spin model, the data and the hold-out check."""
         return {**self.result.to_dict(), "sigma_ft": self.sigma, "balls": self.balls,
                 "spin_model": self.spin_model, "fit_classes": list(FIT_CLASSES),
-                "data": self.source}
+                "data": self.source, "holdout": self.holdout}
 
     def lines(self) -> list[str]:
         """As printed by ``mcbat fit --flight``."""
         r = self.result
-        return [*r.lines(),
-                f"  per-ball scatter sigma = {self.sigma:.1f} ft (rms of the residuals, "
-                f"{self.balls} - {len(r.params)} degrees of freedom)",
-                f"  chi2 / dof = {r.chi2:.1f} / {r.dof} (1 by construction of sigma)"]
+        out = [*r.lines(),
+               f"  per-ball scatter sigma = {self.sigma:.1f} ft (rms of the residuals, "
+               f"{self.balls} - {len(r.params)} degrees of freedom)",
+               f"  chi2 / dof = {r.chi2:.1f} / {r.dof} (1 by construction of sigma)"]
+        h = self.holdout
+        if h is None:
+            return out
+        if h.get("out_of_sample") is None:
+            return [*out, f"  held out: {h['note']}"]
+
+        def cell(s):
+            return f"median {s['median']:+.1f} ft, rms {s['rms']:.1f} ft ({s['n']} balls)"
+
+        return [*out, "  predicted minus measured, 20-50 deg catches and home runs:",
+                f"    in sample (this fit):             {cell(h['in_sample'])}",
+                f"    held out (fit to the other games): {cell(h['out_of_sample'])}"]
 
 
 def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame:
@@ -123,8 +137,42 @@ def calibrate_file(path=None, *, spin_model="nathan", free=None, intervals="prof
     balls = balls_in_their_air(table, source, None if weather_path is None
                                else read_weather(weather_path))
     backspin, sidespin = SPIN_MODELS[spin_model](balls)
-    return calibrate(balls, backspin, sidespin, spin_model=spin_model, free=free,
-                     intervals=intervals, source=source)
+    cal = calibrate(balls, backspin, sidespin, spin_model=spin_model, free=free,
+                    intervals=intervals, source=source)
+    cal.holdout = hold_out(balls, backspin, sidespin, cal, free=free)
+    return cal
+
+
+def hold_out(balls: pd.DataFrame, backspin, sidespin, cal: FlightCalibration, *,
+             free=FREE) -> dict:
+    """The fit judged on balls it did not see: the games of ``balls`` split in two halves
+    (alternate ``game_pk``), each half's 20-50 deg catches and home runs predicted by the
+    fit to the other half; beside them, the same balls predicted by ``cal`` (the fit to
+    all: in sample). Returns ``{"in_sample", "out_of_sample"}`` residual statistics (ft),
+    or ``{"out_of_sample": None, "note"}`` when a half has too few balls to fit."""
+    backspin = np.asarray(backspin, float)
+    sidespin = np.asarray(sidespin, float)
+    use = eligible_window(balls) & balls["comparison"].isin(FIT_CLASSES).to_numpy(bool)
+    setup = FlightFitSetup()
+    table = flight_table(balls, backspin, sidespin, 1.0)
+    games = np.unique(balls["game_pk"].to_numpy())
+    half = balls["game_pk"].isin(set(games[1::2].tolist())).to_numpy(bool)
+    in_sample = predict(setup, table, dict(cal.result.params)) - table[
+        "hit_distance_sc"].to_numpy()
+    held = np.full(len(balls), np.nan)
+    for part in (half, ~half):
+        rest = ~part
+        if (use & rest).sum() < MIN_BALLS or (use & part).sum() == 0:
+            return {"in_sample": residual_stats(in_sample[use]), "out_of_sample": None,
+                    "note": f"too few games to hold half out ({len(games)} games, "
+                            f"{int(use.sum())} balls)"}
+        other = calibrate(balls[rest].reset_index(drop=True), backspin[rest], sidespin[rest],
+                          free=free, intervals="curvature")
+        held[part] = predict(setup, table[part].reset_index(drop=True),
+                             dict(other.result.params)) - table.loc[
+            part, "hit_distance_sc"].to_numpy()
+    return {"in_sample": residual_stats(in_sample[use]),
+            "out_of_sample": residual_stats(held[use]), "split": "alternate games"}
 
 
 def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",

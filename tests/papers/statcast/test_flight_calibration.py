@@ -1,6 +1,7 @@
 """``mcbat fit --flight``: the flight model's drag and lift scales fitted to measured
 distances; injection on synthetic distances from known scales; the calibrated preset."""
 
+import json
 import math
 from pathlib import Path
 
@@ -153,3 +154,15 @@ def test_fit_without_a_study_or_flight_exits_2(capsys):
     assert "--study" in err and "--flight" in err
     assert main(["fit", "--study", "s.toml", "--data", "t.csv", "--spin-model", "nathan"]) == 2
     assert "--spin-model" in capsys.readouterr().err
+
+
+def test_the_fit_reports_its_residuals_in_sample_and_held_out(capsys):
+    assert main(["fit", "--flight", "--free", "drag_scale", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    held = out["holdout"]
+    assert held["split"] == "alternate games"
+    assert held["in_sample"]["n"] == held["out_of_sample"]["n"] > 50
+    # the held-out balls are predicted by fits to the other games: on this many balls the
+    # drag transfers, and their residuals are centred within a few feet
+    assert abs(held["out_of_sample"]["median"]) < 4.0
+    assert held["out_of_sample"]["rms"] < held["in_sample"]["rms"] + 3.0
