@@ -47,25 +47,57 @@ STUDY = ROOT / "studies" / "bat_tracking.toml"
 FREE = ("contact.from_barrel_end.mean", "contact.from_barrel_end.std",
         "contact.undercut.mean", "contact.undercut.std")
 BINS = (0.0, 65.0, 70.0, 75.0, 80.0, 200.0)
-ERROR_GRID = {"attack_angle": (0.0, 2.0, 3.0, 4.0, 5.0, 6.0),
-              "bat_speed": (0.0, 1.0, 2.0, 3.0)}
+ERROR_GRID = {"attack_angle": (0.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0),
+              "bat_speed": (0.0, 1.0, 2.0, 3.0, 4.0)}
+TREND_GRID = (-1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0)
+"""The contact's bat-speed trend (in per 10 mph) scanned."""
+DIRECTION_GRID = (0.0, 3.0, 6.0, 9.0, 12.0)
+"""The attack direction's error (deg) scanned."""
+LS_BINS = 6
+"""Launch-speed bins (equal counts of each file's rows) of :func:`distance`."""
+TREND_REFERENCE = 70.0
+"""The bat speed (mph) at which the fitted contact distribution's mean applies."""
 IN_ALL = False
 QUICK_ARGS = ["--fit", "statcast_2024_skubal.csv", "--judge", "statcast_2025-05-01.csv",
               "--samples", "20000"]
 
 
 def resolve(name) -> Path:
-    """A file name in the shared Statcast folder, or a path."""
+    """A file name in the shared Statcast folder (or its ``more/``), in ``data/``, or a
+    path."""
     path = Path(name)
-    return path if path.exists() else DATA / name
+    for candidate in (path, DATA / name, DATA / "more" / name, ROOT / "data" / name):
+        if candidate.exists():
+            return candidate
+    return DATA / name
+
+
+def split_name(name):
+    """``"file.csv#k/n"`` -> ``("file.csv", k, n)``: the k-th of n parts of the file's
+    games (game_pk in increasing order, game ``i`` in part ``i % n + 1``); a day's games
+    share no batter, so the parts are independent samples. ``"file.csv"`` -> ``(name,
+    None, None)``."""
+    if "#" not in name:
+        return name, None, None
+    base, part = name.rsplit("#", 1)
+    k, n = (int(x) for x in part.split("/"))
+    if not 1 <= k <= n:
+        raise ValueError(f"{name}: need 1 <= k <= n in '#k/n'")
+    return base, k, n
 
 
 def tracked(names) -> pd.DataFrame:
     """The tracked balls in play (a batted-ball type, bat speed, launch speed and angle, the
-    pitch at the plate) of the files, as one tidy table (``file``: which file)."""
+    pitch at the plate) of the files, as one tidy table (``file``: which file). A name
+    ``file#k/n`` takes the k-th of n parts of the file's games (:func:`split_name`)."""
     frames = []
     for name in names:
-        t = sc.read(resolve(name))
+        base, k, n = split_name(name)
+        t = sc.read(resolve(base))
+        if k is not None:
+            games = np.sort(t["game_pk"].dropna().unique())
+            part = {g: i % n + 1 for i, g in enumerate(games)}
+            t = t[t["game_pk"].map(part) == k]
         keep = (t["bb_type"].notna() & t["bat_speed"].notna() & t["launch_speed"].notna()
                 & t["launch_angle"].notna() & t["pitch_speed"].notna()
                 & t["vertical_approach_angle"].notna()
@@ -80,9 +112,11 @@ def tracked(names) -> pd.DataFrame:
     return out
 
 
-def study_definition(values=None, errors=None) -> dict:
+def study_definition(values=None, errors=None, trend=None) -> dict:
     """``studies/bat_tracking.toml`` with fitted contact ``values`` (``{"contact.undercut.
-    mean": in, ...}``) and swing errors (``{"attack_angle": deg, "bat_speed": mph}``)."""
+    mean": in, ...}``), swing errors (``{"attack_angle": deg, "bat_speed": mph,
+    "attack_direction": deg}``) and the contact's bat-speed trend (in per 10 mph; None:
+    the study's)."""
     data = tomllib.loads(STUDY.read_text())
     for name, value in (values or {}).items():
         section, key, field = name.split(".")
@@ -91,6 +125,11 @@ def study_definition(values=None, errors=None) -> dict:
         unit = "deg" if key != "bat_speed" else "mph"
         data["pitches"].setdefault("swing_error", {})[key] = {"value": float(value),
                                                               "unit": unit}
+    if trend is not None:
+        data["contact"]["bat_speed_trend"] = {
+            "reference": {"value": TREND_REFERENCE, "unit": "mph"},
+            "per": {"value": 10, "unit": "mph"},
+            "from_barrel_end": {"value": float(trend), "unit": "in"}}
     return data
 
 
@@ -104,13 +143,18 @@ def _study(data, table, workdir):
     return load_pitches(Study.from_dict(data, source=STUDY))
 
 
-def simulate(data, table, samples, seed, workdir):
-    """Draws of the study for ``table``'s rows: ``(row, launch_speed, launch_angle)``."""
+def simulate(data, table, samples, seed, workdir) -> dict:
+    """Draws of the study for ``table``'s rows: ``row`` (the table's row each draw meets)
+    and the draws' ``launch_speed`` (mph), ``launch_angle``, ``spray_angle`` (deg) and
+    ``backspin`` (rpm)."""
     study = _study(data, table, workdir)
     inputs = study.sample_inputs(0, samples, seed)
     row = study.pitch_identifiers(0, samples, seed)["source_row"]
     out, ok = solve_game_inputs(study, inputs)
-    return row[ok], out["launch_speed"][ok], out["launch_angle"][ok]
+    sim = {k: np.asarray(out[k], float)[ok]
+           for k in ("launch_speed", "launch_angle", "spray_angle", "backspin")}
+    sim["row"] = row[ok]
+    return sim
 
 
 def slopes(bat, ls, attack, la):
@@ -122,21 +166,37 @@ def slopes(bat, ls, attack, la):
     return s_ls, s_la
 
 
+def _column(table, name):
+    return (table[name].to_numpy(float) if name in table
+            else np.full(len(table), np.nan))
+
+
 def data_slopes(table, boots=300, seed=0):
     """The measured slopes and their bootstrap errors."""
     bat, ls = table["bat_speed"].to_numpy(float), table["launch_speed"].to_numpy(float)
-    attack = (table["attack_angle"].to_numpy(float) if "attack_angle" in table
-              else np.full(len(table), np.nan))
-    la = table["launch_angle"].to_numpy(float)
+    attack, la = _column(table, "attack_angle"), table["launch_angle"].to_numpy(float)
     rng = np.random.default_rng(seed)
     reps = [slopes(bat[i], ls[i], attack[i], la[i])
             for i in (rng.integers(0, len(table), len(table)) for _ in range(boots))]
     return slopes(bat, ls, attack, la), tuple(np.nanstd(np.array(reps), axis=0))
 
 
-def fit(table, errors, seed=1):
-    """The contact fitted with ``fit_population`` at the swing ``errors``."""
-    study = _study_obj(study_definition(errors=errors))
+def spray_slope(table, row=None, spray=None):
+    """Slope of the spray angle (mirrored for left-handed batters: > 0 towards the
+    batter's opposite field) on the measured attack direction (NaN without one)."""
+    direction = _column(table, "attack_direction")
+    hand = np.where(table["handedness"].to_numpy() == "R", 1.0, -1.0)
+    if row is None:
+        row, spray = np.arange(len(table)), table["spray_angle"].to_numpy(float)
+    x, y = direction[row], hand[row] * spray
+    ok = np.isfinite(x) & np.isfinite(y)
+    return float(np.polyfit(x[ok], y[ok], 1)[0]) if ok.sum() > 10 else float("nan")
+
+
+def fit(table, errors, trend=None, seed=1):
+    """The contact fitted with ``fit_population`` at the swing ``errors`` and the
+    contact's bat-speed ``trend`` (in per 10 mph)."""
+    study = _study_obj(study_definition(errors=errors, trend=trend))
     t = table.copy()
     t.attrs = table.attrs
     return fit_population(study, t, FREE, seed=seed)
@@ -156,48 +216,184 @@ def _placeholder():
     return t
 
 
-def choose_errors(table, samples, workdir):
-    """The error pair whose simulated slopes lie nearest the measured ones."""
-    (s_ls, s_la), (e_ls, e_la) = data_slopes(table)
+def bin_means(table, row=None, ls=None):
+    """Per bat-speed bin (:data:`BINS`, by the measured bat speed): rows, the mean launch
+    speed (of the rows, or of the draws ``ls`` meeting rows ``row``) and its standard
+    error."""
+    bat = table["bat_speed"].to_numpy(float)
+    if row is None:
+        row, ls = np.arange(len(table)), table["launch_speed"].to_numpy(float)
+    out = []
+    for lo, hi in zip(BINS[:-1], BINS[1:]):
+        rows = int(np.sum((bat >= lo) & (bat < hi)))
+        sel = (bat[row] >= lo) & (bat[row] < hi)
+        mean = float(ls[sel].mean()) if sel.any() else float("nan")
+        se = float(ls[sel].std() / np.sqrt(max(rows, 1))) if sel.any() else float("nan")
+        out.append((rows, mean, se))
+    return out
+
+
+def _cells(bat, ls, edges):
+    """Counts of rows in (bat-speed bin of :data:`BINS`) x (launch-speed bin of ``edges``)."""
+    i = np.clip(np.searchsorted(BINS, bat, side="right") - 1, 0, len(BINS) - 2)
+    j = np.searchsorted(edges, ls, side="right")
+    return np.bincount(i * (len(edges) + 1) + j,
+                       minlength=(len(BINS) - 1) * (len(edges) + 1)).astype(float)
+
+
+def measured_targets(table):
+    """What :func:`distance` compares with: per file, its launch-speed bin edges (equal
+    counts, :data:`LS_BINS` bins) and its counts in (bat-speed bin) x (launch-speed bin);
+    and the slopes."""
+    files = table["file"].to_numpy()
+    per_file = {}
+    for f in dict.fromkeys(files):
+        t = table[files == f]
+        ls = t["launch_speed"].to_numpy(float)
+        edges = np.unique(np.quantile(ls, np.arange(1, LS_BINS) / LS_BINS))
+        per_file[f] = (edges, _cells(t["bat_speed"].to_numpy(float), ls, edges))
+    return per_file, data_slopes(table)
+
+
+def distance(table, sim, measured=None) -> float:
+    """How far the draws lie from the rows: Pearson's chi2 of every file's rows in (bat-speed
+    bin) x (launch-speed bin) against the draws meeting that file's rows (scaled to its row
+    count; cells the draws give less than one row are merged into one), which weighs the
+    launch speeds' level, spread and upper edge in every bat-speed bin; plus the squared
+    difference of the slope of launch angle on attack angle in units of its bootstrap error
+    (where the rows have attack angles)."""
+    measured = measured or measured_targets(table)
+    per_file, ((_, s_la), (_, e_la)) = measured
+    files = table["file"].to_numpy()
+    bat = table["bat_speed"].to_numpy(float)
+    d = 0.0
+    for name, (edges, observed) in per_file.items():
+        sel = files[sim["row"]] == name
+        expected = _cells(bat[sim["row"][sel]], sim["launch_speed"][sel], edges)
+        expected *= observed.sum() / max(expected.sum(), 1.0)
+        small = expected < 1.0
+        o = np.append(observed[~small], observed[small].sum())
+        e = np.append(expected[~small], expected[small].sum())
+        keep = e > 0
+        d += float(np.sum((o[keep] - e[keep]) ** 2 / e[keep]))
+    if np.isfinite(s_la):
+        attack = _column(table, "attack_angle")
+        m_la = slopes(np.zeros(2) + [0, 1], np.zeros(2), attack[sim["row"]],
+                      sim["launch_angle"])[1]
+        d += ((m_la - s_la) / e_la) ** 2
+    return float(d)
+
+
+def _values(result):
+    return {p["name"]: p["value"] for p in result.parameters}
+
+
+def choose(table, samples, workdir, seed=7) -> dict:
+    """The swing errors and the contact's bat-speed trend whose draws lie nearest the
+    rows (:func:`distance`), the contact refitted at every node: bat-speed error x trend
+    on a grid, then (rows with attack angles) the attack angle's error, then bat-speed
+    error x trend again at it; the attack direction's error last, by the slope of the
+    spray angle on it. Returns ``{"errors", "trend", "trend_interval", "scan"}``."""
+    measured = measured_targets(table)
+    has_attack = np.isfinite(_column(table, "attack_angle")).sum() > 10
+    scan = []
+
+    def node(ea, eb, tr):
+        errors = {"attack_angle": ea, "bat_speed": eb}
+        result = fit(table, errors, tr)
+        data = study_definition(_values(result), errors, tr)
+        d = distance(table, simulate(data, table, samples, seed, workdir), measured)
+        scan.append({"attack_angle": ea, "bat_speed": eb, "trend": tr, "distance": d,
+                     "chi2": result.chi2, "dof": result.dof})
+        print(f"  errors aa {ea:g} deg, bat {eb:g} mph, trend {tr:+g} in/10 mph: distance "
+              f"{d:.2f}; chi2 of the contact fit {result.chi2:.1f}/{result.dof}", flush=True)
+        return d
+
+    def grid(ea):
+        best = min((node(ea, eb, tr), eb, tr) for eb in ERROR_GRID["bat_speed"]
+                    for tr in TREND_GRID)
+        return best[1], best[2]
+
+    ea = 0.0
+    eb, tr = grid(ea)
+    if has_attack:
+        ea = min((node(a, eb, tr), a) for a in ERROR_GRID["attack_angle"])[1]
+        eb, tr = grid(ea)
+    errors = {"attack_angle": ea, "bat_speed": eb}
+    if has_attack:
+        errors["attack_direction"] = _choose_direction(table, errors, tr, samples, seed,
+                                                       workdir)
+    last = [s for s in scan if s["attack_angle"] == ea]
+    return {"errors": errors, "trend": tr, "trend_interval": _interval(last), "scan": scan}
+
+
+def _interval(scan):
+    """The trends whose distance (the smallest over the bat-speed errors) lies within 1 of
+    the least: ``(low, high)`` in in/10 mph, linearly interpolated between nodes (an end of
+    the grid when the rise stays under 1 there)."""
+    trends = sorted({s["trend"] for s in scan})
+    prof = np.array([min(s["distance"] for s in scan if s["trend"] == t) for t in trends])
+    i = int(np.argmin(prof))
+    level = prof[i] + 1.0
+
+    def walk(step):
+        j = i
+        while 0 <= j + step < len(trends):
+            if prof[j + step] > level:
+                t0, t1, d0, d1 = trends[j], trends[j + step], prof[j], prof[j + step]
+                return t0 + (level - d0) / (d1 - d0) * (t1 - t0)
+            j += step
+        return trends[j]
+
+    return walk(-1), walk(+1)
+
+
+def _choose_direction(table, errors, trend, samples, seed, workdir):
+    """The attack direction's error whose simulated spray slope lies nearest the rows'."""
+    target = spray_slope(table)
+    result = fit(table, errors, trend)
     best = None
-    has_attack = "attack_angle" in table and table["attack_angle"].notna().any()
-    grid_aa = ERROR_GRID["attack_angle"] if has_attack else (0.0,)
-    for ea in grid_aa:
-        for eb in ERROR_GRID["bat_speed"]:
-            errors = {"attack_angle": ea, "bat_speed": eb}
-            result = fit(table, errors)
-            values = {p["name"]: p["value"] for p in result.parameters}
-            data = study_definition(values, errors)
-            row, ls, la = simulate(data, table, samples, 7, workdir)
-            m_ls, m_la = slopes(table["bat_speed"].to_numpy(float)[row], ls,
-                                table["attack_angle"].to_numpy(float)[row]
-                                if has_attack else np.full(row.size, np.nan), la)
-            d = ((m_ls - s_ls) / e_ls) ** 2 + (((m_la - s_la) / e_la) ** 2
-                                               if has_attack else 0.0)
-            print(f"  errors aa {ea:.0f} deg, bat {eb:.0f} mph: slopes {m_ls:.3f} "
-                  f"{m_la:.3f} (data {s_ls:.3f} +- {e_ls:.3f}, {s_la:.3f} +- {e_la:.3f}); "
-                  f"chi2 of the contact fit {result.chi2:.1f}/{result.dof}; distance {d:.2f}",
-                  flush=True)
-            if best is None or d < best[0]:
-                best = (d, errors)
+    for ed in DIRECTION_GRID:
+        data = study_definition(_values(result), {**errors, "attack_direction": ed}, trend)
+        sim = simulate(data, table, samples, seed, workdir)
+        slope = spray_slope(table, sim["row"], sim["spray_angle"])
+        print(f"  attack direction error {ed:g} deg: spray slope {slope:.3f} (data "
+              f"{target:.3f})", flush=True)
+        if best is None or abs(slope - target) < best[0]:
+            best = (abs(slope - target), ed)
     return best[1]
 
 
+def collision_efficiency(table, row, ls):
+    """Statcast's ``q`` of the rows (``row``: which row each launch speed ``ls`` belongs
+    to): ``(launch speed - bat speed)/(pitch speed + bat speed)`` with the row's measured
+    bat speed and plate speed, as the data's is computed."""
+    bat = table["bat_speed"].to_numpy(float)[row]
+    pitch = table["pitch_speed"].to_numpy(float)[row]
+    return (ls - bat) / (pitch + bat)
+
+
 def judge(data, table, samples, seed, workdir) -> dict:
-    """The acceptance numbers of the study ``data`` on ``table``'s rows."""
+    """The acceptance numbers of the study ``data`` on ``table``'s rows, and what the
+    figures draw."""
+    return evaluate(table, simulate(data, table, samples, seed, workdir))
+
+
+def evaluate(table, sim) -> dict:
+    """The acceptance numbers of draws ``sim`` (:func:`simulate`) of ``table``'s rows."""
     from scipy import stats
 
-    row, ls, la = simulate(data, table, samples, seed, workdir)
+    row, ls, la = sim["row"], sim["launch_speed"], sim["launch_angle"]
     out = {"rows": len(table)}
     m_ls, m_la = table["launch_speed"].to_numpy(float), table["launch_angle"].to_numpy(float)
     out["ks_launch_speed"] = float(stats.ks_2samp(ls, m_ls).statistic)
     out["ks_launch_angle"] = float(stats.ks_2samp(la, m_la).statistic)
-    for name, sim, meas in (("launch_speed", ls, m_ls), ("launch_angle", la, m_la)):
+    order = np.argsort(row, kind="stable")
+    cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
+    for name, draws_all, meas in (("launch_speed", ls, m_ls), ("launch_angle", la, m_la)):
         above = below = used = 0
-        order = np.argsort(row, kind="stable")
-        cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
         for r in range(len(table)):
-            draws = sim[order[cuts[r]:cuts[r + 1]]]
+            draws = draws_all[order[cuts[r]:cuts[r + 1]]]
             if draws.size < 20:
                 continue
             lo, hi = np.quantile(draws, [0.1, 0.9])
@@ -206,18 +402,12 @@ def judge(data, table, samples, seed, workdir) -> dict:
             below += meas[r] < lo
         out[f"{name}_above_p90"] = above / used
         out[f"{name}_below_p10"] = below / used
-    bat = table["bat_speed"].to_numpy(float)
-    bins = []
-    for lo, hi in zip(BINS[:-1], BINS[1:]):
-        rows = (bat >= lo) & (bat < hi)
-        sims = (bat[row] >= lo) & (bat[row] < hi)
-        bins.append({"bin": f"{lo:.0f}-{hi:.0f}" if hi < 200 else f"{lo:.0f}+",
-                     "rows": int(rows.sum()),
-                     "measured": float(m_ls[rows].mean()) if rows.any() else float("nan"),
-                     "model": float(ls[sims].mean()) if sims.any() else float("nan")})
-    out["bat_speed_bins"] = bins
-    attack = (table["attack_angle"].to_numpy(float) if "attack_angle" in table
-              else np.full(len(table), np.nan))
+    model_bins = bin_means(table, row, ls)
+    out["bat_speed_bins"] = [
+        {"bin": f"{lo:.0f}-{hi:.0f}" if hi < 200 else f"{lo:.0f}+", "rows": b[0],
+         "measured": b[1], "se": b[2], "model": m[1]}
+        for lo, hi, b, m in zip(BINS[:-1], BINS[1:], bin_means(table), model_bins)]
+    attack = _column(table, "attack_angle")
     out["attack_bins"] = []
     if np.isfinite(attack).sum() > 10:
         for lo in range(-15, 35, 5):
@@ -226,11 +416,28 @@ def judge(data, table, samples, seed, workdir) -> dict:
             if rows.sum() >= 10:
                 out["attack_bins"].append({"bin": lo + 2.5, "rows": int(rows.sum()),
                                            "measured": float(m_la[rows].mean()),
+                                           "se": float(m_la[rows].std()
+                                                       / np.sqrt(rows.sum())),
                                            "model": float(la[sims].mean())})
+    bat = table["bat_speed"].to_numpy(float)
     out["slopes_model"] = slopes(bat[row], ls, attack[row], la)
     out["slopes_data"] = slopes(bat, m_ls, attack, m_la)
+    out["spray_slope_model"] = spray_slope(table, row, sim["spray_angle"])
+    out["spray_slope_data"] = spray_slope(table)
     out["above_50_model"] = float(np.mean(la > 50.0))
     out["above_50_data"] = float(np.mean(m_la > 50.0))
+    q_data = collision_efficiency(table, np.arange(len(table)), m_ls)
+    q_model = collision_efficiency(table, row, ls)
+    out["q"] = {"data": q_data, "model": q_model,
+                "p90_by_bin": [
+                    (float(np.quantile(q_data[(bat >= lo) & (bat < hi)], 0.9))
+                     if np.sum((bat >= lo) & (bat < hi)) >= 10 else float("nan"),
+                     float(np.quantile(q_model[(bat[row] >= lo) & (bat[row] < hi)], 0.9))
+                     if np.any((bat[row] >= lo) & (bat[row] < hi)) else float("nan"))
+                    for lo, hi in zip(BINS[:-1], BINS[1:])]}
+    out["spin"] = {"launch_angle": la, "spray_angle": sim["spray_angle"],
+                   "backspin": sim["backspin"],
+                   "handedness": table["handedness"].to_numpy()[row]}
     return out
 
 
@@ -259,11 +466,13 @@ def report(label, r) -> list[str]:
              f"{r['launch_angle_below_p10']:.1%}",
              f"  slopes model {r['slopes_model'][0]:.2f} mph/mph, {r['slopes_model'][1]:.2f} "
              f"deg/deg; data {r['slopes_data'][0]:.2f}, {r['slopes_data'][1]:.2f}",
+             f"  spray on attack direction: model {r['spray_slope_model']:.2f}, data "
+             f"{r['spray_slope_data']:.2f}",
              f"  launch angle > 50 deg: model {r['above_50_model']:.1%}, data "
              f"{r['above_50_data']:.1%}"]
     for b in r["bat_speed_bins"]:
         lines.append(f"  bat speed {b['bin']:>6} mph: {b['rows']:4d} rows, measured "
-                     f"{b['measured']:6.1f}, model {b['model']:6.1f} mph")
+                     f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph")
     lines += ["  " + v for v in verdict(r)]
     return lines
 
@@ -271,22 +480,56 @@ def report(label, r) -> list[str]:
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m validation bat_tracking",
                                      description=__doc__.splitlines()[0])
-    parser.add_argument("--fit", required=True, help="comma-separated files to fit")
-    parser.add_argument("--judge", required=True, help="comma-separated files to judge")
+    parser.add_argument("--fit", required=True, help="comma-separated files to fit "
+                        "(name, name#k/n for the k-th of n parts of its games, or a path)")
+    parser.add_argument("--judge", default="", help="comma-separated files to judge")
     parser.add_argument("--samples", type=int, default=100000)
     parser.add_argument("--seed", type=int, default=2025)
-    parser.add_argument("--figure", help="write the figure of bin means to this PNG")
-    parser.add_argument("--errors", help="attack_angle,bat_speed error sds (deg,mph): skip "
-                                         "the scan")
+    parser.add_argument("--figure", help="write the figures to this PNG (and its _spin.png)")
+    parser.add_argument("--errors", help="attack_angle,bat_speed[,attack_direction] error "
+                                         "sds (deg,mph,deg): skip the scan")
+    parser.add_argument("--trend", type=float, help="the contact's bat-speed trend (in per "
+                                                    "10 mph; with --errors)")
+    parser.add_argument("--json", help="write the fitted values and acceptance numbers here")
+    parser.add_argument("--cross", help="a file whose games are cut into --folds parts, "
+                        "each judged by a fit to --fit and the other parts")
+    parser.add_argument("--folds", type=int, default=2)
     args = parser.parse_args(argv)
     errors = None
     if args.errors:
-        ea, eb = (float(x) for x in args.errors.split(","))
-        errors = {"attack_angle": ea, "bat_speed": eb}
-    outcome = run(args.fit.split(","), args.judge.split(","), args.samples, args.seed, errors)
+        parts = [float(x) for x in args.errors.split(",")]
+        errors = dict(zip(("attack_angle", "bat_speed", "attack_direction"), parts))
+    outcome = run(args.fit.split(","), [j for j in args.judge.split(",") if j], args.samples,
+                  args.seed, errors, args.trend, args.cross, args.folds)
     if args.figure:
         figure(outcome, args.figure)
+    if args.json:
+        Path(args.json).write_text(json.dumps(summary(outcome), indent=1))
     return 0
+
+
+def summary(outcome) -> dict:
+    """The JSON-ready part of :func:`run`'s outcome (no draws)."""
+    skip = ("q", "spin")
+    return {"errors": outcome["errors"], "trend": outcome["trend"],
+            "trend_interval": outcome.get("trend_interval"),
+            "values": outcome["values"], "fit": outcome["fit"].to_dict(),
+            "fit_files": outcome["fit_files"], "folds": outcome.get("folds"),
+            "results": [{"label": label, "file": name,
+                         **{k: v for k, v in r.items() if k not in skip}}
+                        for (label, name), r in outcome["results"].items()]}
+
+
+def _shown(outcome, label):
+    """The results a figure's row draws: in sample, the first fold's fit files; out of
+    sample, the cross-fitted file and the other judged files of the first fold (or the
+    judged files without folds)."""
+    keep = {"in sample": ("in sample", "in sample (fold 1)"),
+            "out of sample": ("out of sample", "out of sample (fold 1)")}[label]
+    items = [(k, r) for k, r in outcome["results"].items() if k[0] in keep]
+    if label == "out of sample" and any(k[0] == "out of sample" for k, _ in items):
+        items = [(k, r) for k, r in items if k[0] == "out of sample" or "#" not in k[1]]
+    return items
 
 
 def _centre(label) -> float:
@@ -296,69 +539,133 @@ def _centre(label) -> float:
 
 
 def figure(outcome, path):
-    """Mean launch speed per bat-speed bin and mean launch angle per attack-angle bin, data
-    and model, in sample (left) and out of sample (right)."""
+    """Per row (in sample, out of sample): the mean launch speed per bat-speed bin, the
+    mean launch angle per attack-angle bin, the distribution of ``q`` and its 90th
+    percentile per bat-speed bin, data (points) and model (lines). Beside it
+    (``<path>_spin.png``): the model's backspin against launch angle with Nathan's."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8), sharey="row")
-    for col, label in enumerate(("in sample", "out of sample")):
-        for (lab, name), r in outcome["results"].items():
-            if lab != label:
-                continue
+    fig, axes = plt.subplots(2, 4, figsize=(18, 8.5))
+    for line_no, label in enumerate(("in sample", "out of sample")):
+        ax = axes[line_no]
+        for (_, name), r in _shown(outcome, label):
             b = [x for x in r["bat_speed_bins"] if x["rows"] >= 10]
             centres = [_centre(x["bin"]) for x in b]
-            line = axes[0, col].errorbar(centres, [x["measured"] for x in b], fmt="o",
-                                         label=f"{name} (data)")
-            axes[0, col].plot(centres, [x["model"] for x in b], "-",
-                              color=line[0].get_color(), label=f"{name} (model)")
+            line = ax[0].errorbar(centres, [x["measured"] for x in b],
+                                  yerr=[x["se"] for x in b], fmt="o", capsize=2,
+                                  label=f"{name} (data)")
+            colour = line[0].get_color()
+            ax[0].plot(centres, [x["model"] for x in b], "-", color=colour,
+                       label=f"{name} (model)")
             if r["attack_bins"]:
                 a = r["attack_bins"]
-                line = axes[1, col].plot([x["bin"] for x in a], [x["measured"] for x in a],
-                                         "o", label=f"{name} (data)")
-                axes[1, col].plot([x["bin"] for x in a], [x["model"] for x in a], "-",
-                                  color=line[0].get_color(), label=f"{name} (model)")
-        axes[0, col].set_title(label)
-        axes[0, col].set_xlabel("measured bat speed (mph; bins of 5, < 65 and 80+ at the ends)")
-        axes[1, col].set_xlabel("measured attack angle (deg; bins of 5)")
-        for ax in axes[:, col]:
-            ax.legend(fontsize=7)
-            ax.grid(alpha=0.3)
-    axes[0, 0].set_ylabel("mean launch speed (mph)")
-    axes[1, 0].set_ylabel("mean launch angle (deg)")
+                ax[1].errorbar([x["bin"] for x in a], [x["measured"] for x in a],
+                               yerr=[x["se"] for x in a], fmt="o", capsize=2, color=colour,
+                               label=f"{name} (data)")
+                ax[1].plot([x["bin"] for x in a], [x["model"] for x in a], "-",
+                           color=colour, label=f"{name} (model)")
+            edges = np.linspace(-0.3, 0.4, 36)
+            ax[2].hist(r["q"]["data"], edges, density=True, histtype="step", color=colour,
+                       lw=1.5, label=f"{name} (data)")
+            ax[2].hist(r["q"]["model"], edges, density=True, histtype="step", color=colour,
+                       ls="--", label=f"{name} (model)")
+            p90 = np.array(r["q"]["p90_by_bin"])
+            centres_all = [_centre(x["bin"]) for x in r["bat_speed_bins"]]
+            ax[3].plot(centres_all, p90[:, 0], "o", color=colour, label=f"{name} (data)")
+            ax[3].plot(centres_all, p90[:, 1], "-", color=colour, label=f"{name} (model)")
+        ax[0].set_title(f"{label}: launch speed vs bat speed")
+        ax[0].set_xlabel("measured bat speed (mph; bins of 5, < 65 and 80+ at the ends)")
+        ax[0].set_ylabel("mean launch speed (mph)")
+        ax[1].set_title(f"{label}: launch angle vs attack angle")
+        ax[1].set_xlabel("measured attack angle (deg; bins of 5)")
+        ax[1].set_ylabel("mean launch angle (deg)")
+        ax[2].set_title(f"{label}: q = (EV - bat speed)/(pitch + bat speed)")
+        ax[2].set_xlabel("q (measured bat and plate speed of the row)")
+        ax[2].set_ylabel("density")
+        ax[3].set_title(f"{label}: upper edge of q (90th percentile)")
+        ax[3].set_xlabel("measured bat speed (mph)")
+        ax[3].set_ylabel("q, 90th percentile per bin")
+        for a in ax:
+            a.legend(fontsize=6)
+            a.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    _spin_figure(outcome, str(path).replace(".png", "_spin.png"))
+
+
+def _spin_figure(outcome, path):
+    """The model's backspin per launch-angle bin (median, 10-90 %) of every judged file,
+    with Nathan's average model evaluated at the same draws."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mcbat.statcast.spin import nathan_average_spin
+
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)
+    for ax, label in zip(axes, ("in sample", "out of sample")):
+        for (_, name), r in _shown(outcome, label):
+            s = r["spin"]
+            edges = np.arange(-30, 71, 5)
+            mid = 0.5 * (edges[1:] + edges[:-1])
+            idx = np.digitize(s["launch_angle"], edges) - 1
+            q = np.array([np.quantile(s["backspin"][idx == i], [0.1, 0.5, 0.9])
+                          if np.sum(idx == i) > 50 else [np.nan] * 3
+                          for i in range(len(mid))])
+            nathan, _ = nathan_average_spin(s["launch_angle"], s["spray_angle"],
+                                            s["handedness"])
+            nq = np.array([np.median(nathan[idx == i]) if np.sum(idx == i) > 50 else np.nan
+                           for i in range(len(mid))])
+            line = ax.plot(mid, q[:, 1], "-", label=f"{name}: model, median")
+            ax.fill_between(mid, q[:, 0], q[:, 2], color=line[0].get_color(), alpha=0.15,
+                            label=f"{name}: model, 10-90 %")
+            ax.plot(mid, nq, "--", color=line[0].get_color(),
+                    label=f"{name}: Nathan's average model")
+        ax.set_title(f"{label}: backspin of the drawn balls")
+        ax.set_xlabel("launch angle (deg)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("backspin (rpm)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
-def run(fit_files, judge_files, samples=100000, seed=2025, errors=None) -> dict:
-    """Fit on ``fit_files``, judge on both; prints the report and returns
-    ``{"errors", "values", "fit", "results": {(label, file): judge(...)}}``."""
+def fit_and_choose(fit_files, samples, workdir, errors=None, trend=None) -> dict:
+    """The swing errors, the contact's trend (scanned unless given) and the contact fitted
+    at them on ``fit_files``; prints them."""
     table = tracked(fit_files)
-    with tempfile.TemporaryDirectory() as workdir:
-        if errors is None:
-            print(f"scanning the swing errors on {', '.join(fit_files)} ({len(table)} rows)")
-            errors = choose_errors(table, min(samples, 40000), workdir)
-        result = fit(table, errors)
-        values = {p["name"]: p["value"] for p in result.parameters}
-        print(f"fit on {', '.join(fit_files)} ({result.rows} rows): chi2 {result.chi2:.1f}/"
-              f"{result.dof}; swing errors: attack angle {errors['attack_angle']:g} deg, bat "
-              f"speed {errors['bat_speed']:g} mph")
-        for p in result.parameters:
-            print(f"  {p['name']} = {p['value']:.2f} -{p['lower_error']:.2f} "
-                  f"+{p['upper_error']:.2f} {p['unit']}")
-        data = study_definition(values, errors)
-        results = {}
-        for label, names in (("in sample", fit_files), ("out of sample", judge_files)):
-            for name in names:
-                results[(label, name)] = judge(data, tracked([name]), samples, seed,
-                                               workdir)
+    interval = None
+    if errors is None:
+        print(f"scanning the swing errors and the contact's bat-speed trend on "
+              f"{', '.join(fit_files)} ({len(table)} rows)")
+        chosen = choose(table, min(samples, 40000), workdir)
+        errors, trend, interval = chosen["errors"], chosen["trend"], chosen["trend_interval"]
+    trend = 0.0 if trend is None else trend
+    result = fit(table, {k: v for k, v in errors.items() if k != "attack_direction"}, trend)
+    shown = ", ".join(f"{k} {v:g}" for k, v in errors.items())
+    print(f"fit on {', '.join(fit_files)} ({result.rows} rows): chi2 {result.chi2:.1f}/"
+          f"{result.dof}; swing errors: {shown} (deg, mph); contact trend {trend:+g} in "
+          f"per 10 mph above {TREND_REFERENCE:g} mph"
+          + (f" (distance within 1: {interval[0]:+.2f} to {interval[1]:+.2f})"
+             if interval else ""))
+    for p in result.parameters:
+        print(f"  {p['name']} = {p['value']:.2f} -{p['lower_error']:.2f} "
+              f"+{p['upper_error']:.2f} {p['unit']}")
+    return {"errors": errors, "trend": trend, "trend_interval": interval,
+            "values": _values(result), "fit": result, "fit_files": list(fit_files)}
+
+
+def _print(results):
     blocks = [report(f"{label}: {name}", r) for (label, name), r in results.items()]
     width = max(len(line) for block in blocks for line in block) + 2
-    ins = [b for (label, _), b in zip(results, blocks) if label == "in sample"]
-    outs = [b for (label, _), b in zip(results, blocks) if label != "in sample"]
+    ins = [b for (label, _), b in zip(results, blocks) if label.startswith("in sample")]
+    outs = [b for (label, _), b in zip(results, blocks) if not label.startswith("in sample")]
     for k in range(max(len(ins), len(outs))):
         left = ins[k] if k < len(ins) else []
         right = outs[k] if k < len(outs) else []
@@ -367,8 +674,93 @@ def run(fit_files, judge_files, samples=100000, seed=2025, errors=None) -> dict:
             b = right[i] if i < len(right) else ""
             print(f"{a:<{width}}{b}")
         print()
-    return {"errors": errors, "values": values, "fit": result, "results": results}
+
+
+def run(fit_files, judge_files, samples=100000, seed=2025, errors=None, trend=None,
+        cross=None, folds=2) -> dict:
+    """Fit on ``fit_files``, judge on both; prints the report and returns
+    ``{"errors", "trend", "values", "fit", "results": {(label, file): judge(...)}}``.
+
+    With ``cross`` (a file name), the file's games are cut into ``folds`` parts
+    (:func:`split_name`); each part is judged by a fit to ``fit_files`` and the other
+    parts, and the parts' draws are pooled into one cross-fitted judgement of the whole
+    file (every row judged by a fit that never saw its game; draws in proportion to the
+    rows). The returned values are the first fold's."""
+    results = {}
+    with tempfile.TemporaryDirectory() as workdir:
+        if cross is None:
+            chosen = fit_and_choose(fit_files, samples, workdir, errors, trend)
+            data = study_definition(chosen["values"], chosen["errors"], chosen["trend"])
+            for label, names in (("in sample", fit_files), ("out of sample", judge_files)):
+                for name in names:
+                    results[(label, name)] = judge(data, tracked([name]), samples, seed,
+                                                   workdir)
+            _print(results)
+            return {**chosen, "results": results}
+        parts = [f"{cross}#{k}/{folds}" for k in range(1, folds + 1)]
+        whole = tracked([cross])
+        pooled, tables, offset, first, each = [], [], 0, None, []
+        for k, part in enumerate(parts, 1):
+            files = [*fit_files, *(q for q in parts if q != part)]
+            chosen = fit_and_choose(files, samples, workdir, errors, trend)
+            each.append({key: chosen[key] for key in ("errors", "trend", "trend_interval",
+                                                      "values", "fit_files")}
+                        | {"chi2": chosen["fit"].chi2, "dof": chosen["fit"].dof,
+                           "parameters": chosen["fit"].parameters})
+            first = first or chosen
+            data = study_definition(chosen["values"], chosen["errors"], chosen["trend"])
+            if k == 1:
+                for name in files:
+                    results[("in sample (fold 1)", name)] = judge(
+                        data, tracked([name]), samples, seed, workdir)
+            for name in judge_files:
+                results[(f"out of sample (fold {k})", name)] = judge(
+                    data, tracked([name]), samples, seed, workdir)
+            table = tracked([part])
+            sim = simulate(data, table, max(1000, round(samples * len(table) / len(whole))),
+                           seed + k, workdir)
+            results[(f"out of sample (fold {k})", part)] = evaluate(table, sim)
+            sim["row"] = sim["row"] + offset
+            offset += len(table)
+            pooled.append(sim)
+            tables.append(table)
+        table = pd.concat(tables, ignore_index=True)
+        sim = {key: np.concatenate([p[key] for p in pooled]) for key in pooled[0]}
+        results[("out of sample", f"{cross} (cross-fitted, {folds} folds)")] = evaluate(
+            table, sim)
+    _print(results)
+    return {**first, "results": results, "folds": each}
 
 
 if __name__ == "__main__":
     main()
+
+
+EXCERPT_SOURCE = "statcast_2025-05-01.csv#2/2"
+"""The games of ``data/statcast_2025-05-01_bat_tracking.csv``: the part of the day the
+shipped study's contact was not fitted to."""
+
+
+def write_excerpt(path, source=EXCERPT_SOURCE):
+    """Write the tracked balls in play (a ``bb_type`` and a ``bat_speed``) of ``source``'s
+    games (``file#k/n``: :func:`split_name`) to ``path``: the Savant columns
+    :mod:`mcbat.statcast` reads, in the export's order, each cell as it is in the export
+    (Python's ``csv`` module). Returns the number of rows written."""
+    import csv
+
+    base, k, n = split_name(source)
+    with open(resolve(base), newline="", encoding="utf-8") as handle:
+        reader = csv.reader(handle)
+        header = next(reader)
+        keep = [i for i, c in enumerate(header) if c in (*sc.REQUIRED, *sc.OPTIONAL)]
+        at = {c: i for i, c in enumerate(header)}
+        rows = list(reader)
+    games = sorted({int(r[at["game_pk"]]) for r in rows if r[at["game_pk"]]})
+    part = {g: i % n + 1 for i, g in enumerate(games)} if k else None
+    out = [r for r in rows if r[at["bb_type"]] and r[at["bat_speed"]]
+           and (part is None or part.get(int(r[at["game_pk"]])) == k)]
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle, lineterminator="\n")
+        writer.writerow([header[i] for i in keep])
+        writer.writerows([r[i] for i in keep] for r in out)
+    return len(out)
