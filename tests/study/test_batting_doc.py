@@ -74,6 +74,7 @@ def test_the_tables_outside_the_generated_blocks_are_the_typed_ones():
     lines = outside.splitlines()
     headers = [line for i, line in enumerate(lines) if line.startswith("| ")
                and i + 1 < len(lines) and lines[i + 1].startswith("|---")]
-    assert headers == ["| key | unit in files | default | meaning |",
+    assert headers == ["| key | unit in files | a bare number in a JSON case (range) | default "
+                       "| meaning |",
                        "| `location` | file | shape | used by |",
                        "| change | backspin / Nathan per bin | slope (rpm/°) |"]
