@@ -162,7 +162,7 @@ class Files:
             column = rng.choice([c for c in (*NUMERIC, *IDENTIFIERS) if c in header]
                                 if rng.random() < 0.85 else header)
             j = header.index(column)
-            for row in rng.sample(body, rng.choice([1, 1, 2, len(body)])):
+            for row in rng.sample(body, min(len(body), rng.choice([1, 1, 2, len(body)]))):
                 if j < len(row):
                     row[j] = rng.choice(NUMBERS)
         elif what < 0.55:  # a column dropped

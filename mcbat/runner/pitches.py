@@ -233,9 +233,12 @@ def _check_identifier(values, name, where, lines, unit) -> None:
                         & (values == np.round(values)))
     if bad.any():
         first = int(np.flatnonzero(bad)[0])
+        value = values[first]
+        shown = f"{int(value)}" if value == np.round(value) and abs(value) < 1e21 else \
+            f"{value:.17g}"
         raise InputError("pitches.file", f"{where}: {unit} {int(lines[first])}: column "
-                         f"{name} holds {values[first]:.17g}, not an identifier (a whole "
-                         f"number from 0 to 2**53)")
+                         f"{name} holds {shown}, not an identifier (a whole number from 0 "
+                         "to 2**53)")
 
 
 def _repeated(frame) -> np.ndarray:
