@@ -23,7 +23,7 @@ from mcbat.core import status as st
 from mcbat.dataset import chunks, storage
 from mcbat.dataset.lock import dataset_lock
 from mcbat.dataset.streaming import streamed_percentiles
-from mcbat.dataset.summary import SUMMARY, SummaryState, write_summary
+from mcbat.dataset.summary import SUMMARY, SummaryState, shares, write_summary
 from mcbat.errors import InputError
 from mcbat.runner.compiling import announce_compiling, kernels_for
 from mcbat.runner.engines.dask import DaskEngine
@@ -75,7 +75,8 @@ class RunSummary:
     removed : list of str
         Stray chunk files (beyond the dataset's last chunk) the run removed.
     summary : dict or None
-        With ``[summary]``: ``{"path", "bins", "outside", "summary_only"}``.
+        With ``[summary]``: ``{"path", "bins", "outside", "summary_only",
+        "share_above"}`` (the last: ``mcbat.dataset.summary.shares``, over every bin).
     pitches : dict or None
         With ``[pitches]``: the file and its rows selected, left out (reason -> count) and
         drawn from (the ``pitches`` entry of the study's config).
@@ -114,6 +115,8 @@ class RunSummary:
         if self.summary is not None:
             out.append(f"summary: {self.summary['path']} ({self.summary['bins']:,} bins; "
                        f"{self.summary['outside']:,} rows outside every bin)")
+            for share in self.summary.get("share_above", ()):
+                out.append(_share_line(share))
         if self.pitches is not None:
             p = self.pitches
             left = "".join(f", {n:,} {reason}" for reason, n in p["excluded"].items())
@@ -139,6 +142,16 @@ class RunSummary:
 
     def __repr__(self) -> str:
         return f"RunSummary({'; '.join(self.lines())})"
+
+
+def _share_line(share: dict) -> str:
+    """``share above: hit_distance > 380 ft: 12.31 +- 0.52 % (1,234 of 10,021 values...)``."""
+    unit = f" {share['unit']}" if share.get("unit") else ""
+    head = f"share above: {share['column']} > {share['above']:g}{unit}: "
+    if share["share"] is None:
+        return head + "no values in the bins"
+    return (head + f"{100 * share['share']:.2f} +- {100 * share['error']:.2f} % "
+            f"({share['count']:,} of {share['n']:,} values in the bins)")
 
 
 def make_engine(engine="local", threads=None, scheduler=None, workers=None):
@@ -258,7 +271,8 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
                      if todo else {})
     summary = None if state is None else {
         "path": storage.join(display, SUMMARY), "bins": job.summary.n_bins,
-        "outside": int(state.total.outside[0]), "summary_only": job.summary_only}
+        "outside": int(state.total.outside[0]), "summary_only": job.summary_only,
+        "share_above": shares(job.summary, state)}
     return RunSummary(display, samples, job.chunks, len(todo), job.chunks - len(todo),
                       seconds, status_counts, runner.note(summaries) if todo else None,
                       batted, redone, stray, summary,

@@ -20,9 +20,12 @@ writing time, measured on ``studies/throughput.toml``); integer columns always u
     by = { from_barrel_end = { bins = 40, low = 0, high = 40, unit = "cm" } }
     columns = ["exit_speed", "scattering_angle"]
     quantiles = [0.05, 0.5, 0.95]
+    share_above = { exit_speed = [30, 40] }   # the share of rows with exit_speed > 30 m/s...
 
 ``by`` names up to three columns of the dataset, each with a regular grid of ``bins`` over
-``[low, high)`` in ``unit`` (default: the column's own unit). Column names are checked
+``[low, high)`` in ``unit`` (default: the column's own unit). ``share_above`` gives, for
+columns among ``columns``, one threshold or a list of them in the column's stored unit:
+each bin gets the share of the column's values strictly above it. Column names are checked
 against the dataset's schema by the runner (:mod:`mcbat.runner.plan`), which knows it.
 """
 
@@ -34,14 +37,17 @@ from mcbat.checks import check_keys, integer, number
 from mcbat.errors import InputError
 from mcbat.study import units as u
 
-__all__ = ["COMPRESSIONS", "MAX_BY", "MAX_SUMMARY_BINS", "PRECISIONS", "OutputSpec",
-           "SummaryAxis", "SummarySpec", "parse_columns", "parse_output", "parse_summary"]
+__all__ = ["COMPRESSIONS", "MAX_BY", "MAX_SHARES", "MAX_SUMMARY_BINS", "PRECISIONS",
+           "OutputSpec", "SummaryAxis", "SummarySpec", "parse_columns", "parse_output",
+           "parse_summary"]
 
 PRECISIONS = ("float64", "float32")
 COMPRESSIONS = ("none", "lz4", "zstd", "snappy")
 #: At most this many ``by`` columns, and bins in all (their product).
 MAX_BY = 3
 MAX_SUMMARY_BINS = 100_000
+#: At most this many ``share_above`` thresholds in all.
+MAX_SHARES = 64
 
 
 @dataclass(frozen=True)
@@ -84,12 +90,15 @@ class SummaryAxis:
 
 @dataclass(frozen=True)
 class SummarySpec:
-    """The ``[summary]`` section: the ``by`` axes, the summarised ``columns`` and the
-    ``quantiles`` (probabilities in (0, 1))."""
+    """The ``[summary]`` section: the ``by`` axes, the summarised ``columns``, the
+    ``quantiles`` (probabilities in (0, 1)) and the ``share_above`` thresholds (pairs
+    ``(column, threshold)``, the threshold in the column's stored unit, in the order given).
+    """
 
     by: tuple
     columns: tuple
     quantiles: tuple = ()
+    share_above: tuple = ()
 
     @property
     def n_bins(self) -> int:
@@ -101,8 +110,11 @@ class SummarySpec:
 
     def config(self) -> dict:
         """JSON-serialisable form."""
-        return {"by": [axis.config() for axis in self.by], "columns": list(self.columns),
-                "quantiles": list(self.quantiles)}
+        config = {"by": [axis.config() for axis in self.by], "columns": list(self.columns),
+                  "quantiles": list(self.quantiles)}
+        if self.share_above:  # (only when given: the config hash of other studies stays)
+            config["share_above"] = [[name, t] for name, t in self.share_above]
+        return config
 
 
 def parse_columns(value, field) -> tuple:
@@ -181,7 +193,7 @@ def parse_summary(table, column_units=None) -> SummarySpec:
         ``{column: stored unit}`` of the dataset: names are checked against it and the
         ``by`` bounds converted to the stored units. Without it only the form is checked.
     """
-    table = check_keys(table, "summary", ("by", "columns"), ("quantiles",))
+    table = check_keys(table, "summary", ("by", "columns"), ("quantiles", "share_above"))
     by = table["by"]
     if not isinstance(by, dict):
         raise InputError("summary.by", f"must be a table of columns, like "
@@ -214,8 +226,35 @@ def parse_summary(table, column_units=None) -> SummarySpec:
         if not 0.0 < q < 1.0:
             raise InputError(f"summary.quantiles[{i}]", f"must be in (0, 1), got {q!r}")
         probs.append(q)
-    spec = SummarySpec(tuple(axes), columns, tuple(sorted(set(probs))))
+    shares = _share_above(table.get("share_above", {}), columns)
+    spec = SummarySpec(tuple(axes), columns, tuple(sorted(set(probs))), shares)
     if spec.n_bins > MAX_SUMMARY_BINS:
         raise InputError("summary.by", f"{spec.n_bins:,} bins in all; at most "
                          f"{MAX_SUMMARY_BINS:,}")
     return spec
+
+
+def _share_above(table, columns) -> tuple:
+    """``share_above``: ``{column = threshold}`` or ``{column = [thresholds]}``, each column
+    one of ``columns``; pairs ``(column, threshold)``, each pair once."""
+    if not isinstance(table, dict):
+        raise InputError("summary.share_above", f"must be a table of columns and thresholds, "
+                         f"like {{ hit_distance = 380 }}, got {table!r}")
+    pairs = []
+    for name, values in table.items():
+        field = f"summary.share_above.{name}"
+        if name not in columns:
+            raise InputError(field, "must be one of summary.columns (its count of values is "
+                             "the share's denominator)")
+        if not isinstance(values, list):
+            values = [values]
+        if not values:
+            raise InputError(field, "must be a threshold or a non-empty list of them")
+        for i, value in enumerate(values):
+            value = number(value, field if len(values) == 1 else f"{field}[{i}]")
+            if (name, value) not in pairs:
+                pairs.append((name, value))
+    if len(pairs) > MAX_SHARES:
+        raise InputError("summary.share_above", f"{len(pairs)} thresholds; at most "
+                         f"{MAX_SHARES}")
+    return tuple(pairs)

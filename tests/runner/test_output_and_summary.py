@@ -24,6 +24,7 @@ SUMMARY = """
 by = { from_barrel_end = { bins = 14, low = 0, high = 70, unit = "cm" } }
 columns = ["exit_speed", "scattering_angle", "friction_work"]
 quantiles = [0.05, 0.5, 0.95]
+share_above = { exit_speed = [2.5, 4.0], scattering_angle = -20 }
 """
 SUMMARY_2D = """
 [summary]
@@ -96,6 +97,43 @@ def test_summary_equals_pandas_on_the_full_rows(full_run):
                     (name, b, q, got, exact)
     assert table.attrs["units"]["exit_speed_mean"] == "m/s"
     assert table.attrs["units"]["from_barrel_end_low"] == "cm"
+
+
+def test_share_above_equals_pandas_and_is_in_the_closing_report(full_run):
+    study, out, run = full_run
+    rows = mcbat.load(out)
+    table = mcbat.load_summary(out)
+    spec = study.summary_spec({"from_barrel_end": "m", "exit_speed": "m/s",
+                               "scattering_angle": "deg", "friction_work": "J"})
+    assert spec.share_above == (("exit_speed", 2.5), ("exit_speed", 4.0),
+                                ("scattering_angle", -20.0))
+    groups, _ = _pandas_summary(rows, spec)
+    for name, threshold, label in (("exit_speed", 2.5, "exit_speed_above_2.5"),
+                                   ("exit_speed", 4.0, "exit_speed_above_4"),
+                                   ("scattering_angle", -20.0,
+                                    "scattering_angle_above_-20")):
+        shares = []
+        for b in range(14):
+            col = groups.get_group(b)[name].dropna()
+            above = int((col > threshold).sum())
+            assert table[f"{label}_count"][b] == above
+            p = above / len(col)
+            shares.append(p)
+            assert table[label][b] == pytest.approx(p, rel=1e-15)
+            assert table[f"{label}_err"][b] == pytest.approx(
+                np.sqrt(p * (1 - p) / len(col)), rel=1e-12)
+        assert any(0 < p < 1 for p in shares)  # the threshold splits the bins
+        assert table.attrs["units"][label] == "1"
+        inside = pd.concat([groups.get_group(b)[name].dropna() for b in range(14)])
+        overall, = [s for s in table.attrs["share_above"]
+                    if (s["column"], s["above"]) == (name, threshold)]
+        assert overall["n"] == len(inside) and overall["count"] == (inside > threshold).sum()
+        assert overall["share"] == pytest.approx((inside > threshold).mean(), rel=1e-15)
+        assert overall in run.summary["share_above"]
+    lines = "\n".join(run.lines())
+    share = run.summary["share_above"][0]
+    assert (f"share above: exit_speed > 2.5 m/s: {100 * share['share']:.2f} +- "
+            f"{100 * share['error']:.2f} %") in lines
 
 
 def test_summary_is_identical_whatever_threads_chunks_engine_mode(full_run, tmp_path):
@@ -237,6 +275,14 @@ def test_columns_override_and_from_barrel_end(tmp_path, cli):
      "summary.by.from_barrel_end.high: must be > low"),
     (SUMMARY.replace("bins = 14", "bins = 100000"), (),
      "summary.by: 100,000 bins x 3 columns with quantiles need"),
+    (SUMMARY.replace("scattering_angle = -20", "spin = 10"), (),
+     "summary.share_above.spin: must be one of summary.columns"),
+    (SUMMARY.replace("[2.5, 4.0]", "[2.5, \"fast\"]"), (),
+     "summary.share_above.exit_speed[1]: must be a number"),
+    (SUMMARY.replace("[2.5, 4.0]", "[]"), (),
+     "summary.share_above.exit_speed: must be a threshold or a non-empty list"),
+    (SUMMARY.replace("share_above = {", "share_above = 3 #"), (),
+     "summary.share_above: must be a table of columns and thresholds"),
 ])
 def test_bad_output_and_summary_sections_exit_2(tmp_path, cli, extra, args, words):
     path = tmp_path / "bad.toml"
@@ -253,5 +299,9 @@ def test_the_summary_section_is_part_of_the_config(tmp_path):
     a = _study(tmp_path, SUMMARY, "a.toml")
     b = _study(tmp_path, SUMMARY.replace("bins = 14", "bins = 7"), "b.toml")
     assert a.config_hash() != b.config_hash() != load_study(THROUGHPUT).config_hash()
+    c = _study(tmp_path, SUMMARY.replace("4.0]", "4.5]"), "c.toml")
+    assert c.config_hash() != a.config_hash()
+    no_share = SUMMARY.replace("share_above", "# share_above")
+    assert "share_above" not in _study(tmp_path, no_share, "d.toml").config()["summary"]
     assert Study.from_dict(a.definition()).config() == a.config()
     assert ds.MANIFEST == "_mcbat.json"
