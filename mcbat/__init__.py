@@ -17,7 +17,7 @@ The front door (``import mcbat`` stays light: everything loads on first use)::
     mcbat.check(out)               a dataset directory checked against its manifest
 
 The case and result types (``mcbat.ImpactCase``, ``mcbat.GameResult``...,
-``mcbat.SolverSettings``) are those of :mod:`mcbat.api`. Units: an impact is SI; a game
+``mcbat.SolverSettings``) are those of ``mcbat.api``. Units: an impact is SI; a game
 case is SI, its batted ball in Statcast's mph, deg and rpm; a flight case is SI, its
 distances in ft (and m). Every JSON answer (``result.to_dict()``) carries a ``units`` block.
 
@@ -80,7 +80,7 @@ def solve(case, *, settings=None):
     Returns
     -------
     ImpactResult, GameResult or FlightResult
-        For an :class:`ImpactCase`, a :class:`GameCase`, a :class:`FlightCase` (or the
+        For an ``ImpactCase``, a ``GameCase``, a ``FlightCase`` (or the
         JSON of one). ``result.to_dict()`` is the JSON answer, with its ``units``.
 
     Raises
@@ -168,7 +168,7 @@ def run(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
         overwrite=False, progress=True, engine="local", scheduler=None, workers=None,
         summary_only=False, tolerance=None, columns=None):
     """Run a study into a dataset directory (resuming if possible); returns a
-    :class:`~mcbat.runner.study_run.RunSummary`.
+    ``mcbat.runner.study_run.RunSummary``.
 
     Parameters
     ----------
@@ -216,7 +216,7 @@ def run(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
 
 def solve_frame(frame, *, steps=8, tolerance=5e-9, max_steps=20_000, threads=None):
     """A DataFrame of inputs -> a DataFrame of results, in memory, with the parallel
-    kernel: see :func:`mcbat.runner.frame.solve_frame` (the same defaults: the kernel's;
+    kernel: see ``mcbat.runner.frame.solve_frame`` (the same defaults: the kernel's;
     ``tolerance`` finite with ``0 < tolerance < 1``)."""
     from mcbat.runner.frame import solve_frame as _solve_frame
 
@@ -225,7 +225,7 @@ def solve_frame(frame, *, steps=8, tolerance=5e-9, max_steps=20_000, threads=Non
 
 
 def load(directory, *, columns=None, labels=False, allow_partial=False):
-    """A dataset directory as a pandas DataFrame: see :func:`mcbat.dataset.load`."""
+    """A dataset directory as a pandas DataFrame: see ``mcbat.dataset.load``."""
     from mcbat.dataset import load as _load
 
     return _load(directory, columns=columns, labels=labels, allow_partial=allow_partial)
@@ -233,7 +233,7 @@ def load(directory, *, columns=None, labels=False, allow_partial=False):
 
 def load_summary(directory):
     """The binned statistics of a run with a ``[summary]`` section, one row per bin: see
-    :func:`mcbat.dataset.summary.load_summary`."""
+    ``mcbat.dataset.summary.load_summary``."""
     from mcbat.dataset.summary import load_summary as _load_summary
 
     return _load_summary(directory)
@@ -241,15 +241,15 @@ def load_summary(directory):
 
 def check(directory, *, checksums=True):
     """Check a dataset directory against its manifest (with ``checksums``, every byte's
-    CRC-32): see :func:`mcbat.dataset.check.check_dataset`."""
+    CRC-32): see ``mcbat.dataset.check.check_dataset``."""
     from mcbat.dataset.check import check_dataset
 
     return check_dataset(directory, checksums=checksums)
 
 
 def load_study(path):
-    """A TOML study file -> a validated study: see :func:`mcbat.study.load_study`. A game
-    study's ``[pitches]`` file is read too (:func:`mcbat.runner.pitches.load_pitches`), so
+    """A TOML study file -> a validated study: see ``mcbat.study.load_study``. A game
+    study's ``[pitches]`` file is read too (``mcbat.runner.pitches.load_pitches``), so
     the study samples at once."""
     from mcbat.study import load_study as _load_study
 

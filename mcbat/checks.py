@@ -1,19 +1,19 @@
-"""Input checks: a value the user gave, validated, or an :class:`~mcbat.errors.InputError`
+"""Input checks: a value the user gave, validated, or an ``mcbat.errors.InputError``
 that names the field and shows the offending value on one line.
 
 Two families, because the two kinds of input differ:
 
-* **Study-file values** (TOML: :func:`number`, :func:`integer`, :func:`check_keys`,
-  :func:`check_string`, :func:`check_tolerance`): only what ``tomllib`` returns is
+* **Study-file values** (TOML: ``number``, ``integer``, ``check_keys``,
+  ``check_string``, ``check_tolerance``): only what ``tomllib`` returns is
   accepted (``int``, ``float``, ``str``, ``dict``), and errors name the dotted key
   (``solver.steps``) and the value's TOML type.
-* **Python arguments** (:func:`check_real`, :func:`check_vector`, :func:`check_count`,
-  :func:`positive_int`, :func:`int_from_text`): numpy scalars are accepted too, and errors
+* **Python arguments** (``check_real``, ``check_vector``, ``check_count``,
+  ``positive_int``, ``int_from_text``): numpy scalars are accepted too, and errors
   name the parameter.
 
 Every layer that reads input (studies, bodies, the runner, the fits, the command line) uses
 these, so one kind of mistake gets one wording. The module imports nothing of mcbat but
-:mod:`mcbat.errors` (``pyproject.toml`` holds it to that).
+``mcbat.errors`` (``pyproject.toml`` holds it to that).
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def short_repr(value) -> str:
 
 
 def number(value, field) -> float:
-    """A finite float from a TOML number, or :class:`InputError` on ``field``."""
+    """A finite float from a TOML number, or ``InputError`` on ``field``."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(field, f"must be a number, got {type_name(value)} "
                          f"{short_repr(value)}")
@@ -108,8 +108,8 @@ def check_string(value, field) -> str:
 
 def check_tolerance(value, field) -> float:
     """The kernel's ``tolerance`` (the local error allowed per slip step, relative to the
-    impact's scales; :data:`~mcbat.core.cabo2012.contact.DEFAULT_TOLERANCE`) as a finite float
-    with ``0 < tolerance < 1``, or :class:`InputError` naming ``field``."""
+    impact's scales; ``mcbat.core.cabo2012.contact.DEFAULT_TOLERANCE``) as a finite float
+    with ``0 < tolerance < 1``, or ``InputError`` naming ``field``."""
     tolerance = number(value, field)
     if not 0.0 < tolerance < 1.0:
         raise InputError(field, f"must be > 0 and < 1, got {tolerance!r}")
@@ -121,19 +121,19 @@ def check_tolerance(value, field) -> float:
 
 def check_count(value, name, minimum=0) -> int:
     """``value`` (an int or numpy integer, not a bool) ``>= minimum`` as an int, or
-    :class:`InputError` naming ``name``."""
+    ``InputError`` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise InputError(name, f"must be an integer >= {minimum}, got {value!r}")
     return int(value)
 
 
 def positive_int(value, name: str) -> int:
-    """``value`` as an int, or :class:`InputError` naming ``name`` unless it is >= 1."""
+    """``value`` as an int, or ``InputError`` naming ``name`` unless it is >= 1."""
     return check_count(value, name, 1)
 
 
 def int_from_text(text: str, name: str) -> int:
-    """The integer written in ``text`` (a command-line value), or :class:`InputError`
+    """The integer written in ``text`` (a command-line value), or ``InputError``
     naming ``name`` (the flag)."""
     try:
         return int(text)

@@ -4,7 +4,7 @@ Library code names Python parameters (``out``, ``samples``) or study keys (``bal
 in ``field``. Other parameters a message mentions are data too, in ``mentions``: the message
 holds a ``{name}`` placeholder for each, written in call syntax by ``str(error)``
 (``overwrite=True``, ``scheduler=ADDRESS``) and as its flag by the command line
-(:mod:`mcbat.cli`: ``--overwrite``, ``--scheduler ADDRESS``).
+(``mcbat.cli``: ``--overwrite``, ``--scheduler ADDRESS``).
 """
 
 import math
@@ -30,7 +30,7 @@ class InputError(ValueError):
         Other parameters the message refers to, each with the value it would be given
         (``{"overwrite": True}``, ``{"scheduler": Metavar("ADDRESS")}``); the message
         marks where each goes with ``{name}``. ``message`` is the text in Python's call
-        syntax; :meth:`render_message` spells the mentions another way (as flags).
+        syntax; ``render_message`` spells the mentions another way (as flags).
 
     Attributes
     ----------
@@ -87,7 +87,7 @@ class Metavar(str):
 
 def call_syntax(name, value) -> str:
     """A parameter as a Python call would give it: ``overwrite=True``, ``engine='dask'``,
-    ``scheduler=ADDRESS`` (a :class:`Metavar`)."""
+    ``scheduler=ADDRESS`` (a ``Metavar``)."""
     return f"{name}={value!r}"
 
 
@@ -113,7 +113,7 @@ def _one_line(text: str) -> str:
 # beside the error they raise, because mcbat.checks builds on this module: defining them
 # there and re-exporting them here would make the two modules import each other.
 def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
-    """``value`` as a finite float, or :class:`InputError` naming ``name``.
+    """``value`` as a finite float, or ``InputError`` naming ``name``.
 
     Parameters
     ----------
@@ -145,7 +145,7 @@ def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> fl
 
 
 def check_vector(value, name) -> tuple[float, float, float]:
-    """``value`` as a tuple of 3 finite floats, or :class:`InputError` naming ``name``."""
+    """``value`` as a tuple of 3 finite floats, or ``InputError`` naming ``name``."""
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
         raise InputError(name, f"must be a list of 3 numbers [x, y, z], got {value!r}")
     return tuple(check_real(v, f"{name}[{i}]") for i, v in enumerate(value))

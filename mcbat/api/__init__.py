@@ -3,25 +3,25 @@ read the result (or its JSON answer, with units).
 
 One job per module:
 
-:mod:`mcbat.api.contract`  the JSON of ``mcbat impact`` and ``mcbat flight``: the
+``mcbat.api.contract``  the JSON of ``mcbat impact`` and ``mcbat flight``: the
                            answers (a result -> JSON with a ``units`` block), the units,
                            the readers of shared parts (numbers with units, balls, bats)
-:mod:`mcbat.api.impact`    one impact in the bat frame (SI): :class:`ImpactCase`,
-                           :func:`solve` -> :class:`ImpactResult`; :class:`SolverSettings`
-:mod:`mcbat.api.game`      one pitch and swing in the field frame (SI in; the batted ball
-                           in mph, deg, rpm out): :class:`GameCase`, :func:`solve_game`
-                           -> :class:`GameResult`
-:mod:`mcbat.api.flight`    one batted ball's flight (SI in; ft and m out):
-                           :class:`FlightCase` (:meth:`FlightCase.from_result` for a game's
-                           ball), :func:`solve_flight` -> :class:`FlightResult`
-:mod:`mcbat.api.pitch`     a pitch's speed at the plate from its release speed (the
-                           JSON's ``pitch.release_speed``): :func:`~mcbat.api.pitch.plate_speed`
+``mcbat.api.impact``    one impact in the bat frame (SI): ``ImpactCase``,
+                           ``solve`` -> ``ImpactResult``; ``SolverSettings``
+``mcbat.api.game``      one pitch and swing in the field frame (SI in; the batted ball
+                           in mph, deg, rpm out): ``GameCase``, ``solve_game``
+                           -> ``GameResult``
+``mcbat.api.flight``    one batted ball's flight (SI in; ft and m out):
+                           ``FlightCase`` (``FlightCase.from_result`` for a game's
+                           ball), ``solve_flight`` -> ``FlightResult``
+``mcbat.api.pitch``     a pitch's speed at the plate from its release speed (the
+                           JSON's ``pitch.release_speed``): ``mcbat.api.pitch.plate_speed``
 
 Each case type reads its own JSON (``impact_case_from_dict``, ``game_case_from_dict``,
 ``flight_case_from_dict``; a game's or flight's bare numbers in the field's units, mph,
-deg, rpm, ft: :data:`mcbat.api.contract.FIELD_KEYS`); :func:`case_from_dict` and
-:func:`any_case_from_dict` pick one.
-:func:`mcbat.solve` takes any of the three cases, a JSON object or a JSON file.
+deg, rpm, ft: ``mcbat.api.contract.FIELD_KEYS``); ``case_from_dict`` and
+``any_case_from_dict`` pick one.
+``mcbat.solve`` takes any of the three cases, a JSON object or a JSON file.
 
 Example
 -------
@@ -73,7 +73,7 @@ __all__ = ["MAX_AZIMUTH", "MAX_TRAJECTORY_POINTS", "Ball", "Bat", "Contact", "Fl
 # a broken solver) reaches every caller of solve_any, the command line among them.
 def solve_any(case, settings: SolverSettings = SolverSettings(), *,  # noqa: B008 (frozen)
               json_keys=False):
-    """:func:`solve` for an :class:`ImpactCase`, :func:`solve_game` for a :class:`GameCase`
+    """``solve`` for an ``ImpactCase``, ``solve_game`` for a ``GameCase``
     (with ``json_keys``, a game's errors name the JSON keys, ``pitch.speed``)."""
     if isinstance(case, GameCase):
         try:
@@ -86,15 +86,15 @@ def solve_any(case, settings: SolverSettings = SolverSettings(), *,  # noqa: B00
 
 
 def case_from_dict(data):
-    """A :class:`GameCase` for a JSON case of ``mcbat impact`` with ``pitch``/``swing`` keys,
-    else an :class:`ImpactCase`."""
+    """A ``GameCase`` for a JSON case of ``mcbat impact`` with ``pitch``/``swing`` keys,
+    else an ``ImpactCase``."""
     return game_case_from_dict(data) if is_game(data) else impact_case_from_dict(data)
 
 
 def any_case_from_dict(data):
     """The case of any JSON object ``mcbat impact`` or ``mcbat flight`` reads: a
-    :class:`FlightCase` for one with ``launch_speed`` (a game's answer among them), else
-    :func:`case_from_dict`."""
+    ``FlightCase`` for one with ``launch_speed`` (a game's answer among them), else
+    ``case_from_dict``."""
     if isinstance(data, dict) and not is_game(data) and ("launch_speed" in data
                                                          or "bat_frame" in data):
         return flight_case_from_dict(data)

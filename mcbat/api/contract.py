@@ -1,20 +1,20 @@
 """The JSON contract of ``mcbat impact`` and ``mcbat flight``, shared by the case types:
 the units of every answer, the answers themselves (a result -> a JSON-ready dict whose
 ``units`` block names the unit of every quantity), the unit of a bare number in each key
-(:data:`FIELD_KEYS`, :func:`field_value`), and the readers of the parts the JSON cases
+(``FIELD_KEYS``, ``field_value``), and the readers of the parts the JSON cases
 share (``{"value": ..., "unit": ...}`` numbers, balls, bats, key checks).
 
 **Bare numbers.** In the keys of a game case and a flight case that the field measures
-(:data:`FIELD_KEYS`: speeds, angles, spins, distances on the field, the weather), a bare
+(``FIELD_KEYS``: speeds, angles, spins, distances on the field, the weather), a bare
 number is read in the field's unit, the one the JSON answers use: mph, deg, rpm, ft (and
 degF, inHg for the air); a bare number outside the key's plausible range in that unit is
 refused, naming the key, the unit and the range. Everywhere else (a bat-frame case, the
 bat, the ball, the contact point, the restitution) a bare number is SI. ``{"value": ...,
 "unit": ...}`` gives any value in any unit of its quantity.
 
-Each case type reads its own JSON with these (:func:`mcbat.api.impact.impact_case_from_dict`,
-:func:`mcbat.api.game.game_case_from_dict`, :func:`mcbat.api.flight.flight_case_from_dict`;
-:func:`mcbat.api.case_from_dict` picks one), and its result's ``to_dict()`` is the answer
+Each case type reads its own JSON with these (``mcbat.api.impact.impact_case_from_dict``,
+``mcbat.api.game.game_case_from_dict``, ``mcbat.api.flight.flight_case_from_dict``;
+``mcbat.api.case_from_dict`` picks one), and its result's ``to_dict()`` is the answer
 written here. This module imports none of them: the types build on the contract, never
 the other way round.
 
@@ -67,7 +67,7 @@ IMPACT_UNITS = {
     **{k: COLUMN_UNITS[k] for k in ("energy_in", "energy_out", "stick_criterion", "exit_speed",
                                     "scattering_angle", "impact_parameter", "rk4_steps")},
 }
-"""The unit of every quantity of an impact's answer (:func:`impact_result_to_dict`)."""
+"""The unit of every quantity of an impact's answer (``impact_result_to_dict``)."""
 
 IMPACT_CASE_UNITS = {
     "ball": {"mass": "kg", "radius": "m", "inertia_factor": "1"},
@@ -76,7 +76,7 @@ IMPACT_CASE_UNITS = {
     "contact": {"axial": "m", "angle": "rad"}, **_VECTORS, "mu": "1",
     "restitution": {"e": "1", "e_x": "1"},
 }
-"""The units of a bat-frame JSON case (:func:`impact_case_to_dict`): SI throughout."""
+"""The units of a bat-frame JSON case (``impact_case_to_dict``): SI throughout."""
 
 GAME_UNITS = {
     **{k: COLUMN_UNITS[k] for k in ("launch_speed", "launch_angle", "spray_angle",
@@ -88,7 +88,7 @@ GAME_UNITS = {
               "bat_spin_in": COLUMN_UNITS["field_bat_wx_in"]},
     "bat_frame_case": IMPACT_CASE_UNITS,
 }
-"""The unit of every quantity of a game's answer (:func:`game_result_to_dict`; its
+"""The unit of every quantity of a game's answer (``game_result_to_dict``; its
 ``bat_frame``, an impact's answer, carries its own ``units``)."""
 
 FLIGHT_UNITS = {
@@ -97,7 +97,7 @@ FLIGHT_UNITS = {
                                     "landing_y_m")},
     "flight_steps": "1",
 }
-"""The unit of every quantity of a flight's answer (:func:`flight_result_to_dict`)."""
+"""The unit of every quantity of a flight's answer (``flight_result_to_dict``)."""
 # (each answer gets its own copy of these tables: a caller may edit an answer)
 _TRAJECTORY_UNITS = {"t": "s", "x": "m", "y": "m", "z": "m"}
 
@@ -136,7 +136,7 @@ def game_result_to_dict(result) -> dict:
     """A game's answer (the output of ``mcbat impact`` for a game case): the batted ball
     in Statcast's units (mph, deg, rpm), the field-frame vectors (SI), the bat-frame case
     and its answer. ``mcbat flight`` reads it as it is
-    (:func:`mcbat.api.flight.flight_case_from_dict`)."""
+    (``mcbat.api.flight.flight_case_from_dict``)."""
     return {
         "status": result.impact.status, "end_state": result.impact.end_state,
         **result.batted_ball,
@@ -171,8 +171,8 @@ def flight_result_to_dict(result) -> dict:
 
 
 def impact_case_to_dict(case) -> dict:
-    """An :class:`ImpactCase` as a bat-frame JSON case of ``mcbat impact`` (SI units,
-    :data:`IMPACT_CASE_UNITS`)."""
+    """An ``ImpactCase`` as a bat-frame JSON case of ``mcbat impact`` (SI units,
+    ``IMPACT_CASE_UNITS``)."""
     bat = case.bat
     bat_d = ({"preset": bat.preset} if bat.profile is not None else
              {"mass": bat.mass, "radius": bat.radius,
@@ -216,7 +216,7 @@ FIELD_KEYS = {
     "atmosphere.elevation": ("ft", u.LENGTH, (-1500.0, 15000.0)),
 }
 """The unit a bare number is read in, key by key, in a game case and a flight case of
-``mcbat impact``, ``mcbat flight`` and :func:`mcbat.solve`: ``key -> (unit, quantity,
+``mcbat impact``, ``mcbat flight`` and ``mcbat.solve``: ``key -> (unit, quantity,
 (low, high) in that unit)``, the range a bare number must lie within (the field's
 values, with room: a number outside it was written in another unit). The units are the
 field's, those of the JSON answers (mph, deg, rpm, ft; degF and inHg for the air, as
@@ -234,7 +234,7 @@ def _is_number(value) -> bool:
 def field_spec(spec, key):
     """``spec`` with the unit of a bare number made explicit: a number (or a list of
     numbers, a vector) becomes ``{"value": ..., "unit": <the field's unit>}`` once it is
-    found within the key's plausible range (:data:`FIELD_KEYS`); anything else is
+    found within the key's plausible range (``FIELD_KEYS``); anything else is
     returned as it is, for its reader to check. The one place the rule is applied.
 
     Raises
@@ -258,8 +258,8 @@ def field_spec(spec, key):
 
 def field_value(spec, key, quantity=None):
     """A game or flight key's value in SI: a bare number in the field's unit
-    (:func:`field_spec`), or ``{"value": ..., "unit": ...}``. A key not in
-    :data:`FIELD_KEYS` (``quantity`` needed) reads a bare number in SI."""
+    (``field_spec``), or ``{"value": ..., "unit": ...}``. A key not in
+    ``FIELD_KEYS`` (``quantity`` needed) reads a bare number in SI."""
     if key in FIELD_KEYS:
         quantity = FIELD_KEYS[key][1]
     return fixed_value(field_spec(spec, key), key, quantity)
@@ -270,7 +270,7 @@ def field_value(spec, key, quantity=None):
 
 def check_object(data, name, allowed, required):
     """``data`` if it is a JSON object with only ``allowed`` keys and every ``required``
-    one, else :class:`InputError` naming ``name`` or the key."""
+    one, else ``InputError`` naming ``name`` or the key."""
     if not isinstance(data, dict):
         raise InputError(name, f"must be an object, got {type(data).__name__}")
     unknown = sorted(set(data) - set(allowed))
@@ -295,7 +295,7 @@ def located(prefix, builder, *args, **kwargs):
 
 def fixed_value(spec, field, quantity):
     """A number in SI, or ``{"value": ..., "unit": ...}`` converted to SI (a ``quantity`` of
-    :mod:`mcbat.study.units`)."""
+    ``mcbat.study.units``)."""
     return parse(spec, field, quantity, kinds=("fixed",)).value
 
 

@@ -1,10 +1,10 @@
 """One batted ball's flight to the landing point (``docs/flight.md``).
 
-:class:`FlightCase`, the Python class, takes plain numbers in SI units (m/s, rad, rad/s).
-A game's batted ball, :class:`~mcbat.api.GameResult`, is in Statcast's units (mph, deg,
-rpm): fly it with :meth:`FlightCase.from_result`, which converts them. The JSON of
-``mcbat flight`` (:func:`flight_case_from_dict`) reads a bare number in the field's unit
-(mph, deg, rpm, ft: :data:`mcbat.api.contract.FIELD_KEYS`), as the answers give them.
+``FlightCase``, the Python class, takes plain numbers in SI units (m/s, rad, rad/s).
+A game's batted ball, ``mcbat.api.GameResult``, is in Statcast's units (mph, deg,
+rpm): fly it with ``FlightCase.from_result``, which converts them. The JSON of
+``mcbat flight`` (``flight_case_from_dict``) reads a bare number in the field's unit
+(mph, deg, rpm, ft: ``mcbat.api.contract.FIELD_KEYS``), as the answers give them.
 
 Example
 -------
@@ -49,8 +49,8 @@ from mcbat.study.spec import parse_ball
 __all__ = ["MAX_TRAJECTORY_POINTS", "FlightCase", "FlightResult", "flight_case_from_dict",
            "solve_flight"]
 
-#: The launch numbers of a flight, as a :class:`~mcbat.api.GameResult` reports them (in
-#: the field's units, :data:`mcbat.api.contract.FIELD_KEYS`).
+#: The launch numbers of a flight, as a ``mcbat.api.GameResult`` reports them (in
+#: the field's units, ``mcbat.api.contract.FIELD_KEYS``).
 _LAUNCH_NAMES = ("launch_speed", "launch_angle", "spray_angle", "backspin", "sidespin",
                  "gyrospin")
 
@@ -66,8 +66,8 @@ def _angle(value, name, limit, shown):
 @dataclasses.dataclass(frozen=True)
 class FlightCase:
     """One batted ball to fly. **Plain numbers in SI units: m/s, rad, rad/s** -- not the
-    mph, deg and rpm of Statcast and of :class:`~mcbat.api.GameResult` (for a game's ball
-    use :meth:`from_result`, which converts them).
+    mph, deg and rpm of Statcast and of ``mcbat.api.GameResult`` (for a game's ball
+    use ``from_result``, which converts them).
 
     ========================================  ======  =====================================
     parameter                                 unit    meaning
@@ -82,8 +82,8 @@ class FlightCase:
     ========================================  ======  =====================================
 
     ``ball`` (default the ``baseball`` preset) and ``settings``
-    (:class:`mcbat.study.flight.FlightSettings`: atmosphere, model, launch point, wind,
-    scheme). A value out of its range raises :class:`~mcbat.errors.InputError` naming
+    (``mcbat.study.flight.FlightSettings``: atmosphere, model, launch point, wind,
+    scheme). A value out of its range raises ``mcbat.errors.InputError`` naming
     the parameter and the value received (an angle in degrees by mistake,
     ``launch_angle=27``, is refused: 27 rad lies beyond pi/2).
     """
@@ -124,7 +124,7 @@ class FlightCase:
         Parameters
         ----------
         result : GameResult
-            A solved game (:func:`mcbat.api.solve_game`, :func:`mcbat.solve`).
+            A solved game (``mcbat.api.solve_game``, ``mcbat.solve``).
         settings : FlightSettings, optional
             Atmosphere, model, launch point... (default: the calculator's standard
             conditions).
@@ -179,7 +179,7 @@ class FlightResult:
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (the output of ``mcbat flight``), with a ``units`` block:
-        see :func:`mcbat.api.contract.flight_result_to_dict`."""
+        see ``mcbat.api.contract.flight_result_to_dict``."""
         return flight_result_to_dict(self)
 
 _LAUNCH_KEYS = {"launch_speed": (u.SPEED, None), "launch_angle": (u.ANGLE, None),
@@ -214,10 +214,10 @@ def _launch_units(data, game_answer) -> dict:
 
 
 def flight_case_from_dict(data) -> FlightCase:
-    """A :class:`FlightCase` from a ``mcbat flight`` JSON object: bare numbers in the
+    """A ``FlightCase`` from a ``mcbat flight`` JSON object: bare numbers in the
     field's units (``launch_speed`` mph, angles deg, spins rpm, ``position`` and
     ``landing_height`` ft, ``wind`` mph, ``atmosphere`` degF, inHg, ft:
-    :data:`mcbat.api.contract.FIELD_KEYS`; the other keys SI), or in the units a ``units``
+    ``mcbat.api.contract.FIELD_KEYS``; the other keys SI), or in the units a ``units``
     block names for the launch numbers (``{"launch_speed": "m/s", ...}``), or values as
     ``{"value": ..., "unit": ...}``.
 
@@ -277,7 +277,7 @@ def flight_case_from_dict(data) -> FlightCase:
 
 def _settings_in_field_units(data) -> dict:
     """The flight keys of a case, their bare numbers given the field's units
-    (:func:`mcbat.api.contract.field_spec`), for :func:`mcbat.study.flight.parse_flight`
+    (``mcbat.api.contract.field_spec``), for ``mcbat.study.flight.parse_flight``
     (which reads bare numbers in SI, as a study's ``[flight]`` section)."""
     out = {k: field_spec(v, k) for k, v in data.items() if k in FLIGHT_KEYS}
     if isinstance(out.get("atmosphere"), dict):

@@ -1,8 +1,8 @@
 """One game situation: a pitch, a swing and a contact in the field frame -> the batted ball.
 
-:class:`GameCase` takes plain numbers in SI units (m/s, rad, rad/s, m); its result,
-:class:`GameResult`, reports the batted ball as Statcast does (mph, deg, rpm). The flight of
-that ball: :meth:`mcbat.api.FlightCase.from_result` converts them (``docs/flight.md``).
+``GameCase`` takes plain numbers in SI units (m/s, rad, rad/s, m); its result,
+``GameResult``, reports the batted ball as Statcast does (mph, deg, rpm). The flight of
+that ball: ``mcbat.api.FlightCase.from_result`` converts them (``docs/flight.md``).
 
 Example
 -------
@@ -74,7 +74,7 @@ GAME_JSON_KEYS = {  # Python parameter -> (JSON section, key)
     "vertical_bat_angle": ("swing", "vertical_bat_angle"), "pivot": ("swing", "pivot"),
     "from_barrel_end": ("contact", "from_barrel_end"), "undercut": ("contact", "undercut"),
 }
-"""Where each parameter of :class:`GameCase` sits in the JSON contract of ``mcbat impact``
+"""Where each parameter of ``GameCase`` sits in the JSON contract of ``mcbat impact``
 (``pitch_speed`` is ``pitch.speed``): errors of a JSON case name the JSON key."""
 _RIGHT_ANGLE = math.pi / 2
 
@@ -120,8 +120,8 @@ class GameCase:
 
     The field frame: ``x`` to first base, ``y`` to the pitcher, ``z`` up. ``handedness``
     "R" or "L" (mirror image in ``x``). ``restitution`` gives ``e*`` and ``e_x``
-    (:class:`mcbat.bodies.restitution.Restitution`; default the game preset). A value out of its
-    range raises :class:`~mcbat.errors.InputError` naming the parameter and the value
+    (``mcbat.bodies.restitution.Restitution``; default the game preset). A value out of its
+    range raises ``mcbat.errors.InputError`` naming the parameter and the value
     received (an angle in degrees by mistake, ``attack_angle=10``, is refused: 10 rad lies
     beyond pi/2).
     """
@@ -204,7 +204,7 @@ class GameCase:
         return self.bat.surface_at(float(self.bat.clip_axial(self.axial)))
 
     def kernel_inputs(self) -> np.ndarray:
-        """The case as one column of :data:`mcbat.core.swing.GAME_INPUT_FIELDS`."""
+        """The case as one column of ``mcbat.core.swing.GAME_INPUT_FIELDS``."""
         radius, slope = self.contact_surface()
         rest = self.restitution
         row = {name: getattr(self, name) for name in GAME_JSON_KEYS}
@@ -233,7 +233,7 @@ class GameCase:
     def from_dict(cls, data) -> GameCase:
         """Build a game case from the JSON contract of ``mcbat impact`` (``docs/batting.md``;
         there ``{value, unit}`` tables give other units): see
-        :func:`game_case_from_dict`."""
+        ``game_case_from_dict``."""
         return game_case_from_dict(data)
 
 
@@ -249,14 +249,14 @@ _PITCH_COLUMNS = ("speed", "vertical_approach_angle", "horizontal_approach_angle
 @dataclass(frozen=True)
 class GameResult:
     """A solved game case: the batted ball in the field's conventions, the field-frame
-    velocities and spins, and the bat-frame impact (``impact``, an :class:`ImpactResult`
+    velocities and spins, and the bat-frame impact (``impact``, an ``ImpactResult``
     whose ``case`` re-solves in the bat frame alone).
 
     **Mixed units, as Statcast gives them**: ``launch_speed`` in mph, ``launch_angle`` and
     ``spray_angle`` in deg, ``spin_rate``, ``backspin``, ``sidespin``, ``gyrospin`` in rpm
-    (:attr:`batted_ball`); the field-frame vectors (``ball_velocity``, ``ball_spin``...)
-    in m/s and rad/s. To fly the ball, :meth:`mcbat.api.FlightCase.from_result` converts
-    them (a :class:`~mcbat.api.FlightCase` takes SI).
+    (``batted_ball``); the field-frame vectors (``ball_velocity``, ``ball_spin``...)
+    in m/s and rad/s. To fly the ball, ``mcbat.api.FlightCase.from_result`` converts
+    them (a ``mcbat.api.FlightCase`` takes SI).
     """
 
     case: GameCase
@@ -286,7 +286,7 @@ class GameResult:
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (the output of ``mcbat impact`` for a game case), with a
-        ``units`` block: see :func:`mcbat.api.contract.game_result_to_dict`. ``mcbat flight``
+        ``units`` block: see ``mcbat.api.contract.game_result_to_dict``. ``mcbat flight``
         reads it as it is (``docs/flight.md``)."""
         return game_result_to_dict(self)
 
@@ -357,13 +357,13 @@ def game_case_from_dict(data) -> GameCase:
     """A game case of ``mcbat impact`` (``docs/batting.md``): numbers as
     ``{"value": ..., "unit": ...}``, or bare numbers in the field's units where the field
     measures the key (``pitch.speed`` mph, angles deg, ``pitch.spin_rate`` rpm:
-    :data:`mcbat.api.contract.FIELD_KEYS`) and in SI elsewhere (the bat, the contact,
+    ``mcbat.api.contract.FIELD_KEYS``) and in SI elsewhere (the bat, the contact,
     ``swing.pivot``, the restitution); errors name the JSON keys (``pitch.speed``).
 
     The pitch's speed is ``pitch.speed``, at the front of the plate, or
     ``pitch.release_speed`` (with ``pitch.extension``, default 6.3 ft), at release, as
     Statcast gives it: converted to the plate by the pitch's flight
-    (:func:`mcbat.api.pitch.plate_speed`).
+    (``mcbat.api.pitch.plate_speed``).
     """
     allowed = {"handedness", "ball", "bat", "pitch", "swing", "contact", "mu", "restitution"}
     check_object(data, "", allowed, ("bat", "pitch", "swing", "mu"))

@@ -123,8 +123,8 @@ class SolverSettings:
     ``tolerance`` is the local error allowed per slip step, relative to ``|v0|`` in the slip
     velocity and to ``I_scale`` in the impulse (default 5e-9; ``solve_contact``); it must
     be finite with ``0 < tolerance < 1``: the one rule of a study's ``[solver] tolerance``,
-    ``mcbat impact --tolerance`` and :func:`mcbat.solve_frame`
-    (:func:`mcbat.checks.check_tolerance`); :class:`~mcbat.errors.InputError` names
+    ``mcbat impact --tolerance`` and ``mcbat.solve_frame``
+    (``mcbat.checks.check_tolerance``); ``mcbat.errors.InputError`` names
     ``tolerance`` otherwise.
 
     >>> SolverSettings(tolerance=1e-10).tolerance
@@ -149,7 +149,7 @@ class ImpactCase:
     """One impact: bodies, contact point, initial velocities (lab frame), friction, e*.
 
     ``e`` is Stronge's energetic coefficient ``e*`` in [0, 1]; the paper's loss fraction
-    ``e^2`` corresponds to ``e* = sqrt(1 - e^2)`` (:meth:`e_from_loss_fraction`). ``e_x``
+    ``e^2`` corresponds to ``e* = sqrt(1 - e^2)`` (``e_from_loss_fraction``). ``e_x``
     is the tangential restitution in [0, 1] of Cross & Nathan (2006): 0, the default, is
     the rigid model (see ``mcbat/core/cross_nathan2006/README.md``).
     """
@@ -204,7 +204,7 @@ class ImpactCase:
                                                  radius, slope, approach_azimuth))
 
     def check_solver_ranges(self) -> None:
-        """Raise :class:`InputError` naming the first input outside the range the solver
+        """Raise ``InputError`` naming the first input outside the range the solver
         works in (``docs/physics.md``, "Valid inputs"): beyond it energies and impulses
         under- or overflow, and the kernel could only answer ``invalid_input``."""
         radius, _ = self.contact_surface()
@@ -239,7 +239,7 @@ class ImpactCase:
                                  f"[{', '.join(f'{x:.6g}' for x in vector)}]")
 
     def validate_approach(self) -> None:
-        """Raise :class:`InputError` unless the contact points approach (``v_n < 0``)."""
+        """Raise ``InputError`` unless the contact points approach (``v_n < 0``)."""
         vn = self.normal_approach_speed()
         if not vn < 0.0:
             raise InputError("ball_velocity",
@@ -249,7 +249,7 @@ class ImpactCase:
     @classmethod
     def from_dict(cls, data) -> ImpactCase:
         """Build a case from the JSON contract of ``mcbat impact`` (docs/impact.md): see
-        :func:`impact_case_from_dict`."""
+        ``impact_case_from_dict``."""
         return impact_case_from_dict(data)
 
 
@@ -309,7 +309,7 @@ class ImpactResult:
     def to_dict(self) -> dict:
         """JSON-ready dictionary (the output contract of ``mcbat impact``), with a ``units``
         block naming the unit of every quantity: see
-        :func:`mcbat.api.contract.impact_result_to_dict`."""
+        ``mcbat.api.contract.impact_result_to_dict``."""
         return impact_result_to_dict(self)
 
 

@@ -1,12 +1,12 @@
 """A pitch's speed at the plate from its release speed: the pitch flown from the release
 point to the front of home plate with Nathan's drag (the flight kernel of
-:mod:`mcbat.core.flight`, the one batted balls fly with).
+``mcbat.core.flight``, the one batted balls fly with).
 
 An analyst's "94 mph fastball" is a release speed: Statcast's ``release_speed``, measured
 where the ball leaves the hand, ``extension`` ft in front of the rubber (``60.5 -
 extension`` ft from the back tip of the plate). A game case's ``pitch.speed`` is the speed
 at the front of the plate (17/12 ft from the back tip), where the bat meets the ball; the
-air takes about 8 % of it away on the way. :func:`plate_speed` converts one to the other;
+air takes about 8 % of it away on the way. ``plate_speed`` converts one to the other;
 a game case's ``pitch.release_speed`` (``docs/batting.md``) uses it.
 
 The flight: from the release point, ``release_height`` above the ground, straight towards
@@ -101,7 +101,7 @@ def plate_speed(release_speed, extension=DEFAULT_EXTENSION, spin_rate=0.0, *,
         The speed at release, m/s (Statcast's ``release_speed`` is in mph: times 0.44704).
     extension : float
         The release point's distance in front of the rubber, m (default 6.3 ft,
-        :data:`DEFAULT_EXTENSION`).
+        ``DEFAULT_EXTENSION``).
     spin_rate : float
         The pitch's spin, rad/s (default 0).
     spin_axis, spin_efficiency, gyro_sign : float

@@ -1,6 +1,6 @@
 """The bodies: the ball, the bat (a cylinder at the contact, or a tapered profile), the
 profiles and their tables, and the presets. One body model serves the single-impact API
-(:mod:`mcbat.api`) and the studies (:mod:`mcbat.study`)."""
+(``mcbat.api``) and the studies (``mcbat.study``)."""
 
 from mcbat.bodies.ball import Ball
 from mcbat.bodies.bat import Bat

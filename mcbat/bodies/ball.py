@@ -22,7 +22,7 @@ class Ball:
     inertia_factor : float
         ``f`` in ``I = f m R^2`` (0.4 for a uniform solid sphere).
     preset : str, optional
-        The preset it came from (:data:`mcbat.bodies.presets.BALL_PRESETS`), for the
+        The preset it came from (``mcbat.bodies.presets.BALL_PRESETS``), for the
         record; not compared.
     """
 

@@ -26,7 +26,7 @@ class Bat:
 
     Lab frame (``docs/physics.md``): the CM at the origin, ``z`` along the axis towards
     the barrel end. Exactly one of ``radius`` (a cylinder at the contact, slope 0) and
-    ``profile`` (a tapered :class:`mcbat.bodies.profile.BatProfile`) is set.
+    ``profile`` (a tapered ``mcbat.bodies.profile.BatProfile``) is set.
 
     Parameters
     ----------
@@ -104,7 +104,7 @@ class Bat:
 
     def surface_at(self, axial: float) -> tuple[float, float]:
         """Radius (m) and slope ``dr/dz`` at one axial position (m from the CM), which
-        must lie on the bat (:class:`InputError` naming ``axial`` otherwise)."""
+        must lie on the bat (``InputError`` naming ``axial`` otherwise)."""
         if self.profile is None:
             return float(self.radius), 0.0
         lo, hi = self.profile.knob_end, self.profile.barrel_end
@@ -170,7 +170,7 @@ class Bat:
         return max(float(np.max(depth)), 0.0)
 
     def check_no_overlap(self, ball_radius, axial_low, axial_high, name="axial"):
-        """:class:`InputError` naming ``name`` if a ball touching anywhere in
+        """``InputError`` naming ``name`` if a ball touching anywhere in
         ``[axial_low, axial_high]`` (1 mm grid and the profile's nodes) would reach more
         than ``OVERLAP_TOLERANCE`` into the bat elsewhere (a tapered profile's flare)."""
         if self.profile is None:

@@ -13,7 +13,7 @@ Bats
     0.989 kg, ``I_t = 0.046``, ``I_3 = 4.39e-4`` kg m^2, length 0.84 m, CM 0.265 m from the
     barrel end, and a cylinder of radius 0.03335 m at the contact (wherever it is).
 
-    ``"r161"``: the Louisville Slugger R161 wood profile (:func:`mcbat.bodies.tables.r161_profile`,
+    ``"r161"``: the Louisville Slugger R161 wood profile (``mcbat.bodies.tables.r161_profile``,
     uniform density 649 kg/m^3): tapered, so the radius and slope at the contact come from
     the profile, and so do the mass properties.
 """
@@ -60,5 +60,5 @@ def ball_preset(name) -> Ball:
 
 
 def bat_preset(name) -> Bat:
-    """A new :class:`~mcbat.bodies.bat.Bat` for the bat preset ``name`` (KeyError if unknown)."""
+    """A new ``mcbat.bodies.bat.Bat`` for the bat preset ``name`` (KeyError if unknown)."""
     return _BAT_FACTORIES[name]()

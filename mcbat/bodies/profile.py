@@ -1,20 +1,20 @@
 """Bat profiles: solids of revolution r(z) and their uniform-density mass properties.
 
 Lab frame (``docs/physics.md``, "The lab frame"): origin at the bat's centre of mass (CM),
-``z`` along the bat axis towards the barrel end. A :class:`BatProfile` holds the radius
+``z`` along the bat axis towards the barrel end. A ``BatProfile`` holds the radius
 ``r`` at nodes ``z`` in that
 frame. Two readings of the same nodes are used, each where it matters:
 
-* mass properties (:func:`mass_properties`) take the radius as piecewise *linear* between
+* mass properties (``mass_properties``) take the radius as piecewise *linear* between
   nodes (a stack of truncated cones) and integrate it exactly;
-* contact geometry (:meth:`BatProfile.radius`, :meth:`BatProfile.slope`) uses a
+* contact geometry (``BatProfile.radius``, ``BatProfile.slope``) uses a
   shape-preserving cubic (PCHIP) through the same nodes, so the slope r'(z), which tilts
   the contact normal ``t3 ~ e_r - r'(z) k``, is continuous along the bat.
 
 Both pass through every node; they differ only between nodes, by far less than the
 table's own precision for a smooth profile.
 
-This module is pure: no file I/O (see :mod:`mcbat.bodies.tables` for reading tables).
+This module is pure: no file I/O (see ``mcbat.bodies.tables`` for reading tables).
 """
 
 from __future__ import annotations
@@ -202,9 +202,9 @@ def _readonly(values):
 class BatProfile:
     """A bat as a uniform solid of revolution, in the lab frame (origin at its CM).
 
-    Build it with :meth:`from_knob_table` from a table measured from the knob, or
+    Build it with ``from_knob_table`` from a table measured from the knob, or
     directly when ``z`` is already measured from the CM. The mass properties are computed
-    on construction (:func:`mass_properties`, radius linear between nodes).
+    on construction (``mass_properties``, radius linear between nodes).
 
     Parameters
     ----------
@@ -334,8 +334,8 @@ class BatProfile:
 
     @property
     def kernel_table(self):
-        """The profile as :class:`mcbat.core.geometry.ProfileTable`, for jitted callers
-        (:func:`mcbat.core.geometry.profile_surface`)."""
+        """The profile as ``mcbat.core.geometry.ProfileTable``, for jitted callers
+        (``mcbat.core.geometry.profile_surface``)."""
         return self._table
 
     @property

@@ -1,5 +1,5 @@
 """The restitution of a baseball on a wood bat at game speeds: the parameters of the model
-of :mod:`mcbat.core.restitution` (``e*`` by normal speed and contact position, the
+of ``mcbat.core.restitution`` (``e*`` by normal speed and contact position, the
 tangential ``e_x``), the game preset with its sources (``docs/batting.md``), and the
 location tables of ``data/``.
 """

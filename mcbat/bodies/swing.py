@@ -1,5 +1,5 @@
 """Defaults of the swing that stand for the batter's body: the rotation centre of the bat
-(the swing model is :mod:`mcbat.core.swing`)."""
+(the swing model is ``mcbat.core.swing``)."""
 
 __all__ = ["DEFAULT_PIVOT"]
 

@@ -1,6 +1,6 @@
 """Bat profiles from tables: the TSV reader and the bundled presets.
 
-This module does the file I/O that :mod:`mcbat.bodies.profile` must not. Tables list the
+This module does the file I/O that ``mcbat.bodies.profile`` must not. Tables list the
 bat's diameter against the distance from the knob end (format and provenance of the
 bundled tables: ``data/README.md``).
 """
@@ -99,10 +99,10 @@ def read_profile_tsv(path):
 
 
 def load_profile_tsv(path, density=WOOD_DENSITY) -> BatProfile:
-    """Load a bat profile table (cm from the knob, mm diameter) as a :class:`BatProfile`.
+    """Load a bat profile table (cm from the knob, mm diameter) as a ``BatProfile``.
 
     The bat spans exactly the tabulated rows (radius linear between rows for the mass
-    properties); see :func:`read_profile_tsv` for the format.
+    properties); see ``read_profile_tsv`` for the format.
 
     Parameters
     ----------

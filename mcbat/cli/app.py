@@ -1,5 +1,5 @@
-"""The ``mcbat`` parser, assembled from one module per command, and :func:`main`, which
-maps every error to its exit code (:mod:`mcbat.cli`)."""
+"""The ``mcbat`` parser, assembled from one module per command, and ``main``, which
+maps every error to its exit code (``mcbat.cli``)."""
 
 from __future__ import annotations
 

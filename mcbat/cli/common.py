@@ -36,7 +36,7 @@ class ArgumentParser(argparse.ArgumentParser):
     """argparse that reports usage errors on one line with exit code 2."""
 
     def error(self, message):
-        """Raise :class:`UsageError` (argparse would print the usage and exit)."""
+        """Raise ``UsageError`` (argparse would print the usage and exit)."""
         raise UsageError(message)
 
 
@@ -88,7 +88,7 @@ def as_flags(error: InputError, parameters) -> InputError:
 @contextlib.contextmanager
 def flags(*parameters):
     """Report the library's errors about these Python parameters as their flags
-    (:func:`as_flags`)."""
+    (``as_flags``)."""
     try:
         yield
     except InputError as err:
@@ -185,7 +185,7 @@ def note_left_out(source, left_out, what="row(s)") -> None:
 
 def check_input_file(path, flag=None):
     """Refuse, before any work, an input path that is not a regular file (a directory, a
-    device, a FIFO: :func:`mcbat.statcast.files.check_regular_file`) or does not exist."""
+    device, a FIFO: ``mcbat.statcast.files.check_regular_file``) or does not exist."""
     from mcbat.statcast.files import check_regular_file
 
     check_regular_file(path, str(path), flag)

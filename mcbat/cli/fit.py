@@ -150,7 +150,7 @@ def _fit_flight(args) -> int:
 
 
 def _unmeasured_launch(table, source):
-    """When no ball is left to fly, an :class:`InputError` naming the launch column the
+    """When no ball is left to fly, an ``InputError`` naming the launch column the
     reader set to NaN (cells out of range or not numbers, with the first one's line), or
     None when the cause is elsewhere."""
     report = table.attrs.get("statcast", {})

@@ -15,14 +15,14 @@ from mcbat.errors import InputError
 
 __all__ = ["RUN_PARAMETERS", "add_parser", "cmd_run", "shipped_studies"]
 
-#: The parameters of :func:`mcbat.runner.run_study` that are flags of ``mcbat run``.
+#: The parameters of ``mcbat.runner.run_study`` that are flags of ``mcbat run``.
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
                   "workers", "overwrite", "summary_only", "columns", "tolerance")
 
 
 class _ChunkSize(argparse.Action):
     """``--chunk-size``, whose help gives the runner's default chunk
-    (:data:`mcbat.runner.plan.DEFAULT_CHUNK_SIZE`), read only when the help is shown:
+    (``mcbat.runner.plan.DEFAULT_CHUNK_SIZE``), read only when the help is shown:
     the runner is not imported to build the parser."""
 
     def __call__(self, parser, namespace, values, option_string=None):

@@ -9,7 +9,7 @@ from mcbat.errors import InputError
 
 __all__ = ["SYNTH_PARAMETERS", "add_parser", "cmd_synth"]
 
-#: The parameters of :func:`mcbat.stats.measurements.synthesize` that are flags.
+#: The parameters of ``mcbat.stats.measurements.synthesize`` that are flags.
 SYNTH_PARAMETERS = ("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_noise",
                     "spin_noise", "impact_parameter_noise", "spin_in_noise", "input_noise")
 

@@ -18,7 +18,7 @@ from mcbat.core.jit import njit
 __all__ = ["INPUT_FIELDS", "OUTPUT_FIELDS", "allocate_outputs", "solve_batch"]
 
 INPUT_FIELDS = IMPACT_INPUT_FIELDS
-"""Solver inputs: the fields of :class:`mcbat.core.cabo2012.impact.ImpactInputs` (SI units)."""
+"""Solver inputs: the fields of ``mcbat.core.cabo2012.impact.ImpactInputs`` (SI units)."""
 
 OUTPUT_FIELDS = (
     "ball_vx", "ball_vy", "ball_vz", "ball_wx", "ball_wy", "ball_wz",
@@ -28,7 +28,7 @@ OUTPUT_FIELDS = (
     "compression_work", "normal_work", "friction_work", "stick_criterion",
     "energy_in", "energy_out", "rk4_steps",
 )
-"""Float outputs, named as in :data:`mcbat.core.cabo2012.IMPACT_FIELDS` (``status`` and
+"""Float outputs, named as in ``mcbat.core.cabo2012.IMPACT_FIELDS`` (``status`` and
 ``end_state`` go to their own ``int8`` arrays)."""
 
 _N_IN = len(INPUT_FIELDS)
@@ -42,13 +42,13 @@ def solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state):
     Parameters
     ----------
     inputs : float64[len(INPUT_FIELDS), n]
-        One row per field of :data:`INPUT_FIELDS`.
+        One row per field of ``INPUT_FIELDS``.
     steps, tolerance, max_steps
-        Accuracy settings (see :func:`mcbat.core.cabo2012.contact.solve_contact`).
+        Accuracy settings (see ``mcbat.core.cabo2012.contact.solve_contact``).
     out : float64[len(OUTPUT_FIELDS), n]
-        Written: one row per field of :data:`OUTPUT_FIELDS`.
+        Written: one row per field of ``OUTPUT_FIELDS``.
     status, end_state : int8[n]
-        Written: codes from :mod:`mcbat.core.status`.
+        Written: codes from ``mcbat.core.status``.
     """
     n = inputs.shape[1]
     accuracy = Accuracy(steps, tolerance, max_steps)
@@ -89,5 +89,5 @@ def solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state):
 
 
 def allocate_outputs(n):
-    """Empty output arrays for :func:`solve_batch`: ``(out, status, end_state)``."""
+    """Empty output arrays for ``solve_batch``: ``(out, status, end_state)``."""
     return (np.empty((_N_OUT, n), np.float64), np.empty(n, np.int8), np.empty(n, np.int8))

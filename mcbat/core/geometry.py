@@ -81,7 +81,7 @@ def angle_from_impact_parameter(impact_parameter, ball_radius, radius, slope, ap
 
 @njit
 def impact_parameter_from_angle(angle, ball_radius, radius, slope, approach_azimuth):
-    """Inverse of :func:`angle_from_impact_parameter` (m)."""
+    """Inverse of ``angle_from_impact_parameter`` (m)."""
     return ball_centre_radial_distance(ball_radius, radius, slope) * math.sin(
         angle - approach_azimuth
     )
@@ -90,7 +90,7 @@ def impact_parameter_from_angle(angle, ball_radius, radius, slope, approach_azim
 @njit
 def angles_from_impact_parameters(impact_parameter, ball_radius, radius, slope,
                                   approach_azimuth, out):
-    """:func:`angle_from_impact_parameter` over arrays (all of length ``n``); writes ``out``."""
+    """``angle_from_impact_parameter`` over arrays (all of length ``n``); writes ``out``."""
     for i in range(out.shape[0]):
         out[i] = angle_from_impact_parameter(impact_parameter[i], ball_radius[i], radius[i],
                                              slope[i], approach_azimuth[i])
@@ -98,14 +98,14 @@ def angles_from_impact_parameters(impact_parameter, ball_radius, radius, slope,
 
 @njit
 def impact_parameters_from_angles(angle, ball_radius, radius, slope, approach_azimuth, out):
-    """:func:`impact_parameter_from_angle` over arrays (all of length ``n``); writes ``out``."""
+    """``impact_parameter_from_angle`` over arrays (all of length ``n``); writes ``out``."""
     for i in range(out.shape[0]):
         out[i] = impact_parameter_from_angle(angle[i], ball_radius[i], radius[i], slope[i],
                                              approach_azimuth[i])
 
 
 class ProfileTable(NamedTuple):
-    """A bat profile's piecewise polynomials, for :func:`profile_surfaces`.
+    """A bat profile's piecewise polynomials, for ``profile_surfaces``.
 
     ``breaks`` (float64[m + 1], m from the CM, increasing) are the nodes;
     ``radius_coeffs`` (float64[4, m]) the PCHIP cubic r(z) and ``slope_coeffs``
@@ -125,7 +125,7 @@ class ProfileTable(NamedTuple):
 
 
 def profile_table(breaks, radius_coeffs, slope_coeffs, cells_per_interval=4) -> ProfileTable:
-    """The :class:`ProfileTable` of a piecewise cubic and its derivative."""
+    """The ``ProfileTable`` of a piecewise cubic and its derivative."""
     m = breaks.shape[0] - 1
     cells = cells_per_interval * m
     scale = cells / (breaks[m] - breaks[0])
@@ -161,7 +161,7 @@ def _surface(table, z):
 @njit
 def profile_surface(table, z):
     """``(r, r')`` of the profile ``table`` at one axial position ``z`` (m from the CM; NaN
-    off its ends): the very values :func:`profile_surfaces` writes, for jitted callers that
+    off its ends): the very values ``profile_surfaces`` writes, for jitted callers that
     move along the bat (the contact inference)."""
     return _surface(table, z)
 
@@ -173,7 +173,7 @@ def profile_surfaces(table, axial, radius, slope):
     Parameters
     ----------
     table : ProfileTable
-        The profile's polynomials (:func:`profile_table`).
+        The profile's polynomials (``profile_table``).
     axial : float64[n]
         Axial positions, m from the CM.
     radius, slope : float64[n]
@@ -191,7 +191,7 @@ def profile_surfaces(table, axial, radius, slope):
 
 @njit
 def profile_surfaces_serial(table, axial, radius, slope):
-    """:func:`profile_surfaces` on one thread, for a few positions: starting the parallel
+    """``profile_surfaces`` on one thread, for a few positions: starting the parallel
     loop costs more than it saves there (milliseconds when the other core is busy)."""
     for i in range(axial.shape[0]):
         radius[i], slope[i] = _surface(table, axial[i])

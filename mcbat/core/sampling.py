@@ -14,9 +14,9 @@ One block per sample and input gives two uniforms on (0, 1) of 52 bits each (nev
 use the inverse CDF (Wichura's AS241, ~1e-16 relative), so a normal draw costs one uniform
 and its tails reach 8.2 standard deviations (the smallest uniform, 2**-53).
 
-A study is compiled (:mod:`mcbat.study.random_program`) into a :class:`DrawProgram`:
+A study is compiled (``mcbat.study.random_program``) into a ``DrawProgram``:
 struct-of-arrays tables of its inputs and their components, which
-:func:`draw_random_inputs` reads. Kernels here are pure: arrays in, ``out`` written.
+``draw_random_inputs`` reads. Kernels here are pure: arrays in, ``out`` written.
 """
 
 import math
@@ -50,7 +50,7 @@ _PHILOX_W1 = np.uint64(0xBB67AE85)
 
 
 class DrawProgram(NamedTuple):
-    """A study's random inputs as tables for :func:`draw_random_inputs`.
+    """A study's random inputs as tables for ``draw_random_inputs``.
 
     Input ``k`` is drawn into row ``row[k]`` of ``out`` from Philox stream ``stream[k]``
     of ``domain``.

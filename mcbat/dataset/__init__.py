@@ -1,14 +1,14 @@
 """Parquet datasets of impacts.
 
 ``schema``
-    The column contract: names, units, order, and :func:`~mcbat.dataset.schema.derive`,
+    The column contract: names, units, order, and ``mcbat.dataset.schema.derive``,
     the one function that computes the derived columns.
 ``storage``
     Locations (local paths, URLs) and atomic writes.
 ``chunks``
     Chunk files and the manifest of a dataset directory.
 ``load``
-    :func:`load`: a dataset directory as a pandas DataFrame (units in ``df.attrs``).
+    ``load``: a dataset directory as a pandas DataFrame (units in ``df.attrs``).
 """
 
 from mcbat.dataset.load import load

@@ -1,8 +1,8 @@
 """Mergeable binned statistics for summary scans: count, mean, std, min, max, quantiles.
 
-A scan of 10^9 rows is summarised chunk by chunk: :func:`accumulate` turns one chunk into a
-*partial* (:class:`SummaryPartial`, per bin and per value column), :func:`merge_into` adds
-partials in chunk order, :func:`finalize` gives the statistics. Everything is exact or
+A scan of 10^9 rows is summarised chunk by chunk: ``accumulate`` turns one chunk into a
+*partial* (``SummaryPartial``, per bin and per value column), ``merge_into`` adds
+partials in chunk order, ``finalize`` gives the statistics. Everything is exact or
 nearly so, so that the result does not depend on how the rows were cut into chunks, on the
 thread count, or on the order of the engine's tasks:
 
@@ -80,7 +80,7 @@ class SummaryPartial(NamedTuple):
 
 
 class SummaryStats(NamedTuple):
-    """The statistics of :func:`finalize` (NaN where a bin has no value; ``std`` needs 2)."""
+    """The statistics of ``finalize`` (NaN where a bin has no value; ``std`` needs 2)."""
 
     n: np.ndarray          # int64[B, m]
     mean: np.ndarray       # float64[B, m]
@@ -91,7 +91,7 @@ class SummaryStats(NamedTuple):
 
 
 def allocate_partial(n_bins: int, n_values: int, n_hist: int) -> SummaryPartial:
-    """An empty partial (``n_hist`` = :func:`n_buckets`, or 0 without quantiles)."""
+    """An empty partial (``n_hist`` = ``n_buckets``, or 0 without quantiles)."""
     shape = (n_bins, n_values)
     return SummaryPartial(np.zeros(n_bins, np.int64), np.zeros(1, np.int64),
                           np.zeros(shape, np.int64), np.zeros(shape), np.zeros(shape),
@@ -144,7 +144,7 @@ def _two_prod(a, b):
 
 @njit(inline="always")
 def _bucket(x):
-    """Histogram bucket of ``x`` (ascending in value; see :func:`n_buckets`)."""
+    """Histogram bucket of ``x`` (ascending in value; see ``n_buckets``)."""
     a = abs(x)
     if a < MIN_MAGNITUDE:
         return _K
@@ -235,7 +235,7 @@ def accumulate(index: np.ndarray, values: np.ndarray, partial: SummaryPartial) -
     Parameters
     ----------
     index : int64[n]
-        Each row's bin (:func:`bin_rows`; -1 outside).
+        Each row's bin (``bin_rows``; -1 outside).
     values : float64[m, n]
         The summarised columns (NaN values are skipped).
     partial : SummaryPartial

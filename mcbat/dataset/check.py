@@ -1,7 +1,7 @@
-"""Is a dataset directory complete and consistent with its manifest? :func:`check_dataset`.
+"""Is a dataset directory complete and consistent with its manifest? ``check_dataset``.
 
 The manifest (``_mcbat.json``) says how many chunks the dataset has and, once each one is
-written, records its file (rows, bytes, CRC-32 of the bytes; :mod:`mcbat.dataset.chunks`).
+written, records its file (rows, bytes, CRC-32 of the bytes; ``mcbat.dataset.chunks``).
 A chunk file belongs to the dataset only if it is recorded and matches its record:
 
 - **missing**: a chunk the manifest expects has no file (an interrupted run);
@@ -16,7 +16,7 @@ A chunk file belongs to the dataset only if it is recorded and matches its recor
   chunk file (``chunk-000002 (copy).parquet``, a directory named like a chunk): the
   documented ``pandas.read_parquet(DIR)`` would return its rows too.
 
-:func:`mcbat.load` runs the cheap checks (file sizes and Parquet footers) and refuses a
+``mcbat.load`` runs the cheap checks (file sizes and Parquet footers) and refuses a
 dataset with any problem, unless ``allow_partial=True``; ``mcbat check DIR`` runs all of
 them. Datasets written before chunk records existed (manifest without ``files``) are checked
 by their footers alone and reported as **unverified** (their bytes have no checksum to
@@ -40,7 +40,7 @@ SUMMARY = "_summary.parquet"  # = mcbat.dataset.summary.SUMMARY (kept light: no 
 
 @dataclass
 class DatasetCheck:
-    """The result of :func:`check_dataset`.
+    """The result of ``check_dataset``.
 
     Attributes
     ----------
@@ -105,7 +105,7 @@ class DatasetCheck:
         return sum(min(size, self.rows_expected - k * size) for k in self.good)
 
     def problems(self) -> list[str]:
-        """One line per kind of problem (empty when :attr:`ok`)."""
+        """One line per kind of problem (empty when ``ok``)."""
         out = []
         if self.summary:
             out.append(self.summary)
@@ -134,7 +134,7 @@ class DatasetCheck:
 
     def first_problem(self) -> str | None:
         """The first problem on one line, naming its file and what is wrong (None when
-        :attr:`ok` and verified): the line ``mcbat check`` ends with on stderr."""
+        ``ok`` and verified): the line ``mcbat check`` ends with on stderr."""
         found = []
         if self.summary:
             found.append(self.summary if self.summary.startswith(SUMMARY)

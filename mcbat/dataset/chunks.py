@@ -8,13 +8,13 @@ A dataset is a directory::
     DIR/chunk-000001.parquet   rows [C, 2C) ...   (chunk-1000000.parquet: no digit limit)
 
 Chunk files are written under a hidden temporary name and renamed into place
-(:func:`mcbat.dataset.storage.write_atomic`), so a file with a final name is always
+(``mcbat.dataset.storage.write_atomic``), so a file with a final name is always
 complete. Once a chunk file is in place, the run records it in the manifest (key
 ``files``: ``{name: {"rows", "bytes", "crc32"}}``, the CRC-32 of the file's bytes); only a
 recorded chunk whose bytes match its record belongs to the dataset
-(:mod:`mcbat.dataset.check`). Each file carries the schema-level metadata (key ``mcbat``):
+(``mcbat.dataset.check``). Each file carries the schema-level metadata (key ``mcbat``):
 units, the study config and its TOML text, seed, config hash and package versions. The
-columns are those of :mod:`mcbat.dataset.schema`.
+columns are those of ``mcbat.dataset.schema``.
 """
 
 from __future__ import annotations
@@ -152,7 +152,7 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, der
     inputs : float64[len(INPUT_FIELDS), n]
         Kernel inputs.
     out, status, end_state
-        Kernel outputs (see :func:`mcbat.core.batch.solve_batch`).
+        Kernel outputs (see ``mcbat.core.batch.solve_batch``).
     extra_inputs : dict of str -> float64[n]
         Inputs not passed to the kernel (``impact_parameter``, ``from_barrel_end``;
         ``from_barrel_end`` is NaN when absent).
@@ -160,13 +160,13 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, der
         Simulated measurement errors: column ``<name>_measured`` = ``<name>`` + error,
         after the contract columns (the model value stays untouched).
     derived : collection of str, optional
-        Compute only these derived columns (:func:`~mcbat.dataset.schema.derive`; a
+        Compute only these derived columns (``mcbat.dataset.schema.derive``; a
         summary-only run, which writes no file, needs only the ones it summarises).
 
     Returns
     -------
     names : list of str
-        The columns in file order (:data:`~mcbat.dataset.schema.COLUMNS`, then the
+        The columns in file order (``mcbat.dataset.schema.COLUMNS``, then the
         measured ones); ``sample_id`` and ``chunk`` are generated when written.
     cols : dict of str -> ndarray
     """
@@ -193,12 +193,12 @@ _FT = UNITS["length"]["ft"]  # m per ft (Statcast reports distances in ft)
 
 def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None,
                  derived=None, pitch_source=None):
-    """Every column of a game chunk as arrays (:data:`~mcbat.dataset.schema.GAME_COLUMNS`,
-    plus :data:`~mcbat.dataset.schema.FLIGHT_COLUMNS` with ``flight`` and
-    :data:`~mcbat.dataset.schema.PITCH_SOURCE_COLUMNS` with ``pitch_source``, the int64
-    columns of :meth:`mcbat.study.game.GameStudy.pitch_identifiers`), from the arrays of
-    :func:`mcbat.core.swing.solve_game_batch`; returns ``(names, cols)`` as
-    :func:`impact_columns` (``derived``: the bat-frame derived columns to compute, as
+    """Every column of a game chunk as arrays (``mcbat.dataset.schema.GAME_COLUMNS``,
+    plus ``mcbat.dataset.schema.FLIGHT_COLUMNS`` with ``flight`` and
+    ``mcbat.dataset.schema.PITCH_SOURCE_COLUMNS`` with ``pitch_source``, the int64
+    columns of ``mcbat.study.game.GameStudy.pitch_identifiers``), from the arrays of
+    ``mcbat.core.swing.solve_game_batch``; returns ``(names, cols)`` as
+    ``impact_columns`` (``derived``: the bat-frame derived columns to compute, as
     there; the field-frame ones are always computed)."""
     cols = statcast_units({name: game_inputs[i] for i, name in enumerate(GAME_INPUT_FIELDS)})
     cols.update(bat_frame_columns(game_inputs, frame))
@@ -232,7 +232,7 @@ def to_table(names, cols, sample_id_start, chunk, output=None, metadata=None) ->
     Parameters
     ----------
     names, cols
-        From :func:`impact_columns` or :func:`game_columns`.
+        From ``impact_columns`` or ``game_columns``.
     sample_id_start, chunk : int
         ``sample_id`` of the first row; the chunk index.
     output : mcbat.study.output.OutputSpec, optional
@@ -261,14 +261,14 @@ def to_table(names, cols, sample_id_start, chunk, output=None, metadata=None) ->
 
 def build_table(sample_id_start, chunk, inputs, out, status, end_state, extra_inputs,
                 metadata, noise=None, output=None) -> pa.Table:
-    """One impact chunk's table (:func:`impact_columns`, then :func:`to_table`)."""
+    """One impact chunk's table (``impact_columns``, then ``to_table``)."""
     names, cols = impact_columns(inputs, out, status, end_state, extra_inputs, noise)
     return to_table(names, cols, sample_id_start, chunk, output, metadata)
 
 
 def build_game_table(sample_id_start, chunk, game_inputs, frame, out, game_out, status,
                      end_state, metadata, flight=None, output=None) -> pa.Table:
-    """One game chunk's table (:func:`game_columns`, then :func:`to_table`)."""
+    """One game chunk's table (``game_columns``, then ``to_table``)."""
     names, cols = game_columns(game_inputs, frame, out, game_out, status, end_state, flight)
     return to_table(names, cols, sample_id_start, chunk, output, metadata)
 
@@ -376,7 +376,7 @@ def read_manifest(directory) -> dict | None:
 
 def chunk_files(directory) -> dict:
     """Final-named chunk files in ``directory``, by chunk index (paths, or URLs for a
-    URL). Only files: a directory with a chunk's name is not one (:func:`foreign_entries`
+    URL). Only files: a directory with a chunk's name is not one (``foreign_entries``
     names it)."""
     found = {}
     for name, kind in storage.list_entries(directory).items():

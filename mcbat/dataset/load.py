@@ -1,4 +1,4 @@
-"""Reading a dataset directory back: :func:`load`."""
+"""Reading a dataset directory back: ``load``."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def load(directory, columns=None, labels=False, allow_partial=False):
     Parameters
     ----------
     directory : str or Path
-        The dataset directory, or its URL (see :mod:`mcbat.dataset.storage`).
+        The dataset directory, or its URL (see ``mcbat.dataset.storage``).
     columns : list of str, optional
         Only these columns.
     labels : bool
@@ -42,7 +42,7 @@ def load(directory, columns=None, labels=False, allow_partial=False):
     allow_partial : bool
         Read the chunks that belong to the dataset even if some are missing or do not
         match the manifest, with a warning that says what is left out. By default such a
-        dataset is refused (:func:`mcbat.dataset.check.check_dataset`). Every file's bytes
+        dataset is refused (``mcbat.dataset.check.check_dataset``). Every file's bytes
         are checked against the CRC-32 the manifest recorded as they are read (~1 GB/s):
         a corrupted chunk is never returned. A manifest of an older mcbat that records no
         checksums is read with a warning that the bytes are unverified.

@@ -4,7 +4,7 @@
 directory before it changes anything there and keeps it until the last chunk is written.
 A second run on the same directory, with or without ``overwrite``, is refused at once with
 a message naming the holder (host, pid, start time). The lock is ``fcntl.flock`` on the
-file :data:`LOCK_NAME` inside the directory: the operating system releases it when its
+file ``LOCK_NAME`` inside the directory: the operating system releases it when its
 process ends, however it ends, so the lock of a killed run is never stale. A run that
 ends removes the file (a killed run leaves it behind: it is not a lock by itself, and
 listings, loads and checks ignore it); a directory the lock created and that is still
@@ -43,7 +43,7 @@ def _holder(path: Path) -> str:
 @contextlib.contextmanager
 def dataset_lock(directory):
     """Hold the writer's lock of the dataset ``directory`` (created if missing) if it is
-    on this machine, in any spelling (:func:`mcbat.dataset.storage.local_path`).
+    on this machine, in any spelling (``mcbat.dataset.storage.local_path``).
 
     Raises
     ------

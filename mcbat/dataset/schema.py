@@ -1,11 +1,11 @@
 """The column contract of mcbat datasets: names, units, order, and the derived quantities.
 
 Every solver input is a column, so each row is a self-contained case; every output of the
-kernel is a column; a few quantities are derived from the outgoing ball (:func:`derive`,
-the one place they are computed: datasets, :func:`mcbat.solve_frame`, the single-impact
+kernel is a column; a few quantities are derived from the outgoing ball (``derive``,
+the one place they are computed: datasets, ``mcbat.solve_frame``, the single-impact
 API, the fits and the synthetic measurements all call it).
 
-Columns (SI units, see :data:`UNITS`; the lab frame of ``docs/physics.md``):
+Columns (SI units, see ``UNITS``; the lab frame of ``docs/physics.md``):
 
 * inputs: ``mu``, ``e`` (energetic e*), ``e_x``, ``axial``, ``from_barrel_end`` (the
   contact's distance from the barrel end, ``cm_from_barrel_end - axial``; NaN for a bat
@@ -16,7 +16,7 @@ Columns (SI units, see :data:`UNITS`; the lab frame of ``docs/physics.md``):
   ``stick_impulse`` (NaN if none), ``compression_impulse``, ``tangential_impulse_1/2``,
   ``compression_work``, ``normal_work``, ``friction_work``, ``stick_criterion``,
   ``energy_in``, ``energy_out``, ``rk4_steps``, ``end_state`` (int8: 0 sliding, 1 stuck),
-  ``status`` (int8: 0 ok, see :mod:`mcbat.core.status`);
+  ``status`` (int8: 0 ok, see ``mcbat.core.status``);
 * derived: ``exit_speed``, ``scattering_angle`` (degrees, ``atan2(v_y, v_x)``),
   ``spin_axial`` (ball spin about the bat axis), ``spin`` (magnitude);
 * bookkeeping: ``sample_id`` (int64), ``chunk`` (int32);
@@ -24,14 +24,14 @@ Columns (SI units, see :data:`UNITS`; the lab frame of ``docs/physics.md``):
 
 Game datasets (a study with ``[pitch]``/``[swing]``, ``docs/batting.md``) have every
 column above (the bat-frame case each row solved, so any row re-solves in the bat frame
-alone) and, in :data:`GAME_COLUMNS` only, the game inputs (:data:`GAME_INPUT_COLUMNS`),
+alone) and, in ``GAME_COLUMNS`` only, the game inputs (``GAME_INPUT_COLUMNS``),
 the field-frame velocities and spins of ball and bat before and after, the collision
-efficiency (:data:`GAME_OUTPUT_COLUMNS`), and the batted ball in the field's conventions
-(:func:`derive_game`: ``launch_speed`` mph, ``launch_angle``, ``spray_angle`` deg,
+efficiency (``GAME_OUTPUT_COLUMNS``), and the batted ball in the field's conventions
+(``derive_game``: ``launch_speed`` mph, ``launch_angle``, ``spray_angle`` deg,
 ``spin_rate``, ``backspin``, ``sidespin``, ``gyrospin`` rpm).
 
 Game datasets of a study with ``[pitches]`` (real pitches, ``docs/batting.md``) end with
-:data:`PITCH_SOURCE_COLUMNS` (int64): ``source_row``, the row of the study's file the
+``PITCH_SOURCE_COLUMNS`` (int64): ``source_row``, the row of the study's file the
 sample's pitch was drawn from (from 0, in the file's order, before any filter), and that
 pitch's Statcast identifiers ``game_pk``, ``at_bat_number``, ``pitch_number``, ``pitcher``,
 ``batter``.
@@ -55,16 +55,16 @@ __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
            "si_units", "statcast_units"]
 
 #: Version of the column contract; stored in every manifest and chunk file.
-#: 3: game datasets (:data:`GAME_COLUMNS`); the bat-frame columns are those of version 2.
+#: 3: game datasets (``GAME_COLUMNS``); the bat-frame columns are those of version 2.
 #: 4: ``from_barrel_end`` in every dataset (after ``axial``); ``[output]`` column selection
 #: and float32 outputs; ``[summary]`` tables; float columns stored uncompressed by default.
 #: 5: the same columns; the random inputs come from the counter-based sampler (study format
-#: 2: Philox4x32-10, see :mod:`mcbat.core.sampling`), so a seed gives other rows than in 4.
+#: 2: Philox4x32-10, see ``mcbat.core.sampling``), so a seed gives other rows than in 4.
 #: 6: the same columns and rows; every Parquet column is REQUIRED (non-nullable: no column
 #: holds nulls, NaN marks a failed row), which encodes faster. Version-5 files are
 #: OPTIONAL, and pyarrow does not concatenate the two: a version-5 dataset is not resumed.
 #: 7: the same rows; a game dataset's pitch and swing columns that have a Statcast
-#: counterpart (:data:`STATCAST_UNIT_INPUTS`) are in Statcast's units (mph, deg, rpm), as
+#: counterpart (``STATCAST_UNIT_INPUTS``) are in Statcast's units (mph, deg, rpm), as
 #: its batted-ball columns already were; lengths stay in m.
 SCHEMA_VERSION = 7
 
@@ -120,7 +120,7 @@ INPUT_COLUMNS = ("mu", "e", "e_x", "axial", "from_barrel_end", "angle", "impact_
                  "ball_mass", "ball_radius", "ball_inertia_factor", "bat_mass", "bat_radius",
                  "bat_slope", "bat_transverse_inertia", "bat_axial_inertia",
                  *(f for f in INPUT_FIELDS if f.endswith("_in")))
-"""The inputs of a row: the kernel's :data:`~mcbat.core.batch.INPUT_FIELDS`, the contact's
+"""The inputs of a row: the kernel's ``mcbat.core.batch.INPUT_FIELDS``, the contact's
 distance from the barrel end and the impact parameter (second descriptions of the contact's
 position and angle)."""
 OUTPUT_COLUMNS = (*OUTPUT_FIELDS, "end_state", "status")
@@ -141,7 +141,7 @@ GAME_COLUMNS = (*INPUT_COLUMNS, *GAME_INPUT_COLUMNS, *OUTPUT_COLUMNS, *GAME_OUTP
 FLIGHT_COLUMNS = ("hit_distance", "hang_time", "apex", "landing_x", "landing_y",
                   "hit_distance_m", "apex_m", "landing_x_m", "landing_y_m", "flight_status")
 """The flight columns of a game dataset with a ``[flight]`` section (after
-:data:`GAME_COLUMNS`): Statcast's ft and s, then SI."""
+``GAME_COLUMNS``): Statcast's ft and s, then SI."""
 
 _MPH = study_units.UNITS["speed"]["mph"]
 _RPM = 60.0 / (2.0 * np.pi)
@@ -155,7 +155,7 @@ def derive(ball_velocity, ball_spin, names=None) -> dict:
     ball_velocity, ball_spin : sequence of 3 floats or 3 arrays
         ``(v_x, v_y, v_z)`` in m/s and ``(w_x, w_y, w_z)`` in rad/s.
     names : collection of str, optional
-        Compute only these of :data:`DERIVED_COLUMNS` (a summary-only run needs only the
+        Compute only these of ``DERIVED_COLUMNS`` (a summary-only run needs only the
         columns it summarises); default all.
 
     Returns
@@ -226,7 +226,7 @@ def _statcast_factor(unit):
 
 
 def statcast_units(cols):
-    """``cols`` (a dict of SI arrays by name) with the columns of :data:`STATCAST_UNIT_INPUTS`
+    """``cols`` (a dict of SI arrays by name) with the columns of ``STATCAST_UNIT_INPUTS``
     replaced by new arrays in Statcast's units."""
     for name, unit in STATCAST_UNIT_INPUTS.items():
         if name in cols:
@@ -235,9 +235,9 @@ def statcast_units(cols):
 
 
 def si_units(cols):
-    """The inverse of :func:`statcast_units`: ``cols`` (a dict, or a dataset row as a
-    mapping) with the columns of :data:`STATCAST_UNIT_INPUTS` back in SI, e.g. to solve a
-    game dataset's row again with :class:`mcbat.api.GameCase` (which takes SI). Each value
+    """The inverse of ``statcast_units``: ``cols`` (a dict, or a dataset row as a
+    mapping) with the columns of ``STATCAST_UNIT_INPUTS`` back in SI, e.g. to solve a
+    game dataset's row again with ``mcbat.api.GameCase`` (which takes SI). Each value
     is one division and one multiplication away from the kernel's input: equal to it within
     a unit in the last place or two."""
     cols = dict(cols)

@@ -51,14 +51,14 @@ _NOT_STORAGE = frozenset({"data", "reference", "dir", "zip", "tar", "libarchive"
 
 
 def location(where) -> Path | str:
-    """A dataset location: a :class:`~pathlib.Path` for a local path, else the URL as a
+    """A dataset location: a ``pathlib.Path`` for a local path, else the URL as a
     string.
 
     A plain or relative path is a path whatever it holds (``run:1`` is the relative
     directory of that name); ``file:///abs`` and ``file:/abs`` are the path ``/abs``;
     ``local:///abs`` stays a URL (pyarrow's LocalFileSystem, the same code path as
     ``s3://``), spelled ``local:///abs`` whatever its slashes. Every spelling of a local
-    directory has one lock: :func:`local_path`.
+    directory has one lock: ``local_path``.
     """
     if isinstance(where, Path):
         return where
@@ -260,7 +260,7 @@ def temporary_name(name: str) -> str:
 
 
 def is_temporary_name(name: str) -> bool:
-    """True for a name :func:`temporary_name` makes."""
+    """True for a name ``temporary_name`` makes."""
     return bool(_TEMPORARY_RE.match(name))
 
 
@@ -307,7 +307,7 @@ def direct_io_enabled() -> bool:
 
 
 def _write_direct(data, path) -> bool:
-    """Write ``data`` (a buffer at a :data:`DIRECT_ALIGNMENT`-aligned address) to the new
+    """Write ``data`` (a buffer at a ``DIRECT_ALIGNMENT``-aligned address) to the new
     file ``path`` bypassing the page cache; False, with nothing written, where the file
     system refuses (tmpfs, some network file systems), and the caller writes normally.
 
@@ -350,7 +350,7 @@ def write_bytes_atomic(data, path) -> None:
     """Write the bytes-like ``data`` to ``path`` (a local path or a URL), atomically.
 
     A large local file whose bytes sit at an aligned address (the chunk encoder's buffer)
-    is written bypassing the page cache (:func:`_write_direct`; ``MCBAT_DIRECT_IO=0``
+    is written bypassing the page cache (``_write_direct``; ``MCBAT_DIRECT_IO=0``
     turns that off)."""
 
     def write(fs, tmp):

@@ -1,4 +1,4 @@
-"""Exact percentiles of columns too large to hold in memory: :func:`streamed_percentiles`.
+"""Exact percentiles of columns too large to hold in memory: ``streamed_percentiles``.
 
 A dataset's closing report (the batted-ball medians and 5-95 % ranges of a game run) needs
 percentiles of columns of every row. Concatenating them grows with ``--samples`` (8
@@ -7,8 +7,8 @@ most one chunk and a few small histograms in memory.
 
 The method is a selection by histograms: a first pass counts the values and finds their
 range; each later pass bins the values still in contention for a wanted order statistic
-into :data:`BINS` equal bins of the current range, keeps the one bin holding that rank,
-and, once that bin holds at most :data:`COLLECT` values, collects them and picks the
+into ``BINS`` equal bins of the current range, keeps the one bin holding that rank,
+and, once that bin holds at most ``COLLECT`` values, collects them and picks the
 value. A value's bin is ``floor((v - lo) * BINS / (hi - lo))``, which is monotone in
 ``v``, so the values outside the chosen bin are all below or all above it whatever the
 rounding. Three passes for any smooth distribution; a cluster of equal values ends as

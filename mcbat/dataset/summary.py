@@ -1,9 +1,9 @@
 """Summary scans: binned statistics of a run, merged chunk by chunk (``[summary]``).
 
-Each chunk contributes a *partial* (:func:`summarise`: per bin, the row count and, per
+Each chunk contributes a *partial* (``summarise``: per bin, the row count and, per
 summarised column, the non-NaN count, compensated sums, min, max and a log-bucket
-histogram; :mod:`mcbat.dataset.binned_stats`). The run merges the partials **in chunk order**
-(:class:`SummaryState`), so the result is the same whatever the threads, the engine or the
+histogram; ``mcbat.dataset.binned_stats``). The run merges the partials **in chunk order**
+(``SummaryState``), so the result is the same whatever the threads, the engine or the
 order in which chunks finish. The merged state of chunks ``[0, merged)`` is saved as
 ``_summary_state.npz`` (atomically, at most every few seconds, its size and CRC-32 in the
 manifest's ``summary`` record): a killed run resumes from it. When every chunk is merged,
@@ -24,8 +24,8 @@ the run writes ``_summary.parquet``: one row per bin with
 Rows outside every bin (or with a NaN ``by`` value) are counted in the table's metadata
 (``outside``) and in ``df.attrs["outside"]``, never lost. Quantile resolution: the value of
 rank ``floor(q (N - 1))`` (pandas' ``interpolation="lower"``) to within
-:data:`mcbat.dataset.binned_stats.ALPHA` relative (0.5 %), or to within
-:data:`~mcbat.dataset.binned_stats.MIN_MAGNITUDE` for values smaller than that.
+``mcbat.dataset.binned_stats.ALPHA`` relative (0.5 %), or to within
+``mcbat.dataset.binned_stats.MIN_MAGNITUDE`` for values smaller than that.
 """
 
 from __future__ import annotations

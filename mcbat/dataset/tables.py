@@ -3,8 +3,8 @@
 A table a command writes (``--out x.csv`` or ``--out x.parquet``) carries the unit of each
 column: in a Parquet file, in the schema metadata (key ``mcbat``, JSON ``{"units": ...}``);
 in a CSV file, in the column header itself, ``launch_speed [mph]``, so that a spreadsheet
-or ``pandas.read_csv`` shows it and :func:`read_table` gives the plain names back. The file
-appears whole or not at all (:func:`mcbat.dataset.storage.write_atomic`).
+or ``pandas.read_csv`` shows it and ``read_table`` gives the plain names back. The file
+appears whole or not at all (``mcbat.dataset.storage.write_atomic``).
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ def write_table(df, path, units=None, *, field="out") -> Path:
 
 
 def read_table(path):
-    """A table :func:`write_table` wrote, its plain column names and ``attrs["units"]``."""
+    """A table ``write_table`` wrote, its plain column names and ``attrs["units"]``."""
     import pandas as pd
     import pyarrow.parquet as pq
 

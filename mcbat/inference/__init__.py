@@ -1,15 +1,15 @@
 """The spin of measured batted balls, inferred through the game model.
 
 Statcast measures a ball in play's launch speed, launch angle and spray angle, and the
-pitch; it publishes no batted-ball spin. :func:`infer_spin` finds, for each ball, the
+pitch; it publishes no batted-ball spin. ``infer_spin`` finds, for each ball, the
 contact that reproduces the three measured numbers with the measured pitch through
 mcbat's game model (``docs/batting.md``), and reports the spin that contact gives
 (``docs/spin_inference.md``; equations in ``mcbat/core/contact_inference/README.md``).
 
-The package: :mod:`~mcbat.inference.columns` (the measured columns, read and checked),
-:mod:`~mcbat.inference.assumptions` (what is assumed, and the iteration's settings),
-:mod:`~mcbat.inference.spin` (the inference and its forward model),
-:mod:`~mcbat.inference.output` (the Parquet file); their public names are importable from
+The package: ``mcbat.inference.columns`` (the measured columns, read and checked),
+``mcbat.inference.assumptions`` (what is assumed, and the iteration's settings),
+``mcbat.inference.spin`` (the inference and its forward model),
+``mcbat.inference.output`` (the Parquet file); their public names are importable from
 here.
 
 Example

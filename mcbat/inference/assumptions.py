@@ -1,5 +1,5 @@
-"""What an inference assumes (:class:`SpinAssumptions`: what the measurements leave open)
-and how it iterates (:class:`InferenceOptions`)."""
+"""What an inference assumes (``SpinAssumptions``: what the measurements leave open)
+and how it iterates (``InferenceOptions``)."""
 
 from __future__ import annotations
 
@@ -132,7 +132,7 @@ class InferenceOptions:
     """The Newton iteration (``mcbat/core/contact_inference/README.md``): at most
     ``max_iterations``; converged when the launch speed is matched to ``tolerance``
     (relative) and the angles to ``tolerance`` rad; the impact kernel's accuracy
-    (``steps``, ``impact_tolerance``, ``max_steps``: as :class:`mcbat.api.SolverSettings`);
+    (``steps``, ``impact_tolerance``, ``max_steps``: as ``mcbat.api.SolverSettings``);
     the unknowns' bounds: bat speed (mph), attack direction (deg), contact position (m
     from the barrel end), and the contact azimuth ``|theta|`` (deg; the undercut is
     ``reach sin(theta)``).
@@ -146,7 +146,7 @@ class InferenceOptions:
     measured bat speed is taken as exact (``docs/spin_inference.md``).
 
     ``attack_angle_nodes``: Gauss-Hermite nodes of the attack angle's distribution
-    (:class:`SpinAssumptions`) over which the spin is averaged; 1: the attack angle taken
+    (``SpinAssumptions``) over which the spin is averaged; 1: the attack angle taken
     as exact (the measured one, else the assumed one), as a round trip needs."""
 
     max_iterations: int = 30

@@ -24,9 +24,9 @@ moving towards first base; spin rate), the batter's side, and the batted ball.""
 OPTIONAL_COLUMNS = {"spin_axis": "deg", "bat_speed": "mph", "attack_angle": "deg",
                     "attack_direction": "deg"}
 """Optional columns. ``spin_axis`` (Statcast's clock-face convention, 180 = pure
-backspin; NaN or absent: :attr:`SpinAssumptions.spin_axis`); ``bat_speed`` (where
+backspin; NaN or absent: ``SpinAssumptions.spin_axis``); ``bat_speed`` (where
 finite, used, and the contact position inferred instead); ``attack_angle`` (where
-finite, used instead of :attr:`SpinAssumptions.attack_angle`); ``attack_direction`` is
+finite, used instead of ``SpinAssumptions.attack_angle``); ``attack_direction`` is
 not an input: it is one of the unknowns that reproduce the spray angle
 (``docs/spin_inference.md``), but a swing aimed 90 deg or more off the pitch's line (a
 bunt) makes the row's swing unusable."""
@@ -46,9 +46,9 @@ STATUS_NAMES = (*INFERENCE_STATUS_NAMES.values(), "missing_input", "unusable_swi
 """Values of the ``inference_status`` column: ``missing_input`` for a row with a NaN in
 a required column (with ``missing="flag"``); ``unusable_swing`` for a row whose measured
 swing the model cannot use (a bunt, a bat speed below
-:attr:`InferenceOptions.bat_speed_floor`, a swing value out of range or partly missing);
+``InferenceOptions.bat_speed_floor``, a swing value out of range or partly missing);
 ``bat_speed_inconsistent`` where no bat speed within
-:attr:`InferenceOptions.bat_speed_error` of the measured one gives the ball."""
+``InferenceOptions.bat_speed_error`` of the measured one gives the ball."""
 
 OUTPUT_UNITS = {
     "inference_status": "", "inferred": "", "backspin": "rpm", "sidespin": "rpm",
@@ -57,7 +57,7 @@ OUTPUT_UNITS = {
     "collision_efficiency": "1", "bat_speed_adjustment": "mph", "inference_iterations": "",
     "kernel_evaluations": "",
 }
-"""Columns of :func:`infer_spin`'s result and their units."""
+"""Columns of ``infer_spin``'s result and their units."""
 
 
 def read_column(table, name, n, required=True):
@@ -111,14 +111,14 @@ RANGES = {
     "spin_axis": (lambda v: np.abs(v) <= 360.0, "must lie within [-360, 360] deg"),
 }
 """Ranges of the required columns and of ``spin_axis``: a value outside refuses the table
-(:class:`~mcbat.errors.InputError` naming the column and the row)."""
+(``mcbat.errors.InputError`` naming the column and the row)."""
 
 SWING_RANGES = {
     "bat_speed": lambda v: v > 0.0,
     "attack_angle": lambda v: np.abs(v) < 90.0,
     "attack_direction": lambda v: np.abs(v) < 90.0,
 }
-"""Ranges of :data:`SWING_COLUMNS`: a value outside makes the row's swing unusable."""
+"""Ranges of ``SWING_COLUMNS``: a value outside makes the row's swing unusable."""
 
 
 def swing_column(table, name, n):
@@ -138,8 +138,8 @@ def swing_column(table, name, n):
 
 
 def bunt_rows(table, n):
-    """Rows Savant marks as bunts (:func:`mcbat.statcast.is_bunt` on the
-    :data:`TEXT_COLUMNS` present): boolean array."""
+    """Rows Savant marks as bunts (``mcbat.statcast.is_bunt`` on the
+    ``TEXT_COLUMNS`` present): boolean array."""
     from mcbat.statcast.collision import is_bunt
 
     text = {name: read_column(table, name, n, required=False) for name in TEXT_COLUMNS}

@@ -11,16 +11,16 @@ CARRIED_COLUMNS = ("game_pk", "at_bat_number", "pitch_number", "batter", "pitche
                    "game_date", "home_team", "elevation", "handedness", "pitch_type",
                    "events", "bb_type", "launch_speed", "launch_angle", "spray_angle",
                    "hit_distance_sc")
-"""Columns of the tidy table :func:`write` keeps beside the inference's (those present)."""
+"""Columns of the tidy table ``write`` keeps beside the inference's (those present)."""
 
 METADATA_KEY = b"mcbat.inference"
-"""The Parquet schema-metadata key of :func:`write`'s file: JSON with ``units``,
+"""The Parquet schema-metadata key of ``write``'s file: JSON with ``units``,
 ``assumptions`` and ``status_counts``."""
 
 
 def write(table, spin, path) -> None:
-    """Write the balls (:data:`CARRIED_COLUMNS` of ``table``) and their inferred contact
-    and spin (``spin``, from :func:`infer_spin` on ``table``) to one Parquet file,
+    """Write the balls (``CARRIED_COLUMNS`` of ``table``) and their inferred contact
+    and spin (``spin``, from ``infer_spin`` on ``table``) to one Parquet file,
     atomically, with units, assumptions and status counts in the schema metadata."""
     import json
     import os

@@ -1,6 +1,6 @@
-"""The inference itself: :func:`infer_spin` (the contact, hence the spin, behind each
-measured ball, by the jitted Newton solver of :mod:`mcbat.core.contact_inference`) and
-:func:`predict_batted_balls`, the forward model it inverts."""
+"""The inference itself: ``infer_spin`` (the contact, hence the spin, behind each
+measured ball, by the jitted Newton solver of ``mcbat.core.contact_inference``) and
+``predict_batted_balls``, the forward model it inverts."""
 
 from __future__ import annotations
 
@@ -66,15 +66,15 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
     Parameters
     ----------
     table : pandas.DataFrame or mapping of column name -> 1-D array
-        :data:`INPUT_COLUMNS` (Statcast names and units, as ``mcbat.statcast.read`` gives
-        them), and any of :data:`OPTIONAL_COLUMNS`.
+        ``INPUT_COLUMNS`` (Statcast names and units, as ``mcbat.statcast.read`` gives
+        them), and any of ``OPTIONAL_COLUMNS``.
     assumptions : SpinAssumptions, optional
         What the data leave open (default: the game presets).
     options : InferenceOptions, optional
         The iteration's settings and the unknowns' bounds.
     missing : {"flag", "raise"}
         A NaN in a required column: the row gets ``inference_status = "missing_input"``
-        and NaN outputs ("flag"), or :class:`~mcbat.errors.InputError` naming the column
+        and NaN outputs ("flag"), or ``mcbat.errors.InputError`` naming the column
         ("raise").
     use_bat_speed, use_attack_angle : bool
         Use the measured ``bat_speed`` / ``attack_angle`` where the table has them
@@ -84,7 +84,7 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
     -------
     pandas.DataFrame
         Same index as ``table`` (a range index for a mapping); the columns of
-        :data:`OUTPUT_UNITS`: ``inference_status`` (:data:`STATUS_NAMES`), ``inferred``
+        ``OUTPUT_UNITS``: ``inference_status`` (``STATUS_NAMES``), ``inferred``
         (``"bat_speed"`` or ``"from_barrel_end"``), the batted ball's ``backspin``,
         ``sidespin``, ``gyrospin``, ``spin_rate`` (rpm, ``docs/batting.md``), the contact
         (``undercut``, ``bat_speed``, ``from_barrel_end``, ``attack_direction``,
@@ -180,13 +180,13 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
 def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
                          from_barrel_end=None, assumptions: SpinAssumptions | None = None,
                          options: InferenceOptions | None = None) -> pd.DataFrame:
-    """The forward model :func:`infer_spin` inverts: the batted balls that given contacts
+    """The forward model ``infer_spin`` inverts: the batted balls that given contacts
     give, with the same inputs and assumptions (the game kernel, ``solve_game_batch``).
 
     Parameters
     ----------
     table : pandas.DataFrame or mapping
-        The pitch columns of :data:`INPUT_COLUMNS` and ``handedness`` (the batted-ball
+        The pitch columns of ``INPUT_COLUMNS`` and ``handedness`` (the batted-ball
         columns are not needed), optionally ``spin_axis`` and ``attack_angle``.
     undercut : array_like
         m (> 0: the ball's centre passes above the bat axis).
@@ -195,7 +195,7 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
     bat_speed : array_like, optional
         mph; default: the table's ``bat_speed``.
     from_barrel_end : array_like, optional
-        m; default: :attr:`SpinAssumptions.from_barrel_end`.
+        m; default: ``SpinAssumptions.from_barrel_end``.
 
     Returns
     -------
@@ -256,7 +256,7 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
     """The inference at each attack-angle node: per node ``(attack angle (rad), weight,
     solution, status, iterations, evaluations, bat-speed adjustment (mph),
     bat_speed_inconsistent)``; the weight is the node's prior weight times the density of
-    its contact (:func:`_posterior_weight`) where there are several nodes."""
+    its contact (``_posterior_weight``) where there are several nodes."""
     n = game.shape[1]
     settings = options.kernel_settings(assumptions.contact_side)
     table_ = _bat_table(assumptions.bat)
@@ -420,7 +420,7 @@ def _combine(runs, a: SpinAssumptions):
 
 def _swing(table, n, cols, floor):
     """Read the measured swing's columns into ``cols``; why each row's swing is unusable
-    (:func:`~mcbat.inference.columns.unusable_swing_rows`)."""
+    (``mcbat.inference.columns.unusable_swing_rows``)."""
     bad_cells = {}
     for name in SWING_COLUMNS:
         cols[name], bad_cells[name] = swing_column(table, name, n)
@@ -428,7 +428,7 @@ def _swing(table, n, cols, floor):
 
 
 def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_angle):
-    """The game kernel's inputs (:data:`GAME_INPUT_FIELDS`, SI) and the mode per ball."""
+    """The game kernel's inputs (``GAME_INPUT_FIELDS``, SI) and the mode per ball."""
     bat, ball, rest = a.bat, a.ball, a.restitution
     bat_speed = cols["bat_speed"] if use_bat_speed else np.full(n, np.nan)
     measured = np.isfinite(bat_speed)

@@ -1,7 +1,7 @@
 """The results directory of a reproduction: it writes only what it owns.
 
 A reproduction writes a few fixed names (``summary.json``, ``figures/``...) into its results
-directory and records them in the marker file :data:`MARKER` there. Before any work, every
+directory and records them in the marker file ``MARKER`` there. Before any work, every
 name it will write that already exists and is not recorded in the marker (a user's
 ``summary.json``, a ``figures/`` directory of someone else's) is refused, unless
 ``overwrite``; other files in the directory are never touched. Text files are written

@@ -1,10 +1,10 @@
-"""Running studies: the plan, the engines, and :func:`run_study`.
+"""Running studies: the plan, the engines, and ``run_study``.
 
-Imports go one way: :mod:`~mcbat.runner.plan` (the chunks; with
-:mod:`~mcbat.runner.job`, :mod:`~mcbat.runner.directory` and
-:mod:`~mcbat.runner.chunk_run`, :func:`run_chunk`) <-
-:mod:`~mcbat.runner.engines` (local, dask) <- :mod:`~mcbat.runner.study_run`
-(:func:`run_study`). :mod:`~mcbat.runner.frame` solves a DataFrame in memory.
+Imports go one way: ``mcbat.runner.plan`` (the chunks; with
+``mcbat.runner.job``, ``mcbat.runner.directory`` and
+``mcbat.runner.chunk_run``, ``run_chunk``) <-
+``mcbat.runner.engines`` (local, dask) <- ``mcbat.runner.study_run``
+(``run_study``). ``mcbat.runner.frame`` solves a DataFrame in memory.
 
 (The package is ``runner`` rather than ``run`` because ``mcbat.run`` is the front door's
 function, which a subpackage of that name would shadow once imported.)

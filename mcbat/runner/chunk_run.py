@@ -1,4 +1,4 @@
-"""The one step every engine executes: :func:`run_chunk` draws one chunk's inputs
+"""The one step every engine executes: ``run_chunk`` draws one chunk's inputs
 (deterministic in the sample index), solves them with the parallel kernel, computes its
 share of the summary and writes its Parquet file atomically.
 
@@ -30,7 +30,7 @@ __all__ = ["run_chunk", "study_inputs", "warm_kernel", "write_columns", "write_e
 
 def write_columns(table_args, path, compression="none") -> dict:
     """Build a chunk's table from its columns and write it atomically (see
-    :func:`run_chunk`); returns its manifest record."""
+    ``run_chunk``); returns its manifest record."""
     return chunks.write_chunk(chunks.to_table(*table_args), path, compression)
 
 
@@ -40,7 +40,7 @@ def run_chunk(study, job: ChunkJob, index: int, *, write=None,
     is summary-only) and compute its share of the ``[summary]`` statistics.
 
     The chunk's inputs are drawn from ``(seed, sample index)`` alone
-    (:meth:`mcbat.study.Study.sample`), so the file is the same wherever and however
+    (``mcbat.study.Study.sample``), so the file is the same wherever and however
     often it is computed: a rerun overwrites it with identical content.
 
     Parameters
@@ -91,7 +91,7 @@ def _derived_needed(job: ChunkJob):
 
 def _solve_chunk(study, start, stop, seed, derived=None):
     """Sample and solve an impact chunk; ``(names, cols)`` of
-    :func:`mcbat.dataset.chunks.impact_columns` (``derived``: as there)."""
+    ``mcbat.dataset.chunks.impact_columns`` (``derived``: as there)."""
     solver = study.solver
     columns = study.sample(start, stop, seed)
     inputs = study_inputs(columns)
@@ -107,7 +107,7 @@ def _solve_chunk(study, start, stop, seed, derived=None):
 
 
 def study_inputs(columns) -> np.ndarray:
-    """The kernel's input array from :meth:`mcbat.study.Study.sample`'s columns: the first
+    """The kernel's input array from ``mcbat.study.Study.sample``'s columns: the first
     rows of the array they are views of (no copy), else a stacked copy."""
     n_fields = len(INPUT_FIELDS)
     base = columns[INPUT_FIELDS[0]].base
@@ -122,7 +122,7 @@ def study_inputs(columns) -> np.ndarray:
 
 def _solve_game_chunk(study, start, stop, seed, derived=None):
     """Sample and solve a game chunk (and fly it, with ``[flight]``); ``(names, cols)`` of
-    :func:`mcbat.dataset.chunks.game_columns` (``derived``: as there)."""
+    ``mcbat.dataset.chunks.game_columns`` (``derived``: as there)."""
     solver = study.solver
     game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
     frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
@@ -135,7 +135,7 @@ def _solve_game_chunk(study, start, stop, seed, derived=None):
 
 def _fly(study, game_out):
     """The flight of a game chunk's batted balls (``[flight]``): ``(out, status)`` of
-    :func:`mcbat.core.flight.fly_batch`."""
+    ``mcbat.core.flight.fly_batch``."""
     row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
     v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
     w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])

@@ -1,7 +1,7 @@
 """Whether a run's first chunk will compile the kernels, and the line that says so.
 
 numba compiles a kernel on its first call in a process unless its on-disk cache
-(``cache=True``, :mod:`mcbat.core.jit`) holds machine code for this CPU and this source.
+(``cache=True``, ``mcbat.core.jit``) holds machine code for this CPU and this source.
 The batch kernels take 20-30 s to compile, during which the progress bar would sit at
 0 % with no word of why. The test reads the cache's index as numba's own lookup does (by
 the CPU and the function's bytecode; the argument types are not compared), without

@@ -147,7 +147,7 @@ def chunks_to_compute(out, job: ChunkJob, records: dict) -> tuple[list, list, li
     """Which chunks a run computes: ``(todo, redone, stray)``.
 
     A chunk is kept only if its file matches its manifest record (size and CRC-32 of the
-    bytes, :func:`mcbat.dataset.chunks.verify_chunk`). ``redone`` lists ``(index, reason)``
+    bytes, ``mcbat.dataset.chunks.verify_chunk``). ``redone`` lists ``(index, reason)``
     for the files that exist but are not kept (changed, corrupted, or written by a run
     killed before it recorded them): they are recomputed, and the run says so. ``stray``
     lists the names of chunk files beyond the dataset's last chunk (copies): the run

@@ -1,4 +1,4 @@
-"""Solve a DataFrame of impacts in memory: :func:`solve_frame`."""
+"""Solve a DataFrame of impacts in memory: ``solve_frame``."""
 
 from __future__ import annotations
 
@@ -28,13 +28,13 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
     ----------
     frame : pandas.DataFrame
         One impact per row, with a column for every kernel input of
-        :data:`mcbat.core.batch.INPUT_FIELDS` (SI units, the names of the dataset schema;
-        a dataset loaded with :func:`mcbat.load` has them). ``impact_parameter`` is
+        ``mcbat.core.batch.INPUT_FIELDS`` (SI units, the names of the dataset schema;
+        a dataset loaded with ``mcbat.load`` has them). ``impact_parameter`` is
         computed from ``angle`` (approach azimuth 0) when absent; ``from_barrel_end`` and
         ``sample_id`` are kept when present (else NaN, and numbered from 0). Other columns
         are ignored.
     steps, tolerance, max_steps
-        The kernel's accuracy settings (see :class:`mcbat.api.SolverSettings`; ``tolerance``
+        The kernel's accuracy settings (see ``mcbat.api.SolverSettings``; ``tolerance``
         finite with ``0 < tolerance < 1``, as everywhere).
     threads : int, optional
         Numba threads for the kernel (default: the current setting).
@@ -42,7 +42,7 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
     Returns
     -------
     pandas.DataFrame
-        The dataset columns (:data:`mcbat.dataset.schema.COLUMNS` but ``chunk``), with
+        The dataset columns (``mcbat.dataset.schema.COLUMNS`` but ``chunk``), with
         ``frame``'s index; ``df.attrs["units"]`` gives every column's unit. Rows that
         cannot be solved are flagged in ``status`` with NaN outputs.
 

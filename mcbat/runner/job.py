@@ -1,6 +1,6 @@
-"""What every chunk of one run shares (:class:`ChunkJob`) and what computing one returns
-(:class:`ChunkSummary`): small, picklable records the engines pass around
-(:mod:`mcbat.runner.plan` makes the job)."""
+"""What every chunk of one run shares (``ChunkJob``) and what computing one returns
+(``ChunkSummary``): small, picklable records the engines pass around
+(``mcbat.runner.plan`` makes the job)."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ class ChunkJob:
     samples, seed, chunk_size : int
         The run's sample count, seed and rows per chunk.
     config_hash : str
-        :func:`dataset_hash` of the run; stored in every chunk file.
+        ``dataset_hash`` of the run; stored in every chunk file.
     metadata : dict
         JSON-serialisable dataset metadata stored in every chunk file's schema.
     output : mcbat.study.output.OutputSpec
@@ -75,14 +75,14 @@ class ChunkSummary:
     index, rows : int
         The chunk and its number of rows.
     status_counts : tuple of int
-        Rows per status code (:data:`mcbat.core.status.STATUS_NAMES`).
+        Rows per status code (``mcbat.core.status.STATUS_NAMES``).
     threads : int
         Numba threads the kernel ran with.
     worker : str
         ``host:pid`` of the process that computed it.
     file : dict or None
         The chunk file's manifest record (``{"rows", "bytes", "crc32"}``,
-        :func:`mcbat.dataset.chunks.write_chunk`) once it is written; None while the
+        ``mcbat.dataset.chunks.write_chunk``) once it is written; None while the
         local engine's writer thread still writes it, and in a summary-only run.
     partial : mcbat.dataset.binned_stats.SummaryPartial or None
         The chunk's share of the ``[summary]`` statistics.

@@ -7,7 +7,7 @@ arrays past its (adaptive) mmap threshold afresh, so every chunk paid page fault
 first touch, inside the parallel sampler and kernel: 7-13 ms of a 150 ms chunk on a
 2-core VM (``mcbat run --summary-only`` on ``studies/throughput.toml``).
 
-:func:`reuse_freed_memory` raises the trim threshold to 1 GiB and pins the mmap threshold
+``reuse_freed_memory`` raises the trim threshold to 1 GiB and pins the mmap threshold
 at its 32 MiB maximum for the duration of a run, then restores glibc's defaults and trims.
 Elsewhere than glibc (macOS, musl) it does nothing.
 """

@@ -1,16 +1,16 @@
-"""Read the file of a study's ``[pitches]`` into plain numpy columns (:mod:`mcbat.study.pitches`).
+"""Read the file of a study's ``[pitches]`` into plain numpy columns (``mcbat.study.pitches``).
 
 The study layer may not read tables (it imports no pandas or pyarrow), so the runner reads
 the file once per run (and once per Dask worker process), hashes its bytes, and hands the
-columns to :meth:`mcbat.study.game.GameStudy.with_pitch_table`. Accepted files:
+columns to ``mcbat.study.game.GameStudy.with_pitch_table``. Accepted files:
 
-* mcbat's tidy table (one row per pitch, :data:`mcbat.study.pitches.TABLE_UNITS`), as
+* mcbat's tidy table (one row per pitch, ``mcbat.study.pitches.TABLE_UNITS``), as
   Parquet or CSV: the columns are used as they are;
 * a raw Baseball Savant CSV (``release_speed``, ``vx0`` ...): converted by
-  :func:`mcbat.statcast.read` first.
+  ``mcbat.statcast.read`` first.
 
 With the swing drawn from the rows (``swing = true``), the rows Savant marks as bunts
-(:func:`mcbat.statcast.is_bunt`) are flagged in the column :data:`BUNT_COLUMN`; the study
+(``mcbat.statcast.is_bunt``) are flagged in the column ``BUNT_COLUMN``; the study
 leaves them out and counts them.
 
 The bytes hashed are the bytes parsed (the file is read once), so the content hash in the
@@ -144,7 +144,7 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
 
 def _parse(data: bytes, where: str) -> pd.DataFrame | None:
     """The tidy table in ``data`` (Parquet, told by its magic bytes, or CSV), or None for
-    anything else (a raw Savant export: :func:`_from_savant`)."""
+    anything else (a raw Savant export: ``_from_savant``)."""
     if data[:4] == b"PAR1":
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -187,7 +187,7 @@ def _parse(data: bytes, where: str) -> pd.DataFrame | None:
 
 
 def _from_savant(path, where: str) -> pd.DataFrame:
-    """A raw Savant export as the tidy table (:func:`mcbat.statcast.read`)."""
+    """A raw Savant export as the tidy table (``mcbat.statcast.read``)."""
     from mcbat.statcast import read
 
     try:
@@ -225,7 +225,7 @@ MAX_IDENTIFIER = 2**53
 
 
 def _check_identifier(values, name, where, lines, unit) -> None:
-    """:class:`InputError` naming the line (or row) of the first identifier that is not a
+    """``InputError`` naming the line (or row) of the first identifier that is not a
     whole number in 0..2**53 (a missing one is allowed: the study leaves its row out)."""
     given = np.isfinite(values)
     with np.errstate(invalid="ignore"):

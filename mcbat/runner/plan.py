@@ -1,12 +1,12 @@
 """The plan of a run: its chunks, what they share, and the dataset's manifest.
 
-A run's rows are split into chunks. :func:`plan_run` fixes everything the chunks share (a
-:class:`~mcbat.runner.job.ChunkJob`: where, how many, the seed, the hash of the config) and
-the dataset's manifest; :func:`~mcbat.runner.directory.prepare_directory` checks and
-prepares the output; :func:`~mcbat.runner.chunk_run.run_chunk` draws one chunk's inputs
+A run's rows are split into chunks. ``plan_run`` fixes everything the chunks share (a
+``mcbat.runner.job.ChunkJob``: where, how many, the seed, the hash of the config) and
+the dataset's manifest; ``mcbat.runner.directory.prepare_directory`` checks and
+prepares the output; ``mcbat.runner.chunk_run.run_chunk`` draws one chunk's inputs
 (deterministic in the sample index), solves them with the parallel kernel and writes its
-Parquet file atomically. The engines (:mod:`mcbat.runner.engines`) only decide where
-:func:`run_chunk` runs. Those names are importable from here too.
+Parquet file atomically. The engines (``mcbat.runner.engines``) only decide where
+``run_chunk`` runs. Those names are importable from here too.
 
 Resumption: the manifest records a hash of everything that determines the data (study
 config, seed, sample count). A rerun with the same hash keeps every complete chunk file and
@@ -84,7 +84,7 @@ def dataset_hash(study_config: dict, seed: int, samples: int,
 
 def plan_run(study, out, samples: int, seed: int, chunk_size: int, *,
              summary_only: bool = False) -> tuple[ChunkJob, dict]:
-    """The :class:`ChunkJob` and the dataset manifest of a run (validated arguments).
+    """The ``ChunkJob`` and the dataset manifest of a run (validated arguments).
 
     A local ``out`` becomes absolute in the job: workers may run in another working
     directory, or on another host where the same path names the same shared storage.

@@ -1,10 +1,10 @@
-"""Run a study into a dataset directory: :func:`run_study`.
+"""Run a study into a dataset directory: ``run_study``.
 
 The flow is one-way: the validated study draws the inputs of each chunk, the parallel
 kernel solves them, and the struct-of-arrays becomes one Parquet file per chunk
-(:mod:`mcbat.runner.plan`). This module validates the options, prepares the directory,
+(``mcbat.runner.plan``). This module validates the options, prepares the directory,
 picks the chunks still to compute (resume), hands them to an engine
-(:mod:`mcbat.runner.engines`) and reports what happened.
+(``mcbat.runner.engines``) and reports what happened.
 """
 
 from __future__ import annotations
@@ -68,7 +68,7 @@ class RunSummary:
     engine_note : str or None
         Where the chunks were computed (Dask engine).
     batted_ball : dict or None
-        Game studies: :func:`batted_ball_summary`.
+        Game studies: ``batted_ball_summary``.
     redone : list of (int, str)
         Chunk files found on disk but recomputed, with the reason (changed, corrupted, or
         not recorded by a killed run).
@@ -182,7 +182,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
     study : mcbat.study.Study
         A validated study.
     out : str or Path
-        Dataset directory: a local path, or a URL (see :mod:`mcbat.dataset.storage`).
+        Dataset directory: a local path, or a URL (see ``mcbat.dataset.storage``).
     samples, seed, chunk_size : int, optional
         Override the study's defaults.
     tolerance : float, optional
@@ -192,7 +192,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         tolerance is refused like any other change of config.
     threads : int, optional
         Numba threads for the batch kernel: of this process (``local``; default: all), or
-        of each Dask worker (``dask``; see :class:`mcbat.runner.engines.dask.DaskEngine`).
+        of each Dask worker (``dask``; see ``mcbat.runner.engines.dask.DaskEngine``).
     overwrite : bool
         Replace an existing dataset of a different config.
     progress : bool
@@ -206,7 +206,7 @@ def run_study(study, out, *, samples=None, seed=None, threads=None, chunk_size=N
         core, when no ``scheduler`` is given).
     summary_only : bool
         Compute the study's ``[summary]`` without storing the rows (read it with
-        :func:`mcbat.load_summary`).
+        ``mcbat.load_summary``).
 
     Returns
     -------
@@ -339,12 +339,12 @@ def _forget_if_empty(out, on_disk: dict) -> None:
         storage.remove(out, chunks.MANIFEST, missing_ok=True)
 
 
-#: Rows counted as hit "at the sweet spot" by :func:`batted_ball_summary`: within 0.5 in of
+#: Rows counted as hit "at the sweet spot" by ``batted_ball_summary``: within 0.5 in of
 #: 6 in from the barrel end, and within 0.25 in of a head-on hit.
 SWEET_SPOT_WINDOW = (0.1524, 0.0127, 0.00635)
 
 
-#: The columns :func:`batted_ball_summary` reads (with ``flight``: and the flight's).
+#: The columns ``batted_ball_summary`` reads (with ``flight``: and the flight's).
 BATTED_BALL_COLUMNS = ("launch_speed", "launch_angle", "backspin", "collision_efficiency",
                        "from_barrel_end", "undercut", "status")
 
@@ -360,7 +360,7 @@ def batted_ball_summary(out, flight=False) -> dict:
     collision efficiency of its sweet-spot hits.
 
     The chunk files are read one at a time, a few times over
-    (:func:`mcbat.dataset.streaming.streamed_percentiles`): memory stays that of one chunk
+    (``mcbat.dataset.streaming.streamed_percentiles``): memory stays that of one chunk
     whatever the dataset's size, and the percentiles are numpy's of all the rows."""
     carried = ["hit_distance", "hang_time"] if flight else []
     names = ["launch_speed", "launch_angle", "backspin", *carried, "collision_efficiency",
@@ -421,14 +421,14 @@ def _progress_bar(name: str, total: int):
 
 class _Recorder:
     """Records written chunks in the manifest (rewritten atomically): from then on a chunk
-    belongs to the dataset. At most one rewrite per :attr:`INTERVAL` seconds (a dataset of
+    belongs to the dataset. At most one rewrite per ``INTERVAL`` seconds (a dataset of
     thousands of chunks would otherwise rewrite a growing manifest thousands of times), and
     a last one when the run ends, however it ends. A run killed in between loses the
     records of at most a second of chunks: a resume recomputes them.
 
     With ``[summary]`` it merges each chunk's partial into the run's
-    :class:`~mcbat.dataset.summary.SummaryState` (in chunk order) and saves the state with
-    the manifest, at most every :attr:`STATE_INTERVAL` seconds (it may be megabytes).
+    ``mcbat.dataset.summary.SummaryState`` (in chunk order) and saves the state with
+    the manifest, at most every ``STATE_INTERVAL`` seconds (it may be megabytes).
     """
 
     INTERVAL = 1.0

@@ -4,8 +4,8 @@ units (``docs/statcast.md``).
 ``read(path_or_dataframe)`` gives the tidy table, one row per pitch; ``write(df, path)``
 stores it as Parquet with its units; ``summarize(df)`` the counts ``mcbat statcast``
 prints. The pitch's crossing of the plate and the spray angle are the small pure
-functions of :mod:`mcbat.statcast.kinematics`; the parks and their elevations
-:mod:`mcbat.statcast.parks`.
+functions of ``mcbat.statcast.kinematics``; the parks and their elevations
+``mcbat.statcast.parks``.
 """
 
 from mcbat.statcast.collision import (

@@ -14,7 +14,7 @@ plate ``pitch_speed`` measured):
 - ``squared_up``: ``squared_up_fraction >= 0.8`` (Statcast's squared-up swing).
 
 Elsewhere NaN (``squared_up``: pandas' missing value ``<NA>`` in a ``"boolean"``
-column). :func:`collision_summary` sums them up for comparison with a model.
+column). ``collision_summary`` sums them up for comparison with a model.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ __all__ = ["COLLISION_UNITS", "SQUARED_UP_BAT", "SQUARED_UP_PITCH", "SQUARED_UP_
 
 COLLISION_UNITS = {"collision_efficiency": "1", "squared_up_fraction": "1",
                    "squared_up": "bool"}
-"""The columns :func:`collision_columns` adds to the tidy table, with their units."""
+"""The columns ``collision_columns`` adds to the tidy table, with their units."""
 
 SQUARED_UP_BAT = 1.23
 """Statcast's largest possible exit velocity per mph of bat speed (``1 + q``, q = 0.23)."""
@@ -106,11 +106,11 @@ def collision_summary(table, *, bat_speed_floor=40.0, exclude_bunts=True,
     Parameters
     ----------
     table : pandas.DataFrame
-        A tidy table (:func:`mcbat.statcast.read`).
+        A tidy table (``mcbat.statcast.read``).
     bat_speed_floor : float
         mph; swings slower than this (bunts, check swings) are left out.
     exclude_bunts : bool
-        Leave out the rows Savant marks as bunts (:func:`is_bunt`).
+        Leave out the rows Savant marks as bunts (``is_bunt``).
     bat_speed_bins, attack_angle_bins : sequence of float
         Bin edges (mph, deg) of the binned means.
 

@@ -8,8 +8,8 @@ until someone writes and cannot be read again, the third holds no rows. They are
 before anything is opened, with what they are.
 
 A gzip file is read as it is decompressed; the text it expands to may be at most
-:data:`MAX_EXPANSION` times the file's size (a Savant export compresses about 4-5 times),
-and at least :data:`MIN_EXPANDED_BYTES`: a file that expands beyond that (a "gzip bomb", a
+``MAX_EXPANSION`` times the file's size (a Savant export compresses about 4-5 times),
+and at least ``MIN_EXPANDED_BYTES``: a file that expands beyond that (a "gzip bomb", a
 few MB of zeros that would become gigabytes) is refused when the cap is reached, naming the
 cap.
 """
@@ -49,7 +49,7 @@ def file_kind(mode) -> str | None:
 
 def check_regular_file(path, label=None, field=None) -> os.stat_result:
     """``path``'s status if it is a regular file (symbolic links followed), else
-    :class:`~mcbat.errors.InputError` saying what it is, before anything is opened.
+    ``mcbat.errors.InputError`` saying what it is, before anything is opened.
 
     Parameters
     ----------
@@ -101,13 +101,13 @@ class CappedReader:
 
     @classmethod
     def for_file(cls, stream, on_disk, label, field=None):
-        """A reader capped at :data:`MAX_EXPANSION` times ``on_disk`` bytes (at least
-        :data:`MIN_EXPANDED_BYTES`)."""
+        """A reader capped at ``MAX_EXPANSION`` times ``on_disk`` bytes (at least
+        ``MIN_EXPANDED_BYTES``)."""
         return cls(stream, max(MAX_EXPANSION * on_disk, MIN_EXPANDED_BYTES), label, on_disk,
                    field)
 
     def read(self, n=-1):
-        """Up to ``n`` bytes; :class:`~mcbat.errors.InputError` once the cap is passed."""
+        """Up to ``n`` bytes; ``mcbat.errors.InputError`` once the cap is passed."""
         want = self.limit + 1 - self.given if n is None or n < 0 else \
             min(n, self.limit + 1 - self.given)
         block = self.stream.read(max(want, 0))
@@ -122,8 +122,8 @@ class CappedReader:
 
 
 def check_expansion(path, label=None, field=None) -> None:
-    """Read a gzip file through to its end under the cap (:class:`CappedReader`), keeping
-    nothing: :class:`~mcbat.errors.InputError` if it expands beyond the cap or is broken.
+    """Read a gzip file through to its end under the cap (``CappedReader``), keeping
+    nothing: ``mcbat.errors.InputError`` if it expands beyond the cap or is broken.
     Nothing happens for a file that is not gzip. For readers that would decompress the
     whole file at once (pandas) or read its first line without a limit."""
     import gzip

@@ -3,11 +3,11 @@
 The call: the ball is flown (each in its own air) until its horizontal distance from home
 plate reaches the fence's distance along the direction in which it is travelling there;
 it is a home run when it passes that point higher than the fence
-(:func:`mcbat.study.flight.heights_at_distance`). A ball that meets the wall while still
+(``mcbat.study.flight.heights_at_distance``). A ball that meets the wall while still
 rising, a line drive, is no home run even if it would have carried farther. The fence's
 distance depends on the spray angle at the crossing, which the ball's curve moves a little
 from its launch spray, so the crossing is found twice: at the fence of the launch spray,
-then at the fence of the spray where the ball crossed. Fences: :func:`parks.fence` (one
+then at the fence of the spray where the ball crossed. Fences: ``parks.fence`` (one
 configuration per park; ``docs/parks-and-weather.md``).
 """
 
@@ -39,16 +39,16 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
     backspin, sidespin : array_like
         rpm (``docs/flight.md``).
     park : str or array_like of str
-        ``park_id`` of :func:`mcbat.statcast.parks.park_of`, one or one per ball.
+        ``park_id`` of ``mcbat.statcast.parks.park_of``, one or one per ball.
     game_date : array_like, optional
         Each ball's date: the fences standing at its park that day
-        (:func:`mcbat.statcast.parks.fence`); without it, the fences standing now.
+        (``mcbat.statcast.parks.fence``); without it, the fences standing now.
     settings : FlightSettings, optional
         The flight (default: Nathan's model in standard air).
     ball : mcbat.bodies.Ball, optional
         Default: the regulation baseball.
     per_ball : mapping, optional
-        Per-ball flight settings (SI; :data:`mcbat.study.flight.PER_BALL`): the park's
+        Per-ball flight settings (SI; ``mcbat.study.flight.PER_BALL``): the park's
         elevation, the game's air, a season's drag.
 
     Returns

@@ -1,10 +1,10 @@
 """A Statcast export as a measurement table for mcbat's fits (``mcbat fit --data``).
 
-The game fits take Statcast's names and units (:mod:`mcbat.stats.measurements`): the
+The game fits take Statcast's names and units (``mcbat.stats.measurements``): the
 observables ``launch_speed`` (mph), ``launch_angle`` and ``spray_angle`` (deg) and the
 measured inputs ``pitch_speed`` (mph, at the plate), ``bat_speed`` (mph) and
 ``attack_angle`` (deg). This module picks them out of a Savant export (or a tidy table
-:func:`mcbat.statcast.write` wrote) and keeps the rows a fit can use:
+``mcbat.statcast.write`` wrote) and keeps the rows a fit can use:
 
 - balls in play only (``description`` ``hit_into_play...``): a pitch not put in play has
   no launch;
@@ -69,14 +69,14 @@ def measurement_table(source, *, name=None):
     Parameters
     ----------
     source : str, os.PathLike or pandas.DataFrame
-        Anything :func:`mcbat.statcast.read` takes.
+        Anything ``mcbat.statcast.read`` takes.
     name : str, optional
         How errors and the report name the input.
 
     Returns
     -------
     pandas.DataFrame
-        Float columns of :data:`FIT_COLUMNS` (those the export has), every value finite;
+        Float columns of ``FIT_COLUMNS`` (those the export has), every value finite;
         ``attrs["source"]``, and ``attrs["statcast"]``: ``rows`` (pitches in the export),
         ``used``, and the rows dropped: ``not_in_play``, ``no_launch`` (in play without
         launch speed, angle or spray angle), ``foul_territory`` (caught in foul territory),

@@ -5,7 +5,7 @@ The tables are ``data/mlb_parks.csv`` and ``data/park_fences.csv`` (provenance i
 ``data/README.md``). A park row covers one ``home_team`` over a date span; short
 neutral-site rows (``kind`` ``neutral``) win over the home park on their dates, then
 ``temporary`` rows, then ``home`` rows. A park's fences may have several configurations
-over time (date spans in the fence table); :func:`fence` picks the one standing on a
+over time (date spans in the fence table); ``fence`` picks the one standing on a
 game's date when given the date.
 """
 
@@ -194,7 +194,7 @@ def fences() -> dict:
     """The fence table: ``{key: (spray_angle_deg, distance_ft, height_ft)}`` arrays sorted
     by spray angle (NaN where a cell is empty). A ``park_id`` key gives the park's latest
     configuration (the one standing now); a ``config_id`` key
-    (:func:`fence_configurations`) gives that configuration."""
+    (``fence_configurations``) gives that configuration."""
     table: dict = {}
     for c in fence_configurations():  # sorted by first date: the latest overwrites
         arrays = (c["spray_angle_deg"], c["distance_ft"], c["height_ft"])
@@ -209,15 +209,15 @@ def fence_config(park, game_date):
     Parameters
     ----------
     park : str or array_like of str
-        ``park_id`` (one, or one per date), e.g. from :func:`park_of`.
+        ``park_id`` (one, or one per date), e.g. from ``park_of``.
     game_date : array_like of datetime64 or str
         Game dates (``YYYY-MM-DD``).
 
     Returns
     -------
     ndarray of object
-        ``config_id`` per row (accepted by :func:`fence` and, as the ``park`` argument, by
-        :func:`mcbat.statcast.home_runs.home_run_call`); None where the park has no fence
+        ``config_id`` per row (accepted by ``fence`` and, as the ``park`` argument, by
+        ``mcbat.statcast.home_runs.home_run_call``); None where the park has no fence
         or no configuration stood on that date (or the date is missing).
     """
     dates = _dates(game_date)
@@ -242,14 +242,14 @@ def fence(park, spray_angle_deg, game_date=None):
     Parameters
     ----------
     park : str or array_like of str
-        ``park_id`` (one, or one per angle), e.g. from :func:`park_of`, or a ``config_id``
-        from :func:`fence_config`. Without ``game_date`` a ``park_id`` means the park's
+        ``park_id`` (one, or one per angle), e.g. from ``park_of``, or a ``config_id``
+        from ``fence_config``. Without ``game_date`` a ``park_id`` means the park's
         latest configuration (the fences standing now).
     spray_angle_deg : float or array_like
         Spray angles (deg).
     game_date : array_like of datetime64 or str, optional
         Game dates; when given, each row gets the configuration standing at its park on
-        that date (:func:`fence_config`), and NaN where none did.
+        that date (``fence_config``), and NaN where none did.
 
     Returns
     -------

@@ -1,18 +1,18 @@
 """Read a Baseball Savant export (CSV, or a pybaseball DataFrame) into mcbat's tidy table.
 
 One row per pitch, in mcbat's field frame and units (``docs/statcast.md`` lists every
-column with its unit and definition; :data:`UNITS` is the machine-readable list).
+column with its unit and definition; ``UNITS`` is the machine-readable list).
 Missing values stay NaN; nothing is guessed. What the reader does with imperfect input:
 
 ============================================  =============================================
 input                                         result
 ============================================  =============================================
-not a Savant export (required columns absent) :class:`~mcbat.errors.InputError` naming
+not a Savant export (required columns absent) ``mcbat.errors.InputError`` naming
                                               the missing columns (exit 2 in the CLI)
-a row with more or fewer fields than the      :class:`~mcbat.errors.InputError` naming the
+a row with more or fewer fields than the      ``mcbat.errors.InputError`` naming the
 header; an unterminated quote (a truncated    line: the file was cut or is malformed
 download)
-not UTF-8 text, an empty file                 :class:`~mcbat.errors.InputError`
+not UTF-8 text, an empty file                 ``mcbat.errors.InputError``
 a non-numeric cell in a numeric column        NaN, counted per column with the first
 (``"abc"`` for ``launch_speed``)              offending line in ``attrs["statcast"]
                                               ["non_numeric"]``
@@ -130,10 +130,10 @@ def read(source, *, name=None, strict=False, keep_duplicates=False):
     ----------
     source : str, os.PathLike or pandas.DataFrame
         A Savant CSV export (``.csv`` or ``.csv.gz``; any season 2015-2025, the columns of
-        its year), a Parquet file holding such an export or a table :func:`write` wrote
+        its year), a Parquet file holding such an export or a table ``write`` wrote
         (told by its content, whatever its name), or a DataFrame (pybaseball's
         ``statcast()`` result, a raw export read by pandas, or a tidy table). A path must
-        be a regular file (:func:`mcbat.statcast.files.check_regular_file`).
+        be a regular file (``mcbat.statcast.files.check_regular_file``).
     name : str, optional
         How errors and the report name the input (default: the path, or
         ``"<DataFrame>"``).
@@ -147,12 +147,12 @@ def read(source, *, name=None, strict=False, keep_duplicates=False):
     Returns
     -------
     pandas.DataFrame
-        The columns of :data:`COLUMNS` (``docs/statcast.md``). ``df.attrs["units"]`` maps
+        The columns of ``COLUMNS`` (``docs/statcast.md``). ``df.attrs["units"]`` maps
         each column to its unit; ``df.attrs["statcast"]`` is the reader's report:
         ``source``, ``rows`` (pitches kept), ``missing_columns`` (optional columns the
         input lacks, NaN here), ``non_numeric`` (per column: cells that were not numbers,
         set to NaN, and the first one's line and value), ``out_of_range`` (likewise, cells
-        outside :data:`RANGES`), ``elevation_missing`` (rows
+        outside ``RANGES``), ``elevation_missing`` (rows
         without a park elevation, per ``home_team``), ``unknown_home_teams`` (codes the
         park table does not know, with their rows), ``duplicate_columns``,
         ``duplicate_pitches`` (rows dropped as copies of an earlier pitch, the first one's
@@ -173,7 +173,7 @@ def read(source, *, name=None, strict=False, keep_duplicates=False):
 
 
 def read_with_lines(source, *, name=None, strict=False, keep_duplicates=False):
-    """:func:`read`, and the file line (from 1, as an editor counts) of each row of the
+    """``read``, and the file line (from 1, as an editor counts) of each row of the
     table: an int64 array for a CSV export, None for Parquet or a DataFrame. For messages
     about a row that name the line of the file it came from."""
     import pandas as pd
@@ -225,8 +225,8 @@ PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
 
 
 def _without_duplicates(df, label, lines, strict, keep=False):
-    """``df`` without the rows that repeat an earlier pitch (:data:`PITCH_KEY`), counted
-    in the report (or :class:`InputError` with ``strict``), and the lines of its rows.
+    """``df`` without the rows that repeat an earlier pitch (``PITCH_KEY``), counted
+    in the report (or ``InputError`` with ``strict``), and the lines of its rows.
     Rows missing a part of the key cannot be told apart and are all kept."""
     if keep:
         return df, lines
@@ -279,8 +279,8 @@ _BLOCK_BYTES = 1 << 23
 
 def _text_lines(path, label):
     """The file's lines (``.gz`` decompressed as it is read, with the cap of
-    :mod:`mcbat.statcast.files`; UTF-8 with or without a BOM; each line with its newline),
-    or :class:`InputError` naming the file, and the line and byte of a decoding error."""
+    ``mcbat.statcast.files``; UTF-8 with or without a BOM; each line with its newline),
+    or ``InputError`` naming the file, and the line and byte of a decoding error."""
     import codecs
     import gzip
     import zlib
@@ -388,7 +388,7 @@ def _csv_chunks(path, label, rows=None):
 
 
 def _read_csv_tidy(path, label):
-    """The tidy table of a CSV export, parsed :data:`CHUNK_ROWS` rows at a time, and the
+    """The tidy table of a CSV export, parsed ``CHUNK_ROWS`` rows at a time, and the
     file line of each row."""
     import pandas as pd
 
@@ -512,14 +512,14 @@ def _tidy(raw, label, lines, duplicates):
 
 
 def _with_collision(df):
-    """``df`` with the collision columns (:mod:`mcbat.statcast.collision`) computed."""
+    """``df`` with the collision columns (``mcbat.statcast.collision``) computed."""
     for name, values in collision_columns(df, balls_in_play(df)).items():
         df[name] = values
     return df
 
 
 def _check_required(columns, label):
-    """:class:`InputError` naming the required columns ``columns`` lacks (the first ten
+    """``InputError`` naming the required columns ``columns`` lacks (the first ten
     and their count when most are missing: the file is something else altogether)."""
     missing = [c for c in REQUIRED if c not in set(columns)]
     if not missing:
@@ -604,8 +604,8 @@ MAX_IDENTIFIER = 2**53
 
 
 def _check_identifiers(columns, label, lines):
-    """:class:`InputError` naming the column and line (or row) of the first identifier that
-    is not a whole number in 0..:data:`MAX_IDENTIFIER` (missing values are allowed)."""
+    """``InputError`` naming the column and line (or row) of the first identifier that
+    is not a whole number in 0..``MAX_IDENTIFIER`` (missing values are allowed)."""
     import pandas as pd
 
     for column, values in columns.items():
@@ -658,7 +658,7 @@ def _dates(values):
 
 
 def _tidy_from_parquet(table, path, label):
-    """A table :func:`write` wrote: its columns and the report kept in its metadata."""
+    """A table ``write`` wrote: its columns and the report kept in its metadata."""
     import pyarrow.parquet as pq
 
     missing = [c for c in COLUMNS if c not in table.columns and c not in _DERIVED]
@@ -675,8 +675,8 @@ def _tidy_from_parquet(table, path, label):
 
 
 def write(df, path):
-    """Write a tidy table (from :func:`read`) to Parquet, atomically, with its units and
-    the reader's report in the schema metadata (key :data:`METADATA_KEY`).
+    """Write a tidy table (from ``read``) to Parquet, atomically, with its units and
+    the reader's report in the schema metadata (key ``METADATA_KEY``).
 
     The file appears complete or not at all: it is written under a temporary name in the
     same directory and renamed.

@@ -2,19 +2,19 @@
 
 Each ball in play with a measured launch (``launch_speed``, ``launch_angle``, and a spray
 angle from its hit coordinates) is flown twice with the regulation ball and Nathan's
-average spin model (:mod:`mcbat.statcast.spin`):
+average spin model (``mcbat.statcast.spin``):
 
-- **as it was**: its own park, its season's ball (:func:`mcbat.study.flight.season_scales`)
-  and its own air (:func:`mcbat.statcast.weather.air`: a weather table's game row when one
+- **as it was**: its own park, its season's ball (``mcbat.study.flight.season_scales``)
+  and its own air (``mcbat.statcast.weather.air``: a weather table's game row when one
   is given, with the recorded wind at the season table's scale; else the park's climate
   normal for the month; indoor air under a closed roof);
-- **replayed**: the same, with what the :class:`Conditions` change: another park (its
+- **replayed**: the same, with what the ``Conditions`` change: another park (its
   elevation, roof, fences and climate normal for the ball's month; a game's recorded
   weather belongs to its own park and is not carried over), a temperature, a wind (at full
   strength; none under a closed roof), a drag scale in place of the season's.
 
 Both flights go to the ground (the carry); each is called a home run or not against the
-fences of the park it was flown in (:func:`mcbat.statcast.home_runs.home_run_call`). The
+fences of the park it was flown in (``mcbat.statcast.home_runs.home_run_call``). The
 difference is the model's: what the conditions change for the same launch.
 """
 
@@ -147,7 +147,7 @@ def _fly(balls, air, drag, backspin, sidespin, park_ids):
 
 def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
            weather_table=None) -> pd.DataFrame:
-    """Every batted ball of ``table`` (:func:`mcbat.statcast.read`) as it was and under
+    """Every batted ball of ``table`` (``mcbat.statcast.read``) as it was and under
     ``conditions`` (module docstring).
 
     Returns
@@ -159,7 +159,7 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
         ``fence_height``, ``home_run``) and the ball as it was (``actual_park``,
         ``actual_temperature``, ``actual_distance``, ``actual_home_run``) and ``change``
         (replayed minus as it was, ft). Units in ``attrs["units"]``
-        (:data:`OUTPUT_UNITS`), the conditions in ``attrs["conditions"]``.
+        (``OUTPUT_UNITS``), the conditions in ``attrs["conditions"]``.
     """
     conditions = Conditions() if conditions is None else conditions
     balls = _batted(table)

@@ -72,7 +72,7 @@ def wind_vector(direction_code, speed_mph):
     Raises
     ------
     InputError
-        For a code not in :data:`WIND_CODES`.
+        For a code not in ``WIND_CODES``.
     """
     codes = np.asarray(direction_code, dtype=object)
     speed = np.asarray(speed_mph, dtype=float)
@@ -248,7 +248,7 @@ def air(table, weather=None):
     table : DataFrame
         With ``game_pk``, ``game_date``, ``home_team`` (``mcbat.statcast.read``'s output).
     weather : DataFrame or str or Path, optional
-        A per-game weather table (:func:`read_weather` is applied to a path).
+        A per-game weather table (``read_weather`` is applied to a path).
 
     Returns
     -------

@@ -1,5 +1,5 @@
 """Statistics: measurement tables, maximum-likelihood fits and model comparison, and the
-common cuts of datasets (:mod:`~mcbat.stats.analysis`)."""
+common cuts of datasets (``mcbat.stats.analysis``)."""
 
 from mcbat.stats import analysis, fit, measurements
 

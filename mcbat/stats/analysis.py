@@ -29,7 +29,7 @@ def binned(df: pd.DataFrame, x: str, y: str, bins=20, quantiles=(0.16, 0.5, 0.84
     Parameters
     ----------
     df : DataFrame
-        A dataset (see :func:`mcbat.load`).
+        A dataset (see ``mcbat.load``).
     x, y : str
         Column names, e.g. ``"scattering_angle"`` and ``"exit_speed"``.
     bins : int or sequence of float

@@ -4,7 +4,7 @@
 speed of the study's first ``samples`` rows is 100 mph. The rows are drawn once (the same
 seed at every trial value: common random numbers), so the mean is a smooth function of the
 parameter and Brent's method finds the root to ``xtol``. The paper's calibration (Cabo et
-al. Sec. V: the exit speed of one drop, :mod:`mcbat.papers.cabo2012.calibration`) is the
+al. Sec. V: the exit speed of one drop, ``mcbat.papers.cabo2012.calibration``) is the
 special case of a study with no scatter.
 
 A mean need not be monotonic in the parameter (the Sec. V exit speed falls, then rises, as
@@ -35,7 +35,7 @@ GRID = 41
 
 @dataclass(frozen=True)
 class CalibrationResult:
-    """Result of :func:`calibrate`; ``column``'s values in its table unit (``unit``)."""
+    """Result of ``calibrate``; ``column``'s values in its table unit (``unit``)."""
 
     study: str
     parameter: str

@@ -55,5 +55,5 @@ def table_columns(game: bool) -> dict:
 
 
 GAME_WRITTEN = ("pitch_speed", "bat_speed", "attack_angle", "undercut")
-"""The measured inputs :func:`mcbat.stats.measurements.synthesize` writes into a game
+"""The measured inputs ``mcbat.stats.measurements.synthesize`` writes into a game
 table."""

@@ -1,13 +1,13 @@
 """A simulated dataset against a measured table: two-sample statistics per shared column
 and in the launch speed / launch angle plane (``mcbat compare``, ``docs/compare.md``).
 
-:func:`compare` runs the statistics of :mod:`mcbat.stats.two_sample` (Kolmogorov-Smirnov,
+``compare`` runs the statistics of ``mcbat.stats.two_sample`` (Kolmogorov-Smirnov,
 Wasserstein, energy distance with permutation p-values; the energy distance of the
 standardized points in the plane) on two DataFrames (rows with NaN dropped per column and
-counted; units checked and converted, :mod:`mcbat.stats.compare_units`).
-:func:`read_simulated` and :func:`read_measured` read the inputs
-(:mod:`mcbat.stats.compare_inputs`), :func:`fig_compare` draws the figure
-(:mod:`mcbat.stats.compare_figure`); all are importable from here.
+counted; units checked and converted, ``mcbat.stats.compare_units``).
+``read_simulated`` and ``read_measured`` read the inputs
+(``mcbat.stats.compare_inputs``), ``fig_compare`` draws the figure
+(``mcbat.stats.compare_figure``); all are importable from here.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ _NOT_COMPARED = ("sample_id", "chunk")
 
 @dataclass
 class Comparison:
-    """What :func:`compare` found: ``columns`` (one dict per compared column), ``plane``
+    """What ``compare`` found: ``columns`` (one dict per compared column), ``plane``
     (the launch speed / launch angle test, or None), ``not_compared`` (shared columns left
     out, with the reason), the settings and the two sides' descriptions."""
 
@@ -129,13 +129,13 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
     Parameters
     ----------
     simulated : pandas.DataFrame
-        A dataset (:func:`mcbat.load`), its units in ``attrs["units"]``.
+        A dataset (``mcbat.load``), its units in ``attrs["units"]``.
     measured : pandas.DataFrame
         The measured rows; the units it states in ``attrs["units"]`` (from a Statcast
         export, a dataset, Parquet metadata), possibly none.
     columns : sequence of str, optional
         The columns to compare (default: every shared column of a known unit,
-        :data:`UNIT_FACTORS`).
+        ``UNIT_FACTORS``).
     units : dict, optional
         Units of measured columns, over those the table states.
     permutations, seed, max_rows, plane_rows
@@ -155,7 +155,7 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
         An empty table, a requested column missing on either side, units that differ and
         cannot be converted, a measured column that looks like another unit than the one
         it is read in (stating no unit), a stated unit the values contradict
-        (:func:`~mcbat.stats.compare_units.unit_contradiction`), no shared column.
+        (``mcbat.stats.compare_units.unit_contradiction``), no shared column.
     """
     check_settings(permutations, seed, max_rows, plane_rows, units)
     if len(measured) == 0:
@@ -198,7 +198,7 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
 
 
 def check_settings(permutations, seed, max_rows, plane_rows, units=None):
-    """The settings of :func:`compare`, checked (:class:`~mcbat.errors.InputError` naming
+    """The settings of ``compare``, checked (``mcbat.errors.InputError`` naming
     the parameter), before any table is read."""
     for name, unit in (units or {}).items():
         if unit not in UNIT_FACTORS:

@@ -41,7 +41,7 @@ def read_measured(paths, units=None, *, strict=False):
     """One or more measured tables, concatenated, with the units they state.
 
     Each path is a Baseball Savant (Statcast) export or mcbat's tidy Statcast table (read by
-    :func:`mcbat.statcast.read`; its balls in play only, named as in a game dataset:
+    ``mcbat.statcast.read``; its balls in play only, named as in a game dataset:
     ``hit_distance_sc`` is ``hit_distance``, the pitch's ``spin_rate`` and approach angles
     are ``pitch_spin_rate``, ``pitch_vertical_approach_angle``,
     ``pitch_horizontal_approach_angle``, and the spray angle of a ball caught in foul
@@ -49,7 +49,7 @@ def read_measured(paths, units=None, *, strict=False):
     whose columns are named as the dataset's. Units: a Statcast table's and a dataset's are
     known; a Parquet table may state them in its schema metadata (key ``units``, JSON
     ``{column: unit}``); ``units`` adds or overrides. A CSV states none: its columns are read
-    in the simulated dataset's units, and :func:`compare` refuses one that looks like another
+    in the simulated dataset's units, and ``compare`` refuses one that looks like another
     unit.
 
     Returns
@@ -168,7 +168,7 @@ def _read_table(path, label):
 
 def _text_source(path, label):
     """What pandas reads a CSV table from: the path, or for a gzip file its text
-    decompressed under the cap of :mod:`mcbat.statcast.files`."""
+    decompressed under the cap of ``mcbat.statcast.files``."""
     import gzip
     import io
 

@@ -1,4 +1,4 @@
-"""The units :func:`mcbat.stats.compare.compare` knows, converts between, and suspects: a
+"""The units ``mcbat.stats.compare.compare`` knows, converts between, and suspects: a
 measured column that states no unit is read in the simulated column's, and refused when
 its values look like another unit of the same quantity."""
 
@@ -29,16 +29,16 @@ UNIT_FACTORS = {
     "J": ("energy", 1.0), "kg m/s": ("momentum", 1.0), "kg m^2": ("inertia", 1.0),
     "1": ("ratio", 1.0),
 }
-"""The units :func:`~mcbat.stats.compare.compare` knows, and converts between within one
+"""The units ``mcbat.stats.compare.compare`` knows, and converts between within one
 quantity. A column whose unit is not here (codes, identifiers) is not compared."""
 
 UNIT_SUSPICION = 1.5
 """A column whose unit the measured table does not state is read in the simulated column's
 unit; it is refused when the measured values' median magnitude differs from the simulated
-one by more than this factor *and* lies within :data:`UNIT_MATCH` of the factor between that
+one by more than this factor *and* lies within ``UNIT_MATCH`` of the factor between that
 unit and another of its quantity (launch speeds in m/s: 0.447 of mph)."""
 UNIT_MATCH = 1.3
-"""See :data:`UNIT_SUSPICION`."""
+"""See ``UNIT_SUSPICION``."""
 
 
 PLAUSIBLE_MEDIANS = {
@@ -60,18 +60,18 @@ PLAUSIBLE_MEDIANS = {
 }
 """Where the median of a column's real values lies, in its Statcast unit: a measured
 column whose stated unit puts its median outside is refused
-(:func:`unit_contradiction`): launch speeds near 90 stated in m/s would be 200 mph, launch
+(``unit_contradiction``): launch speeds near 90 stated in m/s would be 200 mph, launch
 speeds near 40 stated in mph slower than the batted balls of any table. The ranges are wide
 (a table of one batter's or one pitch type's balls lies inside); they catch a unit off by
 the factor between two units of the quantity, not every mistake."""
 PLAUSIBLE_ROWS = 10
-"""The fewest values whose median :func:`unit_contradiction` judges."""
+"""The fewest values whose median ``unit_contradiction`` judges."""
 
 
 def unit_contradiction(column, measured, unit):
-    """An :class:`~mcbat.errors.InputError` about ``column`` when the median of
+    """An ``mcbat.errors.InputError`` about ``column`` when the median of
     ``measured`` (finite values, stated to be in ``unit``) lies outside where the column's
-    real values lie (:data:`PLAUSIBLE_MEDIANS`), else None. The message names the column,
+    real values lie (``PLAUSIBLE_MEDIANS``), else None. The message names the column,
     the unit, the median and, when one puts it in range, the unit the values look like."""
     if column not in PLAUSIBLE_MEDIANS or unit not in UNIT_FACTORS:
         return None
@@ -101,7 +101,7 @@ def unit_contradiction(column, measured, unit):
 
 
 def convert(values, unit, to):
-    """``values`` in ``unit`` expressed in ``to`` (both in :data:`UNIT_FACTORS`, of one
+    """``values`` in ``unit`` expressed in ``to`` (both in ``UNIT_FACTORS``, of one
     quantity)."""
     if unit == to:
         return np.asarray(values, dtype=float)
@@ -112,9 +112,9 @@ def convert(values, unit, to):
 
 
 def unit_suspicion(column, simulated, measured, unit):
-    """An :class:`~mcbat.errors.InputError` about ``column`` when ``measured`` (whose table
+    """An ``mcbat.errors.InputError`` about ``column`` when ``measured`` (whose table
     states no unit, read in ``unit``) looks like another unit of the same quantity, else
-    None (:data:`UNIT_SUSPICION`). The ``units`` it advises is a mention (data), so a
+    None (``UNIT_SUSPICION``). The ``units`` it advises is a mention (data), so a
     command line can spell it as its flag."""
     kind = UNIT_FACTORS[unit][0]
     if kind in ("ratio",):

@@ -1,4 +1,4 @@
-"""Figures of fits: :func:`fig_fit_residuals` (``mcbat fit --residuals``)."""
+"""Figures of fits: ``fig_fit_residuals`` (``mcbat fit --residuals``)."""
 
 from __future__ import annotations
 

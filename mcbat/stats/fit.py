@@ -1,9 +1,9 @@
 """Maximum-likelihood fit of model parameters to a measurement table.
 
-:class:`~mcbat.stats.likelihood.Likelihood` gives ``-ln L`` of the table at any parameters,
-marginalising the nuisance scatter and the errors of the measured inputs. :func:`fit`
+``mcbat.stats.likelihood.Likelihood`` gives ``-ln L`` of the table at any parameters,
+marginalising the nuisance scatter and the errors of the measured inputs. ``fit``
 finds its maximum (a coarse grid, fine scans in ``mu`` and Nelder-Mead:
-:mod:`mcbat.stats.search`) and the intervals (:mod:`mcbat.stats.intervals`):
+``mcbat.stats.search``) and the intervals (``mcbat.stats.intervals``):
 profile-likelihood intervals, where ``-ln L`` rises by 1/2 when the other parameters are
 re-optimised (asymmetric in general); where the likelihood stays flat up to the end of a
 parameter's range on one side, a one-sided 95 % limit (a rise of 1.353) instead, and a
@@ -11,7 +11,7 @@ parameter flat on both sides is reported as not identified. The curvature error
 (finite-difference Hessian) is kept as ``stderr``; a parametric bootstrap is optional. The
 goodness of fit is the normal form's ``chi^2 = sum_i r_i^T T_i^-1 r_i`` at the best fit
 (for either likelihood), with ``dof = rows x observables - free parameters`` and its
-``scipy.stats.chi2`` p-value. :attr:`FitResult.warnings` says what a user must hear (a
+``scipy.stats.chi2`` p-value. ``FitResult.warnings`` says what a user must hear (a
 best value at a search bound or far from the study's preset, a p-value implausibly close to
 1, a measured input beyond the study's range).
 """
@@ -62,7 +62,7 @@ class FitResult:
     no interval can be given: its ``stderr`` is then still the curvature error, which
     describes the likelihood only near the best fit), ``limit`` (the one-sided 95 % limit,
     or None; ``limit_kind`` says how: ``"conditional"`` on the profile being flat,
-    :mod:`mcbat.stats.selective`, or ``"likelihood_ratio"``) and ``at_bound`` (the
+    ``mcbat.stats.selective``, or ``"likelihood_ratio"``) and ``at_bound`` (the
     physical edge the interval reaches, or None); a measured parameter whose likelihood at
     the end of its range (not a physical edge) rises less than the 95 % level above the
     best fit has that end as ``open_at_95`` (and a warning).
@@ -82,7 +82,7 @@ class FitResult:
     intervals: dict = field(default_factory=dict)
     priors: dict = field(default_factory=dict)
     """Measured input -> the flat prior its true values were marginalised over
-    (:attr:`mcbat.stats.models._DrawModel.priors`: ``study_range``, ``range``, ``widened``,
+    (``mcbat.stats.models._DrawModel.priors``: ``study_range``, ``range``, ``widened``,
     ``p_value``; table units)."""
     warnings: list = field(default_factory=list)
     """What a user should check before trusting the fit (a value at a bound or far from the
@@ -167,7 +167,7 @@ def finite(obj):
 
 
 def check_bootstrap(n):
-    """``n`` refits: 0 (none) or at least 2 (a spread needs two), or :class:`InputError`."""
+    """``n`` refits: 0 (none) or at least 2 (a spread needs two), or ``InputError``."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not (n == 0 or n >= 2):
         raise InputError("bootstrap", f"must be 0 (no bootstrap) or an integer >= 2, got {n!r}")
     return int(n)
@@ -182,9 +182,9 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     study : mcbat.study.Study
         Fixed setup and nuisance scatter.
     table : pandas.DataFrame
-        A measurement table (:func:`mcbat.stats.measurements.read_measurements`).
+        A measurement table (``mcbat.stats.measurements.read_measurements``).
     free : sequence of str
-        Parameters to fit, from :data:`FREE` (distinct).
+        Parameters to fit, from ``FREE`` (distinct).
     draws : int, optional
         Draws per row (nuisance scatter and measured-input errors; default: the model's,
         48 for a drop test, 128 for a game).
@@ -193,16 +193,16 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
     bootstrap : int
         Number of parametric bootstrap refits (0: none, else at least 2).
     start : sequence of float, optional
-        Starting point; default: the best point of a coarse grid over :data:`SEARCH`.
+        Starting point; default: the best point of a coarse grid over ``SEARCH``.
     fixed : dict, optional
         Inputs held at given values instead of the study's (``{"e_x": 0.0}``: rigid).
     intervals : {"profile", "curvature"}
-        ``"profile"``: profile-likelihood intervals and limits (:attr:`FitResult.intervals`);
+        ``"profile"``: profile-likelihood intervals and limits (``FitResult.intervals``);
         ``"curvature"``: the Hessian errors only (faster).
     input_prior : {"cover", "widen", "study"}, optional
-        See :class:`Likelihood`; the prior used is in :attr:`FitResult.priors`.
+        See ``Likelihood``; the prior used is in ``FitResult.priors``.
     likelihood : {"mixture", "gaussian"}, optional
-        See :class:`Likelihood` (default: the model's).
+        See ``Likelihood`` (default: the model's).
 
     Raises
     ------
@@ -255,7 +255,7 @@ def fit(study, table, free=("e", "mu"), *, draws=None, seed=0, bootstrap=0, star
 
 
 def _warnings(like, result):
-    """The sentences of :attr:`FitResult.warnings`."""
+    """The sentences of ``FitResult.warnings``."""
     out = []
     for name, prior in result.priors.items():
         share = prior.get("share_beyond_study_range")

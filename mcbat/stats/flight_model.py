@@ -1,5 +1,5 @@
 """The flight model's draw model: measured distances of batted balls against the flight
-kernel, for :class:`mcbat.stats.likelihood.Likelihood`.
+kernel, for ``mcbat.stats.likelihood.Likelihood``.
 
 A row of the table is one batted ball: its launch (``launch_speed`` mph, ``launch_angle``,
 ``spray_angle`` deg), the spin it is flown with (``backspin``, ``sidespin`` rpm: a spin
@@ -57,7 +57,7 @@ AIR_COLUMNS = tuple(c for c, (_, role) in FLIGHT_TABLE_COLUMNS.items() if role =
 class FlightFitSetup:
     """What a flight fit holds fixed: the flight settings (atmosphere other than the
     elevation, model, launch point, spin decay) and the ball. Plays the part of a study
-    for :class:`mcbat.stats.likelihood.Likelihood`."""
+    for ``mcbat.stats.likelihood.Likelihood``."""
 
     settings: FlightSettings = FlightSettings()
     mass: float = BALL_PRESETS[DEFAULT_BALL].mass

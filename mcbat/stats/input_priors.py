@@ -5,20 +5,20 @@ The range a measured input's true values are marginalised over depends on
 ``input_prior``:
 
 * ``"cover"`` (what the mixture likelihood uses by default): the study's range widened to
-  cover every measured value and :data:`COVER_SIGMA` of its errors (never beyond the
+  cover every measured value and ``COVER_SIGMA`` of its errors (never beyond the
   input's physical range). The estimated prior has a step at each end of the study's
-  range (:class:`PriorFamily`), fitted with the rest: a table whose true values stay
+  range (``PriorFamily``), fitted with the rest: a table whose true values stay
   within the study's range fits the step far down (the study's range, in effect), one
   whose true values reach beyond fits it up, and nothing is truncated.
 * ``"widen"`` (the normal likelihood's default): the study's range, unless the measured
-  values reject it (:func:`beyond_range_test`, :func:`prior_range`): then the range that
+  values reject it (``beyond_range_test``, ``prior_range``): then the range that
   best explains them (the study's range widened, never narrowed, never beyond the
   physical range).
 * ``"study"``: the study's range, and a table whose measured values reject it is refused.
 
 Truncating each row's true value to a range the data reach beyond would bias the fit
 without a word (rows measured 2-3 errors beyond the edge forced onto it). Every fit
-reports the range it used (:attr:`mcbat.stats.models._DrawModel.priors`).
+reports the range it used (``mcbat.stats.models._DrawModel.priors``).
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ COVER_SIGMA = 5.0
 """With ``input_prior = "cover"`` the range reaches this many errors beyond every measured
 value (the posterior of a row's true value beyond it is below 3e-7 of the whole)."""
 WIDEN_P_VALUE = 0.01
-"""The measured values of an input reject the study's range when :func:`beyond_range_test`
+"""The measured values of an input reject the study's range when ``beyond_range_test``
 gives a p-value below this: when every true value does lie within the study's range, that
 happens in fewer than 1 % of tables, whatever their size and wherever in the range the
 true values lie (the test is computed at the least favourable place, the range's ends; for
@@ -54,7 +54,7 @@ def _range_log_likelihood(value, sigma, lo, hi):
 
 
 BEYOND_COUNT_SIGMA = 2.0
-"""The count statistic of :func:`beyond_range_test` counts rows more than this many of their
+"""The count statistic of ``beyond_range_test`` counts rows more than this many of their
 errors beyond the range."""
 
 
@@ -87,7 +87,7 @@ def beyond_range_test(value, sigma, study_range):
 
     * the sum ``T = sum z_i^2`` (many rows a little beyond): ``P(T >= t) <= sum_k P(K = k)
       P(chi2_k >= t)``, ``K`` the number of positive terms (a chi-bar-squared);
-    * the number of rows more than :data:`BEYOND_COUNT_SIGMA` errors beyond (some rows well
+    * the number of rows more than ``BEYOND_COUNT_SIGMA`` errors beyond (some rows well
       beyond: true values spread past the range; the sum is swamped by the rows at the ends);
     * the largest ``z_i`` (one row far beyond).
 
@@ -138,12 +138,12 @@ def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
     Returns
     -------
     (lo, hi) : tuple of float
-        The study's range, or, when the data reject it (:func:`beyond_range_test` below
-        :data:`WIDEN_P_VALUE`), the range that best explains the measured values with
+        The study's range, or, when the data reject it (``beyond_range_test`` below
+        ``WIDEN_P_VALUE``), the range that best explains the measured values with
         ``lo <= study lo`` and ``hi >= study hi`` (the maximum likelihood of true values
-        uniform over it, :func:`_range_log_likelihood`), within ``physical``.
+        uniform over it, ``_range_log_likelihood``), within ``physical``.
     p_value : float
-        The p-value of :func:`beyond_range_test` (1 for an unbounded range).
+        The p-value of ``beyond_range_test`` (1 for an unbounded range).
     """
     lo, hi = study_range
     if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
@@ -167,8 +167,8 @@ def prior_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
 
 
 def covering_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
-    """The study's range widened to cover every measured value and :data:`COVER_SIGMA` of
-    its errors, within ``physical`` (SI, as :func:`prior_range`)."""
+    """The study's range widened to cover every measured value and ``COVER_SIGMA`` of
+    its errors, within ``physical`` (SI, as ``prior_range``)."""
     lo, hi = study_range
     if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
         return lo, hi
@@ -179,7 +179,7 @@ def covering_range(value, sigma, study_range, physical=(-math.inf, math.inf)):
 
 PRIOR_DEGREE = 8
 """Degree of the polynomial in the log-density of a measured input's prior
-(:class:`PriorFamily`). It must follow true values piled within 5 mm of both ends of a
+(``PriorFamily``). It must follow true values piled within 5 mm of both ends of a
 drop test's +-1 in: with degree 4 such tables fitted ``e*`` and ``mu`` 0.18 and 0.24 of
 their errors high over 400 tables, a misplaced prior; degree 8 removes that (shifts of
 -0.15 and -0.24 on the same tables; degree 12 changes nothing more) and leaves tables
@@ -191,7 +191,7 @@ when the data cannot fix one (true values piled at one end) and is negligible ot
 
 class PriorFamily:
     """Densities of a measured input's true values over ``[lo, hi]`` whose logarithm is a
-    polynomial of degree :data:`PRIOR_DEGREE` (Legendre polynomials of the position in the
+    polynomial of degree ``PRIOR_DEGREE`` (Legendre polynomials of the position in the
     range), plus, when the study's range ``inner`` lies within ``[lo, hi]``, a step beyond
     it: ``g(b) = exp(sum_j alpha_j P_j(t(b)) + alpha_s [b outside inner]) / N(alpha)``;
     ``alpha = 0`` is flat (Efron's g-modelling, Biometrika 103, 1 (2016)).
@@ -201,7 +201,7 @@ class PriorFamily:
     biases the fit, and a prior fixed beforehand from the measured inputs alone would
     leave its own uncertainty out of the intervals. The step lets the data say how many
     true values lie beyond the study's range, from none (``alpha_s`` far below 0, kept
-    finite by :data:`PRIOR_RIDGE`: a share of about 1e-3 beyond) to as many as within.
+    finite by ``PRIOR_RIDGE``: a share of about 1e-3 beyond) to as many as within.
     """
 
     def __init__(self, lo, hi, degree=PRIOR_DEGREE, inner=None):

@@ -1,10 +1,10 @@
 """Intervals of a fit: profile likelihood, one-sided limits, curvature and bootstrap errors.
 
 A profile-likelihood interval ends where ``-ln L``, minimised over the other parameters,
-rises by :data:`ONE_SIGMA` above its minimum; on a side where it stays flat up to the end
-of the parameter's range, a one-sided 95 % limit (a rise of :data:`LIMIT_95`) is given
-instead, and a side that ends at a physical edge (:data:`PHYSICAL_EDGES`) ends the interval
-there. Each function takes the likelihood (:class:`mcbat.stats.likelihood.Likelihood`) and
+rises by ``ONE_SIGMA`` above its minimum; on a side where it stays flat up to the end
+of the parameter's range, a one-sided 95 % limit (a rise of ``LIMIT_95``) is given
+instead, and a side that ends at a physical edge (``PHYSICAL_EDGES``) ends the interval
+there. Each function takes the likelihood (``mcbat.stats.likelihood.Likelihood``) and
 the best fit.
 """
 
@@ -23,7 +23,7 @@ __all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "RISE_95", "bootstrap_erro
 
 PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3),
                   ("lift_scale", 0.0)}
-"""Ends of :data:`FREE` that are physical limits (an interval may end there); the other
+"""Ends of ``FREE`` that are physical limits (an interval may end there); the other
 ends (``mu = 2``, ...) only end the search, and a likelihood still flat there means the data
 do not bound the parameter on that side."""
 ONE_SIGMA = 0.5
@@ -66,10 +66,10 @@ def flat_to_edge(like, best, nll_min):
 def profile_intervals(like, best, nll_min, err, cov, seed=0):
     """Profile-likelihood intervals of every free parameter.
 
-    Returns the per-parameter summary (:attr:`FitResult.intervals`) and a better point if
+    Returns the per-parameter summary (``FitResult.intervals``) and a better point if
     the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
     A one-sided limit is the one conditional on the profile being flat on the other side
-    (:mod:`mcbat.stats.selective`, its simulated tables seeded by ``seed``), or the
+    (``mcbat.stats.selective``, its simulated tables seeded by ``seed``), or the
     likelihood-ratio limit where that cannot be computed (``limit_kind`` says which).
     """
     n = len(best)
@@ -152,7 +152,7 @@ def profile_intervals(like, best, nll_min, err, cov, seed=0):
 def _complete(entry, sides, like, best, i, rise, point, seed):
     """Add to parameter ``i``'s entry what its two sides alone do not give: the end of the
     range its 95 % region reaches (``open_at_95``), and a one-sided limit conditional on
-    the flat side (:mod:`mcbat.stats.selective`). ``rise(t)`` is the profile's rise at
+    the flat side (``mcbat.stats.selective``). ``rise(t)`` is the profile's rise at
     ``t``, ``point(t)`` its point there."""
     name = like.free[i]
     if entry["status"] == "measured":
@@ -175,7 +175,7 @@ def _complete(entry, sides, like, best, i, rise, point, seed):
 
 
 def _entry(lower, upper, limit):
-    """The :attr:`FitResult.intervals` entry of one parameter from its two sides;
+    """The ``FitResult.intervals`` entry of one parameter from its two sides;
     ``limit(sign, side)`` computes a one-sided 95 % limit."""
     entry = {"lower_error": lower["error"], "upper_error": upper["error"],
              "status": "measured", "limit": None, "at_bound": None}
@@ -237,7 +237,7 @@ def _side(delta, best, sign, edge, scale, physical):
 
 
 def _limit(delta, best, sign, edge, scale, root):
-    """Where the rise of ``-ln L`` reaches :data:`LIMIT_95` beyond ``root`` (towards
+    """Where the rise of ``-ln L`` reaches ``LIMIT_95`` beyond ``root`` (towards
     ``edge``): the one-sided 95 % limit; None if it stays below up to the edge."""
     room = abs(edge - best)
     lo, hi = root, root

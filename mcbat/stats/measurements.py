@@ -37,14 +37,14 @@ column                    unit      meaning
 
 A Baseball Savant (Statcast) export, or the tidy table ``mcbat statcast --out`` writes,
 is read as a game table: its balls in play with a measured launch, the columns above that
-Statcast has (:mod:`mcbat.statcast.measured` says which rows are dropped and counts them in
+Statcast has (``mcbat.statcast.measured`` says which rows are dropped and counts them in
 ``table.attrs["statcast"]``).
 
 The fixed setup (bat, ball, and for a drop test the incoming speed) comes from a study TOML.
 Every value must be a finite number; uncertainties must be > 0; an ``_err`` column needs its
 value column. Errors name the file, the column and the data row (1-based) with the offending
-value. Observables without an ``_err`` column get :data:`DEFAULT_ERRORS`: one error per
-column, from the table's mean magnitude (:func:`table_error`).
+value. Observables without an ``_err`` column get ``DEFAULT_ERRORS``: one error per
+column, from the table's mean magnitude (``table_error``).
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ DEFAULT_ERRORS = {
     "spin_rate": (0.10, 50.0), "backspin": (0.10, 50.0), "sidespin": (0.10, 50.0),
 }
 """1-sigma error of an observable without an ``_err`` column, as ``(relative, floor)``: one
-error for every row of the table, :func:`table_error` (``max(relative x mean |y|, floor)``,
+error for every row of the table, ``table_error`` (``max(relative x mean |y|, floor)``,
 the mean over the table's rows, in the column's unit): 5 % of a drop test's mean exit speed,
 3 deg, 10 % of its mean spin with a 1 rad/s floor; 1 mph of launch speed, 1 deg of launch
 and spray angle, 10 % of the mean spin with a 50 rpm floor (assumed typical, not from a
@@ -84,8 +84,8 @@ def table_error(values, relative, floor):
     """One 1-sigma error for a whole column: ``max(relative * mean |y|, floor)``, the mean
     over the finite values (0 if there are none).
 
-    The rule of the errors a table does not state (:data:`DEFAULT_ERRORS`) and of the errors
-    :func:`synthesize` states. The same error for every row, on purpose: an error computed
+    The rule of the errors a table does not state (``DEFAULT_ERRORS``) and of the errors
+    ``synthesize`` states. The same error for every row, on purpose: an error computed
     from each row's own value (true or measured) tells the fit which rows lie above the
     model's mean (they get larger errors, less weight), which its likelihood, taking the
     errors as given, does not model: game fits came out low by a third of their error and
@@ -110,7 +110,7 @@ def measured_fraction(values, errors):
     A column qualifies when, over the rows whose error lies above the column's smallest
     (a floor, as in ``max(8 % |y|, 2 rad/s)``), at least five, the errors vary by more
     than 10 % and their ratio to ``|y|`` by less than
-    :data:`MEASURED_FRACTION_SPREAD` of its median. Such an error tells the fit which rows
+    ``MEASURED_FRACTION_SPREAD`` of its median. Such an error tells the fit which rows
     lie above the model's mean (they weigh less), which a likelihood that takes the errors
     as given does not model: the fit is biased, by more of its errors the more rows (the
     drop test's ``e*`` low by 0.35 of its errors at 60 rows: docs/fit-checks.md).
@@ -186,7 +186,7 @@ def read_measurements(path, required=()):
 
 
 def _read_table(path, source):
-    """The raw table (strings for CSV), or :class:`InputError` naming the file."""
+    """The raw table (strings for CSV), or ``InputError`` naming the file."""
     import pandas as pd
 
     if not path.is_file():
@@ -419,7 +419,7 @@ def write_table_atomic(table, path):
 def default_errors(column, values):
     """1-sigma errors of an observable without an ``_err`` column, one per row of
     ``values`` (the column's measured values), all equal: ``max(relative x mean |y|,
-    floor)`` with :data:`DEFAULT_ERRORS` (:func:`mcbat.stats.measurements.table_error`; the
+    floor)`` with ``DEFAULT_ERRORS`` (``mcbat.stats.measurements.table_error``; the
     mean over the finite values). Not ``relative |y|`` row by row: a row's error would then
     grow with its measured value and tell the fit which rows lie above the model's mean,
     biasing the estimates (docs/fitting.md)."""

@@ -96,7 +96,7 @@ def compare_models(study, table, free=("e", "mu"), *, draws=None, seed=0, fitted
     Parameters
     ----------
     study, table, draws, seed, input_prior, likelihood
-        As for :func:`fit`.
+        As for ``fit``.
     free : sequence of str
         The other free parameters, shared by both models (``e_x`` in it is ignored).
     fitted : FitResult, optional

@@ -3,13 +3,13 @@
 A fit compares each measured row with ``M`` draws of the model for that row. A *draw
 model* builds those ``rows x M`` cases once (the study's nuisance scatter, the row's
 measured inputs, their errors) and solves them at any value of the free parameters, so that
-:class:`mcbat.stats.likelihood.Likelihood` never needs to know which kernel it is fitting:
+``mcbat.stats.likelihood.Likelihood`` never needs to know which kernel it is fitting:
 
-* :class:`BatFrameModel`: a ball moving across a bat onto its axis, in the bat frame (a
+* ``BatFrameModel``: a ball moving across a bat onto its axis, in the bat frame (a
   drop test: ``studies/cross_nathan_2006.toml``); the table gives each row's impact
   parameter (and incoming spin), the observables are ``exit_speed`` (m/s),
   ``scattering_angle`` (deg) and ``spin_out`` (rad/s, about the bat axis).
-* :class:`GameModel`: a game study (a pitch and a swing in the field frame); the table
+* ``GameModel``: a game study (a pitch and a swing in the field frame); the table
   gives what a tracking system reports, in Statcast's names and units: ``launch_speed``
   (mph), ``launch_angle`` and ``spray_angle`` (deg), ``spin_rate``, ``backspin`` and
   ``sidespin`` (rpm); optionally each row's measured swing and pitch (``bat_speed`` and
@@ -19,18 +19,18 @@ measured inputs, their errors) and solves them at any value of the free paramete
 Measured inputs with an ``_err`` column are drawn from their posterior given the
 measurement: the prior of the true values times a normal of that width about the measured
 value, over a bounded range. The draws come from the posterior under a flat prior over that
-range; the mixture likelihood of :mod:`mcbat.stats.likelihood` reweights them to a prior it
-estimates with the parameters (:class:`~mcbat.stats.input_priors.PriorFamily`), so that a
+range; the mixture likelihood of ``mcbat.stats.likelihood`` reweights them to a prior it
+estimates with the parameters (``mcbat.stats.input_priors.PriorFamily``), so that a
 table whose true values pile up somewhere (at the ends of the range, say) is not fitted as
 if they were spread evenly. The draws are *stratified*: draw ``k`` of a row lies in the
 ``k``-th of ``M`` equal-probability slices of that posterior for the first such input (the
 slices of any further one are shuffled, as in a Latin hypercube). The order matters:
-:func:`mcbat.stats.likelihood.draw_moments` pairs neighbouring slices to measure the Monte
+``mcbat.stats.likelihood.draw_moments`` pairs neighbouring slices to measure the Monte
 Carlo error of the mean.
 
 The range and the prior of a measured input's true values are
-:mod:`mcbat.stats.input_priors`'s; every fit reports the range it used
-(:attr:`_DrawModel.priors`).
+``mcbat.stats.input_priors``'s; every fit reports the range it used
+(``_DrawModel.priors``).
 """
 
 from __future__ import annotations
@@ -72,8 +72,8 @@ _MPH, _DEG = UNITS["speed"]["mph"], UNITS["angle"]["deg"]
 
 
 PILOT_POINTS = 61
-"""Values of a measured impact parameter a row's pilot scan solves (:meth:`BatFrameModel.
-refine_draws`), evenly over +-:data:`PILOT_SIGMA` of its errors."""
+"""Values of a measured impact parameter a row's pilot scan solves (``BatFrameModel.
+refine_draws``), evenly over +-``PILOT_SIGMA`` of its errors."""
 PILOT_SIGMA = 6.0
 
 
@@ -99,10 +99,10 @@ class _DrawModel:
     """Draws per row unless the user asks for another number."""
     LIKELIHOOD = "gaussian"
     """The form of a row's likelihood unless the user asks for another
-    (:mod:`mcbat.stats.fit`): a normal of the draws' mean and covariance."""
+    (``mcbat.stats.fit``): a normal of the draws' mean and covariance."""
     SEARCH: dict = {}
     """Search ranges of the fit's coarse grid that differ from the default
-    (:data:`mcbat.stats.likelihood.SEARCH`)."""
+    (``mcbat.stats.likelihood.SEARCH``)."""
 
     def __init__(self, study, table, draws, seed, fixed, input_prior="cover"):
         self.source = table.attrs.get("source")
@@ -114,21 +114,21 @@ class _DrawModel:
         """Measured input -> the range its draws cover: ``study_range`` and ``range``
         (table units), ``widened`` (the two differ), and whether the measured values reject
         the study's range (``rejects_study_range``, with the ``p_value`` of
-        :func:`~mcbat.stats.input_priors.beyond_range_test`)."""
+        ``mcbat.stats.input_priors.beyond_range_test``)."""
         self.prior_draws = {}
         """Measured input over a bounded range -> ``(draws (rows x M), lo, hi)`` in table
         units: its draws, taken from the posterior under a flat prior over ``[lo, hi]``,
-        which a likelihood may reweight to another prior (:mod:`mcbat.stats.fit`)."""
+        which a likelihood may reweight to another prior (``mcbat.stats.fit``)."""
         self._stratified = False
         self.smeared = {}
         """Measured input over a bounded range -> ``(value, sigma, lo, hi, scale)`` (SI)."""
         self.draw_log_weight = None
-        """Importance weights (log, rows x M) of the draws, once :meth:`refine_draws` has
+        """Importance weights (log, rows x M) of the draws, once ``refine_draws`` has
         drawn some of them near each row's posterior; None: every draw weighs the same."""
         self.plain_draws = draws
         """The first ``plain_draws`` draws of a row come from the posterior of its measured
         inputs given their measurement alone (its mean and covariance estimate the row's
-        predictions); after :meth:`refine_draws`, the rest lie near the posterior given the
+        predictions); after ``refine_draws``, the rest lie near the posterior given the
         observables too."""
         known = {c for c in self.COLUMNS} | {f"{c}_err" for c in self.COLUMNS}
         for col in table.columns:
@@ -154,7 +154,7 @@ class _DrawModel:
                        key=None):
         """Per-draw values (SI: the table's value times ``scale``) of measured input
         ``name``: its value repeated, or smeared by its ``_err`` (module docstring) over
-        the range of :meth:`prior`; ``physical`` is the input's physical range and ``key``
+        the range of ``prior``; ``physical`` is the input's physical range and ``key``
         the study's name of the input (for messages)."""
         value = table[name].to_numpy(float) * scale
         if f"{name}_err" not in table.columns:
@@ -187,7 +187,7 @@ class _DrawModel:
 
     def prior(self, name, value, sigma, support, physical, scale, key):
         """The flat prior's range (SI) of measured input ``name`` (module docstring),
-        recorded in :attr:`priors`; :class:`InputError` when the data reject the study's
+        recorded in ``priors``; ``InputError`` when the data reject the study's
         range and ``input_prior`` is ``"study"``."""
         (lo, hi), p_value = prior_range(value, sigma, support, physical)
         rejected = p_value < WIDEN_P_VALUE
@@ -219,7 +219,7 @@ class _DrawModel:
 
     def record_study_values(self):
         """Keep the study's own value of every parameter (the mean over the draws) in
-        :attr:`study_values`, before a fit changes them."""
+        ``study_values``, before a fit changes them."""
         self.study_values = {name: float(np.mean(self.inputs[row]))
                              for name, row in self.PARAMETERS.items()}
 
@@ -231,11 +231,11 @@ class _DrawModel:
 
 DrawModel = _DrawModel
 """The base of a draw model, for models defined outside this module
-(:class:`mcbat.stats.flight_model.FlightModel`)."""
+(``mcbat.stats.flight_model.FlightModel``)."""
 
 
 class BatFrameModel(_DrawModel):
-    """The bat-frame kernel (:func:`mcbat.core.batch.solve_batch`) on a drop-test table.
+    """The bat-frame kernel (``mcbat.core.batch.solve_batch``) on a drop-test table.
 
     The study must place the contact by ``contact.impact_parameter``; each row's measured
     impact parameter sets the contact angle of its draws (about the study's approach
@@ -328,7 +328,7 @@ class BatFrameModel(_DrawModel):
         y, s2 : ndarray, (rows, observables)
             The measured observables and their variances.
         observables : list of str
-            Their names (:attr:`observables`).
+            Their names (``observables``).
         """
         if "impact_parameter" not in self.smeared or self.draws < 4:
             return False
@@ -392,7 +392,7 @@ class BatFrameModel(_DrawModel):
 
 
 class GameModel(_DrawModel):
-    """The game kernel (:func:`mcbat.core.swing.solve_game_batch`) on a tracking table.
+    """The game kernel (``mcbat.core.swing.solve_game_batch``) on a tracking table.
 
     Each row's measured pitch and swing (any of ``pitch_speed``, ``bat_speed``,
     ``attack_angle``, ``undercut``, ``from_barrel_end``) replace the study's draws of

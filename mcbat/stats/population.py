@@ -1,6 +1,6 @@
 """Population fits: a game study's distributions fitted to a table of measured batted balls.
 
-A per-row fit (:mod:`mcbat.stats.fit`) asks, for each ball, how likely its observables are
+A per-row fit (``mcbat.stats.fit``) asks, for each ball, how likely its observables are
 given a Gaussian of the model's draws. A batting population is no Gaussian (one swing
 gives launch angles from -30 to 60 deg), and what a season measures is the *joint
 distribution* of the batted balls. This module fits the parameters of the study's
@@ -21,7 +21,7 @@ The method (``docs/population.md`` has the reasons and the checks):
   that key, as ``[pitches.fallback]``.
 * **Reweighting.** The distributions' parameters are fitted by reweighting one set of
   draws: they are drawn once from a *proposal*, the study's distribution of each free key
-  widened by :data:`BROADEN` (same support), and draw ``k`` weighs
+  widened by ``BROADEN`` (same support), and draw ``k`` weighs
   ``prod_keys p(x_k | theta) / q(x_k)``. Exact for parameters of input distributions, and
   smooth in them, so MIGRAD sees a smooth likelihood. A second pass draws again from a
   proposal centred on the first pass's best fit, which keeps the weights' effective
@@ -33,7 +33,7 @@ The method (``docs/population.md`` has the reasons and the checks):
   weighs its launch: the reweighting carries over unchanged.
 * **Physics constants by a grid.** ``e``, ``mu`` and ``e_x`` are not distributions of the
   inputs but constants of the map from inputs to batted balls, so no weight can change
-  them: each is simulated at :data:`NODES` values (the same random numbers at every node)
+  them: each is simulated at ``NODES`` values (the same random numbers at every node)
   and the bin contents are interpolated linearly between nodes (multilinearly for several).
   The first pass's grid is coarse; the second's is centred on its best fit and spans +-4
   of its errors, where a linear interpolation of the bins is accurate.
@@ -41,22 +41,22 @@ The method (``docs/population.md`` has the reasons and the checks):
   (open-ended at both ends, so every draw lands in a bin), the template normalised to the
   table's row count, and the cost of Dembinski & Abdelmotteleb (2022), a light
   Barlow-Beeston treatment of *weighted* templates of finite size
-  (:func:`iminuit.cost.template_chi2_da`): each bin's template has its weights' sum and
+  (``iminuit.cost.template_chi2_da``): each bin's template has its weights' sum and
   variance, and the template's own fluctuations widen the intervals instead of biasing
   them. The minimum is asymptotically chi2 distributed (``cells - 1 - free`` degrees of
   freedom, counting the cells some draw reaches or some row lies in), which is the
   goodness of fit reported.
 * **Intervals.** MINOS profile-likelihood intervals (a rise of 1 in the chi2-like cost).
 
-Beside this module (the fit): :mod:`~mcbat.stats.population_table` (the rows used),
-:mod:`~mcbat.stats.population_parameters` (the free parameters),
-:mod:`~mcbat.stats.population_templates` (the draws) and
-:mod:`~mcbat.stats.population_likelihood` (bins and cost); the names a caller needs are
+Beside this module (the fit): ``mcbat.stats.population_table`` (the rows used),
+``mcbat.stats.population_parameters`` (the free parameters),
+``mcbat.stats.population_templates`` (the draws) and
+``mcbat.stats.population_likelihood`` (bins and cost); the names a caller needs are
 importable from here.
 
 Where the template draws run: ``engine="memory"`` solves them in this process (numba
 threads, nothing written); ``"local"`` and ``"dask"`` run the derived studies with
-:func:`mcbat.runner.study_run.run_study` into a directory and read the datasets back, so
+``mcbat.runner.study_run.run_study`` into a directory and read the datasets back, so
 the draws of a season's fit scale out on a cluster. The draws are the same on every engine
 (same study, same seed: the project's reproducibility).
 """
@@ -161,17 +161,17 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     study : GameStudy
         The game (its ``[pitches]``, if any, is replaced by the table's rows).
     table : pandas.DataFrame
-        A tidy Statcast table (:func:`mcbat.statcast.read`); rows are selected by
-        :func:`population_table`.
+        A tidy Statcast table (``mcbat.statcast.read``); rows are selected by
+        ``population_table``.
     free : sequence of str
         ``<section>.<key>.mean`` / ``.std`` of the study's normal or truncnormal keys, and
-        any of ``e``, ``mu``, ``e_x`` (:func:`fittable_parameters`).
+        any of ``e``, ``mu``, ``e_x`` (``fittable_parameters``).
     draws : int, optional
-        Template draws per row (default :data:`DEFAULT_DRAWS`).
+        Template draws per row (default ``DEFAULT_DRAWS``).
     bins : int, optional
-        Bins per observable (default: about :data:`ROWS_PER_BIN` rows per bin).
+        Bins per observable (default: about ``ROWS_PER_BIN`` rows per bin).
     observables : sequence of str
-        Of :data:`OBSERVABLES`; ``hit_distance`` (ft, read from Statcast's
+        Of ``OBSERVABLES``; ``hit_distance`` (ft, read from Statcast's
         ``hit_distance_sc``; rows without one are left out) needs a study with a
         ``[flight]`` section.
     seed : int

@@ -1,4 +1,4 @@
-"""The free parameters of a population fit (:mod:`mcbat.stats.population`): the study keys
+"""The free parameters of a population fit (``mcbat.stats.population``): the study keys
 whose distribution's mean and width it fits, and the physics constants it sets."""
 
 from __future__ import annotations
@@ -74,7 +74,7 @@ def _key_of(study, key):
 def fittable_parameters(study):
     """The names a population fit of ``study`` can free: ``<key>.mean``, ``<key>.std`` of
     its normal and truncnormal keys that are not measured pitch values, and
-    :data:`PHYSICS`."""
+    ``PHYSICS``."""
     names = [f"{key}.{f}" for key, dist in study.inputs.items()
              if getattr(dist, "kind", None) in _FITTABLE_FIELDS and key not in PITCH_COLUMNS
              for f in _FITTABLE_FIELDS[dist.kind]]

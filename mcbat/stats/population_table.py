@@ -1,4 +1,4 @@
-"""The measured side of a population fit (:mod:`mcbat.stats.population`): the rows of a tidy
+"""The measured side of a population fit (``mcbat.stats.population``): the rows of a tidy
 Statcast table it uses, and their pitches written as a study's ``[pitches]`` file."""
 
 from __future__ import annotations
@@ -35,12 +35,12 @@ _IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter")
 
 def population_table(df, observables=("launch_speed", "launch_angle"), source=None,
                      swing=False):
-    """The rows of a tidy Statcast table (:func:`mcbat.statcast.read`) a population fit
+    """The rows of a tidy Statcast table (``mcbat.statcast.read``) a population fit
     uses, and the counts of rows left out.
 
     A row is used when it has every observable and the pitch at the plate
-    (:data:`REQUIRED_PITCH`) and the batter's side. An observable is read from the column
-    of its name, else from Statcast's name for it (:data:`MEASURED_NAMES`:
+    (``REQUIRED_PITCH``) and the batter's side. An observable is read from the column
+    of its name, else from Statcast's name for it (``MEASURED_NAMES``:
     ``hit_distance_sc`` for ``hit_distance``); the rows returned hold it under the
     observable's name. A row without a measured distance is left out (``no_hit_distance``)
     when ``hit_distance`` is an observable: in Statcast such a ball went untracked, and its

@@ -1,4 +1,4 @@
-"""The simulated side of a population fit (:mod:`mcbat.stats.population`): the study
+"""The simulated side of a population fit (``mcbat.stats.population``): the study
 rewritten to meet the table's own pitches, its draws solved (and, for ``hit_distance``,
 flown) in this process or on an engine, and simulated tables for injection tests."""
 

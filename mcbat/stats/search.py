@@ -4,7 +4,7 @@ and Nelder-Mead.
 The likelihood of a drop test has flat regions (every impact sticks above some ``mu``, and
 then ``mu`` does not matter) and valleys narrower than the grid's spacing just below them:
 the grid finds the basin, a fine line and a profile scan in ``mu`` find the valley, and
-local searches from both settle in it (:func:`search`).
+local searches from both settle in it (``search``).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ GRID_EVALUATIONS = 121
 parameter: 6^3 for three, ...)."""
 STARTS = 2
 """Local searches from the best points of the grid (plus one from the profile scan in mu,
-:data:`SCAN_POINTS`)."""
+``SCAN_POINTS``)."""
 SCAN_POINTS = 48
 """Values of mu (log-spaced over its search range, 10 % apart) at which the profile is
 scanned for the start of the local search."""
@@ -102,7 +102,7 @@ def local_minimum(like, x0, scale):
 
 
 def search(like, start=None):
-    """The best fit of ``like``: an :class:`scipy.optimize.OptimizeResult` (``x``, ``fun``).
+    """The best fit of ``like``: an ``scipy.optimize.OptimizeResult`` (``x``, ``fun``).
 
     Parameters
     ----------
@@ -116,7 +116,7 @@ def search(like, start=None):
     ------
     InputError
         When no point of the grid can be evaluated, an observable lies far outside what the
-        model gives (:func:`mcbat.stats.unit_guard.check_units`), or
+        model gives (``mcbat.stats.unit_guard.check_units``), or
         ``start`` cannot be evaluated.
     """
     if start is None:

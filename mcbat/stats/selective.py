@@ -1,7 +1,7 @@
 """One-sided limits that hold the truth in 95 % of the tables that report one.
 
 A fit reports a one-sided limit when its profile likelihood stays flat up to the end of a
-parameter's range on one side (:mod:`mcbat.stats.intervals`). Whether it does is decided
+parameter's range on one side (``mcbat.stats.intervals``). Whether it does is decided
 by the data: at ``mu = 0.18`` a drop-test table is flat above only when its noise made the
 few rows that slide look stuck, and the same noise moves the likelihood-ratio limit (a rise
 of 1.353) towards the flat side. Among the tables that report a limit, that limit then
@@ -12,7 +12,7 @@ The limit here is conditional on that selection (selective inference: Fithian, S
 Taylor, arXiv:1410.2597): a value ``t`` is excluded when, among tables simulated at ``t``
 whose profile is flat on the same side, fewer than 5 % rise at ``t`` by as much as the data
 do. The simulated tables come from a normal surrogate of the model along the profile
-(:func:`surrogate_rises`): the rises are fast to compute for 10^5 tables, so even a
+(``surrogate_rises``): the rises are fast to compute for 10^5 tables, so even a
 selection that one table in a thousand passes is resolved.
 
 The statistic is the same for the data and for every simulated table: each row's measured
@@ -41,8 +41,8 @@ __all__ = ["MAX_TABLES", "MIN_SELECTED", "TABLES", "Surrogate", "conditional_lim
            "surrogate_rises"]
 
 TABLES = 20_000
-"""Tables simulated at each value tried (more, up to :data:`MAX_TABLES`, when fewer than
-:data:`MIN_SELECTED` of them are flat on the limit's free side)."""
+"""Tables simulated at each value tried (more, up to ``MAX_TABLES``, when fewer than
+``MIN_SELECTED`` of them are flat on the limit's free side)."""
 MAX_TABLES = 320_000
 """The most tables simulated at one value."""
 MIN_SELECTED = 400
@@ -92,7 +92,7 @@ def conditional_p_value(curves, variance, rise, j, sign, rng, flat_rise, null=No
     Parameters
     ----------
     curves, variance : ndarray
-        The surrogate (:func:`surrogate_rises`).
+        The surrogate (``surrogate_rises``).
     rise : float
         The data's rise of ``-ln L`` at grid value ``j``.
     j : int
@@ -100,19 +100,19 @@ def conditional_p_value(curves, variance, rise, j, sign, rng, flat_rise, null=No
     sign : {-1, 1}
         -1 for a lower limit (the profile is flat above).
     rng : numpy.random.Generator
-        Draws the simulated tables: :data:`TABLES` first, doubled until
-        :data:`MIN_SELECTED` are flat or :data:`MAX_TABLES` were drawn.
+        Draws the simulated tables: ``TABLES`` first, doubled until
+        ``MIN_SELECTED`` are flat or ``MAX_TABLES`` were drawn.
     flat_rise : float
-        See :func:`flat_side_mask`.
+        See ``flat_side_mask``.
     null : callable, optional
         ``null(j)`` -> ``(centre, variance)``, (D,) each: the simulated tables' mean and
-        variances under grid value ``j`` (:meth:`Surrogate.null`); default ``curves[j]``
+        variances under grid value ``j`` (``Surrogate.null``); default ``curves[j]``
         and ``variance``.
 
     Returns
     -------
     float
-        The p-value; 0 when fewer than a quarter of :data:`MIN_SELECTED` simulated tables
+        The p-value; 0 when fewer than a quarter of ``MIN_SELECTED`` simulated tables
         are flat (a value under which hardly any table is flat on that side cannot have
         given flat data: excluded rather than judged on a handful of tables).
     """
@@ -143,7 +143,7 @@ def selective_limit(grid, curves, variance, y, sign, rng, flat_rise, level=0.95,
         Values of the parameter, increasing, from beyond the limit to the end of its
         range on the flat side.
     curves, variance : ndarray
-        The surrogate (:func:`surrogate_rises`).
+        The surrogate (``surrogate_rises``).
     y : ndarray, (D,)
         The measured values.
     sign : {-1, 1}
@@ -157,7 +157,7 @@ def selective_limit(grid, curves, variance, y, sign, rng, flat_rise, level=0.95,
         Confidence level.
     null : callable, optional
         The simulated tables' mean and variances under each grid value
-        (:func:`conditional_p_value`).
+        (``conditional_p_value``).
 
     Returns
     -------
@@ -208,7 +208,7 @@ start, out to the end of the range."""
 
 
 class Surrogate(NamedTuple):
-    """The normal surrogate of a likelihood along a parameter's profile (:func:`surrogate`):
+    """The normal surrogate of a likelihood along a parameter's profile (``surrogate``):
     each row's draws of the observables at each grid value, and their posterior weights at
     the best fit and at each grid value."""
 
@@ -258,7 +258,7 @@ def _moments(weights, draws):
 
 
 def surrogate(like, best, grid, point):
-    """The normal surrogate of ``like`` along a parameter's profile (:class:`Surrogate`).
+    """The normal surrogate of ``like`` along a parameter's profile (``Surrogate``).
 
     With the mixture likelihood a row's posterior weights keep its measured inputs where
     its observables put them; with the normal form every good draw weighs the same.

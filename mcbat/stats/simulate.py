@@ -1,5 +1,5 @@
 """Solve a study's own samples at given parameters: the true measured inputs and
-observables of a simulated table (:func:`mcbat.stats.measurements.synthesize`), and the
+observables of a simulated table (``mcbat.stats.measurements.synthesize``), and the
 batted balls of a game kernel's input rows (population templates)."""
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ def solve_study(study, rows, seed, params):
     -------
     measured, observed : dict of str -> ndarray
         The measured inputs a table of this kind carries and its observables, in the
-        table's units (:mod:`mcbat.stats.columns`).
+        table's units (``mcbat.stats.columns``).
     ok : ndarray of bool
         Rows whose impact was solved.
     """
@@ -71,9 +71,9 @@ def _solve_game(study, rows, seed, params):
 
 
 def solve_game_inputs(study, inputs):
-    """Solve a game kernel's input rows (:data:`mcbat.core.swing.GAME_INPUT_FIELDS` x n)
+    """Solve a game kernel's input rows (``mcbat.core.swing.GAME_INPUT_FIELDS`` x n)
     with the study's solver settings: the batted balls' Statcast outputs
-    (:func:`mcbat.dataset.schema.derive_game`) and which rows were solved."""
+    (``mcbat.dataset.schema.derive_game``) and which rows were solved."""
     n = inputs.shape[1]
     frame, out, game_out, status, end = allocate_game_outputs(n)
     solver = study.solver

@@ -1,18 +1,18 @@
 """Two-sample statistics on plain arrays: are two samples of one quantity drawn from one
-distribution? (``mcbat compare``, :mod:`mcbat.stats.compare`, ``docs/compare.md``)
+distribution? (``mcbat compare``, ``mcbat.stats.compare``, ``docs/compare.md``)
 
-* :func:`ks_test`: the two-sample Kolmogorov-Smirnov distance ``D = max |F - G|`` of the
+* ``ks_test``: the two-sample Kolmogorov-Smirnov distance ``D = max |F - G|`` of the
   two empirical distribution functions, with scipy's p-value (``scipy.stats.ks_2samp``,
   ``method="auto"``: the exact distribution for small samples, the asymptotic one
   otherwise). It assumes continuous data; rounded values (Statcast's launch angles are
   whole degrees) make it conservative.
-* :func:`wasserstein`: the 1-D Wasserstein (earth mover's) distance ``∫ |F - G| dx``, in the
+* ``wasserstein``: the 1-D Wasserstein (earth mover's) distance ``∫ |F - G| dx``, in the
   column's unit: how far, on average, the measured distribution must be moved to become the
   simulated one.
-* :func:`energy_test`: the energy distance ``sqrt(2 E|X-Y| - E|X-X'| - E|Y-Y'|)``
+* ``energy_test``: the energy distance ``sqrt(2 E|X-Y| - E|X-X'| - E|Y-Y'|)``
   (Székely and Rizzo; ``scipy.stats.energy_distance``'s definition, in the column's unit)
   with a permutation p-value.
-* :func:`plane_energy_test`: the energy distance of two samples of points in the plane,
+* ``plane_energy_test``: the energy distance of two samples of points in the plane,
   on coordinates standardized by the pooled sample's standard deviations (so that mph and
   degrees weigh alike, and the scaling is the same under every permutation), with a
   permutation p-value.
@@ -123,14 +123,14 @@ def plane_energy_test(x, y, permutations=PERMUTATIONS, seed=0):
     ``sqrt(2 E|X-Y| - E|X-X'| - E|Y-Y'|)`` with Euclidean ``|.|`` (dimensionless). The
     pooled sample's distance matrix is computed once, and each relabelling's within- and
     between-sample sums come from one matrix product with the label vectors, so the
-    memory is ``8 (n + m)^2`` bytes: subsample large samples first (:data:`PLANE_ROWS`).
+    memory is ``8 (n + m)^2`` bytes: subsample large samples first (``PLANE_ROWS``).
 
     Parameters
     ----------
     x, y : array_like, shape (n, d) and (m, d)
         Finite points.
     permutations, seed
-        As :func:`energy_test`.
+        As ``energy_test``.
 
     Returns
     -------

@@ -4,7 +4,7 @@ A column in another unit (launch speeds in m/s instead of mph, spins in rad/s in
 rpm) is a scaled copy of the right one, and a fit would otherwise find parameters that
 make it fit (``e*`` of 0.08 for speeds in m/s). Over the coarse grid that starts a fit the
 model's predictions span what the study can give; a column whose median or whose rows lie
-far outside that span is refused with a hint about its unit (:data:`UNITS_HINT`).
+far outside that span is refused with a hint about its unit (``UNITS_HINT``).
 """
 
 from __future__ import annotations
@@ -54,14 +54,14 @@ def check_units(like):
     ----------
     like : mcbat.stats.likelihood.Likelihood
         Evaluated over the search grid with ``like.envelope`` set (the range of its
-        predictions, :func:`mcbat.stats.search.search`).
+        predictions, ``mcbat.stats.search.search``).
 
     Raises
     ------
     InputError
         Naming the column: its median beyond the model's medians (a magnitude in another
         unit), half its rows far outside the predictions, or a row beyond
-        :data:`~mcbat.stats.models.OUTLIER_SIGMA` (a typo).
+        ``mcbat.stats.models.OUTLIER_SIGMA`` (a typo).
     """
     lo, hi, sd, med_lo, med_hi = like.envelope
     for j, col in enumerate(like.observables):

@@ -1,8 +1,8 @@
 """The distribution types of a study's numeric inputs: what each form holds (SI values),
 its support for range checks, and its canonical description for the study's config.
 
-:mod:`mcbat.study.distributions` parses study-file values into these; the ``random``
-family is drawn by :mod:`mcbat.study.random_program`, the others by :mod:`mcbat.study.drawing`.
+``mcbat.study.distributions`` parses study-file values into these; the ``random``
+family is drawn by ``mcbat.study.random_program``, the others by ``mcbat.study.drawing``.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ class Dist(abc.ABC):
     field : str
         Dotted TOML key of the input (``"friction.mu"``).
     quantity : str
-        Its physical quantity (:mod:`mcbat.study.units`).
+        Its physical quantity (``mcbat.study.units``).
     unit : str or None
         The unit it was written in (``None``: SI).
     """
@@ -93,7 +93,7 @@ class Fixed(Dist):
 
 
 class RandomDist(Dist):
-    """Drawn by the counter-based sampler (:mod:`mcbat.study.random_program`)."""
+    """Drawn by the counter-based sampler (``mcbat.study.random_program``)."""
 
     family = "random"
 
@@ -128,7 +128,7 @@ class Normal(RandomDist):
     bounded = False
 
     def points(self):
-        """The mean, at ``<field>.mean`` (the support is unbounded: :attr:`bounded` is False)."""
+        """The mean, at ``<field>.mean`` (the support is unbounded: ``bounded`` is False)."""
         return [Point(subfield(self.field, "mean"), self.mean, self.raw["mean"])]
 
     def config(self):

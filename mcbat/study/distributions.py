@@ -16,14 +16,14 @@ sobol           ``{ dist = "sobol", low = a, high = b }``                    sob
 lhs             ``{ dist = "lhs", low = a, high = b }``                      lhs
 ==============  ==========================================================  ===========
 
-Every form accepts an optional ``unit`` (see :mod:`mcbat.study.units`); values are stored
+Every form accepts an optional ``unit`` (see ``mcbat.study.units``); values are stored
 in SI. ``weights`` are optional (default: equal), non-negative, and need not sum to 1.
 A mixture's ``components`` are fixed, uniform, normal, truncnormal or choice specs (plain
 numbers allowed); a component without its own ``unit`` takes the mixture's.
 
 This module parses and range-checks single inputs; the types it builds are in
-:mod:`mcbat.study.dist_types`. How the families are drawn so that sample ``i`` depends on
-``(study, seed, i)`` alone is in :mod:`mcbat.study.drawing` (and ``docs/study-format.md``).
+``mcbat.study.dist_types``. How the families are drawn so that sample ``i`` depends on
+``(study, seed, i)`` alone is in ``mcbat.study.drawing`` (and ``docs/study-format.md``).
 """
 
 from __future__ import annotations

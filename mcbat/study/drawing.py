@@ -5,13 +5,13 @@ concatenation of ``sample(a, b)`` pieces). The scheme, family by family, is desc
 
 * ``fixed``: the value itself;
 * ``random`` (uniform, normal, truncnormal, choice, mixture): the counter-based Philox
-  sampler of :mod:`mcbat.study.random_program`;
+  sampler of ``mcbat.study.random_program``;
 * ``grid``: an outer product, the first declared input varying slowest, sample ``i`` taking
   point ``i mod G``;
-* ``sobol``: one scrambled :class:`scipy.stats.qmc.Sobol` engine shared by the study's
+* ``sobol``: one scrambled ``scipy.stats.qmc.Sobol`` engine shared by the study's
   sobol inputs, seeded with ``SeedSequence(seed, spawn_key=(SOBOL_SPAWN_KEY,))``;
-* ``lhs``: one :class:`scipy.stats.qmc.LatinHypercube` design per block of
-  :data:`LHS_BLOCK` samples, seeded with ``SeedSequence(seed, spawn_key=(LHS_SPAWN_KEY,
+* ``lhs``: one ``scipy.stats.qmc.LatinHypercube`` design per block of
+  ``LHS_BLOCK`` samples, seeded with ``SeedSequence(seed, spawn_key=(LHS_SPAWN_KEY,
   block))``.
 """
 
@@ -34,7 +34,7 @@ SOBOL_SPAWN_KEY = 2**31
 LHS_SPAWN_KEY = 2**31 + 1
 #: Bits of the Sobol engine: at most ``2**SOBOL_BITS`` samples.
 SOBOL_BITS = 32
-#: How inputs are drawn (:attr:`mcbat.study.dist_types.Dist.family`).
+#: How inputs are drawn (``mcbat.study.dist_types.Dist.family``).
 FAMILIES = ("fixed", "random", "grid", "sobol", "lhs")
 
 
@@ -63,7 +63,7 @@ def plan_families(inputs) -> tuple[dict, int | None]:
 
 
 def draw_families(families, grid_size, start, stop, seed, table, rows) -> None:
-    """Write the values of every input of ``families`` (:func:`plan_families`) for samples
+    """Write the values of every input of ``families`` (``plan_families``) for samples
     ``[start, stop)`` into row ``rows[name]`` of ``table`` (float64, ``stop - start``
     columns)."""
     n = stop - start

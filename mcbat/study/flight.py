@@ -99,7 +99,7 @@ class FlightSettings:
                                  self.relative_humidity, self.elevation))
 
     def params(self, mass: float, radius: float) -> FlightParams:
-        """The kernel's :class:`~mcbat.core.flight.FlightParams` for a ball of ``mass``
+        """The kernel's ``mcbat.core.flight.FlightParams`` for a ball of ``mass``
         (kg) and ``radius`` (m)."""
         decay = 0.0 if self.spin_decay_time is None else 1.0 / (self.spin_decay_time
                                                                  * _DECAY_SPEED)
@@ -216,7 +216,7 @@ def season_wind_scale() -> float:
 
 
 #: Calibrated flights (``preset = NAME``): ``statcast_SEASON``, the fitted flight of each
-#: season of :func:`flight_seasons`.
+#: season of ``flight_seasons``.
 FLIGHT_PRESETS = {f"statcast_{season}": row for season, row in flight_seasons().items()}
 
 
@@ -301,7 +301,7 @@ def parse_flight(table, field="flight") -> FlightSettings:
 def launch_vectors(launch_speed, launch_angle, spray_angle, backspin, sidespin, gyrospin):
     """Field-frame velocity (m/s) and spin (rad/s) from Statcast-style launch numbers (SI:
     m/s, rad, rad/s; scalars or arrays): the inverse of
-    :func:`mcbat.dataset.schema.derive_game` (``b = unit(v x z)``, ``s = b x unit(v)``)."""
+    ``mcbat.dataset.schema.derive_game`` (``b = unit(v x z)``, ``s = b x unit(v)``)."""
     la, sp = np.asarray(launch_angle, float), np.asarray(spray_angle, float)
     ux, uy, uz = np.cos(la) * np.sin(sp), np.cos(la) * np.cos(sp), np.sin(la)
     bx, by = np.cos(sp), -np.sin(sp)  # unit(u x z) = (u_y, -u_x, 0) / cos(la)
@@ -313,7 +313,7 @@ def launch_vectors(launch_speed, launch_angle, spray_angle, backspin, sidespin, 
     return v, w
 
 
-#: Per-ball settings :func:`fly_launches` takes (SI, as :class:`FlightSettings`).
+#: Per-ball settings ``fly_launches`` takes (SI, as ``FlightSettings``).
 PER_BALL = ("temperature", "pressure", "relative_humidity", "elevation", "landing_height",
             "drag_scale", "lift_scale", "wind_x", "wind_y", "wind_z")
 _PACKED = {"drag_scale": 5, "lift_scale": 6, "wind_x": 9, "wind_y": 10, "wind_z": 11,
@@ -323,8 +323,8 @@ _AIR = ("temperature", "pressure", "relative_humidity", "elevation")
 
 def params_each(settings: FlightSettings, mass, radius, n, per_ball=None) -> np.ndarray:
     """The kernel's parameters of ``n`` balls (``float64[14, n]``, columns as
-    :func:`~mcbat.core.flight.pack_params`): ``settings`` with the values of ``per_ball``
-    (a mapping of :data:`PER_BALL` names to arrays of ``n``, SI) replaced ball by ball.
+    ``mcbat.core.flight.pack_params``): ``settings`` with the values of ``per_ball``
+    (a mapping of ``PER_BALL`` names to arrays of ``n``, SI) replaced ball by ball.
     The air density follows each ball's temperature, pressure, humidity and elevation."""
     per_ball = {} if per_ball is None else dict(per_ball)
     unknown = sorted(set(per_ball) - set(PER_BALL))
@@ -361,12 +361,12 @@ def fly_launches(settings: FlightSettings, mass, radius, launch_speed, launch_an
     elevation, landing_height : array_like, optional
         m, per ball (shorthands for the same keys of ``per_ball``).
     per_ball : mapping of str -> array_like, optional
-        Any of :data:`PER_BALL` (SI: K, Pa, %, m, m, 1, 1, m/s), per ball.
+        Any of ``PER_BALL`` (SI: K, Pa, %, m, m, 1, 1, m/s), per ball.
 
     Returns
     -------
     out : dict of str -> ndarray
-        :data:`~mcbat.core.flight.FLIGHT_FIELDS` (SI), per ball.
+        ``mcbat.core.flight.FLIGHT_FIELDS`` (SI), per ball.
     status : ndarray of int8
         The kernel's status per ball (0 ok; ``mcbat/core/flight/README.md``).
     """
@@ -386,7 +386,7 @@ def heights_at_distance(settings: FlightSettings, mass, radius, distance, launch
                         per_ball=None):
     """Height (m) and spray angle (rad) of each ball where its horizontal distance from
     home plate first reaches ``distance`` (m, per ball): where it meets a fence standing
-    there; NaN where it comes down before. Arguments as :func:`fly_launches`."""
+    there; NaN where it comes down before. Arguments as ``fly_launches``."""
     speed = np.atleast_1d(np.asarray(launch_speed, float))
     n = speed.size
     velocity, spin, start = _launch_arrays(settings, speed, launch_angle, spray_angle,

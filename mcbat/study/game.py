@@ -32,8 +32,8 @@ section::
                                   # given, replaces the batter's side of every row
 
 Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
-Samples are the float64 columns of :data:`COLUMNS`, the inputs of
-:func:`mcbat.core.swing.solve_game_batch`.
+Samples are the float64 columns of ``COLUMNS``, the inputs of
+``mcbat.core.swing.solve_game_batch``.
 
 **The contact and the bat speed** (``[contact.bat_speed_trend]``): a faster swing need not
 meet the ball as well. With this table each sample's ``from_barrel_end`` (drawn from its
@@ -76,7 +76,7 @@ from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_ba
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
-#: Columns returned by :meth:`GameStudy.sample`: the game kernel's inputs.
+#: Columns returned by ``GameStudy.sample``: the game kernel's inputs.
 COLUMNS = GAME_INPUT_FIELDS
 
 #: The numeric keys of a game: section -> key -> (quantity, default in SI, column).
@@ -192,7 +192,7 @@ def _check_sections(data):
 
 class GameStudy(Study):
     """A validated game study (see the module docstring). Sampling, overrides and the
-    config hash work as for :class:`~mcbat.study.impact.Study`."""
+    config hash work as for ``mcbat.study.impact.Study``."""
 
     kind = "game"
     marker_sections = ("pitch", "swing", "pitches")
@@ -267,7 +267,7 @@ class GameStudy(Study):
 
     def with_pitch_table(self, table: PitchTable) -> GameStudy:
         """A copy that draws its pitches from ``table`` (the rows of the ``[pitches]``
-        file, read by :func:`mcbat.runner.pitches.load_pitches`): the filters and
+        file, read by ``mcbat.runner.pitches.load_pitches``): the filters and
         exclusions applied, ready to sample.
 
         Raises
@@ -300,7 +300,7 @@ class GameStudy(Study):
 
     def pitch_identifiers(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
         """The real pitch each of samples ``start .. stop - 1`` comes from: int64 columns
-        :data:`~mcbat.study.pitches.PITCH_SOURCE_COLUMNS` (``source_row``: the row of the
+        ``mcbat.study.pitches.PITCH_SOURCE_COLUMNS`` (``source_row``: the row of the
         file, from 0, before any filter). Empty without ``[pitches]``."""
         if self.pitches is None:
             return {}
@@ -335,7 +335,7 @@ class GameStudy(Study):
     def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
         """Replace the measured values of swing key ``key`` in ``column`` (the samples
         flagged by ``where``; the others took the key's fallback) by draws of the true
-        values given them (:mod:`mcbat.study.pitches`, "Swing measurement error"):
+        values given them (``mcbat.study.pitches``, "Swing measurement error"):
         ``m + k (x - m) + sqrt(k) s z``, ``m`` and ``v`` the mean and variance of the
         selected rows' measured values (``measured``, SI), ``k = max(0, 1 - s^2/v)``."""
         s = self.pitches.swing_error[key]
@@ -409,7 +409,7 @@ class GameStudy(Study):
         need("restitution.e_speed_ref", minimum=0.0, what="e_speed_ref")
 
     def config(self) -> dict:
-        """As :meth:`Study.config`, with ``kind = "game"``, the handedness and the
+        """As ``Study.config``, with ``kind = "game"``, the handedness and the
         restitution's form."""
         out = super().config()
         out.update(kind="game",
@@ -431,7 +431,7 @@ class GameStudy(Study):
         return out
 
     def definition(self) -> dict:
-        """As :meth:`Study.definition`, with the ``[pitches]`` file as an absolute path
+        """As ``Study.definition``, with the ``[pitches]`` file as an absolute path
         (a Dask worker rebuilds the study without the study file's directory)."""
         data = super().definition()
         if self.pitches is not None:
@@ -439,14 +439,14 @@ class GameStudy(Study):
         return data
 
     def sample(self, start=0, stop=None, seed=None) -> dict[str, np.ndarray]:
-        """Game-kernel inputs of samples ``start .. stop - 1`` (:data:`COLUMNS`, SI), as
-        views of the rows of :meth:`sample_inputs`."""
+        """Game-kernel inputs of samples ``start .. stop - 1`` (``COLUMNS``, SI), as
+        views of the rows of ``sample_inputs``."""
         table = self.sample_inputs(start, stop, seed)
         return {name: table[i] for i, name in enumerate(COLUMNS)}
 
     def sample_inputs(self, start=0, stop=None, seed=None) -> np.ndarray:
         """The game kernel's input array of samples ``start .. stop - 1``:
-        ``float64[len(COLUMNS), n]``, one row per column of :data:`COLUMNS` (SI)."""
+        ``float64[len(COLUMNS), n]``, one row per column of ``COLUMNS`` (SI)."""
         stop = self.samples if stop is None else stop
         seed = self.seed if seed is None else seed
         for label, value in (("start", start), ("stop", stop), ("seed", seed)):
@@ -500,7 +500,7 @@ class GameStudy(Study):
         """Write the columns that follow from the contact's place on the bat: the barrel's
         ``bat_radius`` and ``bat_slope`` there and the restitution's ``e_location_factor``,
         from ``cols["from_barrel_end"]`` (``cols``: column name -> float64 array, as the
-        rows of :meth:`sample_inputs`; a fit that measures ``from_barrel_end`` per row
+        rows of ``sample_inputs``; a fit that measures ``from_barrel_end`` per row
         calls it after setting that column)."""
         bat = self.bat
         axial = bat.clip_axial(bat.axial_from_barrel_end(cols["from_barrel_end"]))

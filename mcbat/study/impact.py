@@ -1,12 +1,12 @@
-"""Bat-frame studies: a validated :class:`Study` and the solver input columns it samples.
+"""Bat-frame studies: a validated ``Study`` and the solver input columns it samples.
 
 A study is a Monte Carlo scan: every numeric input of the impact solver is either fixed
-or drawn from a distribution, and :meth:`Study.sample` turns sample indices into the
-float64 input columns of :func:`mcbat.core.batch.solve_batch`. :class:`Study` is also the
-base of :class:`mcbat.study.game.GameStudy`, which shares its ``[study]``, ``[output]`` and
+or drawn from a distribution, and ``Study.sample`` turns sample indices into the
+float64 input columns of ``mcbat.core.batch.solve_batch``. ``Study`` is also the
+base of ``mcbat.study.game.GameStudy``, which shares its ``[study]``, ``[output]`` and
 ``[summary]`` sections, overrides, config and drawing. The file format (sections, keys,
 units, validation) is described in ``docs/study-format.md``; how samples are drawn in
-:mod:`mcbat.study.drawing`.
+``mcbat.study.drawing``.
 """
 
 from __future__ import annotations
@@ -53,10 +53,10 @@ MAX_SAMPLES = 10**12
 #: Longest ``study.description`` (characters): it is stored in every chunk file's Parquet
 #: footer, which a reader refuses beyond ~100 MB.
 MAX_DESCRIPTION = 10_000
-#: Version of the study format and sampling scheme, recorded in :meth:`Study.config`.
+#: Version of the study format and sampling scheme, recorded in ``Study.config``.
 FORMAT_VERSION = 2
 
-#: Columns returned by :meth:`Study.sample`: the solver inputs, then the impact parameter.
+#: Columns returned by ``Study.sample``: the solver inputs, then the impact parameter.
 COLUMNS = INPUT_FIELDS + ("impact_parameter",)
 
 _REQUIRED_SECTIONS = ("study", "ball", "bat", "contact", "ball_velocity", "friction")
@@ -67,8 +67,8 @@ _OPTIONAL_SECTIONS = ("ball_spin", "bat_velocity", "bat_spin", "restitution", "s
 class Study:
     """A validated study: bodies, input distributions, sampling defaults, solver settings.
 
-    Build it with :func:`mcbat.study.load_study` (a TOML file) or :meth:`from_dict`
-    (parsed TOML). Everything is validated on construction; :meth:`sample` then never
+    Build it with ``mcbat.study.load_study`` (a TOML file) or ``from_dict``
+    (parsed TOML). Everything is validated on construction; ``sample`` then never
     raises for input reasons.
 
     Attributes
@@ -81,11 +81,11 @@ class Study:
     chunk_size : int or None
         Default rows per output file.
     solver : dict
-        ``{"steps", "tolerance", "max_steps"}`` for :func:`mcbat.core.batch.solve_batch`.
+        ``{"steps", "tolerance", "max_steps"}`` for ``mcbat.core.batch.solve_batch``.
     ball : mcbat.bodies.Ball
     bat : mcbat.bodies.Bat
     inputs : mapping
-        Declared numeric inputs, dotted key → :class:`~mcbat.study.distributions.Dist`,
+        Declared numeric inputs, dotted key → ``mcbat.study.distributions.Dist``,
         in declaration order.
     grid_size : int or None
         ``G``, the number of points of the grid inputs' outer product (None: no grid).
@@ -95,9 +95,9 @@ class Study:
         The raw TOML text.
     """
 
-    #: ``"impact"`` (the bat frame) or ``"game"`` (:class:`mcbat.study.game.GameStudy`).
+    #: ``"impact"`` (the bat frame) or ``"game"`` (``mcbat.study.game.GameStudy``).
     kind = "impact"
-    #: Sections whose presence makes :meth:`from_dict` build this subclass of Study.
+    #: Sections whose presence makes ``from_dict`` build this subclass of Study.
     marker_sections: tuple[str, ...] = ()
     # The subclasses that declare marker sections, registered as they are defined (a
     # registry, so that this module need not import the kinds of study built on it).
@@ -132,12 +132,12 @@ class Study:
         source : str, optional
             Where it came from (for error messages).
         text : str, optional
-            The raw TOML text, kept as :attr:`source_text`.
+            The raw TOML text, kept as ``source_text``.
 
         Returns
         -------
         Study
-            A :class:`mcbat.study.game.GameStudy` when ``data`` has a ``[pitch]``,
+            A ``mcbat.study.game.GameStudy`` when ``data`` has a ``[pitch]``,
             ``[swing]`` or ``[pitches]`` section.
 
         Raises
@@ -177,7 +177,7 @@ class Study:
         self._plan()
 
     def _parse_output(self, data):
-        """``[output]`` and ``[summary]`` (:mod:`mcbat.study.output`; the runner checks
+        """``[output]`` and ``[summary]`` (``mcbat.study.output``; the runner checks
         the column names against the dataset's schema)."""
         self.output = parse_output(data.get("output", {}))
         self.output_field = "output.columns"
@@ -269,7 +269,7 @@ class Study:
         # With an angle, approach_azimuth only sets the impact-parameter column: any value.
 
     def _plan(self):
-        """Group the inputs by how they are sampled (:mod:`mcbat.study.drawing`)."""
+        """Group the inputs by how they are sampled (``mcbat.study.drawing``)."""
         self._families, self.grid_size = plan_families(self.inputs)
 
     @property
@@ -303,7 +303,7 @@ class Study:
 
     def check_sample_count(self, samples: int, field: str) -> None:
         """Refuse ``samples`` beyond what this study's samplers can draw (before anything
-        runs): :data:`MAX_SAMPLES`, and ``2**SOBOL_BITS`` with a ``sobol`` input."""
+        runs): ``MAX_SAMPLES``, and ``2**SOBOL_BITS`` with a ``sobol`` input."""
         if samples > MAX_SAMPLES:
             raise InputError(field, f"must be <= {MAX_SAMPLES:,}, got {samples:,}")
         if self._families["sobol"] and samples > 2**SOBOL_BITS:
@@ -313,11 +313,11 @@ class Study:
 
     def definition(self) -> dict:
         """The study as plain data (the dict ``tomllib`` returns): ``from_dict`` of it
-        rebuilds an equal study, with the same :meth:`config`.
+        rebuilds an equal study, with the same ``config``.
 
         It is what a remote worker needs to rebuild the study (``mcbat.engines.dask``):
         a deep copy of the validated input with the current sample count, seed and chunk
-        size (:meth:`with_overrides`) written into its ``[study]`` table, and an overridden
+        size (``with_overrides``) written into its ``[study]`` table, and an overridden
         solver tolerance into its ``[solver]`` table.
         """
         data = copy.deepcopy(self._data)
@@ -360,12 +360,12 @@ class Study:
         }
 
     def config_json(self) -> str:
-        """:meth:`config` as canonical JSON (sorted keys, no whitespace)."""
+        """``config`` as canonical JSON (sorted keys, no whitespace)."""
         return json.dumps(self.config(), sort_keys=True, separators=(",", ":"),
                           allow_nan=False)
 
     def config_hash(self) -> str:
-        """SHA-256 (hex) of :meth:`config_json`."""
+        """SHA-256 (hex) of ``config_json``."""
         return hashlib.sha256(self.config_json().encode("utf-8")).hexdigest()
 
     def __repr__(self):
@@ -382,7 +382,7 @@ class Study:
     def measurement_noise(self, start, stop, seed=None) -> dict[str, np.ndarray]:
         """Gaussian measurement errors for the ``[noise]`` outputs of samples
         ``start .. stop - 1`` (same units as the columns; deterministic in the index:
-        Philox stream ``noise.<name>``, see :mod:`mcbat.core.sampling`)."""
+        Philox stream ``noise.<name>``, see ``mcbat.core.sampling``)."""
         seed = self.seed if seed is None else seed
         names = list(self.noise)
         table = np.empty((len(names), max(stop - start, 0)))
@@ -400,16 +400,16 @@ class Study:
         Parameters
         ----------
         start, stop : int
-            Sample indices, ``0 <= start <= stop`` (``stop`` defaults to :attr:`samples`;
+            Sample indices, ``0 <= start <= stop`` (``stop`` defaults to ``samples``;
             indices past it are defined too).
         seed : int, optional
-            Default :attr:`seed`.
+            Default ``seed``.
 
         Returns
         -------
         dict
             float64 arrays of length ``stop - start`` (SI units) for every name in
-            :data:`COLUMNS`: :data:`mcbat.core.batch.INPUT_FIELDS` in order, then
+            ``COLUMNS``: ``mcbat.core.batch.INPUT_FIELDS`` in order, then
             ``"impact_parameter"`` (m, for the study's approach azimuth). They are the
             rows of one C-contiguous ``(len(COLUMNS), n)`` array, so
             ``np.stack([cols[f] for f in INPUT_FIELDS])`` is a plain copy.
@@ -456,5 +456,5 @@ class Study:
         return cols
 
 
-#: Row of each column in the table :meth:`Study.sample` fills.
+#: Row of each column in the table ``Study.sample`` fills.
 _COLUMN_ROWS = {name: i for i, name in enumerate(COLUMNS)}

@@ -26,7 +26,7 @@ writing time, measured on ``studies/throughput.toml``); integer columns always u
 ``[low, high)`` in ``unit`` (default: the column's own unit). ``share_above`` gives, for
 columns among ``columns``, one threshold or a list of them in the column's stored unit:
 each bin gets the share of the column's values strictly above it. Column names are checked
-against the dataset's schema by the runner (:mod:`mcbat.runner.plan`), which knows it.
+against the dataset's schema by the runner (``mcbat.runner.plan``), which knows it.
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ class OutputSpec:
 class SummaryAxis:
     """One ``by`` column: ``bins`` regular bins over ``[low, high)``.
 
-    ``low`` and ``high`` are in the column's stored unit (:data:`column_unit`);
+    ``low`` and ``high`` are in the column's stored unit (``column_unit``);
     ``unit``, ``low_given`` and ``high_given`` are what the study wrote (the summary's
     bin-edge columns use them).
     """
@@ -168,7 +168,7 @@ def _axis(name, spec, field, column_unit) -> SummaryAxis:
 
 def convert(value, unit, column_unit, field) -> float:
     """``value`` in ``unit`` expressed in ``column_unit`` (a unit of the same quantity,
-    :data:`mcbat.study.units.UNITS`; a unit outside that table must be the column's own)."""
+    ``mcbat.study.units.UNITS``; a unit outside that table must be the column's own)."""
     if unit == column_unit:
         return float(value)
     for quantity, units in u.UNITS.items():

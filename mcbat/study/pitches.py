@@ -16,16 +16,16 @@ A game study with a ``[pitches]`` section resamples real pitches with replacemen
     [pitches.swing_error]                      # with swing = true: the measurement error
     attack_angle = { value = 4, unit = "deg" } # (sd) of a drawn swing key (below)
 
-The drawn keys are :data:`PITCH_KEYS` (and :data:`SWING_KEYS` with ``swing = true``);
+The drawn keys are ``PITCH_KEYS`` (and ``SWING_KEYS`` with ``swing = true``);
 ``[pitch]`` and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat
 angle, ...), drawn from their distributions as always. A row that lacks a drawn value (NaN:
 older exports have no spin axis, bat tracking starts in 2024, a pitch not swung at) takes the key's
 fallback when ``[pitches.fallback]`` has one; otherwise it is left out of the draw and
-counted. Rows with values outside the ranges of :data:`ROW_RANGES` (those a study's own
+counted. Rows with values outside the ranges of ``ROW_RANGES`` (those a study's own
 values are checked against, and at most what was ever measured: pitch and bat speeds up to
 150 mph, spins up to 10,000 rpm) are left out and counted too, and so are the copies of a
 pitch the file gives twice (the same ``game_pk``, ``at_bat_number`` and ``pitch_number``:
-two overlapping downloads concatenated), flagged by the runner in :data:`DUPLICATE_COLUMN`.
+two overlapping downloads concatenated), flagged by the runner in ``DUPLICATE_COLUMN``.
 
 **Swing measurement error** (``[pitches.swing_error]``, with ``swing = true``): a drawn
 swing key ``x`` measured with a Gaussian error of sd ``s`` (classical errors: the measured
@@ -38,13 +38,13 @@ leaves the measured values as they are. Attack angles are kept within the range 
 bat angle allows, bat speeds at or above 0.
 
 This module knows only plain numpy columns: reading the file (pandas, pyarrow, the Savant
-reader) is the runner's (:mod:`mcbat.runner.pitches`), which hands a :class:`PitchTable` to
-:meth:`mcbat.study.game.GameStudy.with_pitch_table`. Until then the study is valid but
+reader) is the runner's (``mcbat.runner.pitches``), which hands a ``PitchTable`` to
+``mcbat.study.game.GameStudy.with_pitch_table``. Until then the study is valid but
 cannot be sampled.
 
 Sampling: sample ``i`` takes selected row ``floor(u * M)`` (``M`` selected rows), ``u`` the
 Philox uniform of stream ``"pitches.row"`` for sample ``i``, like every random input of a
-study (:mod:`mcbat.core.sampling`): the draw depends on the seed, the sample index and the
+study (``mcbat.core.sampling``): the draw depends on the seed, the sample index and the
 selection alone, not on threads, chunks, engine or resumption.
 """
 
@@ -91,14 +91,14 @@ PITCH_SOURCE_COLUMNS = ("source_row", *IDENTIFIERS)
 #: only balls in play have).
 FILTERS = {"pitch_type": str, "p_throws": str, "pitcher": int, "batter": int,
            "game_year": int, "bb_type": str}
-#: Column of a :class:`PitchTable` flagging bunts (1.0) with ``swing = true``: left out.
+#: Column of a ``PitchTable`` flagging bunts (1.0) with ``swing = true``: left out.
 BUNT_COLUMN = "bunt"
-#: Column of a :class:`PitchTable` flagging (1.0) a row that repeats an earlier pitch: left
+#: Column of a ``PitchTable`` flagging (1.0) a row that repeats an earlier pitch: left
 #: out and counted as "duplicate pitches".
 DUPLICATE_COLUMN = "duplicate"
 #: The largest value a drawn key may take, in the table's unit (beyond: the row is left
 #: out): the fastest pitch measured is near 106 mph, the fastest swing near 90 mph, the
-#: highest spin near 3,800 rpm. With the signs and angle limits of :func:`_in_range`.
+#: highest spin near 3,800 rpm. With the signs and angle limits of ``_in_range``.
 ROW_RANGES = {"pitch.speed": (150.0, "mph"), "swing.bat_speed": (150.0, "mph"),
               "pitch.spin_rate": (10_000.0, "rpm"), "pitch.spin_axis": (720.0, "deg")}
 #: The Philox stream of the row draw (as an input named so; no study key has the name).
@@ -128,9 +128,9 @@ class PitchSource:
         The file, resolved against the study file's directory (the working directory for
         a study without a file).
     filters : mapping
-        Filter key -> tuple of accepted values, in :data:`FILTERS` order.
+        Filter key -> tuple of accepted values, in ``FILTERS`` order.
     swing : bool
-        Draw :data:`SWING_KEYS` from the rows too.
+        Draw ``SWING_KEYS`` from the rows too.
     fallback : mapping
         Study input name (``"pitch.spin_axis"``) -> its fallback distribution.
     swing_error : mapping
@@ -245,8 +245,8 @@ class PitchTable:
     Attributes
     ----------
     columns : mapping
-        Column name -> 1-d array, every one of length :attr:`rows`, in the tidy table's
-        units (:data:`TABLE_UNITS`): float64 for the measured values (NaN where missing),
+        Column name -> 1-d array, every one of length ``rows``, in the tidy table's
+        units (``TABLE_UNITS``): float64 for the measured values (NaN where missing),
         float64 for identifiers and ``game_year`` (NaN where missing; integers otherwise),
         ``str`` objects for ``pitch_type``, ``p_throws`` and ``handedness`` (``""`` where
         missing).
@@ -267,7 +267,7 @@ class PitchTable:
 @dataclass(frozen=True)
 class PitchRows:
     """The rows a study draws from: its filters and exclusions applied to a
-    :class:`PitchTable`.
+    ``PitchTable``.
 
     Attributes
     ----------
@@ -275,13 +275,13 @@ class PitchRows:
         The selected rows of the file.
     values : float64[k, M]
         The drawn keys' values (SI; NaN where the key's fallback applies), one row per key
-        of :attr:`keys`.
+        of ``keys``.
     keys : tuple of str
-        Study input names (``"pitch.speed"``, ...), the rows of :attr:`values`.
+        Study input names (``"pitch.speed"``, ...), the rows of ``values``.
     handedness : float64[M] or None
         +1 (R) / -1 (L) from the batter's side, or None when the study fixes it.
     identifiers : int64[5, M]
-        :data:`IDENTIFIERS` of the selected rows.
+        ``IDENTIFIERS`` of the selected rows.
     summary : dict
         Rows in the file, selected by the filters, left out (reason -> count), drawn from.
     """

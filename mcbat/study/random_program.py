@@ -1,4 +1,4 @@
-"""A study's random inputs compiled for the jitted sampler (:mod:`mcbat.core.sampling`).
+"""A study's random inputs compiled for the jitted sampler (``mcbat.core.sampling``).
 
 Each random input has its own Philox stream, numbered by the CRC-32 of its dotted name
 (``"ball_velocity.x"``): adding, removing or reordering inputs leaves every other input's
@@ -65,7 +65,7 @@ INPUTS, NOISE = 0, 1
 
 
 def compile_program(inputs, rows, domain=INPUTS) -> DrawProgram:
-    """The :class:`~mcbat.core.sampling.DrawProgram` of random ``inputs``.
+    """The ``mcbat.core.sampling.DrawProgram`` of random ``inputs``.
 
     Parameters
     ----------
@@ -74,7 +74,7 @@ def compile_program(inputs, rows, domain=INPUTS) -> DrawProgram:
     rows : dict of str -> int
         The row of the output table each input is drawn into.
     domain : int
-        :data:`INPUTS` or :data:`NOISE` (the counter's last word).
+        ``INPUTS`` or ``NOISE`` (the counter's last word).
     """
     row, stream, first, count, last, cum = [], [], [], [], [], []
     kind, param, choice_slot, choices = [], [], [], []

@@ -49,7 +49,7 @@ def _preset_name(table, section, presets):
 
 
 def parse_ball(table):
-    """The ``[ball]`` section: a :class:`~mcbat.bodies.ball.Ball` (preset or explicit keys)."""
+    """The ``[ball]`` section: a ``mcbat.bodies.ball.Ball`` (preset or explicit keys)."""
     check_keys(table, "ball", (), ("preset",) + tuple(BALL_KEYS))
     if "preset" in table:
         return BALL_PRESETS[_preset_name(table, "ball", BALL_PRESETS)]
@@ -59,7 +59,7 @@ def parse_ball(table):
 
 
 def parse_bat(table):
-    """The ``[bat]`` section: a :class:`~mcbat.bodies.bat.Bat` (preset or explicit keys)."""
+    """The ``[bat]`` section: a ``mcbat.bodies.bat.Bat`` (preset or explicit keys)."""
     check_keys(table, "bat", (), ("preset",) + tuple(BAT_KEYS))
     if "preset" in table:
         return bat_preset(_preset_name(table, "bat", BAT_PRESETS))
@@ -97,7 +97,7 @@ def check_solver(table):
 
 def exactly_one(table, section, a, b):
     """The one of keys ``a`` and ``b`` that ``table`` (section ``section``) has, or
-    :class:`InputError` when it has both or neither."""
+    ``InputError`` when it has both or neither."""
     if a in table and b in table:
         raise InputError(f"{section}.{b}", f"give exactly one of '{a}' or '{b}', not both")
     if a not in table and b not in table:

@@ -1,12 +1,12 @@
-"""Study files: a TOML file -> a validated study (:class:`Study` in the bat frame,
-:class:`~mcbat.study.game.GameStudy` in the field frame).
+"""Study files: a TOML file -> a validated study (``Study`` in the bat frame,
+``mcbat.study.game.GameStudy`` in the field frame).
 
 The file format (sections, keys, units, distributions, validation and how samples are
 drawn) is described in ``docs/study-format.md``. This module reads the file and picks the
 kind of study; it also gathers the names other code imports from it: the bat-frame study
-(:mod:`mcbat.study.impact`), the sections every study shares
-(:mod:`mcbat.study.sections`), the drawing scheme (:mod:`mcbat.study.drawing`) and the
-input checks (:mod:`mcbat.checks`).
+(``mcbat.study.impact``), the sections every study shares
+(``mcbat.study.sections``), the drawing scheme (``mcbat.study.drawing``) and the
+input checks (``mcbat.checks``).
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ pressure         Pa         Pa, hPa, kPa, inHg, mmHg (``1 inHg = 3386.389 Pa``,
 dimensionless    1          1
 ===============  =========  ==========================================
 
-Temperatures convert with their offsets (``to_si``); :func:`factor` gives the scale of a
+Temperatures convert with their offsets (``to_si``); ``factor`` gives the scale of a
 temperature *difference* (a width), ``5/9`` for ``degF``.
 """
 
@@ -134,7 +134,7 @@ def to_si(value_or_array, unit, quantity, field=None):
     value_or_array : float or array_like
         The value(s) as written.
     unit : str or None
-        One of :data:`UNITS` ``[quantity]``; ``None`` means the values are already SI.
+        One of ``UNITS`` ``[quantity]``; ``None`` means the values are already SI.
     quantity : str
         ``"length"``, ``"speed"``, ``"spin"``, ``"angle"``, ``"mass"``, ``"inertia"`` or
         ``"dimensionless"``.

@@ -4,12 +4,12 @@ The kernel's accuracy is stated on a mix of at least 500 random impacts that inc
 bats from 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1, creeping slip and
 re-slip. This module is the measuring instrument for that statement:
 
-* :func:`~mcbat.testing.impact_mix.draw_mix` draws the mix, deterministically from a seed
-  (:mod:`mcbat.testing.impact_mix`; its names are importable from here too);
-* :func:`reference_for` solves one case with the independent scipy integrator
-  :func:`mcbat.testing.cabo2012_reference.reference_impact` and keeps what the errors need;
-* :func:`kernel_errors` runs the batch kernel on the mix at a given tolerance and returns the
-  per-case errors in the targets' units (:data:`ERROR_COLUMNS`, :data:`TARGETS`).
+* ``mcbat.testing.impact_mix.draw_mix`` draws the mix, deterministically from a seed
+  (``mcbat.testing.impact_mix``; its names are importable from here too);
+* ``reference_for`` solves one case with the independent scipy integrator
+  ``mcbat.testing.cabo2012_reference.reference_impact`` and keeps what the errors need;
+* ``kernel_errors`` runs the batch kernel on the mix at a given tolerance and returns the
+  per-case errors in the targets' units (``ERROR_COLUMNS``, ``TARGETS``).
 
 ``validation/accuracy_mix.py`` prints the tables; ``tests/core/test_impact_mix.py`` checks
 the mix and ``tests/core/test_accuracy_mix.py`` the measure. Unlike the reference solvers in
@@ -61,7 +61,7 @@ __all__ = ["BASEBALL_BODIES", "BASEBALL_MODES", "CREEP_RATIO_OFFSET", "DEFAULT_S
 
 ERROR_COLUMNS = ("velocity", "stick_impulse", "normal_work", "friction_work",
                  "stick_criterion")
-"""Names of the per-case errors of :func:`kernel_errors` (module docstring)."""
+"""Names of the per-case errors of ``kernel_errors`` (module docstring)."""
 
 TARGETS = dict(velocity=1e-8, stick_impulse=1e-7, normal_work=1e-8, friction_work=1e-8,
                stick_criterion=1e-8)
@@ -82,7 +82,7 @@ def reference_for(case, rtol=1e-12, slip_stop_fraction=None, stop_definition_fra
     Parameters
     ----------
     case : dict
-        A case of :func:`draw_mix`.
+        A case of ``draw_mix``.
     rtol : float
         Relative tolerance of the reference's DOP853 integration.
     slip_stop_fraction : float, optional
@@ -137,7 +137,7 @@ def run_kernel(cases, tolerance, steps=DEFAULT_STEPS, max_steps=DEFAULT_MAX_STEP
     Parameters
     ----------
     cases : list of dict
-        Cases of :func:`draw_mix`.
+        Cases of ``draw_mix``.
     tolerance : float
         The kernel's accuracy knob (impulse error per slip step relative to ``I_scale``).
     steps, max_steps : int
@@ -148,7 +148,7 @@ def run_kernel(cases, tolerance, steps=DEFAULT_STEPS, max_steps=DEFAULT_MAX_STEP
     out : numpy.ndarray
         float64[len(OUTPUT_FIELDS), n], rows named by ``mcbat.core.batch.OUTPUT_FIELDS``.
     status, end_state : numpy.ndarray
-        int8[n] codes of :mod:`mcbat.core.status`.
+        int8[n] codes of ``mcbat.core.status``.
     """
     inputs = np.array([[float(c[name]) for c in cases] for name in INPUT_FIELDS],
                       dtype=np.float64).reshape(len(INPUT_FIELDS), len(cases))
@@ -171,9 +171,9 @@ def output_errors(cases, refs, out, status):
     Parameters
     ----------
     cases : list of dict
-        Cases of :func:`draw_mix`.
+        Cases of ``draw_mix``.
     refs : list of dict
-        :func:`reference_for` of each case.
+        ``reference_for`` of each case.
     out : numpy.ndarray
         float64[len(OUTPUT_FIELDS), n] kernel outputs (rows named by ``OUTPUT_FIELDS``).
     status : numpy.ndarray
@@ -182,7 +182,7 @@ def output_errors(cases, refs, out, status):
     Returns
     -------
     dict of numpy.ndarray
-        float64[n] per column of :data:`ERROR_COLUMNS` (dimensionless).
+        float64[n] per column of ``ERROR_COLUMNS`` (dimensionless).
     """
     n = len(cases)
     row = {name: out[_OUT[name]] for name in OUTPUT_FIELDS}
@@ -224,18 +224,18 @@ def kernel_errors(cases, refs, tolerance, steps=DEFAULT_STEPS, max_steps=DEFAULT
     Parameters
     ----------
     cases : list of dict
-        Cases of :func:`draw_mix`.
+        Cases of ``draw_mix``.
     refs : list of dict
-        :func:`reference_for` of each case.
+        ``reference_for`` of each case.
     tolerance : float
-        The kernel's accuracy knob (see :func:`run_kernel`).
+        The kernel's accuracy knob (see ``run_kernel``).
     steps, max_steps : int
         The kernel's step cap per ``I_scale`` and its bound on RK4 steps.
 
     Returns
     -------
     dict of numpy.ndarray
-        float64[n] per column of :data:`ERROR_COLUMNS` (module docstring), plus
+        float64[n] per column of ``ERROR_COLUMNS`` (module docstring), plus
         ``rk4_steps`` (RK4 steps per impact) and ``status`` (int8 kernel status codes).
     """
     out, status, _ = run_kernel(cases, tolerance, steps, max_steps)
@@ -251,12 +251,12 @@ def monotone_violations(coarse, fine):
     Parameters
     ----------
     coarse, fine : dict of numpy.ndarray
-        :func:`kernel_errors` at a tolerance ``T`` and at ``T / 10``.
+        ``kernel_errors`` at a tolerance ``T`` and at ``T / 10``.
 
     Returns
     -------
     dict of numpy.ndarray
-        bool[n] per column of :data:`ERROR_COLUMNS`: ``fine > MONOTONE_FACTOR * coarse`` and
+        bool[n] per column of ``ERROR_COLUMNS``: ``fine > MONOTONE_FACTOR * coarse`` and
         ``fine > MONOTONE_FLOOR``. A column that does not apply (NaN) never counts; an
         error that becomes inf does.
     """

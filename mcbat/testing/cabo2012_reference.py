@@ -1,6 +1,6 @@
 """Slow, independent reference integrator for one rigid ball-bat impact (tests only).
 
-This module re-solves the impact of :func:`mcbat.core.cabo2012.solve_impact` in a
+This module re-solves the impact of ``mcbat.core.cabo2012.solve_impact`` in a
 deliberately different formulation, so that the two can check each other:
 
 * the state is the twelve body velocities ``(v_p, w_p, v_b, w_b)`` plus the normal and
@@ -14,7 +14,7 @@ deliberately different formulation, so that the two can check each other:
   last ``1e-10`` of the slip speed before it stops.
 
 It imports nothing from the kernel (``contact``, ``rigid_bodies``, ``geometry``) and uses only
-numpy and scipy (its pieces are in :mod:`mcbat.testing.reference_parts`). Production code
+numpy and scipy (its pieces are in ``mcbat.testing.reference_parts``). Production code
 never calls it; it is far too slow for sampling.
 
 The model is the matrix form of ``docs/physics.md``: Coulomb friction, stick when the holding rate
@@ -77,20 +77,20 @@ def reference_impact(ball_mass, ball_radius, ball_inertia_factor, bat_mass,
         Energetic coefficient of restitution ``e*`` in [0, 1].
     e_x : float
         Tangential restitution (Cross & Nathan 2006) in [0, 1]; applied within the stick
-        phase of a contact that ends stuck by :func:`tangential_rebound` (see
+        phase of a contact that ends stuck by ``tangential_rebound`` (see
         ``mcbat/core/cross_nathan2006/README.md``).
     rtol, atol : float
         Tolerances of ``solve_ivp`` (DOP853).
     slip_stop_fraction : float, optional
         Slip speed, relative to ``|v(0)|``, at which the integration in ``I`` ends; the
         approach to stick goes on in ``tau`` (``dI = |v_t| dtau``) down to
-        :data:`TAU_STOP_RATIO` times it, and only the rest is extrapolated linearly;
-        default :data:`SLIP_STOP_FRACTION`. Varying it shows how much the switch
+        ``TAU_STOP_RATIO`` times it, and only the rest is extrapolated linearly;
+        default ``SLIP_STOP_FRACTION``. Varying it shows how much the switch
         contributes to ``I_s``. At most ``stop_definition_fraction``.
     stop_definition_fraction : float, optional
         Slip speed, relative to ``|v(0)|``, below which slip that starts there, or whose
         speed passes a minimum there, has stopped (then stick or re-slip); above it a
-        minimum is a near miss and slip goes on. Default :data:`SLIP_STOP_FRACTION`, the
+        minimum is a near miss and slip goes on. Default ``SLIP_STOP_FRACTION``, the
         kernel's definition (``SLIP_RESOLUTION``).
 
     Returns

@@ -1,10 +1,10 @@
 """Drop-test measurement tables simulated by the independent reference solver.
 
 A fit is only checked honestly against tables it did not simulate itself. These tables are
-made without the kernel, the study machinery or :func:`mcbat.stats.measurements.synthesize`:
+made without the kernel, the study machinery or ``mcbat.stats.measurements.synthesize``:
 the geometry is written out here for the Cross & Nathan (2006) drop test (a ball dropped at
 4 m/s across a cylindrical barrel at rest, onto its axis), every impact is solved by
-:func:`mcbat.testing.cabo2012_reference.reference_impact` (``scipy.integrate.solve_ivp``),
+``mcbat.testing.cabo2012_reference.reference_impact`` (``scipy.integrate.solve_ivp``),
 and the measurement errors are added here. The table has the columns of a drop-test
 measurement table (``docs/fitting.md``): ``impact_parameter`` (m, measured, with
 ``impact_parameter_err``), ``spin_in`` (rad/s, the nominal spin, exact), ``exit_speed`` (m/s),
@@ -60,7 +60,7 @@ def reference_solver(b, spin_in, axial, e, mu, e_x, rtol=1e-9):
 
 
 def kernel_solver(b, spin_in, axial, e, mu, e_x):
-    """As :func:`reference_solver`, solved by the kernel (the studies' default accuracy,
+    """As ``reference_solver``, solved by the kernel (the studies' default accuracy,
     agreeing with the reference to ~1e-9): the same tables thousands of times faster,
     for validation runs of many tables (``validation/fit_validation.py --crosscheck``
     shows the two give the same tables)."""
@@ -127,7 +127,7 @@ def drop_table(rows, seed, *, e=0.6, mu=0.18, e_x=0.0, impact_parameter=(-0.0254
         stated (``"constant"``).
     solver : callable
         ``solver(b, spin_in, axial, e, mu, e_x)`` -> observables, (rows, 3):
-        :func:`reference_solver` by default. The random numbers do not depend on it, so two
+        ``reference_solver`` by default. The random numbers do not depend on it, so two
         solvers give the same table up to their difference.
 
     Returns
@@ -191,7 +191,7 @@ def stick_onset(b, spin_in, axial, e, e_x, solver=kernel_solver, mu_max=2.0,
     ----------
     b, spin_in, axial : ndarray
         True impact parameters (m), incoming spins (rad/s) and contacts (m from the bat
-        CM), as :func:`reference_solver` takes them.
+        CM), as ``reference_solver`` takes them.
     e, e_x : float
         Stronge's ``e*`` and the tangential restitution.
 
@@ -215,9 +215,9 @@ def stick_onset(b, spin_in, axial, e, e_x, solver=kernel_solver, mu_max=2.0,
 
 
 def design_stick_onset(rows, seed, *, e=0.6, e_x=0.0, solver=kernel_solver, **design):
-    """The onset of sticking of the table that :func:`drop_table` draws for ``rows`` and
+    """The onset of sticking of the table that ``drop_table`` draws for ``rows`` and
     ``seed`` (with the same ``impact_parameter``, ``edges`` and ``spins``): the largest of
-    its drops' :func:`stick_onset`. With ``mu`` at this value every drop sticks, the
+    its drops' ``stick_onset``. With ``mu`` at this value every drop sticks, the
     last of them only just; the drops drawn do not depend on ``mu``."""
     drawn = {}
 

@@ -1,6 +1,6 @@
 """The drop-test fit against tables it did not simulate: one table's fit, and the summary.
 
-Each table comes from :mod:`mcbat.testing.drop_tables` (its own geometry, draws and noise;
+Each table comes from ``mcbat.testing.drop_tables`` (its own geometry, draws and noise;
 not the study machinery nor ``mcbat synth``) and is fitted as a user would fit it:
 ``fit(studies/cross_nathan_2006.toml, table, ("e", "mu"))`` with profile intervals. The
 summary gives, per setting and parameter, the share of two-sided 68 % intervals holding
@@ -37,7 +37,7 @@ study's range of the impact parameter is +-1 in):
 Table ``k`` of a setting uses the seed ``1000 + k``, its fit the seed ``k``. Each table
 states for the exit speed and the outgoing spin the very errors their noise was drawn with
 (relative to each row's true value), unless ``make_table`` is told otherwise
-(``stated_errors`` of :func:`mcbat.testing.drop_tables.drop_table`).
+(``stated_errors`` of ``mcbat.testing.drop_tables.drop_table``).
 """
 
 import math
@@ -65,14 +65,14 @@ SETTINGS = {
     "err1": {"impact_parameter_err": 0.001},
     "err10": {"impact_parameter_err": 0.010},
 }
-"""Each setting's departures from :data:`TRUTH`, 60 rows and 5 mm errors on ``b``."""
+"""Each setting's departures from ``TRUTH``, 60 rows and 5 mm errors on ``b``."""
 TRUTH = {"e": 0.6, "mu": 0.18}
 """The fitted parameters and their true values, unless a setting says otherwise."""
 
 
 def make_table(setting, k, solver="kernel", stated_errors="truth"):
     """Table ``k`` of ``setting``, solved by ``"kernel"`` or ``"reference"``, its errors
-    stated as ``stated_errors`` says (:func:`mcbat.testing.drop_tables.drop_table`)."""
+    stated as ``stated_errors`` says (``mcbat.testing.drop_tables.drop_table``)."""
     from mcbat.testing.drop_tables import (
         design_stick_onset,
         drop_table,
@@ -119,7 +119,7 @@ def limit_p_value(setting, k, study, parameter="mu", solver="kernel"):
     """The conditional p-value of the true ``parameter`` of table ``k`` of ``setting``,
     where its fit reports a one-sided limit; a JSON-ready record.
 
-    A conditional limit (:mod:`mcbat.stats.selective`) excludes the values whose p-value,
+    A conditional limit (``mcbat.stats.selective``) excludes the values whose p-value,
     among simulated tables flat on the same side, is below 5 %. Here that test is applied to
     the truth itself: the surrogate is built along the profile (the other free parameters
     minimised, independently of the fit's own profile), over a grid through the truth, the
@@ -237,7 +237,7 @@ def limit_holds(entry, truth):
 def pulls_and_limits(entries):
     """The pulls of the entries with a two-sided interval (an array) and, for each
     one-sided limit, whether it holds the truth (a list of bool); ``entries`` as in
-    :func:`interval_statistics`."""
+    ``interval_statistics``."""
     pulls = np.array([x for x in (pull(e, t) for e, t in entries) if x is not None])
     limits = [x for x in (limit_holds(e, t) for e, t in entries) if x is not None]
     return pulls, limits
@@ -281,7 +281,7 @@ def interval_statistics(entries, tables):
 def summarize(records):
     """Per setting and parameter: tables, refusals, tables whose measured inputs reject the
     study's range, the median fitted share of the prior beyond it, the statistics of
-    :func:`interval_statistics` and the median seconds a fit took."""
+    ``interval_statistics`` and the median seconds a fit took."""
     rows = []
     for setting in SETTINGS:
         these = [r for r in records if r["setting"] == setting]
@@ -326,7 +326,7 @@ def format_or_dash(value, spec):
 
 
 def summary_line(row):
-    """One printed line of a :func:`summarize` row."""
+    """One printed line of a ``summarize`` row."""
     dash = format_or_dash
     return (f"{row['setting']:7s} {row['param']:3s} tables {row['tables']:4d} refused "
             f"{row['refused']:3d} rejecting the range {row['rejected']:3d} (median share "

@@ -1,22 +1,22 @@
 """Game measurement tables simulated without mcbat's game machinery.
 
-A game fit (:func:`mcbat.stats.fit.fit` with a game study) is only checked honestly against
+A game fit (``mcbat.stats.fit.fit`` with a game study) is only checked honestly against
 tables it did not simulate itself. These tables are made without the game kernel
 (``mcbat.core.swing``), the batch kernels, the study machinery or
-:func:`mcbat.stats.measurements.synthesize`: the true inputs of every row are drawn here
+``mcbat.stats.measurements.synthesize``: the true inputs of every row are drawn here
 from the distributions of ``tests/stats/data/game_fit_independent.toml`` (written out in
-:data:`DISTRIBUTIONS`), the kinematics from the pitch and the swing to the bat frame and
+``DISTRIBUTIONS``), the kinematics from the pitch and the swing to the bat frame and
 back are written out here in numpy from the equations of ``mcbat/core/swing/README.md``
-and ``docs/batting.md`` (:func:`bat_frame_case`, :func:`batted_ball`), every impact is
+and ``docs/batting.md`` (``bat_frame_case``, ``batted_ball``), every impact is
 solved by the scipy reference solver
-:func:`mcbat.testing.cabo2012_reference.reference_impact`, and the measurement errors are
+``mcbat.testing.cabo2012_reference.reference_impact``, and the measurement errors are
 added here.
 
 The case is kept simple enough to write out: a right-handed batter (a left-handed one is
 supported, as the mirror image in ``x``), a cylindrical bat with the R161's mass, inertias,
-length and centre of mass and its barrel radius at the sweet spot (:data:`BODIES`, numbers
+length and centre of mass and its barrel radius at the sweet spot (``BODIES``, numbers
 written out), the speed form of ``e*`` without a location table, and contacts on the barrel.
-Another bat can be passed in as data (:func:`bat_bodies`: its mass properties and its
+Another bat can be passed in as data (``bat_bodies``: its mass properties and its
 surface at a contact); the tests pass the R161 preset's mass properties and profile, to
 exercise a tapered surface. This module imports nothing of mcbat but the reference solver
 (the import contract of ``pyproject.toml`` holds it to that).
@@ -115,8 +115,8 @@ def _unit(v):
 
 
 def draw_inputs(rows, rng):
-    """The true inputs of ``rows`` rows (SI), drawn from :data:`DISTRIBUTIONS` in the
-    order of :data:`INPUT_NAMES` (inverse CDFs of ``rng.uniform``).
+    """The true inputs of ``rows`` rows (SI), drawn from ``DISTRIBUTIONS`` in the
+    order of ``INPUT_NAMES`` (inverse CDFs of ``rng.uniform``).
 
     Returns
     -------
@@ -140,9 +140,9 @@ def draw_inputs(rows, rng):
 
 
 def bat_bodies(bat):
-    """The bodies and the bat's surface of ``bat``: ``"cylinder"`` gives :data:`BODIES`
+    """The bodies and the bat's surface of ``bat``: ``"cylinder"`` gives ``BODIES``
     and the cylinder's ``(radius, 0)``; a dict gives its own numbers (the keys of
-    :data:`BODIES`) and its ``"surface"``, a callable ``surface(from_barrel_end)`` -> the
+    ``BODIES``) and its ``"surface"``, a callable ``surface(from_barrel_end)`` -> the
     bat's radius (m) and profile slope ``dr/dz`` at a contact that far from the barrel end
     (m). The caller builds such a dict from whatever data it trusts (the tests, from the
     R161 preset's mass properties and profile)."""
@@ -161,14 +161,14 @@ def bat_frame_case(row, bodies, surface, e, handedness=1.0):
     Parameters
     ----------
     row : dict of str to float
-        The row's inputs (SI, :data:`INPUT_NAMES`).
+        The row's inputs (SI, ``INPUT_NAMES``).
     bodies : dict
-        :data:`BODIES` or a bat's numbers of the same names.
+        ``BODIES`` or a bat's numbers of the same names.
     surface : callable
         ``surface(from_barrel_end)`` -> the bat's radius (m) and profile slope ``dr/dz``
         at the contact.
     e : float
-        ``e*`` at the reference speed (:data:`RESTITUTION`).
+        ``e*`` at the reference speed (``RESTITUTION``).
     handedness : float
         +1 a right-handed batter, -1 a left-handed one (the swing mirrored in ``x``).
 
@@ -268,8 +268,8 @@ def batted_ball(velocity, spin):
 
 def solve_row(row, e, e_x, bat="cylinder", handedness=1.0, rtol=1e-8):
     """One row solved by the reference solver: the bat-frame case of
-    :func:`bat_frame_case` with ``"ball_velocity"``, ``"ball_spin"`` (field frame, m/s,
-    rad/s) and the observables of :func:`batted_ball` added."""
+    ``bat_frame_case`` with ``"ball_velocity"``, ``"ball_spin"`` (field frame, m/s,
+    rad/s) and the observables of ``batted_ball`` added."""
     bodies, surface = bat_bodies(bat)
     case = bat_frame_case(row, bodies, surface, e, handedness)
     r = reference_impact(
@@ -292,17 +292,17 @@ def _row(inputs, k):
 
 
 def reference_solver(inputs, e, e_x, bat="cylinder", handedness=1.0, rtol=1e-8):
-    """The observables of every row (:data:`OBSERVABLES`, table units), each impact solved
-    by :func:`mcbat.testing.cabo2012_reference.reference_impact`.
+    """The observables of every row (``OBSERVABLES``, table units), each impact solved
+    by ``mcbat.testing.cabo2012_reference.reference_impact``.
 
     Parameters
     ----------
     inputs : dict of str to ndarray
-        The rows' true inputs (SI, :data:`INPUT_NAMES`).
+        The rows' true inputs (SI, ``INPUT_NAMES``).
     e, e_x : float
         ``e*`` at the reference speed and the tangential restitution.
     bat : str or dict
-        ``"cylinder"`` (:data:`BODIES`) or a bat of :func:`bat_bodies`.
+        ``"cylinder"`` (``BODIES``) or a bat of ``bat_bodies``.
     handedness : float
         +1 right-handed, -1 left-handed.
     rtol : float
@@ -342,14 +342,14 @@ def game_table(rows, seed, *, e=0.5, e_x=0.3, input_errors=None,
     rows, seed : int
         Number of rows and the seed of every random number.
     e, e_x : float
-        The truth: ``e*`` at the reference speed of :data:`RESTITUTION` (the fit's ``e``)
+        The truth: ``e*`` at the reference speed of ``RESTITUTION`` (the fit's ``e``)
         and the tangential restitution.
     input_errors : dict, optional
         1-sigma error of a measured input, in the table's unit (``{"undercut": 0.002}``,
         m, the default): the impact is solved at the true value, the table gets the true
         value plus noise and an ``_err`` column. Measured inputs without one are exact.
     measured : sequence of str
-        The measured inputs the table carries (:data:`MEASURED`); the rest are the fit's
+        The measured inputs the table carries (``MEASURED``); the rest are the fit's
         nuisance, drawn from the study.
     speed_err : float
         Error of the launch speed, relative to the table's mean launch speed.
@@ -358,12 +358,12 @@ def game_table(rows, seed, *, e=0.5, e_x=0.3, input_errors=None,
     spin_err : (float, float)
         Error of the spin rate relative to the table's mean spin rate, and its floor (rpm).
     bat : str or dict
-        ``"cylinder"`` (:data:`BODIES`, the study's bat) or a bat of :func:`bat_bodies`.
+        ``"cylinder"`` (``BODIES``, the study's bat) or a bat of ``bat_bodies``.
     handedness : float
         +1 a right-handed batter (the study's), -1 a left-handed one.
     solver : callable
         ``solver(inputs, e, e_x, bat, handedness)`` -> observables, (rows, 4):
-        :func:`reference_solver` by default (a solver by mcbat's own game kernel, for
+        ``reference_solver`` by default (a solver by mcbat's own game kernel, for
         comparison and for fast validation runs, is
         ``validation.game_fit_validation.kernel_solver``). The random numbers do not depend
         on it, so two solvers give the same table up to their difference.

@@ -1,9 +1,9 @@
 """A hard random mix of impacts, drawn deterministically from a seed: the cases the
-kernel's accuracy is stated on (:mod:`mcbat.testing.accuracy_mix` measures the kernel on
+kernel's accuracy is stated on (``mcbat.testing.accuracy_mix`` measures the kernel on
 them against the reference).
 
 The mix includes bats from 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1,
-creeping slip and re-slip (:data:`MODES`). Like :mod:`mcbat.testing.accuracy_mix`, this
+creeping slip and re-slip (``MODES``). Like ``mcbat.testing.accuracy_mix``, this
 module imports the kernel's geometry: a case's contact frame and Delassus matrix are the
 kernel's own formulas, checked in the tests against numpy's.
 """
@@ -41,12 +41,12 @@ MODES = ("free", "small", "zero", "reslip", "light_bat", "heavy_bat", "high_spin
 ``high_spin``
     Sec. V bodies, ball and/or bat spinning at 500-3000 rad/s.
 ``creep``
-    Sec. V bodies, ``|f| / mu`` within :data:`CREEP_RATIO_OFFSET` of 1 on either side and a
+    Sec. V bodies, ``|f| / mu`` within ``CREEP_RATIO_OFFSET`` of 1 on either side and a
     small slip: the slip creeps to a stop (or, above 1, stops and creeps away in re-slip).
 """
 
 BASEBALL_MODES = ("free", "small", "zero", "reslip", "high_spin", "creep")
-"""The modes with the Sec. V ball and bat (:data:`BASEBALL_BODIES`)."""
+"""The modes with the Sec. V ball and bat (``BASEBALL_BODIES``)."""
 
 SLIP_STYLES = ("free", "small", "zero", "reslip", "creep")
 """How the incoming slip and ``mu`` are chosen; stored in each case as ``slip``."""
@@ -78,7 +78,7 @@ def contact_problem(case):
     Parameters
     ----------
     case : dict
-        A case of :func:`draw_mix` (the fields of ``INPUT_FIELDS``, SI units).
+        A case of ``draw_mix`` (the fields of ``INPUT_FIELDS``, SI units).
 
     Returns
     -------
@@ -292,7 +292,7 @@ def draw_mix(n=520, seed=DEFAULT_SEED):
     Parameters
     ----------
     n : int
-        Number of cases; the modes of :data:`MODES` are cycled.
+        Number of cases; the modes of ``MODES`` are cycled.
     seed : int
         Seed of ``numpy.random.default_rng``: the same seed gives the same mix.
 
@@ -301,7 +301,7 @@ def draw_mix(n=520, seed=DEFAULT_SEED):
     list of dict
         One dict per case with every field of ``mcbat.core.batch.INPUT_FIELDS`` (floats,
         SI units: kg, m, kg m^2, rad, m/s, rad/s; ``e_x`` = 0), plus ``mode`` (one of
-        :data:`MODES`) and ``slip`` (one of :data:`SLIP_STYLES`). Each case approaches at
+        ``MODES``) and ``slip`` (one of ``SLIP_STYLES``). Each case approaches at
         2-40 m/s at the contact.
     """
     rng = np.random.default_rng(seed)

@@ -1,5 +1,5 @@
 """The pieces of the reference integrator
-:func:`mcbat.testing.cabo2012_reference.reference_impact`: the contact basis and the two
+``mcbat.testing.cabo2012_reference.reference_impact``: the contact basis and the two
 bodies re-derived with numpy, the impulse-to-velocity map ``K`` obtained numerically, the
 re-slip direction, the chained ``solve_ivp`` segments and the tangential rebound. Like the
 integrator, independent of the kernel: numpy and scipy only.

@@ -8,13 +8,13 @@ Phases
 ------
 slip
     ``dP_t/dI = -mu u``, ``u = v_t/|v_t|``, integrated in the slip-scaled time ``tau``
-    (``dI = |v_t| dtau``) by Lawson RK4 (:mod:`mcbat.core.cabo2012.slip_time`): smooth up
+    (``dI = |v_t| dtau``) by Lawson RK4 (``mcbat.core.cabo2012.slip_time``): smooth up
     to the stick point, which ``tau`` reaches only exponentially, and exact while the slip
     direction is constant. The step is controlled a posteriori by the embedded error
     estimate: per step, ``tolerance`` times ``|v0|`` in the slip velocity, times ``I_scale``
     in the impulse and times ``|v0| I_scale`` in the friction work, and at most
     ``I_scale / steps`` of impulse. ``P_t`` follows from ``I`` and ``v_t`` algebraically;
-    ``W_n`` is integrated on its own (:func:`normal_work`).
+    ``W_n`` is integrated on its own (``normal_work``).
 landing on ``v_t = 0``
     Once the error of taking the rest as linear in ``I`` is below
     ``LANDING_FRACTION * tolerance * I_scale`` (the impulse left, ``|v_t| / (-d|v_t|/dI)``,
@@ -125,17 +125,17 @@ NOT_COMPRESSED = Compression(False, math.nan, math.nan, math.nan, math.nan)
 
 @njit(inline="always")
 def _compressed(state, e2):
-    """The :class:`Compression` of compression ending at ``state`` (``e2 = e*^2``)."""
+    """The ``Compression`` of compression ending at ``state`` (``e2 = e*^2``)."""
     return Compression(True, state.imp, state.wn, (1.0 - e2) * state.wn, -e2 * state.wn)
 
 Accuracy = namedtuple("Accuracy", ["steps", "tolerance", "max_steps"])
-Accuracy.__doc__ = """Accuracy settings of :func:`solve_contact` (see its parameters)."""
+Accuracy.__doc__ = """Accuracy settings of ``solve_contact`` (see its parameters)."""
 DEFAULT_ACCURACY = Accuracy(DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS)
 
 ContactResult = namedtuple("ContactResult", [
     "status", "end_state", "p1", "p2", "i_f", "i_s", "i_c", "w_c", "w_n", "w_fr",
     "w_n_stick", "rk4_steps"])
-ContactResult.__doc__ = """Result of :func:`solve_contact` (see its Returns)."""
+ContactResult.__doc__ = """Result of ``solve_contact`` (see its Returns)."""
 
 
 @njit(inline="always")
@@ -150,7 +150,7 @@ def velocity(c, p1, p2, imp):
 
 @njit(inline="always")
 def slip_point(c, state):
-    """The slip direction, its rates and the slip speed at ``state`` (:class:`SlipPoint`)."""
+    """The slip direction, its rates and the slip speed at ``state`` (``SlipPoint``)."""
     v1, v2, vn = velocity(c, state.p1, state.p2, state.imp)
     s = math.sqrt(v1 * v1 + v2 * v2)
     inv_s = 1.0 / s
@@ -191,7 +191,7 @@ def remove_residual_slip(c, state):
 
 @njit(inline="always")
 def slip_state(c, w1, w2, imp, wfr, wn):
-    """The :class:`SlipState` with slip velocity ``(w1, w2)`` (m/s) at the normal impulse
+    """The ``SlipState`` with slip velocity ``(w1, w2)`` (m/s) at the normal impulse
     ``imp``, with the works ``wfr``, ``wn`` so far (J): ``P_t`` from
     ``v_t = v_t0 + K_tt P_t + K_tn I``."""
     r1 = w1 - c.v01 - c.k13 * imp
@@ -266,9 +266,9 @@ def _hermite_root(g0, g1, m0, m1):
 
 @njit
 def locate_in_step(c, start, w1, w2, lam, h, kind, target, rise_left, end, tol_imp):
-    """The point inside the ``tau`` step ``h`` from ``start`` (a :class:`SlipState` with
-    slip velocity ``w``) to ``end`` (a :class:`~mcbat.core.cabo2012.slip_time.TauStep`)
-    where the event ``kind`` (see :func:`_event_value`; ``rise_left`` the normal work still
+    """The point inside the ``tau`` step ``h`` from ``start`` (a ``SlipState`` with
+    slip velocity ``w``) to ``end`` (a ``mcbat.core.cabo2012.slip_time.TauStep``)
+    where the event ``kind`` (see ``_event_value``; ``rise_left`` the normal work still
     to rise to the separation at ``start``) goes from ``g < 0`` to ``g >= 0``.
 
     The cubic Hermite interpolant of ``g`` over the step gives the first guess; Newton's
@@ -375,7 +375,7 @@ below which a minimum of the slip speed is a stop (m/s)."""
 
 @njit(inline="always")
 def slip_control(c, tolerance, impulse_max_per_scale):
-    """:class:`SlipControl` of contact ``c``; a step takes at most ``I_scale`` times
+    """``SlipControl`` of contact ``c``; a step takes at most ``I_scale`` times
     ``impulse_max_per_scale`` of impulse."""
     v_scale = math.sqrt(c.v01 * c.v01 + c.v02 * c.v02 + c.v0n * c.v0n)
     i_scale = 2.0 * (-c.v0n) / c.k33  # frictionless, fully elastic impact impulse
@@ -385,15 +385,15 @@ def slip_control(c, tolerance, impulse_max_per_scale):
 
 @njit(inline="always")
 def step_plan(ctl, pt, imp, h, first):
-    """The slip step rule, shared by :func:`solve_contact` and ``contact_history``: at the
+    """The slip step rule, shared by ``solve_contact`` and ``contact_history``: at the
     slip ``pt`` and normal impulse ``imp``, with ``h`` the step the last one proposed.
 
-    Returns ``(action, h, stick_rate, tol_i)``: action :data:`STEP_ACTION` (a step of
-    ``h``), :data:`LAND_ACTION` or :data:`STOP_ACTION` (the slip speed is at most
+    Returns ``(action, h, stick_rate, tol_i)``: action ``STEP_ACTION`` (a step of
+    ``h``), ``LAND_ACTION`` or ``STOP_ACTION`` (the slip speed is at most
     ``SLIP_RESOLUTION |v0|`` at incidence, or there and not falling: slip has stopped, or
     passed a minimum that close to zero); the rate (1/kg)
     at which a slip error moves ``I_s`` and the impulse error allowed (kg m/s), for
-    :func:`error_ratio`.
+    ``error_ratio``.
     """
     lam = -pt.rate
     # Impulse errors are relative to I_scale, or to the stick impulse where sliding is
@@ -433,7 +433,7 @@ def next_step(h, ratio, last_h, last_ratio):
     ``0.9 (h / last_h) (last_ratio / ratio^2)^(1/4)``, between a fifth and five times ``h``.
 
     It extrapolates the trend of the error along the slip. Where the slip direction
-    settles, the error per step falls fast and the plain rule (:func:`resized_step`) trails
+    settles, the error per step falls fast and the plain rule (``resized_step``) trails
     behind it, so that the steps follow their own history more than the error, and the step
     sequence does not scale uniformly with the tolerance (whence errors that change sign
     between tolerances). After a rejection the plain rule is used. (K. Gustafsson, ACM
@@ -458,7 +458,7 @@ def resized_step(h, ratio):
 @njit
 def _slip_phase(c, acc, e2):
     """Slip from incidence until ``v_t = 0`` or separation: Lawson RK4 in ``tau``
-    (:mod:`mcbat.core.cabo2012.slip_time`) with a-posteriori step control, the compression
+    (``mcbat.core.cabo2012.slip_time``) with a-posteriori step control, the compression
     and separation events, and the landing on ``v_t = 0``.
 
     Returns ``(status, state, compression, separated, steps, rise_left)``; ``steps``
@@ -630,7 +630,7 @@ def _linear_phase(c, state, comp, d1, d2, e, rise_left):
 
 @njit(inline="always")
 def failed_contact(code, rk4_steps=0):
-    """The one place a failed :class:`ContactResult` is built: every output NaN."""
+    """The one place a failed ``ContactResult`` is built: every output NaN."""
     nan = math.nan
     return ContactResult(code, st.SLIDING, nan, nan, nan, nan, nan, nan, nan, nan, nan,
                          rk4_steps)
@@ -683,7 +683,7 @@ def solve_contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, e,
         and ``W_c = W_n(I_c)``; the normal and friction work at separation (J);
         ``W_n(I_s)`` (the paper's ``C = -W_n(I_s)``); and the number of slip steps tried
         (Lawson RK4 steps). On a failure status every physical output is NaN
-        (:func:`failed_contact`).
+        (``failed_contact``).
     """
     c = Contact(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu)
     acc = Accuracy(steps, tolerance, max_steps)

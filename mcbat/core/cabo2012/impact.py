@@ -1,8 +1,8 @@
 """One ball-bat impact in the lab frame: geometry -> Delassus matrix -> contact solve.
 
-:func:`solve_impact` is the scalar kernel that the Python API and the batch kernels call.
-It takes plain floats and returns an :class:`Impact`, a named tuple whose fields
-(:data:`IMPACT_FIELDS`) callers scatter into struct-of-arrays outputs.
+``solve_impact`` is the scalar kernel that the Python API and the batch kernels call.
+It takes plain floats and returns an ``Impact``, a named tuple whose fields
+(``IMPACT_FIELDS``) callers scatter into struct-of-arrays outputs.
 """
 
 import math
@@ -33,9 +33,9 @@ ImpactInputs = namedtuple("ImpactInputs", [
     "bat_vx_in", "bat_vy_in", "bat_vz_in", "bat_wx_in", "bat_wy_in", "bat_wz_in",
     "mu", "e", "e_x",
 ])
-ImpactInputs.__doc__ = """The inputs of :func:`solve_impact` (SI units; see its parameters)."""
+ImpactInputs.__doc__ = """The inputs of ``solve_impact`` (SI units; see its parameters)."""
 INPUT_FIELDS = ImpactInputs._fields
-"""Names of the fields of :class:`ImpactInputs`, in order (the rows of a batch's inputs)."""
+"""Names of the fields of ``ImpactInputs``, in order (the rows of a batch's inputs)."""
 
 Impact = namedtuple("Impact", [
     "status",
@@ -57,12 +57,12 @@ Impact = namedtuple("Impact", [
     "energy_out",
     "rk4_steps",
 ])
-Impact.__doc__ = """The result of :func:`solve_impact` (fields named by :data:`IMPACT_FIELDS`)."""
+Impact.__doc__ = """The result of ``solve_impact`` (fields named by ``IMPACT_FIELDS``)."""
 IMPACT_FIELDS = Impact._fields
-"""Names of the fields of :class:`Impact`, the result of :func:`solve_impact`, in order.
+"""Names of the fields of ``Impact``, the result of ``solve_impact``, in order.
 
 Units: velocities m/s, spins rad/s, impulses kg m/s, works and energies J. ``status`` and
-``end_state`` are codes from :mod:`mcbat.core.status`; ``stick_criterion`` is the paper's
+``end_state`` are codes from ``mcbat.core.status``; ``stick_criterion`` is the paper's
 ``C = -W_n(I_s)`` (NaN without stick); ``tangential_impulse_1/2`` are the friction impulse
 components along ``t1`` and ``t2``.
 """
@@ -131,7 +131,7 @@ def solve_impact(inputs, accuracy):
         The fields below (floats).
     accuracy : mcbat.core.cabo2012.contact.Accuracy
         ``(steps, tolerance, max_steps)`` of
-        :func:`mcbat.core.cabo2012.contact.solve_contact` (``DEFAULT_ACCURACY`` there).
+        ``mcbat.core.cabo2012.contact.solve_contact`` (``DEFAULT_ACCURACY`` there).
 
     Fields of ``inputs``
     --------------------
@@ -152,14 +152,14 @@ def solve_impact(inputs, accuracy):
         Tangential restitution in [0, 1] (Cross & Nathan 2006): a contact that ends stuck
         leaves with its incoming slip reversed and scaled by ``e_x``, within the friction
         its stick phase leaves unused, so the rebound vanishes continuously at the
-        stick/slide boundary (:mod:`mcbat.core.cross_nathan2006`). The default 0 is the
+        stick/slide boundary (``mcbat.core.cross_nathan2006``). The default 0 is the
         rigid model, exactly.
 
     Returns
     -------
     Impact
-        A named tuple (fields :data:`IMPACT_FIELDS`). On a non-OK status the velocities are NaN
-        (:func:`failed_impact`). Inputs outside the valid ranges (``MASS_RANGE``,
+        A named tuple (fields ``IMPACT_FIELDS``). On a non-OK status the velocities are NaN
+        (``failed_impact``). Inputs outside the valid ranges (``MASS_RANGE``,
         ``LENGTH_RANGE``, ... above; ``docs/physics.md``) give ``invalid_input``; whether a
         tapered bat's surface lets the ball touch only at the contact is checked by the
         callers that know the profile (``Bat.overlap``).

@@ -81,7 +81,7 @@ step's impulse (kg m/s) and of its friction work (J), and ``q = int v_t dI`` ove
 
 @njit(inline="always")
 def tau_point(c, w1, w2):
-    """:class:`TauPoint` of the slip velocity ``(w1, w2)`` (m/s, > 0) of contact ``c``."""
+    """``TauPoint`` of the slip velocity ``(w1, w2)`` (m/s, > 0) of contact ``c``."""
     s = math.sqrt(w1 * w1 + w2 * w2)
     inv_s = 1.0 / s
     u1 = w1 * inv_s
@@ -108,7 +108,7 @@ def _z_rate(c, lam, z1, z2):
 
 @njit(inline="always")
 def _z_rate_at(c, lam, z1, z2, s):
-    """:func:`_z_rate` given ``s = |z|``."""
+    """``_z_rate`` given ``s = |z|``."""
     f1 = s * c.k13 - c.mu * (c.k11 * z1 + c.k12 * z2) + lam * z1
     f2 = s * c.k23 - c.mu * (c.k12 * z1 + c.k22 * z2) + lam * z2
     return f1, f2

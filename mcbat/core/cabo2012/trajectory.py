@@ -1,7 +1,7 @@
 """The history of one impact along the normal impulse ``I``, for plots and diagnostics.
 
-:func:`contact_history` evaluates the relative contact velocity and the works at given
-impulses, following the same phases as :func:`mcbat.core.cabo2012.contact.solve_contact`
+``contact_history`` evaluates the relative contact velocity and the works at given
+impulses, following the same phases as ``mcbat.core.cabo2012.contact.solve_contact``
 (Lawson RK4 slip in ``tau`` with the same error control, on a finer step cap, the points
 located inside the steps; then the stick or re-slip closed form). It does not stop
 at separation: the curves continue past ``I_f`` so that plots can show where the

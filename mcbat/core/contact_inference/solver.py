@@ -5,10 +5,10 @@ three unknowns of the contact (the contact azimuth ``theta``, i.e. the undercut
 ``D = reach sin(theta)``; the bat speed or, when the bat speed is measured, the contact's
 distance from the barrel end; the attack direction), solved by a damped Newton iteration
 with a forward-difference Jacobian on the game kernel itself
-(:func:`mcbat.core.swing.game.solve_game_row`), one ball per ``prange`` iteration. The
+(``mcbat.core.swing.game.solve_game_row``), one ball per ``prange`` iteration. The
 equations, what is identified and what is assumed: ``README.md``.
 
-Nothing raises inside the loop; every ball gets a status (:data:`INFERENCE_STATUS_NAMES`)
+Nothing raises inside the loop; every ball gets a status (``INFERENCE_STATUS_NAMES``)
 and NaN outputs unless it converged.
 """
 
@@ -64,7 +64,7 @@ INFER_FROM_BARREL_END = 1
 """Mode: the bat speed is measured (a game input); the contact position is unknown."""
 INFER_NEAREST_BAT_SPEED = 2
 """Mode: the bat speed is measured with an error. The contact position is the unknown
-first (as :data:`INFER_FROM_BARREL_END`); if no position along the bat gives the ball at
+first (as ``INFER_FROM_BARREL_END``); if no position along the bat gives the ball at
 the measured bat speed, the bat speed nearest the measured one that does: the bat speed
 is the unknown with the contact fixed where the launch speed per unit bat speed is
 largest (a ball too fast) or smallest (too slow) along the bat. The caller judges the
@@ -610,7 +610,7 @@ def _nearest_bat_speed(g, table, loc_z, loc_f, settings, observed, scratch, x, l
 @njit
 def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, loc_f, settings,
                       solution, residual, status, iterations, evaluations):
-    """Infer ball ``col`` (see :func:`infer_contact_batch`)."""
+    """Infer ball ``col`` (see ``infer_contact_batch``)."""
     mode = mode_all[col]
     nearest = mode == INFER_NEAREST_BAT_SPEED
     if nearest:
@@ -666,27 +666,27 @@ def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settin
     Parameters
     ----------
     game_inputs : float64[len(GAME_INPUT_FIELDS), n]
-        The game inputs of each ball (:data:`mcbat.core.swing.GAME_INPUT_FIELDS`): the
+        The game inputs of each ball (``mcbat.core.swing.GAME_INPUT_FIELDS``): the
         measured pitch, the assumed swing and contact. The unknowns' rows are ignored
         (``undercut``, ``attack_direction``, ``bat_speed`` in bat-speed mode,
         ``from_barrel_end`` in position mode) and ``bat_radius``, ``bat_slope``,
         ``e_location_factor`` are recomputed from ``table`` and ``loc_z``, ``loc_f``.
     observed : float64[3, n]
-        :data:`OBSERVED_FIELDS`, SI.
+        ``OBSERVED_FIELDS``, SI.
     mode : int8[n]
-        :data:`INFER_BAT_SPEED`, :data:`INFER_FROM_BARREL_END` or
-        :data:`INFER_NEAREST_BAT_SPEED` per ball.
+        ``INFER_BAT_SPEED``, ``INFER_FROM_BARREL_END`` or
+        ``INFER_NEAREST_BAT_SPEED`` per ball.
     table : mcbat.core.geometry.ProfileTable
         The bat's surface (a cylinder is one interval of constant radius).
     loc_z, loc_f : float64[m]
         The restitution location table (m from the barrel end, factor); empty: none.
     settings : InferenceSettings
     solution : float64[len(SOLUTION_FIELDS), n]
-        Written: :data:`SOLUTION_FIELDS` (NaN unless converged).
+        Written: ``SOLUTION_FIELDS`` (NaN unless converged).
     residual : float64[3, n]
         Written: the final scaled residuals (launch speed relative, angles in rad).
     status : int8[n]
-        Written: :data:`INFERENCE_STATUS_NAMES` codes.
+        Written: ``INFERENCE_STATUS_NAMES`` codes.
     iterations, evaluations : int32[n]
         Written: Newton iterations and game-kernel evaluations per ball.
     """
@@ -697,7 +697,7 @@ def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settin
 
 
 def allocate_inference_outputs(n):
-    """Empty outputs of :func:`infer_contact_batch`:
+    """Empty outputs of ``infer_contact_batch``:
     ``(solution, residual, status, iterations, evaluations)``."""
     return (np.empty((_NS, n)), np.empty((3, n)), np.empty(n, np.int8),
             np.empty(n, np.int32), np.empty(n, np.int32))

@@ -1,6 +1,6 @@
 """Tangential rebound of a gripping contact (Cross & Nathan's ``e_x``), as an impulse.
 
-The rigid model (:mod:`mcbat.core.cabo2012`) ends a gripping impact with zero tangential
+The rigid model (``mcbat.core.cabo2012``) ends a gripping impact with zero tangential
 slip. A ball and a bat are not rigid: the contact patch shears while it grips, stores
 elastic energy and gives part of it back, so the ball leaves with its slip *reversed*.
 Cross & Nathan (2006) describe this by a tangential coefficient of restitution
@@ -8,7 +8,7 @@ Cross & Nathan (2006) describe this by a tangential coefficient of restitution
     v_t,out = -e_x v_t,in,
 
 ``v_t`` the tangential velocity of the ball's contact point relative to the bat surface.
-:func:`tangential_rebound` turns that into an extra tangential impulse delivered during the
+``tangential_rebound`` turns that into an extra tangential impulse delivered during the
 rigid solution's stick phase, within the friction that phase leaves unused and within the
 energy budget (see ``README.md``). It vanishes continuously where the contact stops
 gripping: at the stick/slide boundary the spare friction is zero.

@@ -33,14 +33,14 @@ OK, INVALID, MAX_STEPS_REACHED, NOT_RISEN = 0, 1, 2, 3
 
 FLIGHT_FIELDS = ("hit_distance", "landing_x", "landing_y", "hang_time", "apex",
                  "flight_steps")
-"""Outputs of :func:`fly_batch` (m, m, m, s, m, 1): the horizontal distance of the landing
+"""Outputs of ``fly_batch`` (m, m, m, s, m, 1): the horizontal distance of the landing
 point from home plate, its coordinates, the time of flight, the greatest height, steps."""
 
 FlightParams = namedtuple("FlightParams", ("drag_factor", "radius", "aero", "decay_rate",
                                            "gravity", "wind_x", "wind_y", "wind_z",
                                            "tolerance", "landing_height"))
 """Shared by every ball of a call: ``drag_factor`` ``c0 = rho A / (2 m)`` (1/m), the ball's
-radius (m), the :class:`~mcbat.core.flight.aero.Aero` model, the spin decay rate
+radius (m), the ``mcbat.core.flight.aero.Aero`` model, the spin decay rate
 ``1 / (tau 44.704 m/s)`` (s/m^2; 0: no decay), gravity (m/s^2), the wind (m/s), the
 integrator's tolerance (0 selects the spreadsheet's scheme), and the landing height (m,
 >= 0): the flight ends where the descending ball passes ``z = landing_height`` (0: the
@@ -208,7 +208,7 @@ def _record(samples, count, dt, t, h, x, v, a, x1, v1, a1, t_end):
 
 @njit
 def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
-    """:func:`fly`, also writing the position every ``dt`` s (> 0) into ``samples``
+    """``fly``, also writing the position every ``dt`` s (> 0) into ``samples``
     (``float64[4, m]``: t, x, y, z; up to the landing). Returns ``(Flight, count)``."""
     spin = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     axis = (w[0] / spin, w[1] / spin, w[2] / spin) if spin > 0.0 else (0.0, 0.0, 0.0)
@@ -266,7 +266,7 @@ def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
 @njit
 def fly(p, x, v, w, max_steps=MAX_STEPS):
     """One flight from position ``x`` (m) with velocity ``v`` (m/s) and spin ``w`` (rad/s,
-    field frame) to the ground (``z = 0``); returns a :class:`Flight` (SI). The spin axis
+    field frame) to the ground (``z = 0``); returns a ``Flight`` (SI). The spin axis
     keeps its launch direction; its rate decays as the model says (``README.md``)."""
     return integrate(p, x, v, w, np.empty((4, 0)), 0.0, max_steps)[0]
 
@@ -274,7 +274,7 @@ def fly(p, x, v, w, max_steps=MAX_STEPS):
 @njit
 def fly_sheet(p, axis, spin, x, v, max_steps=MAX_STEPS):
     """The spreadsheet's scheme: ``x += v dt + a dt^2 / 2``, ``v += a dt`` with
-    ``dt`` = :data:`SHEET_STEP`; the landing is its last point above the ground, as the
+    ``dt`` = ``SHEET_STEP``; the landing is its last point above the ground, as the
     sheet reports it (this reproduces its published 400.5 ft)."""
     dt = SHEET_STEP
     t, apex = 0.0, x[2]
@@ -298,7 +298,7 @@ def fly_sheet(p, axis, spin, x, v, max_steps=MAX_STEPS):
 
 
 def pack_params(p):
-    """:class:`FlightParams` as the flat float64 array :func:`fly_batch` takes (numba's
+    """``FlightParams`` as the flat float64 array ``fly_batch`` takes (numba's
     parallel loops do not accept named tuples of mixed types as arguments)."""
     return np.array([p.drag_factor, p.radius, p.aero.model, p.aero.drag, p.aero.lift,
                      p.aero.drag_scale, p.aero.lift_scale, p.decay_rate, p.gravity, p.wind_x,
@@ -318,11 +318,11 @@ def fly_batch(params, start, velocity, spin, out, status):
     Parameters
     ----------
     params : float64[14]
-        :func:`pack_params` of the :class:`FlightParams` shared by every ball.
+        ``pack_params`` of the ``FlightParams`` shared by every ball.
     start, velocity, spin : float64[3, n]
         Field frame: position (m), velocity (m/s), spin (rad/s).
     out : float64[len(FLIGHT_FIELDS), n]
-        Written: :data:`FLIGHT_FIELDS`.
+        Written: ``FLIGHT_FIELDS``.
     status : int8[n]
         Written: 0 ok, 1 invalid input (non-finite, below the ground), 2 too many steps,
         3 the ball reached the ground without rising to the landing height.
@@ -342,14 +342,14 @@ def fly_batch(params, start, velocity, spin, out, status):
 
 
 def allocate_flight_outputs(n):
-    """``(out, status)`` for :func:`fly_batch`."""
+    """``(out, status)`` for ``fly_batch``."""
     return np.empty((len(FLIGHT_FIELDS), n)), np.empty(n, np.int8)
 
 
 @njit(parallel=True)
 def fly_batch_each(params, start, velocity, spin, out, status):
-    """:func:`fly_batch` with every ball's own parameters: ``params`` is
-    ``float64[14, n]``, column ``i`` the :func:`pack_params` of ball ``i`` (its own air
+    """``fly_batch`` with every ball's own parameters: ``params`` is
+    ``float64[14, n]``, column ``i`` the ``pack_params`` of ball ``i`` (its own air
     density, wind, drag and lift scales, landing height)."""
     for i in numba.prange(start.shape[1]):
         p = _unpack(params[:, i])
@@ -389,7 +389,7 @@ def height_at_distance(p, x, v, w, distance, max_steps=MAX_STEPS):
     """Height (m) and spray angle (rad, ``atan2(x, y)``) of the ball where its horizontal
     distance from home plate first reaches ``distance`` (m): where it meets a fence
     standing there. NaN, NaN when it comes down (``z = 0``) before; the flight's
-    parameters as :func:`fly` (the landing height is not used)."""
+    parameters as ``fly`` (the landing height is not used)."""
     spin = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
     axis = (w[0] / spin, w[1] / spin, w[2] / spin) if spin > 0.0 else (0.0, 0.0, 0.0)
     ok = math.isfinite(distance) and distance > 0.0
@@ -427,8 +427,8 @@ def height_at_distance(p, x, v, w, distance, max_steps=MAX_STEPS):
 
 @njit(parallel=True)
 def height_at_distance_batch(params, start, velocity, spin, distance, out):
-    """:func:`height_at_distance` of ``start.shape[1]`` balls, each with its own
-    parameters (``float64[14, n]`` as :func:`fly_batch_each`) and distance (m);
+    """``height_at_distance`` of ``start.shape[1]`` balls, each with its own
+    parameters (``float64[14, n]`` as ``fly_batch_each``) and distance (m);
     ``out`` (``float64[2, n]``) receives the height (m) and the spray angle (rad)."""
     for i in numba.prange(start.shape[1]):
         p = _unpack(params[:, i])

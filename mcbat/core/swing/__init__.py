@@ -1,5 +1,5 @@
 """The game situation: field frame <-> bat frame, and the game kernel around
-:func:`mcbat.core.cabo2012.solve_impact` (equations and sources in ``README.md``)."""
+``mcbat.core.cabo2012.solve_impact`` (equations and sources in ``README.md``)."""
 
 from mcbat.core.swing.frames import (
     SWEET_SPOT_FROM_BARREL_END,

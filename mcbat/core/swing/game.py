@@ -1,8 +1,8 @@
 """The game kernel: pitch + swing + contact -> bat frame -> ``solve_impact`` -> field frame.
 
-:func:`solve_game_batch` is a ``prange`` loop over struct-of-arrays, like
-:func:`mcbat.core.batch.solve_batch`. Besides the field-frame results it writes the very
-bat-frame case it solved (the rows of :data:`mcbat.core.batch.INPUT_FIELDS`), so every
+``solve_game_batch`` is a ``prange`` loop over struct-of-arrays, like
+``mcbat.core.batch.solve_batch``. Besides the field-frame results it writes the very
+bat-frame case it solved (the rows of ``mcbat.core.batch.INPUT_FIELDS``), so every
 row can be re-solved in the bat frame alone. Nothing raises inside the loop: a row whose
 game inputs cannot be turned into an impact (inconsistent swing angles, an undercut
 beyond the reach of ball and barrel, a contact off the bat) gets ``invalid_input``, a
@@ -59,7 +59,7 @@ GameInputRows = namedtuple("GameInputRows", GAME_INPUT_FIELDS)
 GameInputRows.__doc__ = """The row of each game input in the kernel's input array, by name."""
 GAME_INPUT = GameInputRows(*range(len(GAME_INPUT_FIELDS)))
 """Row indices of the game inputs by name (``GAME_INPUT.mu``), built from
-:data:`GAME_INPUT_FIELDS`, so a field added to the list cannot shift a row the kernel reads.
+``GAME_INPUT_FIELDS``, so a field added to the list cannot shift a row the kernel reads.
 Numba reads the module-level tuple as a compile-time constant."""
 _G = GAME_INPUT
 
@@ -73,12 +73,12 @@ GAME_OUTPUT_FIELDS = (
 """Game outputs: the bat-frame impact parameter (``up * undercut``), the collision
 efficiency ``q``, and the field-frame velocities (m/s) and spins (rad/s) of ball and bat
 after the impact. (Before the impact they are functions of the inputs alone:
-:func:`~mcbat.core.swing.frames.pitch_state` and
-:func:`~mcbat.core.swing.frames.swing_state`.)"""
+``mcbat.core.swing.frames.pitch_state`` and
+``mcbat.core.swing.frames.swing_state``.)"""
 
 FRAME_FIELDS = ("axial", "angle", *(f for f in INPUT_FIELDS if f.endswith("_in")), "e")
-"""The bat-frame inputs the transform computes (the other :data:`INPUT_FIELDS` are game
-inputs of the same name, see :func:`bat_frame_columns`)."""
+"""The bat-frame inputs the transform computes (the other ``INPUT_FIELDS`` are game
+inputs of the same name, see ``bat_frame_columns``)."""
 
 _NF = len(FRAME_FIELDS)
 _NO = len(OUTPUT_FIELDS)
@@ -110,8 +110,8 @@ def _put3(arr, row, col, v):
 @njit
 def _contact(b, ball_radius, radius, slope, axial):
     """Azimuth, outward normal and contact point of a ball whose line passes ``b`` from
-    the axis (:func:`mcbat.core.geometry.angle_from_impact_parameter` and
-    :func:`~mcbat.core.geometry.contact_frame`; ``sin(angle)`` is the ratio itself, which
+    the axis (``mcbat.core.geometry.angle_from_impact_parameter`` and
+    ``mcbat.core.geometry.contact_frame``; ``sin(angle)`` is the ratio itself, which
     saves two transcendental calls per row). NaN angle when the ball misses."""
     ratio = b / ball_centre_radial_distance(ball_radius, radius, slope)
     if not abs(ratio) <= 1.0:
@@ -152,7 +152,7 @@ def incoming_state(game_inputs, col):
 def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, status,
                    end_state):
     """Solve row ``col`` of the game inputs ``g`` and write its outputs (see
-    :func:`solve_game_batch`)."""
+    ``solve_game_batch``)."""
     ball_mass, ball_radius = g[_G.ball_mass, col], g[_G.ball_radius, col]
     ball_f = g[_G.ball_inertia_factor, col]
     radius, slope = g[_G.bat_radius, col], g[_G.bat_slope, col]
@@ -240,18 +240,18 @@ def solve_game_batch(game_inputs, steps, tolerance, max_steps, frame, out, game_
     Parameters
     ----------
     game_inputs : float64[len(GAME_INPUT_FIELDS), n]
-        One row per field of :data:`GAME_INPUT_FIELDS`.
+        One row per field of ``GAME_INPUT_FIELDS``.
     steps, tolerance, max_steps
         Accuracy settings of the impact kernel.
     frame : float64[len(FRAME_FIELDS), n]
-        Written: the bat-frame inputs the transform computes (:data:`FRAME_FIELDS`);
-        :func:`bat_frame_columns` completes the bat-frame case of every row.
+        Written: the bat-frame inputs the transform computes (``FRAME_FIELDS``);
+        ``bat_frame_columns`` completes the bat-frame case of every row.
     out : float64[len(OUTPUT_FIELDS), n]
-        Written: the bat-frame outputs (:data:`mcbat.core.batch.OUTPUT_FIELDS`).
+        Written: the bat-frame outputs (``mcbat.core.batch.OUTPUT_FIELDS``).
     game_out : float64[len(GAME_OUTPUT_FIELDS), n]
-        Written: :data:`GAME_OUTPUT_FIELDS`.
+        Written: ``GAME_OUTPUT_FIELDS``.
     status, end_state : int8[n]
-        Written: codes from :mod:`mcbat.core.status`.
+        Written: codes from ``mcbat.core.status``.
     """
     n = game_inputs.shape[1]
     for col in numba.prange(n):
@@ -260,20 +260,20 @@ def solve_game_batch(game_inputs, steps, tolerance, max_steps, frame, out, game_
 
 
 def allocate_game_outputs(n):
-    """Empty output arrays for :func:`solve_game_batch`:
+    """Empty output arrays for ``solve_game_batch``:
     ``(frame, out, game_out, status, end_state)``."""
     return (np.empty((_NF, n)), np.empty((_NO, n)), np.empty((_NG, n)),
             np.empty(n, np.int8), np.empty(n, np.int8))
 
 
 def bat_frame_columns(game_inputs, frame):
-    """The bat-frame case of every row, as :data:`INPUT_FIELDS` -> row views (no copies).
+    """The bat-frame case of every row, as ``INPUT_FIELDS`` -> row views (no copies).
 
     Parameters
     ----------
     game_inputs : float64[len(GAME_INPUT_FIELDS), n]
     frame : float64[len(FRAME_FIELDS), n]
-        As written by :func:`solve_game_batch`.
+        As written by ``solve_game_batch``.
     """
     columns = {name: frame[i] for i, name in enumerate(FRAME_FIELDS)}
     columns.update({name: game_inputs[getattr(GAME_INPUT, name)] for name in _COPIED})

@@ -21,7 +21,7 @@ __all__ = ["Calibration", "calibrate_restitution", "exit_speed"]
 
 @dataclass(frozen=True)
 class Calibration:
-    """Result of :func:`calibrate_restitution` (SI units)."""
+    """Result of ``calibrate_restitution`` (SI units)."""
 
     target_speed: float
     e_star: float

@@ -1,4 +1,4 @@
-"""The look shared by the figures of the paper's Sec. V (:mod:`mcbat.papers.cabo2012.figures`):
+"""The look shared by the figures of the paper's Sec. V (``mcbat.papers.cabo2012.figures``):
 the paper's marker per incoming spin, the line styles, and the Agg figure written as PNG."""
 
 from __future__ import annotations

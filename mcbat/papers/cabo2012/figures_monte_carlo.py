@@ -1,6 +1,6 @@
 """Figs. 6-8 of the paper's Sec. V: the Monte Carlo rows against the noise-free model,
 per incoming spin, in three layers (a faint cloud of rows, the model curve, the Monte Carlo
-median and 16-84 % band in bins; :mod:`mcbat.papers.cabo2012.figures`)."""
+median and 16-84 % band in bins; ``mcbat.papers.cabo2012.figures``)."""
 
 from __future__ import annotations
 
@@ -193,12 +193,12 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
     Parameters
     ----------
     df : DataFrame or None
-        Monte Carlo rows (:func:`mcbat.load`); rows are assigned to the nominal spin
+        Monte Carlo rows (``mcbat.load``); rows are assigned to the nominal spin
         nearest to ``ball_wz_in``. If it has ``exit_speed_measured`` and
         ``scattering_angle_measured``, the cloud is drawn from those (the median and band
         always from the noise-free ``exit_speed`` / ``scattering_angle``).
     model : DataFrame
-        :func:`mcbat.papers.cabo2012.summary.model_curves`.
+        ``mcbat.papers.cabo2012.summary.model_curves``.
     title : str, optional
         Default: "Fig. N of the paper ..." with N from ``name`` (``fig6...``, ``fig7...``).
 
@@ -207,7 +207,7 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
     (Path, dict)
         ``data``: ``model`` (the model-curve rows drawn), ``cloud`` (``w0, x, y,
         sample_id`` of the drawn subsample; x deg, y m/s), ``binned`` (one row per drawn
-        bin: ``w0``, the :func:`mcbat.stats.analysis.binned` columns ``x_low, x_high, x_center,
+        bin: ``w0``, the ``mcbat.stats.analysis.binned`` columns ``x_low, x_high, x_center,
         count, mean, q16, q50, q84``), ``cloud_columns``, ``measured``, ``xlim``, ``ylim``
         and ``alpha0`` (per spin: the model's exit speed at ``alpha = 0``).
     """
@@ -257,13 +257,13 @@ def fig_spin_vs_impact_parameter(outdir, df: pd.DataFrame | None, model: pd.Data
     """Fig. 8: outgoing spin about the bat axis against the impact parameter (inches).
 
     All three incoming spins (open circles +79, squares 0, filled circles -72), layered
-    as in :func:`fig_speed_vs_angle`; the cloud uses ``spin_axial_measured`` (and
+    as in ``fig_speed_vs_angle``; the cloud uses ``spin_axial_measured`` (and
     ``impact_parameter_measured``) when the dataset has them.
 
     Returns
     -------
     (Path, dict)
-        As :func:`fig_speed_vs_angle`, with x the impact parameter in inches (the
+        As ``fig_speed_vs_angle``, with x the impact parameter in inches (the
         ``binned`` edges and centres in inches too) and y the spin ``w_z`` in rad/s.
     """
     spins = tuple(float(w) for w in spins)

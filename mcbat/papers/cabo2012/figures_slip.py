@@ -1,6 +1,6 @@
 """Figs. 2-5 of the paper's Sec. V: the first slip of its nearly central impact
-(:func:`fig_slip_velocity`) and the kinetic energy after stick (:func:`fig_energy_after_stick`),
-from the single-impact solver (:mod:`mcbat.papers.cabo2012.figures` has them all)."""
+(``fig_slip_velocity``) and the kinetic energy after stick (``fig_energy_after_stick``),
+from the single-impact solver (``mcbat.papers.cabo2012.figures`` has them all)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ def slip_history(n: int = 601, overshoot: float = 1.25) -> dict:
     """The first slip of the paper's case (``theta = pi/400``, ``w0 = 0``, ``mu = 0.5``).
 
     ``I`` runs over ``n`` points from 0 to ``overshoot * I_s`` plus ``I_s`` itself (the
-    solver's stick impulse, kg m/s); arrays as :func:`mcbat.api.history` (SI).
+    solver's stick impulse, kg m/s); arrays as ``mcbat.api.history`` (SI).
     """
     case = sec5.case(e=1.0)
     i_s = solve(case).stick_impulse
@@ -34,7 +34,7 @@ def fig_slip_velocity(outdir, n: int = 601) -> list[tuple[Path, dict]]:
     """Figs. 2-4: ``v1(I)``, ``v2(I)`` and ``|v_t|(I)`` during the first slip.
 
     The paper's nearly central impact: ``theta = pi/400``, ``w0 = 0``, ``mu = 0.5``
-    (:func:`mcbat.papers.cabo2012.sec5.case` with ``e* = 1``; the slip does not depend on
+    (``mcbat.papers.cabo2012.sec5.case`` with ``e* = 1``; the slip does not depend on
     ``e*``), on a fine grid from ``I = 0`` to 1.25 ``I_s``, with the stick impulse ``I_s`` marked.
 
     Returns

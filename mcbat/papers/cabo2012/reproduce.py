@@ -41,7 +41,7 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
 
     ``overwrite`` replaces a Monte Carlo dataset there that another sample count or an
     older mcbat wrote (it is otherwise kept and resumed, or refused), and files named like
-    the reproduction's outputs that mcbat did not write (:mod:`mcbat.papers.outputs`)."""
+    the reproduction's outputs that mcbat did not write (``mcbat.papers.outputs``)."""
     t0 = time.perf_counter()
     out = Path(out)
     results = ResultsDirectory(out, "cabo2012", OUTPUT_NAMES, overwrite=overwrite)
@@ -58,7 +58,7 @@ def reproduce(out="results", *, samples=None, threads=None, progress=True, echo=
 
 
 def _results(results, dataset_dir, echo, t0) -> dict:
-    """The calibration, figures and summary of :func:`reproduce`, from its dataset."""
+    """The calibration, figures and summary of ``reproduce``, from its dataset."""
     out = results.root
     calibration = calibrate_restitution()
     calibration_path = results.write_text("calibration.json", json.dumps(

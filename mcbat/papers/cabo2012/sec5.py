@@ -7,7 +7,7 @@ barrel radius 0.03335 m, I_t = 0.046, I_3 = 4.39e-4 kg m^2, CM 0.265 m from the 
 a = 0.115 m from the CM (15 cm from the barrel end); mu = 0.5; the ball falls along -x at
 4 m/s with spin w0 about the bat axis, w0 in {+79, 0, -72} rad/s; the bat is at rest. The
 numbers the paper prints are in ``data/paper_sec5_numbers.json``
-(:func:`printed_numbers`).
+(``printed_numbers``).
 """
 
 from __future__ import annotations

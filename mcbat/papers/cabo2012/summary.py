@@ -3,18 +3,18 @@
 The paper (Cabo, Soler & Gonzalez, Sec. V) compares a rigid Coulomb impact with Cross &
 Nathan's drop test: exit speed against scattering angle for the incoming spins
 ``w0 = +79, 0, -72`` rad/s (its Figs. 6, 7) and outgoing spin against impact parameter (its
-Fig. 8). This module holds what both the figures (:mod:`mcbat.papers.cabo2012.figures`)
+Fig. 8). This module holds what both the figures (``mcbat.papers.cabo2012.figures``)
 and the terminal summary need:
 
-:func:`model_curves`
+``model_curves``
     noise-free single impacts along the impact parameter, one curve per incoming spin;
-:func:`nominal_spin`
+``nominal_spin``
     the nominal incoming spin (79, 0 or -72 rad/s) of every Monte Carlo row;
-:func:`summarize`
+``summarize``
     per nominal spin: exit speed near ``alpha = 0``, slope of the outgoing spin against the
     impact parameter (rad/s per inch), range of scattering angles, end-state fractions and
     row counts, for the Monte Carlo rows and for the model curve (JSON-serialisable);
-:func:`format_table`
+``format_table``
     that summary as a small aligned text table.
 
 >>> from mcbat.papers.cabo2012.calibration import calibrate_restitution
@@ -52,7 +52,7 @@ MEASURED = {"exit_speed": "exit_speed_measured",
 
 
 def spin_label(w0: float) -> str:
-    """``"+79"``, ``"0"``, ``"-72"``: the key of a nominal spin in :func:`summarize`."""
+    """``"+79"``, ``"0"``, ``"-72"``: the key of a nominal spin in ``summarize``."""
     return "0" if w0 == 0 else f"{w0:+g}"
 
 
@@ -183,10 +183,10 @@ def summarize(df: pd.DataFrame, model: pd.DataFrame, calibration=None,
     Parameters
     ----------
     df : DataFrame
-        Monte Carlo rows (:func:`mcbat.load`); each row is assigned to the nominal spin
+        Monte Carlo rows (``mcbat.load``); each row is assigned to the nominal spin
         nearest to its ``ball_wz_in``.
     model : DataFrame
-        :func:`model_curves` for the same spins.
+        ``model_curves`` for the same spins.
     calibration : dict or Calibration, optional
         Included as given (``Calibration.to_dict()`` if it has one).
 
@@ -194,7 +194,7 @@ def summarize(df: pd.DataFrame, model: pd.DataFrame, calibration=None,
     -------
     dict
         ``rows``, ``rows_ok``, ``e_star`` (from ``model.attrs``, if any), ``calibration``
-        and ``spins``: a dict keyed by :func:`spin_label` (``"+79"``, ``"0"``, ``"-72"``),
+        and ``spins``: a dict keyed by ``spin_label`` (``"+79"``, ``"0"``, ``"-72"``),
         each with
 
         - ``w0``, ``rows``, ``rows_ok``, ``rows_failed``;
@@ -301,7 +301,7 @@ def _cell(entry: dict, key, fmt) -> str:
 
 
 def format_table(summary: dict) -> str:
-    """The summary of :func:`summarize` as an aligned text table (one column per spin)."""
+    """The summary of ``summarize`` as an aligned text table (one column per spin)."""
     spins = summary["spins"]
     labels = list(spins)
     header = ["w0 (rad/s)"] + labels

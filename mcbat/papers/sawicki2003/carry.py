@@ -1,4 +1,4 @@
-"""The flight of the scan's batted balls: :mod:`mcbat.core.flight` with the calculator's
+"""The flight of the scan's batted balls: ``mcbat.core.flight`` with the calculator's
 standard conditions (70 degF, 29.92 inHg, 50 % RH, sea level), Nathan's aerodynamics and
 spin decay, from the calculator's launch point (0, 2, 3) ft, for the game studies' ball."""
 
@@ -24,7 +24,7 @@ _FT = UNITS["length"]["ft"]
 
 def fly(v, w, settings=SETTINGS):
     """Carry balls launched with field-frame velocity ``v`` (m/s) and spin ``w`` (rad/s),
-    ``float64[3, n]``, with ``settings`` (a :class:`~mcbat.study.flight.FlightSettings`;
+    ``float64[3, n]``, with ``settings`` (a ``mcbat.study.flight.FlightSettings``;
     default: the reproduction's); returns ``hit_distance``, ``landing_x``, ``landing_y``,
     ``apex`` (ft) and ``hang_time`` (s), NaN where a flight failed."""
     v = np.ascontiguousarray(v, np.float64)

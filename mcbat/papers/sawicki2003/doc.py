@@ -3,7 +3,7 @@
 A block is the text between ``<!-- begin generated: NAME -->`` and
 ``<!-- end generated: NAME -->``; ``validation/sawicki2003_doc.py`` renders it from the
 outputs of ``mcbat reproduce sawicki2003`` (``table.md``) and of the undercut steps
-(:mod:`~mcbat.papers.sawicki2003.steps`), and writes or checks it.
+(``mcbat.papers.sawicki2003.steps``), and writes or checks it.
 """
 
 from __future__ import annotations

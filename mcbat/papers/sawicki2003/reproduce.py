@@ -1,7 +1,7 @@
 """``mcbat reproduce sawicki2003``: the optimal swing against a fastball and a curveball.
 
 For each pitch (``game_fastball``, ``game_curveball``) and each impact model (rigid,
-``e_x = 0``; compliant, the game preset's ``e_x``), :mod:`~mcbat.papers.sawicki2003.scan`
+``e_x = 0``; compliant, the game preset's ``e_x``), ``mcbat.papers.sawicki2003.scan``
 solves the undercut x attack-angle grid with Monte Carlo scatter and flies every batted
 ball to the ground. The optimum is the cell of greatest mean carry. Writes, under one
 results directory::
@@ -71,7 +71,7 @@ def optimum(means: dict) -> dict:
 
 def optimum_cell(pitch: str, model: str, attack_angle: float, undercut: float,
                  per_cell: int = PER_CELL) -> dict:
-    """The numbers of one cell of the scan (as :func:`optimum` gives them for the best
+    """The numbers of one cell of the scan (as ``optimum`` gives them for the best
     cell), solving only that cell's samples: the same draws, hence the same numbers, as
     in the whole scan."""
     study = scan_study(pitch, model, per_cell)
@@ -141,7 +141,7 @@ def format_markdown(results: dict, comparison: dict) -> str:
 
 
 def markdown_row(pitch: str, model: str, r: dict) -> str:
-    """One row of :func:`format_markdown`'s table: ``r`` as :func:`optimum` gives it."""
+    """One row of ``format_markdown``'s table: ``r`` as ``optimum`` gives it."""
     return (f"| {pitch} | {model} | {r['undercut']:.2f} | {r['attack_angle']:.0f} | "
             f"{r['launch_speed']:.1f} | {r['launch_angle']:.1f} | {r['backspin']:.0f} | "
             f"{r['distance']:.1f} ± {r['distance_se']:.1f} |")
@@ -152,7 +152,7 @@ def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print,
     """Run the scans, write the summary, the table and the figures under
     ``out/sawicki2003``; returns the paths written. ``threads``: numba threads for the
     kernels (default: all). ``overwrite``: replace files named like the outputs that
-    mcbat did not write (:mod:`mcbat.papers.outputs`)."""
+    mcbat did not write (``mcbat.papers.outputs``)."""
     t0 = time.perf_counter()
     set_threads(threads)
     per_cell = positive_int(per_cell, "per_cell")
@@ -173,7 +173,7 @@ def reproduce(out="results", *, threads=None, per_cell=PER_CELL, echo=print,
 
 
 def _write(results, scans, optima, comparison, per_cell, echo, t0) -> dict:
-    """The figures, summary and table of :func:`reproduce`."""
+    """The figures, summary and table of ``reproduce``."""
     root = results.root
     fig_dir = results.directory("figures")
     paths = [figures.distance_vs_undercut(fig_dir, scans, optima),

@@ -4,12 +4,12 @@ Sawicki, Hubbard & Stronge (Am. J. Phys. 71, 1152 (2003)) choose the undercut an
 angle that maximise the range of a batted fastball and curveball. This module poses the
 same question to mcbat's impact model: the bundled game studies (``game_fastball``,
 ``game_curveball``) give the pitch, the swing and their scatter; the undercut and the
-attack angle become a grid; every cell gets :data:`PER_CELL` Monte Carlo samples; the game
+attack angle become a grid; every cell gets ``PER_CELL`` Monte Carlo samples; the game
 kernel solves the impacts and the flight kernel carries the balls to the ground. It is run
 twice per pitch: with the rigid model (``e_x = 0``) and with tangential compliance
-(``e_x`` of the game preset, :data:`mcbat.bodies.restitution.GAME_E_X`).
+(``e_x`` of the game preset, ``mcbat.bodies.restitution.GAME_E_X``).
 
-The scan is a game study built in memory (:func:`scan_study`), so it samples and solves
+The scan is a game study built in memory (``scan_study``), so it samples and solves
 exactly like ``mcbat run``; nothing is written here.
 """
 
@@ -84,11 +84,11 @@ def scan_study(pitch: str, model: str, per_cell: int = PER_CELL, *, centred: boo
     """The scan of ``pitch`` with ``model`` as a game study (in memory).
 
     The attack angle is the outer grid, the undercut the inner one; sample ``i`` is in
-    cell ``i % cells`` (:class:`~mcbat.study.distributions.Grid` order), so every cell
+    cell ``i % cells`` (``mcbat.study.distributions.Grid`` order), so every cell
     gets ``per_cell`` samples. ``centred``: every scattered input at its centre
-    (:func:`centre`), one deterministic case per cell. ``edits``: ``(section, key,
+    (``centre``), one deterministic case per cell. ``edits``: ``(section, key,
     value)`` triples applied last (``value`` None removes the key), for variants of the
-    scan (:mod:`~mcbat.papers.sawicki2003.steps`). ``undercuts`` (in) and
+    scan (``mcbat.papers.sawicki2003.steps``). ``undercuts`` (in) and
     ``attack_angles`` (deg): ``(start, stop, num)`` grids."""
     with resources.files("mcbat.studies").joinpath(PITCHES[pitch]).open("rb") as fh:
         data = tomllib.load(fh)
@@ -120,8 +120,8 @@ class Scan:
     """One scan's rows (struct of arrays, SI unless the name says otherwise).
 
     ``attack_angle`` (deg) and ``undercut`` (in) are the grid values of each row;
-    ``batted`` has the batted ball in Statcast's conventions (:func:`derive_game`);
-    ``flight`` the landing (:func:`mcbat.papers.sawicki2003.carry.fly`)."""
+    ``batted`` has the batted ball in Statcast's conventions (``derive_game``);
+    ``flight`` the landing (``mcbat.papers.sawicki2003.carry.fly``)."""
 
     pitch: str
     model: str
@@ -135,7 +135,7 @@ class Scan:
 def run_scan(pitch: str, model: str, fly, per_cell: int = PER_CELL, *, study=None,
              cell=None) -> Scan:
     """Solve the scan of ``pitch`` with ``model`` (or ``study``, a variant from
-    :func:`scan_study`); ``fly(v, w)`` carries the batted balls (field-frame velocity and
+    ``scan_study``); ``fly(v, w)`` carries the batted balls (field-frame velocity and
     spin, ``float64[3, n]``) and returns the flight columns. ``cell``: ``(attack angle
     (deg), undercut (in))``, solve only that cell's samples (the same draws as in the
     whole scan)."""

@@ -66,8 +66,8 @@ R161_SWEET_SPOT_RADIUS = bat_preset("r161").surface_at(
 @dataclass(frozen=True)
 class Step:
     """One variant of the scan: ``name`` (the table's row), ``change`` (what moves,
-    towards Sawicki et al.), ``edits`` (see :func:`~mcbat.papers.sawicki2003.scan.
-    scan_study`), ``flight`` (None: the reproduction's) and ``scatter`` (the
+    towards Sawicki et al.), ``edits`` (see ``mcbat.papers.sawicki2003.scan.
+    scan_study``), ``flight`` (None: the reproduction's) and ``scatter`` (the
     reproduction's Monte Carlo scan instead of the deterministic one)."""
 
     name: str
@@ -177,7 +177,7 @@ def format_markdown(result: dict) -> str:
 
 
 def markdown_row(row: dict) -> str:
-    """One step's row of :func:`format_markdown`'s table."""
+    """One step's row of ``format_markdown``'s table."""
     cells = []
     for o in row["optimum"].values():
         cells += [f"{o['undercut_cm']:.2f}", f"{o['attack_angle']:.0f}",

@@ -1,13 +1,13 @@
 """Calibrate the flight model's drag and lift to measured distances.
 
-The fit (:func:`mcbat.stats.fit.fit` with :class:`mcbat.stats.flight_model.FlightModel`)
+The fit (``mcbat.stats.fit.fit`` with ``mcbat.stats.flight_model.FlightModel``)
 scales the spin-free drag ``C_D0`` and the lift ``C_L`` of Nathan's model so that the
 predicted distances of the balls whose measured point is known best (outfield catches at
-the catch height, home runs projected to the ground; :mod:`~mcbat.papers.statcast.compare`)
+the catch height, home runs projected to the ground; ``mcbat.papers.statcast.compare``)
 match ``hit_distance_sc``. Hits in play are left out of the fit: a ball that struck a wall
 is measured short of its carry, and nothing in the data says which did. Only the fly balls
 and home runs launched at 20-50 deg are fitted
-(:func:`~mcbat.papers.statcast.compare.eligible_window`): their carry is what the drag
+(``mcbat.papers.statcast.compare.eligible_window``): their carry is what the drag
 decides, while a line drive caught low depends as much on the guessed catch height.
 
 The per-ball scatter ``sigma`` (ft) is not a measurement error: it is what the launch
@@ -51,7 +51,7 @@ MIN_BALLS = 10
 
 @dataclasses.dataclass
 class FlightCalibration:
-    """A fitted calibration: the :class:`~mcbat.stats.fit.FitResult`, the per-ball scatter
+    """A fitted calibration: the ``mcbat.stats.fit.FitResult``, the per-ball scatter
     ``sigma`` (ft) it used, and the number of balls."""
 
     result: object
@@ -60,10 +60,10 @@ class FlightCalibration:
     spin_model: str
     source: str | None = None
     holdout: dict | None = None
-    """In-sample and held-out residuals (:func:`hold_out`), when computed."""
+    """In-sample and held-out residuals (``hold_out``), when computed."""
 
     def to_dict(self) -> dict:
-        """JSON-ready: the fit (:meth:`FitResult.to_dict`), ``sigma_ft``, ``balls``, the
+        """JSON-ready: the fit (``FitResult.to_dict``), ``sigma_ft``, ``balls``, the
         spin model, the data and the hold-out check."""
         return {**self.result.to_dict(), "sigma_ft": self.sigma, "balls": self.balls,
                 "spin_model": self.spin_model, "fit_classes": list(FIT_CLASSES),
@@ -91,8 +91,8 @@ class FlightCalibration:
 
 
 def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame:
-    """The measurement table of :class:`~mcbat.stats.flight_model.FlightModel` for
-    ``balls`` (a :func:`~mcbat.papers.statcast.compare.select_balls` frame) flown with
+    """The measurement table of ``mcbat.stats.flight_model.FlightModel`` for
+    ``balls`` (a ``mcbat.papers.statcast.compare.select_balls`` frame) flown with
     ``backspin``, ``sidespin`` (rpm), with the scatter ``sigma`` (ft) per ball."""
     table = pd.DataFrame({c: balls[c].to_numpy(float) for c in
                           ("launch_speed", "launch_angle", "spray_angle", "elevation",
@@ -110,7 +110,7 @@ def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame
 
 def check_free(free) -> tuple:
     """``free`` (a comma-separated string or names; None: both scales) as a tuple of
-    distinct names of :data:`FREE`, or :class:`InputError`."""
+    distinct names of ``FREE``, or ``InputError``."""
     if free is None:
         return FREE
     names = [p.strip() for p in free.split(",")] if isinstance(free, str) else list(free)
@@ -125,7 +125,7 @@ def calibrate_file(path=None, *, spin_model="nathan", free=None, intervals="prof
                    weather_path=None) -> FlightCalibration:
     """Read a Statcast file (None: the shipped samples), select its balls, give each its
     air (the games' weather from ``weather_path``, else each park's climate) and calibrate
-    (:func:`calibrate`) with the spin of ``spin_model``."""
+    (``calibrate``) with the spin of ``spin_model``."""
     from mcbat.papers.statcast.reproduce import SPIN_MODELS, balls_in_their_air, read_statcast
     from mcbat.statcast.weather import read_weather
 
@@ -184,7 +184,7 @@ def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
     Parameters
     ----------
     balls : pandas.DataFrame
-        :func:`~mcbat.papers.statcast.compare.select_balls`.
+        ``mcbat.papers.statcast.compare.select_balls``.
     backspin, sidespin : array_like
         rpm, per ball.
     settings : FlightSettings, optional
@@ -193,15 +193,15 @@ def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
     ball : mcbat.bodies.Ball, optional
         Default: the ``baseball`` preset.
     intervals : {"profile", "curvature"}
-        As :func:`mcbat.stats.fit.fit`.
+        As ``mcbat.stats.fit.fit``.
 
     Raises
     ------
     InputError
-        Naming ``hit_distance_sc`` when fewer than :data:`MIN_BALLS` balls qualify or the
-        distances do not follow the launches (:func:`check_distances_follow_launch`);
+        Naming ``hit_distance_sc`` when fewer than ``MIN_BALLS`` balls qualify or the
+        distances do not follow the launches (``check_distances_follow_launch``);
         naming ``launch_speed`` when the launch speeds are not in mph
-        (:func:`check_launch_speeds`).
+        (``check_launch_speeds``).
     """
     use = eligible_window(balls) & balls["comparison"].isin(FIT_CLASSES).to_numpy(bool)
     check_launch_speeds(balls["launch_speed"].to_numpy(float)[use], source)
@@ -228,7 +228,7 @@ def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
 def fit_scales(table: pd.DataFrame, setup: FlightFitSetup | None = None, *,
                free=FREE, intervals="profile", spin_model="nathan",
                source=None) -> FlightCalibration:
-    """Fit ``drag_scale`` and ``lift_scale`` to a :func:`flight_table` whose every row
+    """Fit ``drag_scale`` and ``lift_scale`` to a ``flight_table`` whose every row
     has a prediction, with the per-ball scatter taken from the data (module docstring;
     the table's ``hit_distance_sc_err`` is replaced)."""
     table = table.copy()
@@ -256,7 +256,7 @@ def fit_scales(table: pd.DataFrame, setup: FlightFitSetup | None = None, *,
 LAUNCH_SPEED_MEDIAN = (70.0, 125.0)
 #: Measured distances follow the model's uncalibrated predictions of the same launches
 #: with a correlation of 0.95-0.98 and a slope of 0.92-1.07 on the real exports: a table
-#: whose correlation is below this, or whose slope lies outside :data:`DISTANCE_SLOPE`,
+#: whose correlation is below this, or whose slope lies outside ``DISTANCE_SLOPE``,
 #: does not hold distances of balls flown from those launches, and a fit of the scales to
 #: it would be meaningless (the scatter model, one sigma about the flight, would not hold).
 MIN_DISTANCE_CORRELATION = 0.5
@@ -264,8 +264,8 @@ DISTANCE_SLOPE = (0.5, 2.0)
 
 
 def check_launch_speeds(launch_speed, source=None) -> None:
-    """:class:`InputError` naming ``launch_speed`` when the fitted balls' median launch
-    speed (mph) lies outside :data:`LAUNCH_SPEED_MEDIAN`."""
+    """``InputError`` naming ``launch_speed`` when the fitted balls' median launch
+    speed (mph) lies outside ``LAUNCH_SPEED_MEDIAN``."""
     values = np.asarray(launch_speed, float)
     values = values[np.isfinite(values)]
     if values.size < MIN_BALLS:
@@ -281,9 +281,9 @@ def check_launch_speeds(launch_speed, source=None) -> None:
 
 
 def check_distances_follow_launch(distance, model, source=None) -> None:
-    """:class:`InputError` naming ``hit_distance_sc`` unless the measured distances vary
+    """``InputError`` naming ``hit_distance_sc`` unless the measured distances vary
     with the model's predictions of the same launches as real balls' do
-    (:data:`MIN_DISTANCE_CORRELATION`, :data:`DISTANCE_SLOPE`): distances all alike,
+    (``MIN_DISTANCE_CORRELATION``, ``DISTANCE_SLOPE``): distances all alike,
     shuffled, or in another unit cannot calibrate the flight."""
     distance = np.asarray(distance, float)
     model = np.asarray(model, float)

@@ -47,7 +47,7 @@ CATCH_HEIGHT_FT = 6.0
 HIT_EVENTS = frozenset({"single", "double", "triple"})
 #: ``hit_location`` of the infielders (pitcher, catcher, 1B, 2B, 3B, SS).
 INFIELD_POSITIONS = frozenset({1, 2, 3, 4, 5, 6})
-#: Columns the comparison needs (the tidy table of :func:`mcbat.statcast.read`).
+#: Columns the comparison needs (the tidy table of ``mcbat.statcast.read``).
 REQUIRED = ("launch_speed", "launch_angle", "spray_angle", "hit_distance_sc", "bb_type",
             "events", "handedness", "elevation")
 #: The comparison classes that are flown and summarised.
@@ -109,7 +109,7 @@ WINDOW_DEG = (20.0, 50.0)
 
 def eligible_window(balls: pd.DataFrame) -> np.ndarray:
     """Boolean mask of the fly balls and home runs launched at 20-50 deg
-    (:data:`WINDOW_DEG`) among ``balls`` (a :func:`select_balls` frame), caught in the
+    (``WINDOW_DEG``) among ``balls`` (a ``select_balls`` frame), caught in the
     outfield or home runs: the balls every flight is judged on."""
     angle = balls["launch_angle"].to_numpy(float)
     kind = balls["bb_type"].astype("string").fillna("")

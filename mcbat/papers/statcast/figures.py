@@ -1,5 +1,5 @@
 """Figures of ``mcbat reproduce statcast``: each function takes the long table of
-:func:`~mcbat.papers.statcast.reproduce.compare_file`, draws one PNG into ``fig_dir`` and
+``mcbat.papers.statcast.reproduce.compare_file``, draws one PNG into ``fig_dir`` and
 returns its path. One row of panels per spin model, one column per flight."""
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ DISTANCE_AXIS = (-100.0, 2000.0)
 
 def _distance_limits(parts):
     """The axis limits (ft) of the distance panels: the finite values' range with a 10 ft
-    margin, within :data:`DISTANCE_AXIS` (0..500 ft when nothing is finite)."""
+    margin, within ``DISTANCE_AXIS`` (0..500 ft when nothing is finite)."""
     values = np.concatenate([np.asarray(p[c], float) for p in parts
                              for c in ("hit_distance_sc", "predicted_distance")] or [[]])
     values = values[np.isfinite(values)]

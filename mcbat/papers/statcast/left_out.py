@@ -1,8 +1,8 @@
 """The rows of a Statcast table the flight comparison and the flight fit leave out, counted
 by reason (``mcbat fit --flight``, ``mcbat reproduce statcast``).
 
-:func:`~mcbat.papers.statcast.compare.select_balls` keeps the fly balls, line drives and
-home runs with every measurement the flight needs; :func:`flight_left_out` says why each
+``mcbat.papers.statcast.compare.select_balls`` keeps the fly balls, line drives and
+home runs with every measurement the flight needs; ``flight_left_out`` says why each
 other row of the table was left out, in the order the checks are made (a row is counted
 under the first reason that applies), and, given the balls a fit used, why the kept balls
 were not fitted. The counts add up: ``rows - used == sum(counts)``, the reader's own
@@ -22,8 +22,8 @@ _MEASURED = ("launch_speed", "launch_angle", "spray_angle", "hit_distance_sc")
 
 
 def selection_left_out(table: pd.DataFrame) -> dict:
-    """The rows of ``table`` (the tidy table of :func:`mcbat.statcast.read`) that
-    :func:`~mcbat.papers.statcast.compare.select_balls` leaves out, by reason, with the
+    """The rows of ``table`` (the tidy table of ``mcbat.statcast.read``) that
+    ``mcbat.papers.statcast.compare.select_balls`` leaves out, by reason, with the
     reader's own (``table.attrs["statcast"]["left_out"]``) first. Reasons counted 0 are
     kept (the keys are always the same)."""
     events = table["events"].astype("string")
@@ -49,9 +49,9 @@ def selection_left_out(table: pd.DataFrame) -> dict:
 def flight_left_out(table: pd.DataFrame, balls: pd.DataFrame, used: int,
                     fit_classes=("catch", "home_run")) -> dict:
     """The rows of ``table`` a flight fit of ``balls`` (``select_balls(table)``) did not
-    use, by reason: :func:`selection_left_out`, then the line drives and the fly balls
+    use, by reason: ``selection_left_out``, then the line drives and the fly balls
     launched outside the window
-    (:data:`~mcbat.papers.statcast.compare.WINDOW_DEG`), the balls of a class not fitted
+    (``mcbat.papers.statcast.compare.WINDOW_DEG``), the balls of a class not fitted
     (hits, infield catches), and those with no prediction (no spin, or a ball that never
     rises to its catch height): ``used`` is the number of balls fitted."""
     out = selection_left_out(table)

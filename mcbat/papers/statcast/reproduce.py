@@ -6,12 +6,12 @@ samples shipped in ``data/``: the 2,507 pitches of the eight games of 2020-09-03
 pitches of Yu Darvish's five starts of July 2019), each ball is flown from its measured
 launch (``launch_speed``, ``launch_angle``, ``spray_angle``) with the regulation ball, with
 the spin of each spin model, by each flight, and compared with ``hit_distance_sc`` at the
-point the measurement refers to (:mod:`~mcbat.papers.statcast.compare`). The flights:
+point the measurement refers to (``mcbat.papers.statcast.compare``). The flights:
 
 ``season`` (the default)
     Nathan's model with its season's fitted drag and lift
-    (:func:`mcbat.study.flight.flight_seasons`; the published model for a season the table
-    lacks), each ball in its own park and air (:func:`mcbat.statcast.weather.air`: the
+    (``mcbat.study.flight.flight_seasons``; the published model for a season the table
+    lacks), each ball in its own park and air (``mcbat.statcast.weather.air``: the
     game's weather when a weather table is given, else the park's climate normal for the
     month; indoor air and no wind under a closed roof). A weather table's recorded wind
     is felt at the season table's ``wind_scale`` (0.05: the recorded wind at first pitch
@@ -79,8 +79,8 @@ DEFAULT_DATA = ("statcast_2020-09-03.csv", "statcast_2019_darvish.csv")
 #: The ball every comparison flies: the regulation baseball of games and flights.
 BALL = BALL_PRESETS[DEFAULT_BALL]
 #: Flights compared (module docstring): name -> (scales, air). ``scales``: "season" (each
-#: ball's season, :func:`~mcbat.study.flight.season_scales`) or "published" (1, 1);
-#: ``air``: "game" (:func:`~mcbat.statcast.weather.air`) or "standard".
+#: ball's season, ``mcbat.study.flight.season_scales``) or "published" (1, 1);
+#: ``air``: "game" (``mcbat.statcast.weather.air``) or "standard".
 FLIGHTS = {"season": ("season", "game"), "published": ("published", "game"),
            "standard_air": ("published", "standard")}
 #: The default flight and spin model (``balls.parquet``'s ``default`` column).
@@ -96,7 +96,7 @@ def _nathan_spin(balls):
 
 def _inferred_spin(balls):
     """The spin of the contact that reproduces each ball's launch with its measured pitch
-    through the game model (:func:`mcbat.inference.infer_spin`, its default assumptions);
+    through the game model (``mcbat.inference.infer_spin``, its default assumptions);
     NaN where the inference did not converge."""
     from mcbat.inference import infer_spin
 
@@ -120,7 +120,7 @@ UNITS = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
 
 
 def read_statcast(path=None) -> tuple[pd.DataFrame, str]:
-    """The tidy table (:func:`mcbat.statcast.read`) of a Statcast file, or of the shipped
+    """The tidy table (``mcbat.statcast.read``) of a Statcast file, or of the shipped
     samples when ``path`` is None, and a description of the source."""
     if path is not None:
         return read(path), str(path)
@@ -133,8 +133,8 @@ def read_statcast(path=None) -> tuple[pd.DataFrame, str]:
 
 
 def air_per_ball(air: pd.DataFrame, wind_scale: float = 1.0) -> dict:
-    """The per-ball flight settings (SI, :data:`mcbat.study.flight.PER_BALL`) of an
-    :func:`~mcbat.statcast.weather.air` frame, its wind times ``wind_scale``."""
+    """The per-ball flight settings (SI, ``mcbat.study.flight.PER_BALL``) of an
+    ``mcbat.statcast.weather.air`` frame, its wind times ``wind_scale``."""
     return {"temperature": (air["temperature"].to_numpy(float) - 32.0) * 5.0 / 9.0 + 273.15,
             "pressure": air["pressure"].to_numpy(float) * 3386.389,
             "relative_humidity": air["relative_humidity"].to_numpy(float),
@@ -144,8 +144,8 @@ def air_per_ball(air: pd.DataFrame, wind_scale: float = 1.0) -> dict:
 
 
 def balls_in_their_air(table: pd.DataFrame, source=None, weather_table=None) -> pd.DataFrame:
-    """The compared balls of ``table`` (:func:`~mcbat.papers.statcast.compare.select_balls`)
-    with the air each was hit in (:func:`mcbat.statcast.weather.air`: ``elevation``,
+    """The compared balls of ``table`` (``mcbat.papers.statcast.compare.select_balls``)
+    with the air each was hit in (``mcbat.statcast.weather.air``: ``elevation``,
     ``temperature``, ``pressure``, ``relative_humidity``, ``wind_x``, ``wind_y``,
     ``roof_closed``, ``air_source``, ``wind_source``), from ``weather_table`` or the parks'
     climate."""
@@ -161,8 +161,8 @@ def compare_file(table: pd.DataFrame, source=None, *, weather_table=None,
                  spin_models=None) -> pd.DataFrame:
     """Every selected ball flown by every spin model and flight: the long table written to
     ``balls.parquet`` (module docstring). ``weather_table``: a per-game weather table
-    (:func:`mcbat.statcast.weather.read_weather`), else each park's climate normals;
-    ``spin_models``: names of :data:`SPIN_MODELS` (default all)."""
+    (``mcbat.statcast.weather.read_weather``), else each park's climate normals;
+    ``spin_models``: names of ``SPIN_MODELS`` (default all)."""
     balls = balls_in_their_air(table, source, weather_table)
     balls.insert(0, "ball", np.arange(len(balls)))
     drag, lift, _ = season_scales(balls["game_year"])
@@ -320,7 +320,7 @@ def reproduce(out="results", *, data=None, weather_path=None, threads=None, echo
     """Compare, write ``balls.parquet``, ``summary.json`` and the figures under ``out``
     (module docstring); returns the paths written. ``data``: a Statcast file (default the
     shipped sample); ``weather_path``: a per-game weather table
-    (:func:`mcbat.statcast.weather.read_weather`; default: each park's climate)."""
+    (``mcbat.statcast.weather.read_weather``; default: each park's climate)."""
     from mcbat.papers.statcast import figures
 
     t0 = time.perf_counter()

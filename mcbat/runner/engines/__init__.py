@@ -1,12 +1,12 @@
 """Engines: where the chunks of a run are computed.
 
-An engine only executes a todo list of chunks with :func:`mcbat.runner.plan.run_chunk`;
+An engine only executes a todo list of chunks with ``mcbat.runner.plan.run_chunk``;
 the plan, the directory checks and the bookkeeping are the same for all of them
-(:func:`mcbat.runner.study_run.run_study`). The data do not depend on the engine.
+(``mcbat.runner.study_run.run_study``). The data do not depend on the engine.
 
-``local`` (:mod:`~mcbat.runner.engines.local`)
+``local`` (``mcbat.runner.engines.local``)
     This process: numba threads solve, a writer thread writes the previous chunk.
-``dask`` (:mod:`~mcbat.runner.engines.dask`)
+``dask`` (``mcbat.runner.engines.dask``)
     One task per chunk on a Dask cluster (optional extra ``mcbat[dask]``).
 """
 
@@ -22,7 +22,7 @@ __all__ = ["Engine"]
 
 
 class Engine(Protocol):
-    """What :func:`~mcbat.runner.study_run.run_study` needs of an engine."""
+    """What ``mcbat.runner.study_run.run_study`` needs of an engine."""
 
     name: str
 

@@ -1,9 +1,9 @@
 """``mcbat run --engine dask``: the chunks of a run as tasks on a Dask cluster.
 
-The engine only replaces the loop over the chunks to compute (:func:`mcbat.runner.plan.run_study`
+The engine only replaces the loop over the chunks to compute (``mcbat.runner.plan.run_study``
 prepares the dataset directory and picks the chunks, as for the local engine). Each chunk
-is one task, :func:`mcbat.runner.engines.dask_tasks.chunk_task`, sent with the study's plain-data
-definition, the run's :class:`~mcbat.runner.plan.ChunkJob` and the chunk index: the worker
+is one task, ``mcbat.runner.engines.dask_tasks.chunk_task``, sent with the study's plain-data
+definition, the run's ``mcbat.runner.plan.ChunkJob`` and the chunk index: the worker
 draws the inputs itself from (seed, sample index), solves them with the numba kernel and
 writes the Parquet file atomically to the dataset directory, which must be storage that
 every worker shares (or a URL). Only a small summary comes back, so the data are
@@ -17,14 +17,14 @@ kernel once per worker before its first task (also on a worker that is restarted
 
 Failures: a task whose worker dies is rescheduled by the Dask scheduler on another worker
 (up to ``distributed.scheduler.allowed-failures`` times, default 3); a task that raises is
-retried :data:`RETRIES` times. Reruns are harmless: a chunk file is written under a
+retried ``RETRIES`` times. Reruns are harmless: a chunk file is written under a
 temporary name and renamed, with the same content every time. At the end the engine
 removes temporary files a killed worker left behind and checks that every chunk file is
 complete. A scheduler that goes away mid-run (killed, or its host lost) ends the run at
-once with :class:`~mcbat.errors.EnvironmentFailure` (the CLI's exit code 4): Dask would
+once with ``mcbat.errors.EnvironmentFailure`` (the CLI's exit code 4): Dask would
 otherwise spend ``distributed.comm.timeouts.connect`` (30 s) trying to reconnect, and the
 tasks it held are lost anyway. ``dask`` and ``distributed`` are an optional extra: they (and
-:mod:`~mcbat.runner.engines.dask_tasks`, which needs them) are imported only when this
+``mcbat.runner.engines.dask_tasks``, which needs them) are imported only when this
 engine is used, inside its methods.
 """
 
@@ -169,7 +169,7 @@ class DaskEngine:
                 cluster.close()
 
     def ready(self):
-        """Nothing to do: the workers were warmed when they joined (:class:`WarmUp`)."""
+        """Nothing to do: the workers were warmed when they joined (``WarmUp``)."""
 
     def _local_cluster(self, LocalCluster):
         return LocalCluster(

@@ -2,13 +2,13 @@
 
 Imported by the workers when they unpickle a chunk task or the warm-up plugin (both are
 pickled by reference to this module), so every worker needs mcbat installed, in the same
-environment as the client (checked: :func:`check_worker`).
+environment as the client (checked: ``check_worker``).
 
-A task gets the study as plain data (:meth:`mcbat.study.Study.definition`), the run's
-:class:`mcbat.runner.plan.ChunkJob` and a chunk index. It rebuilds the study once per worker
+A task gets the study as plain data (``mcbat.study.Study.definition``), the run's
+``mcbat.runner.plan.ChunkJob`` and a chunk index. It rebuilds the study once per worker
 process (cached by the run's config hash), draws the chunk's inputs from (seed, sample
 index), solves them with the numba kernel and writes the chunk's Parquet file atomically
-itself; it returns only a :class:`mcbat.runner.plan.ChunkSummary`. Arrays never travel.
+itself; it returns only a ``mcbat.runner.plan.ChunkSummary``. Arrays never travel.
 """
 
 from __future__ import annotations

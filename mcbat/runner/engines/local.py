@@ -14,7 +14,7 @@ __all__ = ["LocalEngine"]
 
 class LocalEngine:
     """Chunks in this process: numba threads solve, writer threads write the previous
-    chunks meanwhile (at most :attr:`IN_FLIGHT` chunks in flight: bounded memory).
+    chunks meanwhile (at most ``IN_FLIGHT`` chunks in flight: bounded memory).
 
     Parameters
     ----------
@@ -45,7 +45,7 @@ class LocalEngine:
         """Compute the chunks ``todo`` in order; yield each one's summary, with its file's
         record, once its file is written, in chunk order.
 
-        Up to :attr:`IN_FLIGHT` chunk files are written by writer threads while the next
+        Up to ``IN_FLIGHT`` chunk files are written by writer threads while the next
         chunk solves; a chunk is yielded as soon as its write is seen done. A summary-only
         chunk, which writes nothing, is yielded at once.
         """
