@@ -332,13 +332,19 @@ def fly_batch(params, start, velocity, spin, out, status):
         f = fly(p, (start[0, i], start[1, i], start[2, i]),
                 (velocity[0, i], velocity[1, i], velocity[2, i]),
                 (spin[0, i], spin[1, i], spin[2, i]))
-        status[i] = f.status
-        out[0, i] = f.distance
-        out[1, i] = f.landing_x
-        out[2, i] = f.landing_y
-        out[3, i] = f.hang_time
-        out[4, i] = f.apex
-        out[5, i] = f.steps
+        _store(f, i, out, status)
+
+
+@njit(inline="always")
+def _store(f, i, out, status):
+    """Write flight ``f`` into column ``i`` of the batch outputs."""
+    status[i] = f.status
+    out[0, i] = f.distance
+    out[1, i] = f.landing_x
+    out[2, i] = f.landing_y
+    out[3, i] = f.hang_time
+    out[4, i] = f.apex
+    out[5, i] = f.steps
 
 
 def allocate_flight_outputs(n):
@@ -356,13 +362,7 @@ def fly_batch_each(params, start, velocity, spin, out, status):
         f = fly(p, (start[0, i], start[1, i], start[2, i]),
                 (velocity[0, i], velocity[1, i], velocity[2, i]),
                 (spin[0, i], spin[1, i], spin[2, i]))
-        status[i] = f.status
-        out[0, i] = f.distance
-        out[1, i] = f.landing_x
-        out[2, i] = f.landing_y
-        out[3, i] = f.hang_time
-        out[4, i] = f.apex
-        out[5, i] = f.steps
+        _store(f, i, out, status)
 
 
 @njit
