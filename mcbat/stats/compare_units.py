@@ -94,7 +94,7 @@ def unit_contradiction(column, measured, unit):
     hint = f"; the values look like {fits[0]}: state that unit ({{units}})" if fits else ""
     return InputError(
         column, f"stated in {unit}, but the values' median {median:.4g} {unit}"
-        f"{'' if unit == expected else f' is {as_expected:.4g} {expected}'} lies outside "
+        f"{'' if unit == expected else f' ({as_expected:.4g} {expected})'} lies outside "
         f"{low:g}..{high:g} {expected}, where the "
         f"median of real {column} lies: the stated unit contradicts the values{hint}",
         mentions={"units": {column: fits[0]}} if fits else None)
