@@ -25,6 +25,22 @@ a ``home_team`` (or date) the park table does  NaN elevation, counted in
 not know                                      ``attrs["statcast"]["elevation_missing"]``
 a column named twice (Savant writes           the first one is used (the copies hold the
 ``pitcher`` and ``fielder_2`` twice)          same values in Savant's exports)
+a pitch given twice (the same ``game_pk``,    the copy dropped, counted in ``attrs["statcast"]
+``at_bat_number`` and ``pitch_number``: two   ["left_out"]`` and ``["duplicate_pitches"]``
+overlapping downloads concatenated)           (with its line); ``strict=True``: InputError
+the header line again inside the file         :class:`~mcbat.errors.InputError` naming its line
+an identifier that is not a whole number in   :class:`~mcbat.errors.InputError` naming the
+0..2**53 (``game_pk`` 9223372036854775808,    column and the line (a DataFrame: the row)
+``batter`` 1.5)
+a number outside the range of a measurement   NaN, counted per column with the first line in
+(:data:`RANGES`: ``launch_speed`` 1e20)       ``attrs["statcast"]["out_of_range"]``
+a bool cell in a numeric column (a            NaN, counted in ``non_numeric``: True is no
+DataFrame)                                    measurement
+a directory, a FIFO, a device                 :class:`~mcbat.errors.InputError` saying what it
+                                              is, before anything is opened
+a gzip file expanding beyond 50 times its     :class:`~mcbat.errors.InputError` naming the cap
+size (at least 64 MiB); a line over 16 MiB    (:mod:`mcbat.statcast.files`)
+a Parquet file named ``.csv``                 read as Parquet (told by its magic bytes)
 ============================================  =============================================
 """
 
