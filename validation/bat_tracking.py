@@ -48,9 +48,11 @@ FREE = ("contact.from_barrel_end.mean", "contact.from_barrel_end.std",
         "contact.undercut.mean", "contact.undercut.std")
 BINS = (0.0, 65.0, 70.0, 75.0, 80.0, 200.0)
 ERROR_GRID = {"attack_angle": (0.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0),
-              "bat_speed": (0.0, 1.0, 2.0, 3.0, 4.0)}
-TREND_GRID = (-1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0)
+              "bat_speed": (0.0, 1.0, 2.0, 3.0, 4.0, 5.0)}
+TREND_GRID = (-2.0, -1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5)
 """The contact's bat-speed trend (in per 10 mph) scanned."""
+ATTACK_START = 5.0
+"""The attack angle's error (deg) the first scan of the bat-speed error and trend uses."""
 DIRECTION_GRID = (0.0, 3.0, 6.0, 9.0, 12.0)
 """The attack direction's error (deg) scanned."""
 LS_BINS = 6
@@ -291,14 +293,19 @@ def _values(result):
 def choose(table, samples, workdir, seed=7) -> dict:
     """The swing errors and the contact's bat-speed trend whose draws lie nearest the
     rows (:func:`distance`), the contact refitted at every node: bat-speed error x trend
-    on a grid, then (rows with attack angles) the attack angle's error, then bat-speed
-    error x trend again at it; the attack direction's error last, by the slope of the
-    spray angle on it. Returns ``{"errors", "trend", "trend_interval", "scan"}``."""
+    on a grid (at the attack angle's error :data:`ATTACK_START` where the rows have attack
+    angles), then the attack angle's error, then bat-speed error x trend again at it, on
+    the neighbouring nodes; the attack direction's error last, by the slope of the spray
+    angle on it. Returns ``{"errors", "trend", "trend_interval", "scan"}``."""
     measured = measured_targets(table)
     has_attack = np.isfinite(_column(table, "attack_angle")).sum() > 10
     scan = []
 
     def node(ea, eb, tr):
+        done = [x["distance"] for x in scan if (x["attack_angle"], x["bat_speed"],
+                                                x["trend"]) == (ea, eb, tr)]
+        if done:
+            return done[0]
         errors = {"attack_angle": ea, "bat_speed": eb}
         result = fit(table, errors, tr)
         data = study_definition(_values(result), errors, tr)
@@ -309,22 +316,27 @@ def choose(table, samples, workdir, seed=7) -> dict:
               f"{d:.2f}; chi2 of the contact fit {result.chi2:.1f}/{result.dof}", flush=True)
         return d
 
-    def grid(ea):
-        best = min((node(ea, eb, tr), eb, tr) for eb in ERROR_GRID["bat_speed"]
-                    for tr in TREND_GRID)
+    def grid(ea, bats, trends):
+        best = min((node(ea, eb, tr), eb, tr) for eb in bats for tr in trends)
         return best[1], best[2]
 
-    ea = 0.0
-    eb, tr = grid(ea)
+    ea = ATTACK_START if has_attack else 0.0
+    eb, tr = grid(ea, ERROR_GRID["bat_speed"], TREND_GRID)
     if has_attack:
         ea = min((node(a, eb, tr), a) for a in ERROR_GRID["attack_angle"])[1]
-        eb, tr = grid(ea)
+        eb, tr = grid(ea, _near(ERROR_GRID["bat_speed"], eb), _near(TREND_GRID, tr))
     errors = {"attack_angle": ea, "bat_speed": eb}
     if has_attack:
         errors["attack_direction"] = _choose_direction(table, errors, tr, samples, seed,
                                                        workdir)
     last = [s for s in scan if s["attack_angle"] == ea]
     return {"errors": errors, "trend": tr, "trend_interval": _interval(last), "scan": scan}
+
+
+def _near(grid, value):
+    """``value`` and its neighbours on ``grid``."""
+    i = grid.index(value)
+    return grid[max(0, i - 1):i + 2]
 
 
 def _interval(scan):

@@ -1,7 +1,16 @@
-"""``python -m validation bat_tracking``: studies/bat_tracking.toml's contact fitted to the
-tracked balls in play of two 2024 exports and judged on a 2025 export it never saw."""
+"""``python -m validation bat_tracking``: studies/bat_tracking.toml's contact fitted to
+tracked balls in play and judged on games no fit saw.
+
+The day of 2025-05-01 is cut into two parts of its games; each part is judged by a fit to
+the two 2024 exports and the other part (cross-fitting), and the two judgements are pooled:
+every one of the 572 rows is judged by a fit that never saw its game. The swing errors and
+the contact's bat-speed trend are the study's (the scan that chose them,
+``python -m validation bat_tracking --fit ... --cross ...``, is not repeated here), so the
+test runs two contact fits.
+"""
 
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -9,11 +18,18 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT.parent / "shared" / "data" / "statcast"
 FIT = ["statcast_2024_skubal.csv", "statcast_2024_ohtani.csv"]
-JUDGE = ["statcast_2025-05-01.csv"]
+CROSS = "statcast_2025-05-01.csv"
+POOLED = ("out of sample", f"{CROSS} (cross-fitted, 2 folds)")
+STUDY = tomllib.loads((ROOT / "studies" / "bat_tracking.toml").read_text())
 
 pytestmark = [pytest.mark.slow,
-              pytest.mark.skipif(not all((DATA / f).exists() for f in FIT + JUDGE),
+              pytest.mark.skipif(not all((DATA / f).exists() for f in [*FIT, CROSS]),
                                  reason="the shared Statcast exports are absent")]
+
+
+def _study_errors():
+    errors = {k: v["value"] for k, v in STUDY["pitches"]["swing_error"].items()}
+    return errors, STUDY["contact"]["bat_speed_trend"]["from_barrel_end"]["value"]
 
 
 @pytest.fixture(scope="module")
@@ -21,39 +37,58 @@ def outcome():
     sys.path.insert(0, str(ROOT))
     from validation.bat_tracking import run
 
-    # The bat-speed error's scan (step 1) chose 0 mph on these files; it is passed here
-    # so that the test runs one fit.
-    return run(FIT, JUDGE, samples=100000, seed=2025,
-               errors={"attack_angle": 0.0, "bat_speed": 0.0})
+    errors, trend = _study_errors()
+    return run(FIT, [], samples=100000, seed=2025, errors=errors, trend=trend, cross=CROSS)
 
 
-def _judged(outcome):
-    return outcome["results"][("out of sample", JUDGE[0])]
+def test_study_contact_is_the_fit_that_left_its_games_out(outcome):
+    # fold 2 judges the games the study ships (part 2 of 2): its fit is the study's contact,
+    # to a tenth of the fit's error (the fit starts from the study's values, and its
+    # template draws depend a little on where they start)
+    fold = outcome["folds"][1]
+    assert fold["fit_files"] == [*FIT, f"{CROSS}#1/2"]
+    for p in fold["parameters"]:
+        section, key, field = p["name"].split(".")
+        tolerance = 0.1 * min(p["lower_error"], p["upper_error"])
+        assert abs(STUDY[section][key][field] - p["value"]) <= tolerance, p
 
 
-def test_out_of_sample_distributions(outcome):
-    r = _judged(outcome)
+def test_cross_fitted_distributions(outcome):
+    r = outcome["results"][POOLED]
+    assert r["rows"] == 572
     assert r["ks_launch_speed"] <= 0.05
     assert r["ks_launch_angle"] <= 0.05
 
 
-def test_out_of_sample_launch_speed_calibrated(outcome):
-    r = _judged(outcome)
+def test_cross_fitted_launch_speed_calibrated(outcome):
+    r = outcome["results"][POOLED]
     assert 0.07 <= r["launch_speed_above_p90"] <= 0.13
     assert 0.07 <= r["launch_speed_below_p10"] <= 0.13
 
 
-@pytest.mark.xfail(strict=True, reason="the launch angle's upper tail: 13.6 % of the 2025 "
-                   "rows lie above their 90th percentile (docs/bat_tracking.md)")
-def test_out_of_sample_launch_angle_calibrated(outcome):
-    r = _judged(outcome)
+def test_cross_fitted_launch_angle_calibrated(outcome):
+    r = outcome["results"][POOLED]
     assert 0.07 <= r["launch_angle_above_p90"] <= 0.13
     assert 0.07 <= r["launch_angle_below_p10"] <= 0.13
 
 
-@pytest.mark.xfail(strict=True, reason="the 65-70 mph bin of the 2025 rows: measured 89.0, "
-                   "model 86.1 mph (docs/bat_tracking.md)")
-def test_out_of_sample_bat_speed_bins(outcome):
-    for b in _judged(outcome)["bat_speed_bins"]:
-        if b["rows"] >= 100:
-            assert abs(b["model"] - b["measured"]) <= 2.0, b
+def test_cross_fitted_70_75_mph_bin(outcome):
+    b = {x["bin"]: x for x in outcome["results"][POOLED]["bat_speed_bins"]}["70-75"]
+    assert b["rows"] >= 100
+    assert abs(b["model"] - b["measured"]) <= 2.0
+
+
+@pytest.mark.xfail(strict=True, reason="the 65-70 mph bin of 2025-05-01: measured 89.0 +- "
+                   "1.0 mph (q 0.141 against 0.11-0.12 in the neighbouring bins and in the "
+                   "other files), model 85.3 mph (docs/bat_tracking.md)")
+def test_cross_fitted_65_70_mph_bin(outcome):
+    b = {x["bin"]: x for x in outcome["results"][POOLED]["bat_speed_bins"]}["65-70"]
+    assert b["rows"] >= 100
+    assert abs(b["model"] - b["measured"]) <= 2.0
+
+
+def test_cross_fitted_launch_angle_follows_the_attack_angle(outcome):
+    # the measured slope is 0.78 +- 0.15 (bootstrap); the model, given the measured swings
+    # and their fitted errors, must lie within two of its errors
+    r = outcome["results"][POOLED]
+    assert abs(r["slopes_model"][1] - r["slopes_data"][1]) <= 0.30
