@@ -4,6 +4,9 @@ scales to measured distances (``--flight``); a game study's distributions to bat
 
 from __future__ import annotations
 
+import contextlib
+import re
+
 from mcbat.cli.common import (
     EXIT_OK,
     FIGURE_FORMATS,
@@ -196,7 +199,8 @@ def _cmd_fit(args) -> int:
         check_output(args.residuals, "--residuals", FIGURE_FORMATS)
     study = load_study(args.study)
     table, left_out = _measurement_table(args)
-    with flags("free", "bootstrap", "draws", "seed", "intervals"):
+    with flags("free", "bootstrap", "draws", "seed", "intervals"), \
+            _rows_as_lines(table.attrs.get("lines")):
         result = fit(study, table, free, bootstrap=args.bootstrap, draws=args.draws,
                      seed=args.seed, intervals=args.intervals, input_prior=args.input_prior,
                      likelihood=args.likelihood)
@@ -226,8 +230,38 @@ def _cmd_fit(args) -> int:
         if comparison is not None:
             print("\n".join(comparison.lines()))
     if left_out is not None:
-        note_left_out(f"{args.data}: Statcast export", left_out, "pitch(es)")
+        kept = table.attrs["statcast"]
+        total = kept["rows"] + sum(kept.get("left_out", {}).values())
+        note_left_out(f"{args.data}: Statcast export: {kept['used']:,} of {total:,} pitches "
+                      f"used (balls in play with launch speed, angle, spray and plate speed"
+                      f"{' and bat tracking' if 'bat_speed' in table else ''});", left_out,
+                      "pitch(es)")
     return EXIT_OK
+
+
+_ROW_LIST = re.compile(r"\brows? ((?:\d+(?: \([^)]*\))?(?:, | and )?)+)")
+
+
+@contextlib.contextmanager
+def _rows_as_lines(lines):
+    """Errors about rows of a table read from a Savant export (``row 3 (value)``, rows
+    from 1) name the file's lines instead (``line 57 (value)``)."""
+    try:
+        yield
+    except InputError as err:
+        if not lines:
+            raise
+
+        def to_line(number):
+            i = int(number.group(1)) - 1
+            return f"{lines[i]}{number.group(2)}" if 0 <= i < len(lines) else number.group(0)
+
+        def listed(match):
+            word = "lines" if match.group(0).startswith("rows") else "line"
+            return f"{word} " + re.sub(r"(\d+)( \(|,|$| and)", to_line, match.group(1))
+
+        raise InputError(err.field, _ROW_LIST.sub(listed, err.template), err.source,
+                         mentions=err.mentions) from None
 
 
 def _check_required(args):

@@ -3,6 +3,8 @@ tidy table."""
 
 from __future__ import annotations
 
+import re
+
 from mcbat.cli.common import EXIT_OK, check_output, flags, note_left_out, print_json
 from mcbat.errors import InputError
 
@@ -56,7 +58,7 @@ def cmd_statcast(args) -> int:
 def statcast_lines(summary):
     """The summary of ``mcbat statcast`` as text lines."""
     seasons = ", ".join(str(y) for y in summary["seasons"]) or "none"
-    types = ", ".join(f"{k} {v:,}" for k, v in summary["pitch_types"].items())
+    types = ", ".join(f"{_code(k)} {v:,}" for k, v in summary["pitch_types"].items())
     lines = [f"{summary['source']}: {summary['rows']:,} pitches, seasons {seasons}",
              f"  pitches by type: {types or 'none'}",
              f"  balls in play: {summary['balls_in_play']:,} ({summary['with_launch']:,} "
@@ -70,7 +72,7 @@ def statcast_lines(summary):
                                                   if entry[c]["sd"] is not None else "")
                  for c in ("pitch_speed", "vertical_approach_angle",
                            "horizontal_approach_angle")]
-        lines.append(f"  {kind} at the plate (median): {parts[0]} mph, vertical approach "
+        lines.append(f"  {_code(kind)} at the plate (median): {parts[0]} mph, vertical approach "
                      f"{parts[1]} deg, horizontal {parts[2]} deg")
     check = summary.get("attack_direction_check")
     if check:
@@ -100,3 +102,9 @@ def statcast_lines(summary):
     if summary.get("out"):
         lines.append(f"  tidy table written to {summary['out']}")
     return lines
+
+
+def _code(kind):
+    """A pitch type as printed: Savant's codes (FF, SL, ...) as they are, anything else
+    the file holds quoted (a cell of text that is no code)."""
+    return kind if re.fullmatch(r"[A-Za-z]{1,4}|\(none\)", kind) else repr(kind)

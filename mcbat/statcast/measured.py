@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.statcast.collision import COLLISION_UNITS
-from mcbat.statcast.reader import COLUMNS, REQUIRED, balls_in_play, read
+from mcbat.statcast.reader import COLUMNS, REQUIRED, balls_in_play, read_with_lines
 
 __all__ = ["FIT_COLUMNS", "is_statcast", "measurement_table"]
 
@@ -81,11 +81,12 @@ def measurement_table(source, *, name=None):
         ``used``, and the rows dropped: ``not_in_play``, ``no_launch`` (in play without
         launch speed, angle or spray angle), ``foul_territory`` (caught in foul territory),
         ``no_plate_speed``,
-        ``no_bat_tracking``; ``measured_inputs``.
+        ``no_bat_tracking``; ``measured_inputs``; ``left_out`` (the reader's, pitches given
+        twice, when there are any).
     """
     import pandas as pd
 
-    df = read(source, name=name)
+    df, lines = read_with_lines(source, name=name)
     label = df.attrs["statcast"]["source"]
     bip = balls_in_play(df)
     launch = np.all([np.isfinite(df[c].to_numpy(dtype=float)) for c in _OBSERVED], axis=0)
@@ -99,6 +100,8 @@ def measurement_table(source, *, name=None):
     columns = [c for c in FIT_COLUMNS if c in (*_OBSERVED, "pitch_speed", *swing)]
     table = pd.DataFrame({c: df.loc[keep, c].to_numpy(dtype=float) for c in columns})
     table.attrs["source"] = label
+    # the file line of each row (a CSV export), for messages about a row
+    table.attrs["lines"] = None if lines is None else [int(x) for x in lines[keep]]
     table.attrs["statcast"] = {
         "rows": int(len(df)), "used": int(keep.sum()),
         "not_in_play": int((~bip).sum()),
@@ -108,4 +111,6 @@ def measurement_table(source, *, name=None):
         "no_bat_tracking": int((bip & launch & fair & plate & ~tracked).sum()),
         "measured_inputs": [c for c in columns if c not in _OBSERVED],
     }
+    if df.attrs["statcast"].get("left_out"):  # the reader's: pitches given twice
+        table.attrs["statcast"]["left_out"] = dict(df.attrs["statcast"]["left_out"])
     return table

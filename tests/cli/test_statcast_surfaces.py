@@ -291,3 +291,21 @@ def test_distance_axes_stay_finite_for_huge_predictions():
 
 def test_shipped_data_unchanged_by_the_fixtures():
     assert shutil.disk_usage(DATA.parent).free > 0 and DATA.exists()
+
+
+def test_a_game_fit_error_about_a_row_names_its_file_line(cli):
+    import re
+
+    import numpy as np
+
+    from mcbat.statcast.reader import read_with_lines
+
+    line = one_line(cli("fit", "--study", ROOT / "studies" / "game_fastball.toml", "--data",
+                        DATA, "--free", "e", "--intervals", "curvature", "--no-compare",
+                        "--draws", "4"))
+    found = re.search(r"(\w+): lines? (\d+) \(([-\d.e+]+)\)", line)
+    assert found and not re.search(r"\brows? \d", line), line
+    column, number, value = found.group(1), int(found.group(2)), float(found.group(3))
+    table, lines = read_with_lines(DATA)
+    row = int(np.flatnonzero(lines == number)[0])
+    assert table.loc[row, column] == pytest.approx(value, rel=1e-5)
