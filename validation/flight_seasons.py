@@ -99,8 +99,8 @@ def folds(part: pd.DataFrame) -> tuple[np.ndarray, str]:
 
 def predict(balls, drag_scale, lift_scale=1.0):
     """Predicted distance (ft) of each ball at its measured point, in its air."""
-    backspin, sidespin = nathan_average_spin(balls["launch_angle"], balls["spray_angle"],
-                                             balls["handedness"])
+    backspin, sidespin = nathan_average_spin(balls["launch_angle"],
+                                             balls["launch_spray_angle"], balls["handedness"])
     per_ball = air_per_ball(balls)
     per_ball.update(drag_scale=np.broadcast_to(drag_scale, len(balls)),
                     lift_scale=np.broadcast_to(lift_scale, len(balls)),
@@ -108,7 +108,7 @@ def predict(balls, drag_scale, lift_scale=1.0):
     out, status = fly_launches(SETTINGS, BALL.mass, BALL.radius,
                                balls["launch_speed"].to_numpy(float) * MPH,
                                balls["launch_angle"].to_numpy(float) * DEG,
-                               balls["spray_angle"].to_numpy(float) * DEG,
+                               balls["launch_spray_angle"].to_numpy(float) * DEG,
                                np.asarray(backspin, float) * RPM,
                                np.asarray(sidespin, float) * RPM, per_ball=per_ball)
     return np.where(status == 0, out["hit_distance"] / FT, np.nan)
@@ -288,8 +288,8 @@ def main(argv=None):
 def fit_season(part, free, source):
     """:func:`~mcbat.papers.statcast.calibrate.calibrate` of one season's balls (it fits
     the outfield catches and home runs launched at 20-50 deg)."""
-    backspin, sidespin = nathan_average_spin(part["launch_angle"], part["spray_angle"],
-                                             part["handedness"])
+    backspin, sidespin = nathan_average_spin(part["launch_angle"],
+                                             part["launch_spray_angle"], part["handedness"])
     return calibrate(part.reset_index(drop=True), backspin, sidespin, ball=BALL,
                      settings=SETTINGS, free=free, intervals="profile", source=source)
 

@@ -78,9 +78,10 @@ def cmd_replay(args) -> int:
     print(f"  fly balls and home runs of 20-50 deg: {s['fly_balls_20_to_50_deg']:,}; median "
           f"carry {ft(s['median_distance_ft'])} (as they were "
           f"{ft(s['median_actual_distance_ft'])}), median change {ft(s['median_change_ft'])}")
-    print(f"  home runs over the fences: {s['home_runs']} (as they were "
-          f"{s['actual_home_runs']}; gained {s['home_runs_gained']}, lost "
-          f"{s['home_runs_lost']}; measured {s['measured_home_runs']})"
+    print(f"  home runs over the fences: expected {s['expected_home_runs']:.1f} (as they were "
+          f"{s['actual_expected_home_runs']:.1f}; measured {s['measured_home_runs']}); "
+          f"called {s['home_runs']} (as they were {s['actual_home_runs']}: gained "
+          f"{s['home_runs_gained']}, lost {s['home_runs_lost']})"
           + (f"; {s['unknown_fence_height']} balls at a fence of unknown height not called"
              if s["unknown_fence_height"] else ""))
     if args.out:

@@ -15,10 +15,11 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy import special
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.statcast import parks
-from mcbat.study.flight import FlightSettings, heights_at_distance
+from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
 from mcbat.study.units import UNITS
 
 __all__ = ["home_run_call"]
@@ -29,7 +30,7 @@ _FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["an
 
 def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, park, *,
                   game_date=None, settings: FlightSettings | None = None, ball=None,
-                  per_ball=None) -> pd.DataFrame:
+                  per_ball=None, scatter_ft=None) -> pd.DataFrame:
     """Whether each ball clears its park's fence.
 
     Parameters
@@ -56,8 +57,11 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
     pandas.DataFrame
         Per ball: ``fence_distance`` and ``fence_height`` (ft) where it crosses,
         ``height_at_fence`` (ft; NaN: down before the fence), ``clearance`` (ft, height
-        above the fence) and ``home_run`` (nullable boolean: NA where the fence's height is
-        not known).
+        above the fence), ``home_run`` (nullable boolean: NA where the fence's height is
+        not known), and with ``scatter_ft`` the ``margin`` (ft: how much farther than the
+        fence the descending ball passes the fence's height; a ball that meets the wall
+        below its top, rising or not, is short by at least that height shortfall) and
+        ``home_run_probability`` (``Phi(margin / scatter_ft)``).
     """
     settings = FlightSettings() if settings is None else settings
     ball = BALL_PRESETS[DEFAULT_BALL] if ball is None else ball
@@ -89,4 +93,25 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
                         "height_at_fence": z_ft, "clearance": clearance, "home_run": call})
     out.attrs["units"] = {"fence_distance": "ft", "fence_height": "ft",
                           "height_at_fence": "ft", "clearance": "ft", "home_run": "bool"}
+    if scatter_ft is not None:
+        margin = _margin(settings, ball, launch, per_ball, distance, height, clearance)
+        out["margin"] = margin
+        out["home_run_probability"] = np.where(
+            known, special.ndtr(np.nan_to_num(margin, nan=-1e9)
+                                / np.broadcast_to(np.asarray(scatter_ft, float), (n,))),
+            np.nan)
+        out.attrs["units"].update(margin="ft", home_run_probability="1")
     return out
+
+
+def _margin(settings, ball, launch, per_ball, distance, height, clearance):
+    """How much farther than the fence each ball passes the fence's height on its way down
+    (ft); for a ball below the wall's top where it meets it, at most minus the height it
+    lacks (a line drive still rising at the wall is short however far it would carry)."""
+    per = {} if per_ball is None else dict(per_ball)
+    per["landing_height"] = np.nan_to_num(height, nan=0.0) * _FT
+    out, status = fly_launches(settings, ball.mass, ball.radius, *launch, per_ball=per)
+    down_at = np.where(status == 0, out["hit_distance"] / _FT, -np.inf)
+    margin = down_at - distance
+    below = np.isfinite(clearance) & (clearance <= 0)
+    return np.where(below, np.minimum(margin, clearance), margin)

@@ -30,9 +30,15 @@ from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.errors import InputError
 from mcbat.statcast import parks, weather
 from mcbat.statcast.home_runs import home_run_call
+from mcbat.statcast.launch import launch_spray
 from mcbat.statcast.reader import balls_in_play
-from mcbat.statcast.spin import nathan_average_spin
-from mcbat.study.flight import FlightSettings, fly_launches, season_scales, season_wind_scale
+from mcbat.study.flight import (
+    FlightSettings,
+    flight_seasons,
+    fly_launches,
+    season_scales,
+    season_wind_scale,
+)
 from mcbat.study.units import UNITS
 
 __all__ = ["OUTPUT_UNITS", "Conditions", "replay", "replay_summary"]
@@ -46,12 +52,13 @@ OUTPUT_UNITS = {
     "game_pk": "id", "at_bat_number": "1", "pitch_number": "1", "game_date": "date",
     "home_team": "code", "batter": "id", "events": "code", "bb_type": "code",
     "launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
-    "hit_distance_sc": "ft", "backspin": "rpm", "sidespin": "rpm",
+    "launch_spray_angle": "deg", "hit_distance_sc": "ft", "backspin": "rpm", "sidespin": "rpm",
     "park": "id", "temperature": "degF", "drag_scale": "1",
     "predicted_distance": "ft", "landing_x": "ft", "landing_y": "ft",
     "fence_distance": "ft", "fence_height": "ft", "home_run": "bool",
-    "actual_park": "id", "actual_temperature": "degF", "actual_distance": "ft",
-    "actual_home_run": "bool", "change": "ft",
+    "home_run_probability": "1", "actual_park": "id", "actual_temperature": "degF",
+    "actual_distance": "ft", "actual_home_run": "bool", "actual_home_run_probability": "1",
+    "change": "ft",
 }
 """Columns of the replay table and their units."""
 
@@ -124,14 +131,28 @@ def _batted(table: pd.DataFrame) -> pd.DataFrame:
     return table.loc[keep].reset_index(drop=True)
 
 
+def _per_ball(air, drag):
+    return {"temperature": (air["temperature"].to_numpy(float) - 32.0) / 1.8 + 273.15,
+            "pressure": air["pressure"].to_numpy(float) * 3386.389,
+            "relative_humidity": air["relative_humidity"].to_numpy(float),
+            "elevation": air["elevation"].to_numpy(float) * _FT,
+            "wind_x": air["wind_x"].to_numpy(float),
+            "wind_y": air["wind_y"].to_numpy(float), "drag_scale": drag}
+
+
+def _scatter(game_year):
+    """Each ball's season's scatter of the carry about the model (ft): the season table's
+    ``sigma_ft``, the median over seasons for a season it lacks."""
+    seasons = flight_seasons()
+    typical = float(np.median([r["sigma_ft"] for r in seasons.values()])) if seasons else 15.0
+    years = np.asarray(game_year, float)
+    return np.array([seasons[int(y)]["sigma_ft"] if np.isfinite(y) and int(y) in seasons
+                     else typical for y in years])
+
+
 def _fly(balls, air, drag, backspin, sidespin, park_ids):
     """Carry, landing point (ft) and home-run call of ``balls`` in ``air``."""
-    per_ball = {"temperature": (air["temperature"].to_numpy(float) - 32.0) / 1.8 + 273.15,
-                "pressure": air["pressure"].to_numpy(float) * 3386.389,
-                "relative_humidity": air["relative_humidity"].to_numpy(float),
-                "elevation": air["elevation"].to_numpy(float) * _FT,
-                "wind_x": air["wind_x"].to_numpy(float),
-                "wind_y": air["wind_y"].to_numpy(float), "drag_scale": drag}
+    per_ball = _per_ball(air, drag)
     launch = (balls["launch_speed"].to_numpy(float), balls["launch_angle"].to_numpy(float),
               balls["spray_angle"].to_numpy(float))
     out, status = fly_launches(SETTINGS, BALL.mass, BALL.radius, launch[0] * _MPH,
@@ -139,7 +160,8 @@ def _fly(balls, air, drag, backspin, sidespin, park_ids):
                                sidespin * _RPM, per_ball=per_ball)
     ok = status == 0
     call = home_run_call(*launch, backspin, sidespin, park_ids, per_ball=per_ball,
-                         game_date=pd.to_datetime(balls["game_date"]).to_numpy())
+                         game_date=pd.to_datetime(balls["game_date"]).to_numpy(),
+                         scatter_ft=_scatter(balls["game_year"]))
     return (np.where(ok, out["hit_distance"] / _FT, np.nan),
             np.where(ok, out["landing_x"] / _FT, np.nan),
             np.where(ok, out["landing_y"] / _FT, np.nan), call)
@@ -153,8 +175,10 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
     Returns
     -------
     pandas.DataFrame
-        One row per batted ball: identifiers, the launch, the measured ``hit_distance_sc``,
-        the spin flown, then the replay (``park``, ``temperature``, ``drag_scale``,
+        One row per batted ball: identifiers, the launch (``spray_angle`` as measured, where
+        it came down; ``launch_spray_angle`` the direction it left the bat in), the
+        measured ``hit_distance_sc``, the spin flown, then the replay (``park``,
+        ``temperature``, ``drag_scale``,
         ``predicted_distance``, ``landing_x``, ``landing_y``, ``fence_distance``,
         ``fence_height``, ``home_run``) and the ball as it was (``actual_park``,
         ``actual_temperature``, ``actual_distance``, ``actual_home_run``) and ``change``
@@ -166,13 +190,16 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
     if balls.empty:
         raise InputError("launch_speed", "no ball in play with a launch speed, launch angle "
                          "and hit coordinates: nothing to replay")
-    backspin, sidespin = (np.asarray(x, float) for x in nathan_average_spin(
-        balls["launch_angle"], balls["spray_angle"], balls["handedness"]))
     season_drag, _, _ = season_scales(balls["game_year"])
     wind_scale = season_wind_scale()
 
     own = weather.air(balls, weather_table)
     own = own.assign(wind_x=own["wind_x"] * wind_scale, wind_y=own["wind_y"] * wind_scale)
+    landing = balls["spray_angle"].to_numpy(float)
+    spray, backspin, sidespin = launch_spray(
+        balls["launch_speed"], balls["launch_angle"], landing, balls["handedness"],
+        per_ball=_per_ball(own, season_drag), settings=SETTINGS, ball=BALL)
+    balls = balls.assign(spray_angle=spray)
     actual = _fly(balls, own, season_drag, backspin, sidespin, own["park"].to_numpy(object))
 
     moved = balls if conditions.park is None else balls.assign(home_team=conditions.park)
@@ -194,6 +221,8 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
                                               "game_date", "home_team", "batter", "events",
                                               "bb_type", "launch_speed", "launch_angle",
                                               "spray_angle", "hit_distance_sc")})
+    out["spray_angle"] = landing
+    out.insert(out.columns.get_loc("spray_angle") + 1, "launch_spray_angle", spray)
     out["backspin"], out["sidespin"] = backspin, sidespin
     out["park"] = air["park"].to_numpy(object)
     out["temperature"] = air["temperature"].to_numpy(float)
@@ -202,10 +231,12 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
     out["fence_distance"] = call["fence_distance"].to_numpy(float)
     out["fence_height"] = call["fence_height"].to_numpy(float)
     out["home_run"] = call["home_run"].array
+    out["home_run_probability"] = call["home_run_probability"].to_numpy(float)
     out["actual_park"] = own["park"].to_numpy(object)
     out["actual_temperature"] = own["temperature"].to_numpy(float)
     out["actual_distance"] = actual[0]
     out["actual_home_run"] = actual[3]["home_run"].array
+    out["actual_home_run_probability"] = actual[3]["home_run_probability"].to_numpy(float)
     out["change"] = distance - actual[0]
     out.attrs["units"] = dict(OUTPUT_UNITS)
     out.attrs["conditions"] = dataclasses.asdict(conditions)
@@ -235,6 +266,9 @@ def replay_summary(out: pd.DataFrame) -> dict:
             "median_distance_ft": median(out["predicted_distance"].to_numpy(float)[window]),
             "median_actual_distance_ft": median(out["actual_distance"].to_numpy(float)[window]),
             "home_runs": int(replayed.sum()), "actual_home_runs": int(before.sum()),
+            "expected_home_runs": float(np.nansum(out["home_run_probability"])),
+            "actual_expected_home_runs": float(np.nansum(
+                out["actual_home_run_probability"])),
             "home_runs_gained": int((replayed & ~before).sum()),
             "home_runs_lost": int((before & ~replayed).sum()),
             "measured_home_runs": int((events == "home_run").sum()),

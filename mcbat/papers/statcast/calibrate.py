@@ -97,6 +97,8 @@ def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame
     table = pd.DataFrame({c: balls[c].to_numpy(float) for c in
                           ("launch_speed", "launch_angle", "spray_angle", "elevation",
                            "hit_distance_sc")})
+    if "launch_spray_angle" in balls.columns:  # the direction it left the bat in
+        table["spray_angle"] = balls["launch_spray_angle"].to_numpy(float)
     table["backspin"] = np.asarray(backspin, float)
     table["sidespin"] = np.asarray(sidespin, float)
     table["landing_height"] = balls["compare_height"].to_numpy(float)

@@ -64,6 +64,7 @@ from mcbat.papers.statcast.compare import (
 )
 from mcbat.runner.plan import set_threads
 from mcbat.statcast import read, weather
+from mcbat.statcast.launch import launch_spray
 from mcbat.statcast.spin import nathan_average_spin
 from mcbat.study.flight import FlightSettings, fly_launches, season_scales, season_wind_scale
 from mcbat.study.units import UNITS
@@ -90,7 +91,8 @@ SETTINGS = FlightSettings()
 
 
 def _nathan_spin(balls):
-    return nathan_average_spin(balls["launch_angle"], balls["spray_angle"],
+    """Nathan's average spin for each ball's launch direction."""
+    return nathan_average_spin(balls["launch_angle"], balls["launch_spray_angle"],
                                balls["handedness"])
 
 
@@ -109,11 +111,16 @@ def _inferred_spin(balls):
 #: Spin models: name -> function of the balls' frame giving (backspin, sidespin) in rpm
 #: (NaN: no spin for that ball, which is then not compared).
 SPIN_MODELS = {"nathan": _nathan_spin, "inferred": _inferred_spin}
+#: The launch direction each spin model flies a ball from: Nathan's spin from the direction
+#: that comes down along the measured spray angle; the inferred spin's contact reproduces
+#: the measured spray angle as the launch direction.
+SPRAY_COLUMNS = {"nathan": "launch_spray_angle", "inferred": "spray_angle"}
 
 #: Units of the air columns of ``balls.parquet`` (Statcast-style: degF, inHg, %, m/s).
 AIR_UNITS = {"temperature": "degF", "pressure": "inHg", "relative_humidity": "%",
              "wind_x": "m/s", "wind_y": "m/s"}
 UNITS = {"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
+         "launch_spray_angle": "deg",
          "hit_distance_sc": "ft", "elevation": "ft", "compare_height": "ft",
          "backspin": "rpm", "sidespin": "rpm", "predicted_distance": "ft", "residual": "ft",
          "drag_scale": "1", "lift_scale": "1", **AIR_UNITS}
@@ -148,12 +155,21 @@ def balls_in_their_air(table: pd.DataFrame, source=None, weather_table=None) -> 
     with the air each was hit in (``mcbat.statcast.weather.air``: ``elevation``,
     ``temperature``, ``pressure``, ``relative_humidity``, ``wind_x``, ``wind_y``,
     ``roof_closed``, ``air_source``, ``wind_source``), from ``weather_table`` or the parks'
-    climate."""
+    climate, and ``launch_spray_angle`` (deg): the direction each left the bat in, whose
+    flight with Nathan's spin (the published model in that air, without a recorded wind)
+    comes down along the measured ``spray_angle``
+    (:func:`mcbat.statcast.launch.launch_spray`)."""
     balls = select_balls(table, source)
     air = weather.air(balls, weather_table).reset_index(drop=True)
     for column in ("elevation", "temperature", "pressure", "relative_humidity", "wind_x",
                    "wind_y", "roof_closed", "air_source", "wind_source"):
         balls[column] = air[column].to_numpy()
+    # The launch direction with the published model in the game's air, its recorded wind
+    # left out: so that it does not move with a refit of the season table.
+    balls["launch_spray_angle"] = launch_spray(
+        balls["launch_speed"], balls["launch_angle"], balls["spray_angle"],
+        balls["handedness"], per_ball=air_per_ball(balls, 0.0), settings=SETTINGS,
+        ball=BALL)[0]
     return balls
 
 
@@ -182,7 +198,8 @@ def compare_file(table: pd.DataFrame, source=None, *, weather_table=None,
             out, status = fly_launches(
                 SETTINGS, BALL.mass, BALL.radius, balls["launch_speed"].to_numpy() * _MPH,
                 balls["launch_angle"].to_numpy() * _DEG,
-                balls["spray_angle"].to_numpy() * _DEG, np.where(spun, backspin, 0.0) * _RPM,
+                balls[SPRAY_COLUMNS[spin_name]].to_numpy() * _DEG,
+                np.where(spun, backspin, 0.0) * _RPM,
                 np.where(spun, sidespin, 0.0) * _RPM, per_ball=per_ball)
             predicted = np.where((status == 0) & flown & spun, out["hit_distance"] / _FT,
                                  np.nan)

@@ -110,8 +110,10 @@ def test_pete_alonso_home_run(shipped):
     assert row["events"].iloc[0] == "home_run"
     long = compare_file(row, spin_models=["nathan"])
     assert set(long["flight"]) == set(FLIGHTS)
-    back, side = nathan_average_spin([row["launch_angle"].iloc[0]],
-                                     [row["spray_angle"].iloc[0]], ["R"])
+    launch_spray = long["launch_spray_angle"].iloc[0]
+    # a pulled ball hooks: it left the bat less pulled than where it came down
+    assert row["spray_angle"].iloc[0] < launch_spray < 0
+    back, side = nathan_average_spin([row["launch_angle"].iloc[0]], [launch_spray], ["R"])
     normal, _, _ = climate(["citi_field"], [9])
     drag = flight_seasons()[2020]["drag_scale"]["value"]
     settings = {  # what each flight means (reproduce's module docstring)
@@ -128,8 +130,7 @@ def test_pete_alonso_home_run(shipped):
         out, status = fly_launches(flight, BALL.mass, BALL.radius,
                                    row["launch_speed"].to_numpy() * MPH,
                                    row["launch_angle"].to_numpy() * DEG,
-                                   row["spray_angle"].to_numpy() * DEG, back * RPM,
-                                   side * RPM)
+                                   launch_spray * DEG, back * RPM, side * RPM)
         assert got["predicted_distance"] == pytest.approx(out["hit_distance"][0] / FT)
         assert got["residual"] == pytest.approx(got["predicted_distance"]
                                                 - row["hit_distance_sc"].iloc[0])
