@@ -261,8 +261,8 @@ def load_study(path):
     return load_pitches(study)
 
 
-_SUBPACKAGES = ("api", "bodies", "core", "dataset", "errors", "runner", "stats", "study",
-                "testing")
+_SUBPACKAGES = ("api", "bodies", "core", "dataset", "errors", "inference", "papers", "runner",
+                "statcast", "stats", "study", "testing")
 
 
 def __getattr__(name):

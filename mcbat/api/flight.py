@@ -177,6 +177,21 @@ class FlightResult:
         """Horizontal distance of the landing point from home plate (ft)."""
         return self.hit_distance_m / FT
 
+    @property
+    def landing_x(self) -> float:
+        """Landing point towards first base (ft)."""
+        return self.landing_x_m / FT
+
+    @property
+    def landing_y(self) -> float:
+        """Landing point towards centre field (ft)."""
+        return self.landing_y_m / FT
+
+    @property
+    def apex(self) -> float:
+        """Greatest height of the flight (ft)."""
+        return self.apex_m / FT
+
     def to_dict(self) -> dict:
         """JSON-ready dictionary (the output of ``mcbat flight``), with a ``units`` block:
         see ``mcbat.api.contract.flight_result_to_dict``."""

@@ -3,6 +3,7 @@
 import doctest
 import importlib
 import inspect
+import math
 import pydoc
 
 import pytest
@@ -68,3 +69,22 @@ def test_the_case_and_result_types_load_on_first_use():
 def test_the_doctests_hold(name):
     result = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_every_subpackage_is_reachable_from_import_mcbat():
+    import mcbat
+
+    assert callable(mcbat.statcast.read) and callable(mcbat.inference.infer_spin)
+    assert {"statcast", "inference", "papers"} <= set(dir(mcbat))
+
+
+def test_a_flight_result_has_every_attribute_its_docstring_names():
+    from mcbat.api import FlightCase, solve_flight
+
+    r = solve_flight(FlightCase(launch_speed=46.0, launch_angle=0.47, spray_angle=0.2,
+                                backspin=210.0))
+    for name in ("hit_distance", "landing_x", "landing_y", "apex", "hang_time"):
+        assert math.isfinite(getattr(r, name)), name
+    assert r.landing_x == r.landing_x_m / 0.3048 and r.apex == r.apex_m / 0.3048
+    assert r.to_dict()["landing_y"] == r.landing_y
+    assert math.hypot(r.landing_x, r.landing_y) == pytest.approx(r.hit_distance)
