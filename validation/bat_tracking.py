@@ -1,26 +1,31 @@
 """Real pitches and measured swings against tracked balls in play, in and out of sample.
 
 Fits what the measured swing does not fix (the contact's place along the bat and its
-undercut, the measurement errors of attack angle and bat speed) to the tracked balls in
-play of the ``--fit`` files, each row conditioned on its measured pitch and swing, and
-judges ``studies/bat_tracking.toml`` with the fitted values on the ``--judge`` files, the
-fit files beside them (docs/bat_tracking.md)::
+undercut, how the contact moves with the bat speed, the measurement errors of the attack
+angle, the bat speed and the attack direction) to the tracked balls in play of the
+``--fit`` files, each row conditioned on its measured pitch and swing, and judges
+``studies/bat_tracking.toml`` with the fitted values on the ``--judge`` files, the fit
+files beside them (docs/bat_tracking.md)::
 
     NUMBA_NUM_THREADS=1 .venv/bin/python -m validation bat_tracking \\
-        --fit statcast_2024_skubal.csv --judge statcast_2025-05-01.csv
+        --fit statcast_2024_skubal.csv,statcast_2024_ohtani.csv \\
+        --cross statcast_2025-05-01.csv
 
-Files are names in ``../shared/data/statcast/`` (or paths). Steps:
+Files are names in ``../shared/data/statcast/`` (its ``more/``, ``data/``, or paths);
+``name#k/n`` is the k-th of n parts of the file's games. ``--cross FILE`` judges each part
+of FILE by a fit to ``--fit`` and the other parts, and pools the parts. Steps:
 
-1. the measurement errors: for each pair of error sds on a grid, the contact fitted with
-   ``fit_population`` (``swing = true``), then the slopes of launch speed on measured bat
-   speed and of launch angle on measured attack angle simulated for the fit files' rows;
-   the pair whose slopes lie nearest the fit files' measured slopes (in units of their
-   bootstrap errors) is kept (a file without attack angles says nothing about its error);
-2. the contact fitted again at those errors (the reported values and errors);
+1. the errors and the trend (:func:`choose`): for each node of a grid, the contact fitted
+   with ``fit_population`` (``swing = true``), then the draws for the fit files' rows
+   compared with them (:func:`distance`: every file's rows in bat-speed bin x launch-speed
+   bin, and the slope of launch angle on attack angle); the nearest node is kept (a file
+   without attack angles says nothing about their error); the attack direction's error by
+   the slope of the spray angle on it;
+2. the contact fitted again there (the reported values and errors);
 3. per file: KS distances of launch speed and angle (``samples`` draws), each row's
    calibration (the share of rows whose measured value lies above the row's simulated
    90th percentile, below its 10th), the mean launch speed per bat-speed bin (rows >= 100
-   are held to 2 mph), and the two slopes.
+   are held to 2 mph), the slopes, ``q`` and its upper edge, the backspin.
 """
 
 from __future__ import annotations

@@ -71,3 +71,22 @@ def test_study_draws_from_the_shipped_excerpt():
     assert summary["drawn_from"] >= 255  # (the study's range checks may leave a few out)
     cols = study.sample(0, 2000)
     assert np.isfinite(cols["attack_angle"]).all()
+
+
+@pytest.mark.skipif(not SOURCE.exists(), reason="the shared Statcast export is absent")
+def test_parts_of_a_days_games_are_disjoint_and_cover_it():
+    import sys
+
+    sys.path.insert(0, str(ROOT))
+    from validation.bat_tracking import tracked
+
+    whole = tracked([SOURCE.name])
+    parts = [tracked([f"{SOURCE.name}#{k}/2"]) for k in (1, 2)]
+    assert sum(len(p) for p in parts) == len(whole) == 572
+    games = [set(p["game_pk"]) for p in parts]
+    batters = [set(p["batter"]) for p in parts]
+    assert not games[0] & games[1]
+    assert not batters[0] & batters[1]  # (a day's games share no batter)
+    assert games[1] == set(GAMES)
+    with pytest.raises(ValueError, match="#k/n"):
+        tracked([f"{SOURCE.name}#3/2"])

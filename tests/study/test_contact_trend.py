@@ -146,3 +146,21 @@ def test_population_templates_weigh_the_contact_before_the_trend(tmp_path):
     b, obs_b, _ = _solve_memory(moved, 3000, 9, ["from_barrel_end"], ["launch_speed"])
     np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
     assert not np.allclose(obs_a["launch_speed"], obs_b["launch_speed"], equal_nan=True)
+
+
+def test_population_fit_with_a_trend_refuses_other_engines(tmp_path):
+    from mcbat.stats.population_parameters import parse_free
+    from mcbat.stats.population_templates import TemplateSimulator
+
+    data = _data(tmp_path, _rows())
+    data["contact"]["bat_speed_trend"] = _trend(1.0)
+    study = Study.from_dict(data)
+    keys, _, _ = parse_free(study, ("contact.from_barrel_end.mean",))
+    key = keys["contact.from_barrel_end"]
+    sim = TemplateSimulator(study, _rows(), 100, 1, "local", tmp_path / "work")
+    try:
+        with pytest.raises(InputError, match="memory"):
+            sim.run({"contact.from_barrel_end": (key, key.mean, key.std)}, {},
+                    ["from_barrel_end"], ["launch_speed"])
+    finally:
+        sim.close()
