@@ -33,6 +33,8 @@ Compression ends at ``v_n = 0`` (``I_c``, ``W_c``); separation is the energetic 
 import math
 from collections import namedtuple
 
+import numpy as np
+
 from mcbat.core import status as st
 from mcbat.core.cabo2012.slip_time import tau_point, tau_step
 from mcbat.core.jit import njit
@@ -495,15 +497,16 @@ def _slip_phase(c, acc, e2):
         dwn = normal_work(c, state, new, step)
         new = SlipState(new.imp, new.p1, new.p2, state.wn + dwn, new.wfr)
         if not comp.done and velocity(c, new.p1, new.p2, new.imp)[2] >= 0.0:
-            step, new, dwn = locate_in_step(c, state, w1, w2, lam, h, 0, 0.0, 0.0, step,
-                                            event_tolerance)
+            # (np.int64: a constant would compile locate_in_step once per event kind)
+            step, new, dwn = locate_in_step(c, state, w1, w2, lam, h, np.int64(0), 0.0, 0.0,
+                                            step, event_tolerance)
             comp = _compressed(new, e2)
             rise_left = comp.rise
             if e2 == 0.0:
                 return st.OK, new, comp, True, steps, 0.0  # e* = 0: separation at once
         elif comp.done and dwn >= rise_left:
-            step, new, dwn = locate_in_step(c, state, w1, w2, lam, h, 1, 0.0, rise_left, step,
-                                            event_tolerance)
+            step, new, dwn = locate_in_step(c, state, w1, w2, lam, h, np.int64(1), 0.0,
+                                            rise_left, step, event_tolerance)
             return st.OK, new, comp, True, steps, 0.0
         else:
             if comp.done:

@@ -158,7 +158,10 @@ def _hermite_exp_integral(m0, m1, m2, m3, q0, dq0, q1, dq1, h):
                 + (3.0 * m2 - 2.0 * m3) * q1 + (m3 - m2) * h * dq1)
 
 
-@njit(inline="always")
+# Not inlined: called from the slip loop and from the event location, so inlining it
+# would compile it twice over (the largest share of the kernel's first-run compile time);
+# LLVM still inlines it where it pays.
+@njit
 def tau_step(c, w1, w2, imp, wfr, lam, h):
     """One Lawson RK4 step of length ``h`` in ``tau`` (kg) from the slip velocity
     ``(w1, w2)``, normal impulse ``imp`` and friction work ``wfr``, with the speed's rate

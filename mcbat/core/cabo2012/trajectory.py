@@ -112,8 +112,9 @@ def contact_history(k11, k12, k13, k22, k23, k33, v01, v02, v0n, mu, impulses,
         while j < n and impulses[j] <= step.imp:
             part = state
             if impulses[j] > state.imp:
-                _, part, _ = locate_in_step(c, state, w1, w2, -pt.rate, h, 2, impulses[j],
-                                            0.0, step, 1e-15 * ctl.i_scale)
+                # (np.int64: the solver's compiled locate_in_step, not one for a constant)
+                _, part, _ = locate_in_step(c, state, w1, w2, -pt.rate, h, np.int64(2),
+                                            impulses[j], 0.0, step, 1e-15 * ctl.i_scale)
             _record(out, j, c, part, SLIP)
             j += 1
         new = slip_state(c, step.w1, step.w2, step.imp, step.wfr, 0.0)

@@ -185,8 +185,9 @@ def _evaluate(x, mode, g, table, loc_z, loc_f, settings, observed, scratch, r):
     g[_UNDERCUT, 0] = (ball_centre_radial_distance(g[_BALL_RADIUS, 0], radius, slope)
                        * math.sin(x[0]))
     g[_ATTACK_DIRECTION, 0] = x[2]
-    solve_game_row(g, 0, settings.steps, settings.impact_tolerance, settings.max_steps,
-                   frame, out, game_out, status, end_state)
+    # (np.int64(0): the batch kernel's compiled solve_game_row, not one for a constant)
+    solve_game_row(g, np.int64(0), settings.steps, settings.impact_tolerance,
+                   settings.max_steps, frame, out, game_out, status, end_state)
     if status[0] != st.OK:
         return False
     vx, vy, vz = game_out[_FIELD_V, 0], game_out[_FIELD_V + 1, 0], game_out[_FIELD_V + 2, 0]
@@ -574,6 +575,8 @@ def _nearest_bat_speed(g, table, loc_z, loc_f, settings, observed, scratch, x, l
     handle: the least decrease). Returns ``(status, iterations, evaluations, bat speed,
     contact position)``; ``x``, ``r``, ``best`` hold the chosen solution."""
     measured = g[_BAT_SPEED, 0]
+    # (np.int64: the row's compiled functions, not a second set for a constant mode)
+    bat_speed_mode = np.int64(INFER_BAT_SPEED)
     _, z_hi, z_peak, _ = _along_bat(g, loc_z, loc_f, settings)
     xs, rs, bests = np.empty(3), np.empty(3), np.empty(8)
     found, chosen, it, nev = False, 0.0, 0, 0
@@ -582,13 +585,13 @@ def _nearest_bat_speed(g, table, loc_z, loc_f, settings, observed, scratch, x, l
         g[_BAT_SPEED, 0] = measured
         g[_FROM_BARREL_END, 0] = z
         g[_E_LOCATION, 0] = _location_factor(z, loc_z, loc_f)
-        _warm_start(INFER_BAT_SPEED, g, loc_z, loc_f, settings, observed, xs, lower, upper)
+        _warm_start(bat_speed_mode, g, loc_z, loc_f, settings, observed, xs, lower, upper)
         nev += 1
-        if not _evaluate(xs, INFER_BAT_SPEED, g, table, loc_z, loc_f, settings, observed,
+        if not _evaluate(xs, bat_speed_mode, g, table, loc_z, loc_f, settings, observed,
                          scratch, rs):
             continue
         _keep(scratch, g, bests)
-        code, more_it, more_nev = _newton(xs, rs, lower, upper, INFER_BAT_SPEED, g, table,
+        code, more_it, more_nev = _newton(xs, rs, lower, upper, bat_speed_mode, g, table,
                                           loc_z, loc_f, settings, observed, scratch, bests)
         it += more_it
         nev += more_nev
@@ -692,8 +695,9 @@ def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settin
     """
     n = game_inputs.shape[1]
     for col in numba.prange(n):
-        infer_contact_row(game_inputs, observed, mode, col, table, loc_z, loc_f, settings,
-                          solution, residual, status, iterations, evaluations)
+        # (np.int64: one compiled row function for the loop index's int64 and uint64)
+        infer_contact_row(game_inputs, observed, mode, np.int64(col), table, loc_z, loc_f,
+                          settings, solution, residual, status, iterations, evaluations)
 
 
 def allocate_inference_outputs(n):

@@ -177,7 +177,10 @@ def _landing(h, t, x, v, a, x1, v1, a1, height, start):
     """Time, position where the step, from ``start`` (a fraction of it) on, descends
     through ``z = height``. The interpolant of ``z - height`` is that of ``z`` shifted: its
     end values move and its derivatives do not."""
-    s = _root(h, x[2] - height, v[2], a[2], x1[2] - height, v1[2], a1[2], False, start)
+    # (np.bool_ and an explicit start in both callers: one compiled _root, not one per
+    # constant)
+    s = _root(h, x[2] - height, v[2], a[2], x1[2] - height, v1[2], a1[2], np.bool_(False),
+              start)
     lx = _hermite(s, h, x[0], v[0], a[0], x1[0], v1[0], a1[0])[0]
     ly = _hermite(s, h, x[1], v[1], a[1], x1[1], v1[1], a1[1])[0]
     return t + s * h, lx, ly
@@ -187,7 +190,7 @@ def _landing(h, t, x, v, a, x1, v1, a1, height, start):
 def _apex(h, x, v, a, x1, v1, a1):
     """Greatest height inside a step where the vertical velocity changes sign, and where
     in the step (a fraction of it) it lies."""
-    s = _root(h, x[2], v[2], a[2], x1[2], v1[2], a1[2], True)
+    s = _root(h, x[2], v[2], a[2], x1[2], v1[2], a1[2], np.bool_(True), 0.0)
     return _hermite(s, h, x[2], v[2], a[2], x1[2], v1[2], a1[2])[0], s
 
 
@@ -220,7 +223,7 @@ def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
     if p.tolerance == 0.0:
         return fly_sheet(p, axis, spin, x, v, max_steps), 0
     t, apex = 0.0, x[2]
-    count = 0
+    count = np.int64(0)  # (not a constant: one compiled _record)
     target = p.landing_height
     # The flight ends on a downward crossing of the landing height; a ball launched below
     # it must first rise above it (a catch height above the launch point).

@@ -255,7 +255,9 @@ def solve_game_batch(game_inputs, steps, tolerance, max_steps, frame, out, game_
     """
     n = game_inputs.shape[1]
     for col in numba.prange(n):
-        solve_game_row(game_inputs, col, steps, tolerance, max_steps, frame, out,
+        # (np.int64: the parallel loop's index is typed int64, then uint64; each type
+        # would compile solve_game_row again)
+        solve_game_row(game_inputs, np.int64(col), steps, tolerance, max_steps, frame, out,
                        game_out, status, end_state)
 
 
