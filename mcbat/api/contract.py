@@ -28,7 +28,8 @@ the other way round.
 >>> answer["units"]["launch_speed"], answer["units"]["backspin"]
 ('mph', 'rpm')
 >>> flight = flight_case_from_dict(answer)              # mph, deg, rpm -> SI
->>> abs(flight.launch_speed - answer["launch_speed"] * 0.44704) < 1e-9
+>>> from mcbat.core.units import M_S_PER_MPH
+>>> abs(flight.launch_speed - answer["launch_speed"] * M_S_PER_MPH) < 1e-9
 True
 >>> field_value(94, "pitch.speed")                      # a bare number: mph
 42.02176
@@ -40,6 +41,7 @@ import copy
 import math
 
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
+from mcbat.core.units import M_PER_FT as FT
 from mcbat.dataset.schema import UNITS as COLUMN_UNITS
 from mcbat.errors import InputError
 from mcbat.study import units as u
@@ -49,9 +51,6 @@ __all__ = ["FIELD_KEYS", "FLIGHT_UNITS", "FT", "GAME_UNITS", "IMPACT_CASE_UNITS"
            "IMPACT_UNITS", "ball_from_dict", "bat_from_dict", "check_object", "field_spec",
            "field_value", "fixed_value", "flight_result_to_dict", "game_result_to_dict",
            "impact_case_to_dict", "impact_result_to_dict", "located"]
-
-#: One foot in metres: Statcast gives distances in ft.
-FT = 0.3048
 
 # ---- units: the dataset schema's, for the quantities the answers share with datasets ----
 

@@ -10,7 +10,8 @@ Example
 -------
 >>> import math
 >>> from mcbat.api import FlightCase, solve_flight
->>> case = FlightCase(launch_speed=103 * 0.44704, launch_angle=math.radians(27),
+>>> from mcbat.core.units import M_S_PER_MPH
+>>> case = FlightCase(launch_speed=103 * M_S_PER_MPH, launch_angle=math.radians(27),
 ...                   backspin=2000 * 2 * math.pi / 60)
 >>> result = solve_flight(case)
 >>> 400 < result.hit_distance < 450           # ft
@@ -140,7 +141,8 @@ class FlightCase:
         ...                             pitch_speed=40.0, bat_speed=31.0, mu=0.5,
         ...                             attack_angle=math.radians(10.0)))
         >>> case = FlightCase.from_result(game)
-        >>> round(case.launch_speed / 0.44704, 9) == round(game.launch_speed, 9)
+        >>> from mcbat.core.units import M_S_PER_MPH
+        >>> round(case.launch_speed / M_S_PER_MPH, 9) == round(game.launch_speed, 9)
         True
         """
         if not isinstance(result, GameResult):

@@ -98,7 +98,8 @@ def _solver_range(value, name, high, unit):
 class GameCase:
     """One game situation. **Plain numbers in SI units: m/s, rad, rad/s, m** -- not the
     mph, deg and rpm of Statcast and of a study's ``{value, unit}`` tables (convert with
-    ``math.radians``, ``mph * 0.44704``, ``rpm * 2 pi / 60``; ``docs/batting.md``).
+    ``math.radians``, ``mph * M_S_PER_MPH``, ``rpm * RAD_S_PER_RPM`` from
+    ``mcbat.core.units``; ``docs/batting.md``).
 
     ==================================  ======  ==============================================
     parameter                           unit    meaning

@@ -19,7 +19,7 @@ standard conditions unless ``settings`` says otherwise.
 Example
 -------
 >>> from mcbat.api.pitch import plate_speed
->>> mph = 0.44704
+>>> from mcbat.core.units import M_S_PER_MPH as mph
 >>> 85.0 < plate_speed(94 * mph, spin_rate=2300 * 0.10471975511965977) / mph < 88.0
 True
 """
@@ -32,6 +32,7 @@ import numpy as np
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight.trajectory import integrate as integrate_flight
+from mcbat.core.units import M_PER_FT, M_S_PER_MPH
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.study.flight import FlightSettings, launch_vectors
@@ -39,23 +40,22 @@ from mcbat.study.flight import FlightSettings, launch_vectors
 __all__ = ["DEFAULT_EXTENSION", "DEFAULT_PLATE_HEIGHT", "DEFAULT_RELEASE_HEIGHT",
            "MAX_RELEASE_SPEED", "PLATE_FRONT", "RUBBER", "plate_speed"]
 
-_FT = 0.3048
 #: The front of the pitching rubber from the back tip of home plate: 60 ft 6 in (m).
-RUBBER = 60.5 * _FT
+RUBBER = 60.5 * M_PER_FT
 #: The front of home plate from its back tip, where Statcast's plate speed is taken:
 #: 17 in (m).
-PLATE_FRONT = 17.0 / 12.0 * _FT
+PLATE_FRONT = 17.0 / 12.0 * M_PER_FT
 #: The league's typical extension, 6.3 ft (m): the MLB average of 2021 (Statcast's
 #: ``release_extension``, as reported by Purple Row, "Investigating average release
 #: extension", 2022-02-02); the 2,507 pitches of ``data/statcast_2020-09-03.csv`` have a
 #: median of 6.2 ft.
-DEFAULT_EXTENSION = 6.3 * _FT
+DEFAULT_EXTENSION = 6.3 * M_PER_FT
 #: The release height, 5.85 ft (m): the median ``release_pos_z`` of the pitches of
 #: ``data/statcast_2020-09-03.csv``.
-DEFAULT_RELEASE_HEIGHT = 5.85 * _FT
+DEFAULT_RELEASE_HEIGHT = 5.85 * M_PER_FT
 #: Where the pitch crosses the front of the plate, 2.22 ft up (m): the median ``plate_z``
 #: of the same pitches.
-DEFAULT_PLATE_HEIGHT = 2.22 * _FT
+DEFAULT_PLATE_HEIGHT = 2.22 * M_PER_FT
 #: The fastest release speed converted, 150 m/s (336 mph): the flight model is made for a
 #: baseball's speeds.
 MAX_RELEASE_SPEED = 150.0
@@ -98,7 +98,7 @@ def plate_speed(release_speed, extension=DEFAULT_EXTENSION, spin_rate=0.0, *,
     Parameters
     ----------
     release_speed : float
-        The speed at release, m/s (Statcast's ``release_speed`` is in mph: times 0.44704).
+        The speed at release, m/s (Statcast's ``release_speed`` is in mph: times ``M_S_PER_MPH``).
     extension : float
         The release point's distance in front of the rubber, m (default 6.3 ft,
         ``DEFAULT_EXTENSION``).
@@ -130,14 +130,14 @@ def plate_speed(release_speed, extension=DEFAULT_EXTENSION, spin_rate=0.0, *,
     speed = _real(release_speed, "release_speed")
     if not 0.0 < speed <= MAX_RELEASE_SPEED:
         raise InputError("release_speed", f"must be > 0 and at most "
-                         f"{MAX_RELEASE_SPEED / 0.44704:.4g} mph (the flight model is made "
-                         f"for a baseball's speeds), got {speed / 0.44704:.6g} mph")
+                         f"{MAX_RELEASE_SPEED / M_S_PER_MPH:.4g} mph (the flight model is made "
+                         f"for a baseball's speeds), got {speed / M_S_PER_MPH:.6g} mph")
     extension = _real(extension, "extension", minimum=0.0)
     distance = RUBBER - extension - PLATE_FRONT
     if not distance > 0.0:
         raise InputError("extension", f"must leave the release point in front of the "
-                         f"plate (< {(RUBBER - PLATE_FRONT) / _FT:.4g} ft), got "
-                         f"{extension / _FT:.6g} ft")
+                         f"plate (< {(RUBBER - PLATE_FRONT) / M_PER_FT:.4g} ft), got "
+                         f"{extension / M_PER_FT:.6g} ft")
     for name, height in (("release_height", release_height),
                          ("plate_height", plate_height)):
         if not _real(height, name) >= 0.0:
@@ -166,8 +166,8 @@ def plate_speed(release_speed, extension=DEFAULT_EXTENSION, spin_rate=0.0, *,
         a0 += 0.05
         first = miss(a0)
     if first is None:
-        raise InputError("release_speed", f"a pitch released at {speed / 0.44704:.4g} mph "
-                         f"does not reach the plate ({distance / _FT:.4g} ft away)")
+        raise InputError("release_speed", f"a pitch released at {speed / M_S_PER_MPH:.4g} mph "
+                         f"does not reach the plate ({distance / M_PER_FT:.4g} ft away)")
     m0 = first[1]
     a1 = a0 + 0.01
     velocity, m1 = miss(a1) or first

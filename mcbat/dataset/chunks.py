@@ -34,6 +34,7 @@ import pyarrow.parquet as pq
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.flight import FLIGHT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, bat_frame_columns
+from mcbat.core.units import M_PER_FT
 from mcbat.dataset import storage
 from mcbat.dataset.schema import (
     COLUMNS,
@@ -47,7 +48,6 @@ from mcbat.dataset.schema import (
     derive_game,
     statcast_units,
 )
-from mcbat.study.units import UNITS
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
            "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "foreign_entries",
@@ -188,7 +188,6 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, der
     return names, cols
 
 
-_FT = UNITS["length"]["ft"]  # m per ft (Statcast reports distances in ft)
 
 
 def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=None,
@@ -215,7 +214,7 @@ def game_columns(game_inputs, frame, out, game_out, status, end_state, flight=No
         row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
         for name in ("hit_distance", "landing_x", "landing_y", "apex"):
             cols[f"{name}_m"] = flight_out[row[name]]
-            cols[name] = flight_out[row[name]] / _FT
+            cols[name] = flight_out[row[name]] / M_PER_FT
         cols["hang_time"] = flight_out[row["hang_time"]]
         cols["flight_status"] = flight_status
         names += FLIGHT_COLUMNS

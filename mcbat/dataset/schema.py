@@ -45,6 +45,7 @@ import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
+from mcbat.core.units import M_S_PER_MPH, RPM_PER_RAD_S
 from mcbat.study import units as study_units
 from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
 
@@ -143,8 +144,6 @@ FLIGHT_COLUMNS = ("hit_distance", "hang_time", "apex", "landing_x", "landing_y",
 """The flight columns of a game dataset with a ``[flight]`` section (after
 ``GAME_COLUMNS``): Statcast's ft and s, then SI."""
 
-_MPH = study_units.UNITS["speed"]["mph"]
-_RPM = 60.0 / (2.0 * np.pi)
 
 
 def derive(ball_velocity, ball_spin, names=None) -> dict:
@@ -207,13 +206,13 @@ def derive_game(ball_velocity, ball_spin) -> dict:
         ux, uy, uz = vx / speed, vy / speed, vz / speed
         sx, sy, sz = by * uz, -bx * uz, bx * uy - by * ux
         out = {
-            "launch_speed": speed / _MPH,
+            "launch_speed": speed / M_S_PER_MPH,
             "launch_angle": np.degrees(np.arctan2(vz, horizontal)),
             "spray_angle": np.degrees(np.arctan2(vx, vy)),
-            "spin_rate": np.sqrt(wx * wx + wy * wy + wz * wz) * _RPM,
-            "backspin": (wx * bx + wy * by) * _RPM,
-            "sidespin": (wx * sx + wy * sy + wz * sz) * _RPM,
-            "gyrospin": (wx * ux + wy * uy + wz * uz) * _RPM,
+            "spin_rate": np.sqrt(wx * wx + wy * wy + wz * wz) * RPM_PER_RAD_S,
+            "backspin": (wx * bx + wy * by) * RPM_PER_RAD_S,
+            "sidespin": (wx * sx + wy * sy + wz * sz) * RPM_PER_RAD_S,
+            "gyrospin": (wx * ux + wy * uy + wz * uz) * RPM_PER_RAD_S,
         }
     if np.ndim(vx) == 0:
         return {name: float(value) for name, value in out.items()}

@@ -15,13 +15,11 @@ from mcbat.checks import check_tolerance
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.contact_inference import InferenceSettings
 from mcbat.core.swing import SWEET_SPOT_FROM_BARREL_END
+from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
 from mcbat.errors import InputError
-from mcbat.study.units import UNITS
 
 __all__ = ["InferenceOptions", "SpinAssumptions"]
 
-_MPH = UNITS["speed"]["mph"]
-_DEG = UNITS["angle"]["deg"]
 _INCH = 0.0254
 
 
@@ -54,8 +52,8 @@ class SpinAssumptions:
 
     bat: Bat = dataclasses.field(default_factory=lambda: bat_preset("r161"))
     ball: Ball = BALL_PRESETS["baseball"]
-    attack_angle: float = 10.0 * _DEG
-    vertical_bat_angle: float = -30.0 * _DEG
+    attack_angle: float = 10.0 * RAD_PER_DEG
+    vertical_bat_angle: float = -30.0 * RAD_PER_DEG
     pivot: float = DEFAULT_PIVOT
     from_barrel_end: float = SWEET_SPOT_FROM_BARREL_END
     mu: float = 0.5
@@ -64,13 +62,13 @@ class SpinAssumptions:
     gyro_sign: float = 1.0
     spin_axis: float = math.pi
     contact_side: str = "handle"
-    attack_angle_sd: float = 8.2 * _DEG
-    attack_angle_error: float = 5.0 * _DEG
+    attack_angle_sd: float = 8.2 * RAD_PER_DEG
+    attack_angle_error: float = 5.0 * RAD_PER_DEG
     undercut_mean: float = 0.24 * _INCH
     undercut_sd: float = 0.94 * _INCH
-    attack_direction_sd: float = 8.0 * _DEG
-    bat_speed_mean: float = 69.5 * _MPH
-    bat_speed_sd: float = 6.3 * _MPH
+    attack_direction_sd: float = 8.0 * RAD_PER_DEG
+    bat_speed_mean: float = 69.5 * M_S_PER_MPH
+    bat_speed_sd: float = 6.3 * M_S_PER_MPH
     from_barrel_end_sd: float = 4.6 * _INCH
 
     def __post_init__(self):
@@ -122,8 +120,8 @@ class SpinAssumptions:
                 "attack_angle_error_deg": math.degrees(self.attack_angle_error),
                 "undercut_mean_m": self.undercut_mean, "undercut_sd_m": self.undercut_sd,
                 "attack_direction_sd_deg": math.degrees(self.attack_direction_sd),
-                "bat_speed_mean_mph": self.bat_speed_mean / _MPH,
-                "bat_speed_sd_mph": self.bat_speed_sd / _MPH,
+                "bat_speed_mean_mph": self.bat_speed_mean / M_S_PER_MPH,
+                "bat_speed_sd_mph": self.bat_speed_sd / M_S_PER_MPH,
                 "from_barrel_end_sd_m": self.from_barrel_end_sd}
 
 
@@ -194,7 +192,8 @@ class InferenceOptions:
             int(self.max_iterations), float(self.tolerance), int(self.steps),
             float(self.impact_tolerance), int(self.max_steps),
             1.0 if contact_side == "handle" else -1.0,
-            float(self.bat_speed_range[0]) * _MPH, float(self.bat_speed_range[1]) * _MPH,
-            float(self.attack_direction_max) * _DEG, float(self.from_barrel_end_range[0]),
-            float(self.from_barrel_end_range[1]), float(self.contact_angle_max) * _DEG)
+            float(self.bat_speed_range[0]) * M_S_PER_MPH,
+            float(self.bat_speed_range[1]) * M_S_PER_MPH,
+            float(self.attack_direction_max) * RAD_PER_DEG, float(self.from_barrel_end_range[0]),
+            float(self.from_barrel_end_range[1]), float(self.contact_angle_max) * RAD_PER_DEG)
 

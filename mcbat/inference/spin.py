@@ -23,6 +23,7 @@ from mcbat.core.contact_inference import (
 )
 from mcbat.core.geometry import profile_table
 from mcbat.core.swing import GAME_INPUT_FIELDS
+from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RPM_PER_RAD_S
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.inference.assumptions import InferenceOptions, SpinAssumptions
@@ -40,13 +41,9 @@ from mcbat.inference.columns import (
     swing_column,
     unusable_swing_rows,
 )
-from mcbat.study.units import UNITS
 
 __all__ = ["infer_spin", "predict_batted_balls"]
 
-_MPH = UNITS["speed"]["mph"]
-_DEG = UNITS["angle"]["deg"]
-_RPM = 60.0 / (2.0 * math.pi)  # rpm per rad/s
 
 
 def _bat_table(bat: Bat):
@@ -150,9 +147,9 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                               use_bat_speed, use_attack_angle)
     if options.bat_speed_error > 0.0:
         mode[mode == INFER_FROM_BARREL_END] = INFER_NEAREST_BAT_SPEED
-    observed = np.ascontiguousarray(np.stack((cols["launch_speed"] * _MPH,
-                                              cols["launch_angle"] * _DEG,
-                                              cols["spray_angle"] * _DEG)))
+    observed = np.ascontiguousarray(np.stack((cols["launch_speed"] * M_S_PER_MPH,
+                                              cols["launch_angle"] * RAD_PER_DEG,
+                                              cols["spray_angle"] * RAD_PER_DEG)))
     skipped = missing_rows | unusable
     observed[:, skipped] = np.nan
     rest = assumptions.restitution
@@ -239,7 +236,7 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
     game[rows["e_location_factor"]] = assumptions.restitution.location_factor(z)
     game[rows["undercut"]] = np.broadcast_to(np.asarray(undercut, np.float64), (n,))
     game[rows["attack_direction"]] = np.broadcast_to(
-        np.asarray(attack_direction, np.float64), (n,)) * _DEG
+        np.asarray(attack_direction, np.float64), (n,)) * RAD_PER_DEG
     frame, out, game_out, status, end_state = allocate_game_outputs(n)
     solve_game_batch(game, options.steps, options.impact_tolerance, options.max_steps, frame,
                      out, game_out, status, end_state)
@@ -271,7 +268,7 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
             infer_contact_batch(game, observed, mode, table_, loc_z, loc_f, settings,
                                 solution, residual, status, iterations, evaluations)
         adjustment = np.where(mode == INFER_BAT_SPEED, np.nan,
-                              solution[SOLUTION_FIELDS.index("bat_speed")] / _MPH
+                              solution[SOLUTION_FIELDS.index("bat_speed")] / M_S_PER_MPH
                               - measured_bat_speed)
         # the z-mode solution carries the measured bat speed itself: exactly 0
         adjustment[np.abs(adjustment) < 1e-9] = 0.0
@@ -290,11 +287,11 @@ def _attack_angle_nodes(measured, a: SpinAssumptions, count):
     one (``SpinAssumptions``); one node: the measured, else the assumed, attack angle."""
     finite = np.isfinite(measured)
     if count == 1:
-        return [(np.where(finite, measured * _DEG, a.attack_angle), 1.0)]
+        return [(np.where(finite, measured * RAD_PER_DEG, a.attack_angle), 1.0)]
     sd, error = a.attack_angle_sd, a.attack_angle_error
     total = sd * sd + error * error
     k = sd * sd / total if total > 0.0 else 1.0
-    m = np.where(finite, measured * _DEG, a.attack_angle)
+    m = np.where(finite, measured * RAD_PER_DEG, a.attack_angle)
     centre = np.where(finite, a.attack_angle + k * (m - a.attack_angle), a.attack_angle)
     spread = np.where(finite, math.sqrt(k) * error, sd)
     x, w = np.polynomial.hermite_e.hermegauss(count)
@@ -434,8 +431,8 @@ def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_an
     measured = np.isfinite(bat_speed)
     mode = np.where(measured, INFER_FROM_BARREL_END, INFER_BAT_SPEED).astype(np.int8)
     attack = cols["attack_angle"] if use_attack_angle else np.full(n, np.nan)
-    attack = np.where(np.isfinite(attack), attack * _DEG, a.attack_angle)
-    axis = np.where(np.isfinite(cols["spin_axis"]), cols["spin_axis"] * _DEG, a.spin_axis)
+    attack = np.where(np.isfinite(attack), attack * RAD_PER_DEG, a.attack_angle)
+    axis = np.where(np.isfinite(cols["spin_axis"]), cols["spin_axis"] * RAD_PER_DEG, a.spin_axis)
     values = {
         "ball_mass": ball.mass, "ball_radius": ball.radius,
         "ball_inertia_factor": ball.inertia_factor, "bat_mass": bat.mass,
@@ -443,12 +440,12 @@ def _game_inputs(cols, hand, a: SpinAssumptions, n, use_bat_speed, use_attack_an
         "bat_axial_inertia": bat.axial_inertia, "bat_length": bat.length,
         "bat_cm_from_knob": bat.length - bat.cm_from_barrel_end,
         "bat_radius": 0.0, "bat_slope": 0.0, "handedness": hand,
-        "pitch_speed": cols["pitch_speed"] * _MPH,
-        "pitch_vertical_approach_angle": cols["vertical_approach_angle"] * _DEG,
-        "pitch_horizontal_approach_angle": cols["horizontal_approach_angle"] * _DEG,
-        "pitch_spin_rate": cols["spin_rate"] / _RPM, "pitch_spin_axis": axis,
+        "pitch_speed": cols["pitch_speed"] * M_S_PER_MPH,
+        "pitch_vertical_approach_angle": cols["vertical_approach_angle"] * RAD_PER_DEG,
+        "pitch_horizontal_approach_angle": cols["horizontal_approach_angle"] * RAD_PER_DEG,
+        "pitch_spin_rate": cols["spin_rate"] / RPM_PER_RAD_S, "pitch_spin_axis": axis,
         "pitch_spin_efficiency": a.spin_efficiency, "pitch_gyro_sign": float(a.gyro_sign),
-        "bat_speed": np.where(measured, bat_speed * _MPH, np.nan), "attack_angle": attack,
+        "bat_speed": np.where(measured, bat_speed * M_S_PER_MPH, np.nan), "attack_angle": attack,
         "attack_direction": 0.0, "vertical_bat_angle": a.vertical_bat_angle,
         "pivot": a.pivot, "from_barrel_end": a.from_barrel_end, "undercut": 0.0,
         "mu": a.mu, "e_ref": rest.e_ref, "e_slope": rest.e_slope,
@@ -483,7 +480,7 @@ def _result(index, solution, status, iterations, mode, skipped, attack, a, flagg
                                                          "nearest_bat_speed"]),
         "backspin": keep(spin["backspin"]), "sidespin": keep(spin["sidespin"]),
         "gyrospin": keep(spin["gyrospin"]), "spin_rate": keep(spin["spin_rate"]),
-        "undercut": keep(sol["undercut"]), "bat_speed": keep(sol["bat_speed"] / _MPH),
+        "undercut": keep(sol["undercut"]), "bat_speed": keep(sol["bat_speed"] / M_S_PER_MPH),
         "from_barrel_end": keep(sol["from_barrel_end"]),
         "attack_direction": keep(np.degrees(sol["attack_direction"])),
         "attack_angle": attack,

@@ -18,14 +18,12 @@ import pandas as pd
 from scipy import special
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.statcast import parks
 from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
-from mcbat.study.units import UNITS
 
 __all__ = ["home_run_call"]
 
-_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
-                          UNITS["spin"]["rpm"])
 
 
 def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, park, *,
@@ -71,19 +69,21 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
     ids = np.broadcast_to(np.asarray(park, dtype=object), (n,))
     dates = None if game_date is None else np.broadcast_to(
         np.asarray(game_date, dtype="datetime64[D]"), (n,))
-    launch = (speed * _MPH, np.broadcast_to(np.asarray(launch_angle, float), (n,)) * _DEG,
-              spray * _DEG, np.broadcast_to(np.asarray(backspin, float), (n,)) * _RPM,
-              np.broadcast_to(np.asarray(sidespin, float), (n,)) * _RPM)
+    def each(values):
+        return np.broadcast_to(np.asarray(values, float), (n,))
+
+    launch = (speed * M_S_PER_MPH, each(launch_angle) * RAD_PER_DEG, spray * RAD_PER_DEG,
+              each(backspin) * RAD_S_PER_RPM, each(sidespin) * RAD_S_PER_RPM)
     crossing = spray
     for _ in range(2):
         distance, height = parks.fence(ids, crossing, dates)
-        z, phi = heights_at_distance(settings, ball.mass, ball.radius, distance * _FT,
+        z, phi = heights_at_distance(settings, ball.mass, ball.radius, distance * M_PER_FT,
                                      *launch, per_ball=per_ball)
         crossing = np.where(np.isfinite(phi), np.degrees(phi), crossing)
     distance, height = parks.fence(ids, crossing, dates)
-    z, _ = heights_at_distance(settings, ball.mass, ball.radius, distance * _FT, *launch,
+    z, _ = heights_at_distance(settings, ball.mass, ball.radius, distance * M_PER_FT, *launch,
                                per_ball=per_ball)
-    z_ft = z / _FT
+    z_ft = z / M_PER_FT
     clearance = z_ft - height
     known = np.isfinite(height) & np.isfinite(distance)
     call = pd.array(np.where(known, np.isfinite(clearance) & (clearance > 0), False),
@@ -109,9 +109,9 @@ def _margin(settings, ball, launch, per_ball, distance, height, clearance):
     (ft); for a ball below the wall's top where it meets it, at most minus the height it
     lacks (a line drive still rising at the wall is short however far it would carry)."""
     per = {} if per_ball is None else dict(per_ball)
-    per["landing_height"] = np.nan_to_num(height, nan=0.0) * _FT
+    per["landing_height"] = np.nan_to_num(height, nan=0.0) * M_PER_FT
     out, status = fly_launches(settings, ball.mass, ball.radius, *launch, per_ball=per)
-    down_at = np.where(status == 0, out["hit_distance"] / _FT, -np.inf)
+    down_at = np.where(status == 0, out["hit_distance"] / M_PER_FT, -np.inf)
     margin = down_at - distance
     below = np.isfinite(clearance) & (clearance <= 0)
     return np.where(below, np.minimum(margin, clearance), margin)

@@ -14,13 +14,12 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.statcast.spin import nathan_average_spin
 from mcbat.study.flight import FlightSettings, fly_launches
-from mcbat.study.units import UNITS
 
 __all__ = ["launch_spray"]
 
-_MPH, _DEG, _RPM = UNITS["speed"]["mph"], UNITS["angle"]["deg"], UNITS["spin"]["rpm"]
 
 
 def launch_spray(launch_speed, launch_angle, spray_angle, handedness, *, per_ball=None,
@@ -54,7 +53,7 @@ def launch_spray(launch_speed, launch_angle, spray_angle, handedness, *, per_bal
     ball = BALL_PRESETS[DEFAULT_BALL] if ball is None else ball
     measured = np.asarray(spray_angle, float)
     angle = np.asarray(launch_angle, float)
-    speed = np.asarray(launch_speed, float) * _MPH
+    speed = np.asarray(launch_speed, float) * M_S_PER_MPH
     hand = np.asarray(handedness, dtype=object)
     tripled = None if per_ball is None else {
         k: np.tile(np.broadcast_to(np.asarray(v, float), measured.shape), 3)
@@ -79,7 +78,8 @@ def _landing(speed, angle, spray, handedness, per_ball, settings, ball):
     """Landing direction (deg) of balls flown from ``spray`` with Nathan's spin for it."""
     back, side = (np.asarray(x, float) for x in nathan_average_spin(angle, spray,
                                                                       handedness))
-    out, status = fly_launches(settings, ball.mass, ball.radius, speed, angle * _DEG,
-                               spray * _DEG, back * _RPM, side * _RPM, per_ball=per_ball)
+    out, status = fly_launches(settings, ball.mass, ball.radius, speed, angle * RAD_PER_DEG,
+                               spray * RAD_PER_DEG, back * RAD_S_PER_RPM, side * RAD_S_PER_RPM,
+                               per_ball=per_ball)
     return np.where(status == 0, np.degrees(np.arctan2(out["landing_x"], out["landing_y"])),
                     np.nan)

@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.errors import InputError
 from mcbat.statcast import parks, weather
 from mcbat.statcast.home_runs import home_run_call
@@ -39,12 +40,9 @@ from mcbat.study.flight import (
     season_scales,
     season_wind_scale,
 )
-from mcbat.study.units import UNITS
 
 __all__ = ["OUTPUT_UNITS", "Conditions", "replay", "replay_summary"]
 
-_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
-                          UNITS["spin"]["rpm"])
 BALL = BALL_PRESETS[DEFAULT_BALL]
 SETTINGS = FlightSettings()
 
@@ -135,7 +133,7 @@ def _per_ball(air, drag):
     return {"temperature": (air["temperature"].to_numpy(float) - 32.0) / 1.8 + 273.15,
             "pressure": air["pressure"].to_numpy(float) * 3386.389,
             "relative_humidity": air["relative_humidity"].to_numpy(float),
-            "elevation": air["elevation"].to_numpy(float) * _FT,
+            "elevation": air["elevation"].to_numpy(float) * M_PER_FT,
             "wind_x": air["wind_x"].to_numpy(float),
             "wind_y": air["wind_y"].to_numpy(float), "drag_scale": drag}
 
@@ -155,16 +153,17 @@ def _fly(balls, air, drag, backspin, sidespin, park_ids):
     per_ball = _per_ball(air, drag)
     launch = (balls["launch_speed"].to_numpy(float), balls["launch_angle"].to_numpy(float),
               balls["spray_angle"].to_numpy(float))
-    out, status = fly_launches(SETTINGS, BALL.mass, BALL.radius, launch[0] * _MPH,
-                               launch[1] * _DEG, launch[2] * _DEG, backspin * _RPM,
-                               sidespin * _RPM, per_ball=per_ball)
+    out, status = fly_launches(SETTINGS, BALL.mass, BALL.radius, launch[0] * M_S_PER_MPH,
+                               launch[1] * RAD_PER_DEG, launch[2] * RAD_PER_DEG,
+                               backspin * RAD_S_PER_RPM, sidespin * RAD_S_PER_RPM,
+                               per_ball=per_ball)
     ok = status == 0
     call = home_run_call(*launch, backspin, sidespin, park_ids, per_ball=per_ball,
                          game_date=pd.to_datetime(balls["game_date"]).to_numpy(),
                          scatter_ft=_scatter(balls["game_year"]))
-    return (np.where(ok, out["hit_distance"] / _FT, np.nan),
-            np.where(ok, out["landing_x"] / _FT, np.nan),
-            np.where(ok, out["landing_y"] / _FT, np.nan), call)
+    return (np.where(ok, out["hit_distance"] / M_PER_FT, np.nan),
+            np.where(ok, out["landing_x"] / M_PER_FT, np.nan),
+            np.where(ok, out["landing_y"] / M_PER_FT, np.nan), call)
 
 
 def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mcbat.core.units import M_S_PER_MPH as MPH
 from mcbat.errors import InputError
 from mcbat.statcast import parks
 
@@ -25,7 +26,6 @@ __all__ = ["CLIMATE_FILE", "INDOOR_HUMIDITY", "INDOOR_TEMPERATURE", "MPH", "STAN
            "TEAM_ALIASES", "WIND_CODES", "air", "climate", "read_weather", "wind_vector"]
 
 CLIMATE_FILE = "park_climate.csv"
-MPH = 0.44704
 """m/s per mph."""
 INDOOR_TEMPERATURE = 72.0
 """degF assumed under a dome or a closed roof."""

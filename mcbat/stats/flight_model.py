@@ -22,15 +22,13 @@ import dataclasses
 import numpy as np
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.errors import InputError
 from mcbat.stats.models import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
-from mcbat.study.units import UNITS
 
 __all__ = ["AIR_COLUMNS", "FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
 
-_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
-                          UNITS["spin"]["rpm"])
 
 FLIGHT_TABLE_COLUMNS = {
     "launch_speed": ("mph", "input"),
@@ -89,8 +87,9 @@ class FlightModel(DrawModel):
         if "hit_distance_sc_err" not in table.columns:
             raise InputError("hit_distance_sc_err", "missing required column: the per-ball "
                              "scatter of the distances about the model (ft)", self.source)
-        si = {"launch_speed": _MPH, "launch_angle": _DEG, "spray_angle": _DEG,
-              "backspin": _RPM, "sidespin": _RPM, "elevation": _FT, "landing_height": _FT}
+        si = {"launch_speed": M_S_PER_MPH, "launch_angle": RAD_PER_DEG,
+              "spray_angle": RAD_PER_DEG, "backspin": RAD_S_PER_RPM,
+              "sidespin": RAD_S_PER_RPM, "elevation": M_PER_FT, "landing_height": M_PER_FT}
         self._launch = {c: table[c].to_numpy(float) * k for c, k in si.items()}
         self._air = {}
         if "temperature" in table.columns:
@@ -121,5 +120,5 @@ class FlightModel(DrawModel):
                                    launch["sidespin"], elevation=launch["elevation"],
                                    landing_height=launch["landing_height"],
                                    per_ball=self._air)
-        return ({"hit_distance_sc": np.repeat(out["hit_distance"] / _FT, self.draws)},
+        return ({"hit_distance_sc": np.repeat(out["hit_distance"] / M_PER_FT, self.draws)},
                 np.repeat(status, self.draws))

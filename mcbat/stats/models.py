@@ -49,6 +49,7 @@ from mcbat.core.swing import (
     allocate_game_outputs,
     solve_game_batch,
 )
+from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
@@ -57,7 +58,6 @@ from mcbat.stats.input_priors import (
     covering_range,
     prior_range,
 )
-from mcbat.study.units import UNITS
 
 __all__ = ["BatFrameModel", "DrawModel", "GameModel", "OUTLIER_SIGMA", "rows_text"]
 
@@ -68,7 +68,6 @@ this many of its errors outside the study's range."""
 GRAZING = 0.999
 """A measured ``|b|`` at or above this fraction of the reach ``R + r`` (a contact angle
 above 87.4 deg) is refused: the ball grazes the bat."""
-_MPH, _DEG = UNITS["speed"]["mph"], UNITS["angle"]["deg"]
 
 
 PILOT_POINTS = 61
@@ -404,8 +403,9 @@ class GameModel(_DrawModel):
     KIND = "game"
     PARAMETERS = {"e": GAME_INPUT_FIELDS.index("e_ref"), "mu": GAME_INPUT_FIELDS.index("mu"),
                   "e_x": GAME_INPUT_FIELDS.index("e_x")}
-    MEASURED = {"pitch_speed": ("pitch.speed", _MPH), "bat_speed": ("swing.bat_speed", _MPH),
-                "attack_angle": ("swing.attack_angle", _DEG),
+    MEASURED = {"pitch_speed": ("pitch.speed", M_S_PER_MPH),
+                "bat_speed": ("swing.bat_speed", M_S_PER_MPH),
+                "attack_angle": ("swing.attack_angle", RAD_PER_DEG),
                 "undercut": ("contact.undercut", 1.0),
                 "from_barrel_end": ("contact.from_barrel_end", 1.0)}
     DEFAULT_DRAWS = 128

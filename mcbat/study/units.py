@@ -2,8 +2,9 @@
 
 Every numeric input of a study has a *quantity* (length, speed, ...). Its values may be
 written in any unit of that quantity (``unit = "cm"``); without a unit they are SI. The
-factors are the exact definitions (``1 in = 0.0254 m``, ``1 mph = 0.44704 m/s``,
-``1 km/h = 1/3.6 m/s``, ``1 rpm = 2 pi / 60 rad/s`` with the double nearest pi), and the
+factors are the exact definitions of ``mcbat.core.units`` (the international inch, foot
+and mile per hour, ``1 km/h = 1/3.6 m/s``, ``1 rpm = 2 pi / 60 rad/s`` with the double
+nearest pi), and the
 conversion is exact: the value as written (its shortest decimal form) times the factor,
 in rational arithmetic, rounded once to the nearest double. So ``15 cm`` is exactly
 ``0.15`` and ``1.5 in`` exactly ``0.0381``.
@@ -34,6 +35,18 @@ from fractions import Fraction
 
 import numpy as np
 
+from mcbat.core.units import (
+    EXACT,
+    KG_PER_LB,
+    KG_PER_OZ,
+    M_PER_FT,
+    M_PER_IN,
+    M_S_PER_MPH,
+    PA_PER_INHG,
+    PA_PER_MMHG,
+    RAD_PER_DEG,
+    RAD_S_PER_RPM,
+)
 from mcbat.errors import InputError
 
 __all__ = ["ANGLE", "DIMENSIONLESS", "INERTIA", "LENGTH", "MASS", "PRESSURE", "SI_UNITS",
@@ -52,15 +65,15 @@ DIMENSIONLESS = "dimensionless"
 
 #: Conversion factor to SI of every accepted unit, by quantity.
 UNITS: dict[str, dict[str, float]] = {
-    LENGTH: {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "ft": 0.3048},
-    SPEED: {"m/s": 1.0, "km/h": 1.0 / 3.6, "mph": 0.44704, "ft/s": 0.3048},
-    SPIN: {"rad/s": 1.0, "rpm": 2.0 * math.pi / 60.0, "rps": 2.0 * math.pi},
-    ANGLE: {"rad": 1.0, "deg": math.pi / 180.0},
-    MASS: {"kg": 1.0, "g": 0.001, "oz": 0.028349523125, "lb": 0.45359237},
+    LENGTH: {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": M_PER_IN, "ft": M_PER_FT},
+    SPEED: {"m/s": 1.0, "km/h": 1.0 / 3.6, "mph": M_S_PER_MPH, "ft/s": M_PER_FT},
+    SPIN: {"rad/s": 1.0, "rpm": RAD_S_PER_RPM, "rps": 2.0 * math.pi},
+    ANGLE: {"rad": 1.0, "deg": RAD_PER_DEG},
+    MASS: {"kg": 1.0, "g": 0.001, "oz": KG_PER_OZ, "lb": KG_PER_LB},
     INERTIA: {"kg m^2": 1.0, "kg*m^2": 1.0, "g cm^2": 1e-7},
     TEMPERATURE: {"K": 1.0, "degC": 1.0, "degF": 5.0 / 9.0},
-    PRESSURE: {"Pa": 1.0, "hPa": 100.0, "kPa": 1000.0, "inHg": 3386.389,
-               "mmHg": 133.322387415},
+    PRESSURE: {"Pa": 1.0, "hPa": 100.0, "kPa": 1000.0, "inHg": PA_PER_INHG,
+               "mmHg": PA_PER_MMHG},
     DIMENSIONLESS: {"1": 1.0},
 }
 
@@ -68,17 +81,17 @@ _PI = Fraction(math.pi)
 # The exact factors behind UNITS.
 _EXACT: dict[str, dict[str, Fraction]] = {
     LENGTH: {"m": Fraction(1), "cm": Fraction("0.01"), "mm": Fraction("0.001"),
-             "in": Fraction("0.0254"), "ft": Fraction("0.3048")},
-    SPEED: {"m/s": Fraction(1), "km/h": Fraction(10, 36), "mph": Fraction("0.44704"),
-            "ft/s": Fraction("0.3048")},
+             "in": EXACT["m_per_in"], "ft": EXACT["m_per_ft"]},
+    SPEED: {"m/s": Fraction(1), "km/h": Fraction(10, 36), "mph": EXACT["m_s_per_mph"],
+            "ft/s": EXACT["m_per_ft"]},
     SPIN: {"rad/s": Fraction(1), "rpm": 2 * _PI / 60, "rps": 2 * _PI},
     ANGLE: {"rad": Fraction(1), "deg": _PI / 180},
-    MASS: {"kg": Fraction(1), "g": Fraction("0.001"), "oz": Fraction("0.028349523125"),
-           "lb": Fraction("0.45359237")},
+    MASS: {"kg": Fraction(1), "g": Fraction("0.001"), "oz": EXACT["kg_per_oz"],
+           "lb": EXACT["kg_per_lb"]},
     INERTIA: {"kg m^2": Fraction(1), "kg*m^2": Fraction(1), "g cm^2": Fraction("1e-7")},
     TEMPERATURE: {"K": Fraction(1), "degC": Fraction(1), "degF": Fraction(5, 9)},
     PRESSURE: {"Pa": Fraction(1), "hPa": Fraction(100), "kPa": Fraction(1000),
-               "inHg": Fraction("3386.389"), "mmHg": Fraction("133.322387415")},
+               "inHg": EXACT["pa_per_inhg"], "mmHg": EXACT["pa_per_mmhg"]},
     DIMENSIONLESS: {"1": Fraction(1)},
 }
 # Temperatures: K = (value - _ZERO[unit]) * factor + 273.15 for degC/degF.

@@ -10,9 +10,10 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from mcbat.core.units import RPM_PER_RAD_S
+
 __all__ = ["reference_flight", "reference_height_at_distance"]
 
-_RPM = 60.0 / (2.0 * math.pi)
 
 
 def _lift(model, s, lift, scale):
@@ -38,7 +39,7 @@ def _rhs(spin, density, mass, radius, model, decay_time, wind, drag, lift, gravi
         if model == "constant":
             cd = drag
         else:
-            cd = 0.3008 * drag_scale + 0.0292 * rate * _RPM / 1000.0 * decay
+            cd = 0.3008 * drag_scale + 0.0292 * rate * RPM_PER_RAD_S / 1000.0 * decay
         s = radius * rate * decay / speed if speed > 0 else 0.0
         cl = _lift(model, s, lift, lift_scale)
         acc = -c0 * cd * speed * rel + c0 * cl * speed * np.cross(axis, rel)

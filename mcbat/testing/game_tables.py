@@ -36,17 +36,18 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from mcbat.core.units import M_PER_FT, M_PER_IN, M_S_PER_MPH, RAD_S_PER_RPM
 from mcbat.testing.cabo2012_reference import reference_impact
 
 __all__ = ["BODIES", "DISTRIBUTIONS", "INPUT_NAMES", "MEASURED", "OBSERVABLES", "RESTITUTION",
            "bat_bodies", "bat_frame_case", "batted_ball", "draw_inputs", "game_table",
            "mirrored", "reference_solver", "solve_row"]
 
-MPH = 0.44704
+MPH = M_S_PER_MPH
 """m/s per mph."""
-RPM = 2.0 * math.pi / 60.0
+RPM = RAD_S_PER_RPM
 """rad/s per rpm."""
-INCH = 0.0254
+INCH = M_PER_IN
 """m per inch."""
 DEG = math.pi / 180.0
 """rad per degree."""
@@ -68,7 +69,7 @@ BODIES = {
 }
 """The bodies and the pivot of the independent game (kg, m, kg m^2)."""
 
-RESTITUTION = {"e_slope": 0.00165, "e_speed_ref": 85.0 * 0.3048}
+RESTITUTION = {"e_slope": 0.00165, "e_speed_ref": 85.0 * M_PER_FT}
 """The speed form of ``e*``: ``e* = clip(e - e_slope (|v_n| - e_speed_ref), 0, 1)`` with
 ``e_slope`` per m/s and ``e_speed_ref`` in m/s (85 ft/s), no location factor: the game
 preset's slope and reference speed; ``e`` (the value at the reference speed) and ``e_x``

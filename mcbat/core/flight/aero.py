@@ -21,6 +21,7 @@ published models, bit for bit.
 from collections import namedtuple
 
 from mcbat.core.jit import njit
+from mcbat.core.units import RPM_PER_RAD_S
 
 __all__ = ["CONSTANT", "MODELS", "NATHAN", "SAWICKI2003", "Aero", "coefficients"]
 
@@ -30,7 +31,6 @@ CONSTANT = 2
 #: Model name -> code.
 MODELS = {"nathan": NATHAN, "sawicki2003": SAWICKI2003, "constant": CONSTANT}
 
-_RPM = 60.0 / (2.0 * 3.141592653589793)
 
 Aero = namedtuple("Aero", ("model", "drag", "lift", "drag_scale", "lift_scale"))
 """The model's code, ``C_D``, ``C_L`` (used by ``CONSTANT`` only), and the scales of the
@@ -43,7 +43,7 @@ def coefficients(aero, radius, spin, speed, decay):
     decay factor ``decay`` and ball radius ``radius`` (m)."""
     if aero.model == CONSTANT:
         return aero.drag, aero.lift
-    drag = 0.3008 * aero.drag_scale + 0.0292 * (spin * _RPM / 1000.0) * decay
+    drag = 0.3008 * aero.drag_scale + 0.0292 * (spin * RPM_PER_RAD_S / 1000.0) * decay
     s = radius * spin * decay / speed if speed > 0.0 else 0.0
     if aero.model == NATHAN:
         return drag, aero.lift_scale * (1.120 * s / (0.583 + 2.333 * s))

@@ -6,8 +6,8 @@ import numpy as np
 
 from mcbat.bodies import ball_preset
 from mcbat.core.flight import FLIGHT_FIELDS, allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.units import M_PER_FT
 from mcbat.study.flight import FlightSettings
-from mcbat.study.units import UNITS
 
 __all__ = ["BALL", "FLIGHT_SETTINGS", "SETTINGS", "fly"]
 
@@ -19,7 +19,6 @@ BALL = ball_preset("baseball")
 FLIGHT_SETTINGS = {**SETTINGS.config(), "ball_mass_kg": BALL.mass,
                    "ball_radius_m": BALL.radius}
 
-_FT = UNITS["length"]["ft"]
 
 
 def fly(v, w, settings=SETTINGS):
@@ -35,7 +34,7 @@ def fly(v, w, settings=SETTINGS):
               status)
     row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
     bad = status != 0
-    result = {name: np.where(bad, np.nan, out[row[name]] / _FT)
+    result = {name: np.where(bad, np.nan, out[row[name]] / M_PER_FT)
               for name in ("hit_distance", "landing_x", "landing_y", "apex")}
     result["hang_time"] = np.where(bad, np.nan, out[row["hang_time"]])
     return result

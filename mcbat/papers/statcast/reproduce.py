@@ -52,6 +52,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.dataset import storage
 from mcbat.papers.outputs import ResultsDirectory
 from mcbat.papers.statcast.compare import (
@@ -67,14 +68,11 @@ from mcbat.statcast import read, weather
 from mcbat.statcast.launch import launch_spray
 from mcbat.statcast.spin import nathan_average_spin
 from mcbat.study.flight import FlightSettings, fly_launches, season_scales, season_wind_scale
-from mcbat.study.units import UNITS
 
 __all__ = ["AIR_UNITS", "DEFAULT_DATA", "DEFAULT_FLIGHT", "DEFAULT_SPIN", "FLIGHTS",
            "SPIN_MODELS", "air_per_ball", "balls_in_their_air", "compare_file", "reproduce",
            "summarise"]
 
-_FT, _MPH, _DEG, _RPM = (UNITS["length"]["ft"], UNITS["speed"]["mph"], UNITS["angle"]["deg"],
-                          UNITS["spin"]["rpm"])
 #: The shipped samples (resources of the ``mcbat.data`` package; ``data/README.md``).
 DEFAULT_DATA = ("statcast_2020-09-03.csv", "statcast_2019_darvish.csv")
 #: The ball every comparison flies: the regulation baseball of games and flights.
@@ -145,7 +143,7 @@ def air_per_ball(air: pd.DataFrame, wind_scale: float = 1.0) -> dict:
     return {"temperature": (air["temperature"].to_numpy(float) - 32.0) * 5.0 / 9.0 + 273.15,
             "pressure": air["pressure"].to_numpy(float) * 3386.389,
             "relative_humidity": air["relative_humidity"].to_numpy(float),
-            "elevation": air["elevation"].to_numpy(float) * _FT,
+            "elevation": air["elevation"].to_numpy(float) * M_PER_FT,
             "wind_x": air["wind_x"].to_numpy(float) * wind_scale,
             "wind_y": air["wind_y"].to_numpy(float) * wind_scale}
 
@@ -194,14 +192,14 @@ def compare_file(table: pd.DataFrame, source=None, *, weather_table=None,
             drag_scale = drag if scales == "season" else np.ones(len(balls))
             lift_scale = lift if scales == "season" else np.ones(len(balls))
             per_ball.update(drag_scale=drag_scale, lift_scale=lift_scale,
-                            landing_height=balls["compare_height"].to_numpy() * _FT)
+                            landing_height=balls["compare_height"].to_numpy() * M_PER_FT)
             out, status = fly_launches(
-                SETTINGS, BALL.mass, BALL.radius, balls["launch_speed"].to_numpy() * _MPH,
-                balls["launch_angle"].to_numpy() * _DEG,
-                balls[SPRAY_COLUMNS[spin_name]].to_numpy() * _DEG,
-                np.where(spun, backspin, 0.0) * _RPM,
-                np.where(spun, sidespin, 0.0) * _RPM, per_ball=per_ball)
-            predicted = np.where((status == 0) & flown & spun, out["hit_distance"] / _FT,
+                SETTINGS, BALL.mass, BALL.radius, balls["launch_speed"].to_numpy() * M_S_PER_MPH,
+                balls["launch_angle"].to_numpy() * RAD_PER_DEG,
+                balls[SPRAY_COLUMNS[spin_name]].to_numpy() * RAD_PER_DEG,
+                np.where(spun, backspin, 0.0) * RAD_S_PER_RPM,
+                np.where(spun, sidespin, 0.0) * RAD_S_PER_RPM, per_ball=per_ball)
+            predicted = np.where((status == 0) & flown & spun, out["hit_distance"] / M_PER_FT,
                                  np.nan)
             part = balls.copy()
             part["spin_model"] = spin_name
