@@ -71,9 +71,11 @@ def predicted_vs_measured(fig_dir, long):
             ax.scatter(sel["hit_distance_sc"], sel["predicted_distance"], s=14,
                        c=colour, marker=marker, alpha=0.7, lw=0, label=label)
         ax.plot([lo, hi], [lo, hi], color="k", lw=1)
-        med = np.median(part["residual"])
+        finite = part["residual"].to_numpy(float)
+        finite = finite[np.isfinite(finite)]
+        med = f"{np.median(finite):+.1f} ft" if finite.size else "none"
         ax.set_title(f"spin {spin!r}, flight {flight!r}: median predicted - measured "
-                     f"{med:+.1f} ft (n = {len(part)})", fontsize=8)
+                     f"{med} (n = {finite.size})", fontsize=8)
         ax.set_xlim(lo, hi)
         ax.set_ylim(lo, hi)
         ax.set_aspect("equal")
@@ -105,6 +107,7 @@ def residual_vs_launch_angle(fig_dir, long):
         centres, medians = [], []
         for b in np.unique(bins):
             r = core["residual"][bins == b]
+            r = r[np.isfinite(r)]
             if len(r) >= 3:
                 centres.append(b + 5.0)
                 medians.append(np.median(r))
