@@ -4,7 +4,7 @@ from a results directory."""
 
 import sys
 
-from benchmarks import harness
+import harness
 
 if __name__ == "__main__":
     if sys.argv[1:2] == ["render"]:

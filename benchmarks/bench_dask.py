@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks import harness
+import harness
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -24,7 +24,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
-from benchmarks import harness
+import harness
 from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
 from mcbat.study.flight import FlightSettings, launch_vectors
 

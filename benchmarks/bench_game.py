@@ -25,7 +25,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
-from benchmarks import harness
+import harness
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.swing import (
     GAME_INPUT_FIELDS,

@@ -22,7 +22,7 @@ import numba
 import numpy as np
 import pandas as pd
 
-from benchmarks import harness
+import harness
 from mcbat import statcast
 from mcbat.bodies.presets import BALL_PRESETS
 from mcbat.inference import infer_spin, predict_batted_balls

@@ -12,7 +12,7 @@ import argparse
 
 import numpy as np
 
-from benchmarks import harness
+import harness
 from mcbat.core.cabo2012 import solve_impact
 from mcbat.core.cabo2012.contact import (
     DEFAULT_MAX_STEPS,

@@ -24,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from benchmarks import harness
+import harness
 
 ROOT = Path(__file__).resolve().parents[1]
 

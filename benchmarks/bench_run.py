@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks import harness
+import harness
 
 ROOT = Path(__file__).resolve().parents[1]
 #: python -m benchmarks --quick run

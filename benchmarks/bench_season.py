@@ -23,7 +23,7 @@ import time
 from importlib import resources
 from pathlib import Path
 
-from benchmarks import harness
+import harness
 
 #: python -m benchmarks --quick season
 QUICK_ARGS = ["--rows", "50000", "--repeats", "1"]

@@ -14,7 +14,7 @@ import tempfile
 from importlib import resources
 from pathlib import Path
 
-from benchmarks import harness
+import harness
 from mcbat.statcast import read
 
 #: python -m benchmarks --quick statcast

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks import harness
+import harness
 
 ROOT = Path(__file__).resolve().parents[1]
 THROUGHPUT = ROOT / "studies" / "throughput.toml"

@@ -16,13 +16,11 @@ from pathlib import Path
 import numba
 import numpy as np
 
+import harness
 import mcbat
-from benchmarks import harness
+from harness.population import SETS, TRUTH
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table, simulate_table
-
-# The same five parameters, observables and true values as the injection check.
-from validation.population_injection import SETS, TRUTH
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -19,7 +19,7 @@ import re
 import sys
 from pathlib import Path
 
-from benchmarks import harness
+import harness
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -390,7 +390,7 @@ def long_table(results: dict) -> str:
     return _table(LONG, results)
 
 
-# --- accuracy: python -m validation accuracy_mix and fuzz_kernel --------------------------
+# --- accuracy: python -m validation kernel_accuracy and fuzz_kernel ---------------------
 
 MODE_LABELS = {"free": "Sec. V bodies, free slip", "small": "small incoming slip",
                "zero": "zero-slip incidence", "reslip": "re-slip",

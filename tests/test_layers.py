@@ -90,3 +90,55 @@ def test_every_public_module_declares_all():
         if "__all__" not in names:
             missing.append(str(path.relative_to(ROOT)))
     assert missing == []
+
+
+def _top_level_imports(folder):
+    """``{file: {top-level package}}`` of every import in a top-level folder's modules."""
+    found = {}
+    for path in sorted((ROOT / folder).rglob("*.py")):
+        names = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                names |= {alias.name.split(".")[0] for alias in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                names.add(node.module.split(".")[0])
+        found[str(path.relative_to(ROOT))] = names
+    return found
+
+
+def test_benchmarks_and_validation_share_only_the_harness():
+    # Speed (benchmarks/) and correctness (validation/) both run on harness/ and never
+    # import each other; the harness imports neither.
+    offenders = []
+    for folder, other in (("benchmarks", {"validation"}), ("validation", {"benchmarks"}),
+                          ("harness", {"benchmarks", "validation"})):
+        imports = _top_level_imports(folder)
+        assert imports, folder
+        offenders += [f"{path} imports {sorted(names & other)}"
+                      for path, names in imports.items() if names & other]
+    assert offenders == []
+    assert any("harness" in names for names in _top_level_imports("benchmarks").values())
+    assert any("harness" in names for names in _top_level_imports("validation").values())
+
+
+def test_no_validation_run_shares_a_name_with_a_module_of_mcbat_testing():
+    # One name, one module: `validation.x` and `mcbat.testing.x` would be two different
+    # things behind the same name in commands, imports and docs.
+    testing = {p.stem for p in (ROOT / "mcbat" / "testing").glob("*.py")} - {"__init__"}
+    runs = {p.stem for p in (ROOT / "validation").glob("*.py")} - {"__init__", "__main__"}
+    assert testing and runs
+    assert testing & runs == set()
+
+
+def test_tests_import_the_top_level_folders_as_packages():
+    # No test loads a module by its path or edits sys.path: validation, benchmarks and the
+    # harness are imported as packages from the repository's root (pytest's pythonpath).
+    offenders = []
+    for path in sorted((ROOT / "tests").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call):
+                continue
+            called = ast.unparse(node.func)
+            if called.endswith("spec_from_file_location") or called.startswith("sys.path."):
+                offenders.append(f"{path.relative_to(ROOT)}:{node.lineno}: {called}")
+    assert offenders == []

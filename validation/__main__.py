@@ -2,7 +2,7 @@
 
 import sys
 
-from benchmarks import harness
+import harness
 
 if __name__ == "__main__":
     sys.exit(harness.main("validation", sys.argv[1:], doc=__doc__))

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from benchmarks import harness
+import harness
 from mcbat.papers.statcast.calibrate import calibrate
 from mcbat.papers.statcast.compare import eligible_window, residual_stats
 from mcbat.papers.statcast.reproduce import (

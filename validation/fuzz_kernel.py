@@ -48,7 +48,7 @@ import time
 
 import numpy as np
 
-from benchmarks import harness
+import harness
 from mcbat.core import status as st
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE

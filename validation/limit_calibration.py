@@ -1,6 +1,6 @@
 """Is the test behind a conditional limit calibrated? Its p-value at the truth, table by table.
 
-Run:  .venv/bin/python -m validation fit_validation --settings onset_low --tables 800 \
+Run:  .venv/bin/python -m validation drop_fit_checks --settings onset_low --tables 800 \
           --workers 2 --out fit-validation
       .venv/bin/python -m validation limit_calibration --records fit-validation \
           --setting onset_low --workers 2 --out limit-calibration
@@ -34,7 +34,7 @@ from mcbat.testing.fit_validation import (  # noqa: E402
     p_value_shares,
     run_jobs,
 )
-from validation.fit_validation import read_records  # noqa: E402
+from validation.drop_fit_checks import read_records  # noqa: E402
 
 
 def worker(args):

@@ -29,7 +29,7 @@ trade: the steps it takes, against the kernel's.
 Printed, per step rule (the kernel's adaptive one, then each --factors): the cases
 measured, the cases with a violation of the criterion in ``I_s`` between consecutive
 tolerances 5e-7 ... 5e-11, the largest ``I_s`` error per tolerance and the mean steps.
-The references come from the same cache as ``validation/accuracy_mix.py``.
+The references come from the same cache as ``validation/kernel_accuracy.py``.
 """
 
 import argparse
@@ -58,7 +58,7 @@ from mcbat.testing.accuracy_mix import (
     draw_mix,
     kernel_errors,
 )
-from validation.accuracy_mix import DEFAULT_TOLERANCES, load_or_compute_references
+from validation.kernel_accuracy import DEFAULT_TOLERANCES, load_or_compute_references
 
 MAX_STEPS = 20_000
 

@@ -6,8 +6,9 @@ parameters, fitted back; prints the pulls and the MINOS intervals' coverage.
     ... --tables 20 --rows 200 --draws 40                # a reduced one
     ... --rows 500 --combine fits500.jsonl               # summarise earlier runs
 
-Each table: ``--rows`` batted balls of ``examples/population_game.toml`` with the truth
-below, every ball meeting a real pitch of data/statcast_2020-09-03.csv (resampled). The
+Each table: ``--rows`` batted balls of ``examples/population_game.toml`` with the truth of
+``harness.population.TRUTH`` (shared with ``python -m benchmarks population_timing``), every
+ball meeting a real pitch of data/statcast_2020-09-03.csv (resampled). The
 pull of a parameter is ``(fit - truth) / sigma`` with sigma the MINOS error on the truth's
 side; coverage is the fraction of tables whose MINOS interval holds the truth (68.3 %
 expected).
@@ -33,25 +34,13 @@ from pathlib import Path
 
 import numpy as np
 
+import harness
 import mcbat
-from benchmarks import harness
+from harness.population import SETS, TRUTH
 from mcbat.statcast import read
 from mcbat.stats.population import fit_population, population_table, simulate_table
 
 ROOT = Path(__file__).resolve().parents[1]
-TRUTH = {"swing.bat_speed.mean": 69.0, "swing.bat_speed.std": 6.0,
-         "swing.attack_angle.mean": 12.0, "swing.attack_angle.std": 7.0,
-         "contact.undercut.std": 0.9, "swing.attack_direction.std": 12.0}
-"""The injected values (the study's units: mph, deg, in)."""
-SETS = {
-    "spread": (("swing.bat_speed.mean", "swing.bat_speed.std", "swing.attack_angle.mean",
-                "contact.undercut.std", "swing.attack_direction.std"),
-               ("launch_speed", "launch_angle", "spray_angle")),
-    "widths": (("swing.bat_speed.mean", "swing.bat_speed.std", "swing.attack_angle.mean",
-                "swing.attack_angle.std", "contact.undercut.std"),
-               ("launch_speed", "launch_angle")),
-}
-"""Free parameters and observables of each ``--set``."""
 
 
 def main(argv=None):

@@ -1,7 +1,7 @@
 """The kernel's accuracy instrument: its error measure on the random mix.
 
 ``mcbat.testing.accuracy_mix`` draws a hard mix of impacts and measures the kernel against
-the scipy reference; ``validation/accuracy_mix.py`` runs it on 520 cases. Here:
+the scipy reference; ``validation/kernel_accuracy.py`` runs it on 520 cases. Here:
 
 * the mix itself (what the accuracy targets are stated on) is checked in
   ``test_impact_mix.py``;
@@ -123,7 +123,7 @@ def test_kernel_meets_the_accuracy_targets_on_the_subset(subset):
 def test_monotone_convergence_on_the_subset(subset):
     """Monotone convergence on the subset. (On the whole 520-case mix a few
     cases still violate it where an error changes sign between two tolerances:
-    ``validation/accuracy_mix.py`` counts them.)"""
+    ``validation/kernel_accuracy.py`` counts them.)"""
     cases, refs = subset
     runs = {tol: kernel_errors(cases, refs, tol) for tol in TOLERANCES}
     violations = {}
@@ -205,15 +205,10 @@ def test_a_slip_minimum_below_the_resolution_is_a_stop_in_both_solvers():
 
 @pytest.fixture(scope="module")
 def uniform_steps():
-    """The validation script as a module (it imports ``validation.accuracy_mix``)."""
-    import importlib
-    import sys
-    from pathlib import Path
+    """The validation run as a module (it imports ``validation.kernel_accuracy``)."""
+    from validation import monotone_uniform_steps
 
-    root = str(Path(__file__).resolve().parents[2])
-    if root not in sys.path:
-        sys.path.insert(0, root)
-    return importlib.import_module("validation.monotone_uniform_steps")
+    return monotone_uniform_steps
 
 
 def test_uniform_step_sequence_converges_at_fourth_order_to_the_reference(subset,

@@ -14,7 +14,6 @@ velocities, so a NaN never passes for a result. NaN, inf or out-of-range inputs 
 20,000-row variant runs in CI).
 """
 
-import importlib.util
 import math
 import time
 from pathlib import Path
@@ -38,6 +37,7 @@ from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.geometry import contact_frame
 from mcbat.core.rigid_bodies import relative_contact_velocity
 from tests.conftest import SEC5, SEC5_THETA, kernel
+from validation import fuzz_kernel
 
 ROOT = Path(__file__).resolve().parents[2]
 SOLVER = (DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS)
@@ -52,15 +52,6 @@ BODY_KEYS = ("ball_mass", "ball_radius", "ball_inertia_factor", "bat_mass",
              "bat_transverse_inertia", "bat_axial_inertia", "axial", "radius", "slope")
 
 
-def load_fuzz_script():
-    spec = importlib.util.spec_from_file_location(
-        "fuzz_kernel", ROOT / "validation" / "fuzz_kernel.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-fuzz_kernel = load_fuzz_script()
 
 
 # ---- strategies ----------------------------------------------------------------------------

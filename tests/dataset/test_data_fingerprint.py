@@ -2,25 +2,12 @@
 recorded in; elsewhere the columns derived with numpy's arctan2 by their definition and
 within a few ulps, the others still bit for bit."""
 
-import importlib.util
-import sys
-
 import numpy as np
 import pytest
 
-from tests.conftest import ROOT
+from validation import data_fingerprint
 
-
-def _script():
-    spec = importlib.util.spec_from_file_location(
-        "data_fingerprint", ROOT / "validation" / "data_fingerprint.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-FP = _script()
+FP = data_fingerprint
 
 
 @pytest.fixture

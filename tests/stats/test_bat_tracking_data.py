@@ -75,9 +75,6 @@ def test_study_draws_from_the_shipped_excerpt():
 
 @pytest.mark.skipif(not SOURCE.exists(), reason="the shared Statcast export is absent")
 def test_parts_of_a_days_games_are_disjoint_and_cover_it():
-    import sys
-
-    sys.path.insert(0, str(ROOT))
     from validation.bat_tracking import tracked
 
     whole = tracked([SOURCE.name])

@@ -9,7 +9,6 @@ the contact's bat-speed trend are the study's (the scan that chose them,
 test runs two contact fits.
 """
 
-import sys
 import tomllib
 from pathlib import Path
 
@@ -34,7 +33,6 @@ def _study_errors():
 
 @pytest.fixture(scope="module")
 def outcome():
-    sys.path.insert(0, str(ROOT))
     from validation.bat_tracking import run
 
     errors, trend = _study_errors()

@@ -2,7 +2,6 @@
 
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -87,7 +86,6 @@ def test_synth_rejects_out_of_range_parameters(capsys):
 def test_injection_and_recovery():
     # 150 tables: with 50, the binomial spread of the coverage (+-6.6 %) is as wide as the
     # 60-76 % window itself (a 50-table run gave 52 % and 84 %, pull std 1.05 and 0.95).
-    sys.path.insert(0, str(ROOT))
     from validation.injection_recovery import run
 
     coverage, bias, times = run(tables=150, rows=60, log=print)
@@ -153,7 +151,6 @@ def test_interval_coverage_small(tmp_path, setting):
     """A small run of validation/interval_coverage.py (the full one: >= 400 tables per
     setting, docs/fitting.md). With 60 tables the binomial spread of a coverage is 6 %, so
     this checks within 3 of those spreads, and the mean pull within 3 standard errors."""
-    sys.path.insert(0, str(ROOT))
     import validation.interval_coverage as ic
 
     ic.worker((0, 1, 60, setting, str(tmp_path)))

@@ -253,7 +253,7 @@ def test_p_value_shares_count_at_or_below_each_level():
 def test_refitted_limits_replace_the_earlier_records_of_their_tables(tmp_path):
     import json
 
-    from validation.fit_validation import BASE, limit_jobs, read_records
+    from validation.drop_fit_checks import BASE, limit_jobs, read_records
 
     def record(k, limit, tag):
         return {"setting": "edges_low", "table": k, "tag": tag,

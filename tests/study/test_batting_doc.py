@@ -1,28 +1,18 @@
 """docs/batting.md quotes what the code gives: its generated blocks and the numbers in
 its text are those ``python -m validation batting_doc`` computes now."""
 
-import importlib.util
 import re
-import sys
 
 import pytest
 
 from mcbat.papers.sawicki2003.doc import blocks
 from tests.conftest import ROOT
+from validation import batting_doc
 
 TEXT = (ROOT / "docs" / "batting.md").read_text(encoding="utf-8")
 
 
-def _doc_script():
-    spec = importlib.util.spec_from_file_location("batting_doc",
-                                                  ROOT / "validation" / "batting_doc.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-DOC = _doc_script()
+DOC = batting_doc
 
 
 def test_every_block_and_inline_number_is_in_the_doc_once():

@@ -3,9 +3,7 @@ compute: its generated blocks are recomputed here (the optimal cells and two ste
 everything with ``-m slow``), and its description of the scan is checked against the
 scan's constants."""
 
-import importlib.util
 import re
-import sys
 
 import pytest
 
@@ -95,12 +93,9 @@ def test_the_doc_describes_the_scan_that_runs():
 
 
 def _doc_script():
-    spec = importlib.util.spec_from_file_location("sawicki2003_doc",
-                                                  ROOT / "validation" / "sawicki2003_doc.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
+    from validation import sawicki2003_doc
+
+    return sawicki2003_doc
 
 
 @pytest.mark.slow

@@ -1,12 +1,12 @@
 """The textbook fit of the validation's drop tables: how often mu's profile interval holds
 the truth when every input is known and the model is exact.
 
-Run:  .venv/bin/python -m validation textbook_fit --settings inside,wide,slide --tables 200 \
+Run:  .venv/bin/python -m validation textbook_coverage --settings inside,wide,slide --tables 200 \
           --out textbook.jsonl
-      .venv/bin/python -m validation textbook_fit --summary textbook.jsonl
-      .venv/bin/python -m validation textbook_fit --settings inside --hold 22 --draws 60
-      .venv/bin/python -m validation textbook_fit --settings inside --box-bias 3,9,22
-      .venv/bin/python -m validation textbook_fit --settings inside --tables 300 \
+      .venv/bin/python -m validation textbook_coverage --summary textbook.jsonl
+      .venv/bin/python -m validation textbook_coverage --settings inside --hold 22 --draws 60
+      .venv/bin/python -m validation textbook_coverage --settings inside --box-bias 3,9,22
+      .venv/bin/python -m validation textbook_coverage --settings inside --tables 300 \
           --calibrate 100 --out calibrated.jsonl
 
 Each table of :mod:`mcbat.testing.fit_validation` (the same seeds and noise as the fit's

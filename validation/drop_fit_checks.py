@@ -1,10 +1,10 @@
 """The drop-test fit against tables it did not simulate: pulls, coverage, limits, refusals.
 
-Run:  .venv/bin/python -m validation fit_validation --settings inside,edges --tables 400 \
+Run:  .venv/bin/python -m validation drop_fit_checks --settings inside,edges --tables 400 \
           --workers 2 --out fit-validation
-      .venv/bin/python -m validation fit_validation --summary fit-validation
-      .venv/bin/python -m validation fit_validation --crosscheck 3
-      .venv/bin/python -m validation fit_validation --summary fit-validation \
+      .venv/bin/python -m validation drop_fit_checks --summary fit-validation
+      .venv/bin/python -m validation drop_fit_checks --crosscheck 3
+      .venv/bin/python -m validation drop_fit_checks --summary fit-validation \
           --figure docs/figures/fit_checks_pulls.png
 
 The tables, the fit and the summary are :mod:`mcbat.testing.fit_validation` (its docstring

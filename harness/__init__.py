@@ -1,10 +1,13 @@
 """What every benchmark and validation run shares: the command line, timing, the machine
 and the JSON results.
 
-``python -m benchmarks NAME [ARGS]`` and ``python -m validation NAME [ARGS]`` import
-``benchmarks.NAME`` (or ``benchmarks.bench_NAME``) and call its ``main(ARGS)``; ``all``
-runs every module of the folder, one at a time. A benchmark reports its figures with
+``benchmarks/`` (speed) and ``validation/`` (correctness) both use this package and never
+import each other. ``python -m benchmarks NAME [ARGS]`` and ``python -m validation NAME
+[ARGS]`` import ``PACKAGE.NAME`` (or ``PACKAGE.bench_NAME``) and call its ``main(ARGS)``;
+``all`` runs every module of the folder, one at a time. A run reports its figures with
 :func:`record`, which writes ``DIR/NAME.json`` when the run was given ``--results DIR``.
+:mod:`harness.population` holds the population fit's injected truth, which the injection
+check (validation) and the fit's timing (benchmarks) share.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 #: Modules of the two folders that are not runs.
-NOT_RUNS = {"harness", "render", "__main__"}
+NOT_RUNS = {"render", "__main__"}
 
 #: Set by :func:`main` for the run in progress: where :func:`record` writes, and how the
 #: run was called (stored in its JSON).
@@ -40,6 +43,7 @@ class Timing:
 
     @property
     def median(self) -> float:
+        """The median wall time, in seconds."""
         return statistics.median(self.times)
 
 
@@ -57,6 +61,7 @@ def median_time(fn, runs: int, warmup: int = 1) -> Timing:
 
 
 def cpu_model() -> str:
+    """The processor's name (from /proc/cpuinfo where there is one)."""
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
             if line.startswith("model name"):
@@ -86,6 +91,7 @@ def machine() -> dict:
 
 
 def machine_line(m: dict | None = None) -> str:
+    """One line naming the machine ``m`` (a :func:`machine` dict; this one by default)."""
     m = machine() if m is None else m
     return (f"{m['cpu']}, {m['cores']} cores, {m['system']}, Python {m['python']}, numpy "
             f"{m['numpy']}, numba {m['numba']}, scipy {m['scipy']}, pyarrow {m['pyarrow']}, "

@@ -1,6 +1,6 @@
 """Accuracy of the impact kernel against the scipy reference on a hard random mix.
 
-Run:  .venv/bin/python -m validation accuracy_mix [--n 520] [--seed S] [--cache FILE]
+Run:  .venv/bin/python -m validation kernel_accuracy [--n 520] [--seed S] [--cache FILE]
           [--tolerances 5e-7,5e-8,5e-9,5e-10,5e-11] [--default-only] [--json FILE]
           [--jobs 2] [--reference-check]
 
@@ -47,7 +47,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks import harness
+import harness
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
 from mcbat.testing import accuracy_mix, cabo2012_reference, impact_mix, reference_parts
