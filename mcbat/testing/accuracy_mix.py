@@ -11,7 +11,7 @@ re-slip. This module is the measuring instrument for that statement:
 * ``kernel_errors`` runs the batch kernel on the mix at a given tolerance and returns the
   per-case errors in the targets' units (``ERROR_COLUMNS``, ``TARGETS``).
 
-``validation/accuracy_mix.py`` prints the tables; ``tests/core/test_impact_mix.py`` checks
+``validation/kernel_accuracy.py`` prints the tables; ``tests/core/test_impact_mix.py`` checks
 the mix and ``tests/core/test_accuracy_mix.py`` the measure. Unlike the reference solvers in
 this package, this module imports the kernel: it exists to run it.
 

@@ -62,7 +62,7 @@ def reference_solver(b, spin_in, axial, e, mu, e_x, rtol=1e-9):
 def kernel_solver(b, spin_in, axial, e, mu, e_x):
     """As ``reference_solver``, solved by the kernel (the studies' default accuracy,
     agreeing with the reference to ~1e-9): the same tables thousands of times faster,
-    for validation runs of many tables (``validation/fit_validation.py --crosscheck``
+    for validation runs of many tables (``validation/drop_fit_checks.py --crosscheck``
     shows the two give the same tables)."""
     from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 

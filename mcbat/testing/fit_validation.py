@@ -5,7 +5,7 @@ not the study machinery nor ``mcbat synth``) and is fitted as a user would fit i
 ``fit(studies/cross_nathan_2006.toml, table, ("e", "mu"))`` with profile intervals. The
 summary gives, per setting and parameter, the share of two-sided 68 % intervals holding
 the truth, the pulls, how often one-sided 95 % limits hold it, refusals and zero-width
-intervals. ``validation/fit_validation.py`` runs many tables; the tests run a few.
+intervals. ``validation/drop_fit_checks.py`` runs many tables; the tests run a few.
 
 Settings (truth e* = 0.6; 5 mm of stated error on the impact parameter unless said; the
 study's range of the impact parameter is +-1 in):

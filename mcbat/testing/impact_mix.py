@@ -21,7 +21,7 @@ __all__ = ["BASEBALL_BODIES", "BASEBALL_MODES", "CREEP_RATIO_OFFSET", "DEFAULT_S
            "stick_rate"]
 
 DEFAULT_SEED = 20130013
-"""Seed of the mix that ``validation/accuracy_mix.py`` measures by default."""
+"""Seed of the mix that ``validation/kernel_accuracy.py`` measures by default."""
 
 MODES = ("free", "small", "zero", "reslip", "light_bat", "heavy_bat", "high_spin", "creep")
 """Sampling modes, cycled over the cases (case ``i`` has mode ``MODES[i % len(MODES)]``).

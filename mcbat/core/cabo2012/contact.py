@@ -68,7 +68,7 @@ SLIP_RESOLUTION = 1e-10
 # kept fourth-order one errs far less: with a fraction near 1 (0.3, say) the landing
 # dominates I_s in creeping slip, and since it happens at the first step below the
 # threshold its error jumps up and down as the tolerance changes (I_s converges
-# non-monotonically in 5 of the 520 cases of validation/accuracy_mix.py). 0.003 costs 0.8
+# non-monotonically in 5 of the 520 cases of validation/kernel_accuracy.py). 0.003 costs 0.8
 # steps per impact on that mix against 0.3 (0.3 steps on a batting study's).
 LANDING_FRACTION = 0.003
 # Largest step in tau times the spectral radius of the Jacobian of the Lawson equation: RK4
