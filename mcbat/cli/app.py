@@ -11,6 +11,7 @@ from mcbat.cli import (
     calibrate,
     check,
     compare,
+    compiling,
     fit,
     flight,
     impact,
@@ -20,6 +21,7 @@ from mcbat.cli import (
     run,
     statcast,
     synth,
+    warmup,
 )
 from mcbat.cli.common import (
     EXIT_BROKEN_PIPE,
@@ -59,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     infer.add_parser(sub)
     replay.add_parser(sub)
     compare.add_parser(sub)
+    warmup.add_parser(sub)
     return parser
 
 
@@ -73,7 +76,8 @@ def main(argv=None) -> int:
         if not getattr(args, "func", None):
             parser.print_help(sys.stderr)
             return EXIT_USER
-        return args.func(args)
+        with compiling.notice(args):  # a first run's compile says so (mcbat.cli.compiling)
+            return args.func(args)
     except UsageError as err:
         print(f"mcbat: error: {one_line(str(err))}", file=sys.stderr)
         return EXIT_USER

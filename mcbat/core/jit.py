@@ -22,7 +22,7 @@
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "njit"]
+__all__ = ["JIT_OPTIONS", "is_cold", "njit"]
 
 JIT_OPTIONS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
 
@@ -33,3 +33,23 @@ def njit(*args, **overrides):
     if args and callable(args[0]):
         return numba.njit(**options)(args[0])
     return numba.njit(*args, **options)
+
+
+def is_cold(dispatcher):
+    """True when calling ``dispatcher`` (a numba function) will compile it first: no
+    machine code in this process, and none in its on-disk cache for this CPU and source;
+    False when it will not; None when this numba's cache cannot be read this way.
+
+    The test reads the cache's index as numba's own lookup does (by the CPU and the
+    function's bytecode; the argument types are not compared), without compiling or
+    loading anything.
+    """
+    if dispatcher.signatures:
+        return False  # compiled (or loaded from the cache) in this process already
+    try:
+        cache = dispatcher._cache  # numba's internals: any change means "unknown"
+        index = cache._cache_file._load_index()  # {} without a file, or for an old source
+        wanted = cache._index_key(None, dispatcher.targetctx.codegen())[1:]
+    except Exception:  # noqa: BLE001 - an unknown state, never a failed run
+        return None
+    return not any(tuple(key[1:]) == wanted for key in index)

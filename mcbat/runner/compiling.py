@@ -2,35 +2,28 @@
 
 numba compiles a kernel on its first call in a process unless its on-disk cache
 (``cache=True``, ``mcbat.core.jit``) holds machine code for this CPU and this source.
-The batch kernels take 20-30 s to compile, during which the progress bar would sit at
-0 % with no word of why. The test reads the cache's index as numba's own lookup does (by
-the CPU and the function's bytecode; the argument types are not compared), without
-compiling or loading anything.
+The batch kernels take 10-20 s to compile, during which the progress bar would sit at
+0 % with no word of why. ``is_cold`` (``mcbat.core.jit``) reads numba's cache index
+without compiling or loading anything. Other commands say it at their first compile
+(``mcbat.cli.compiling``).
 """
 
 from __future__ import annotations
 
 import sys
 
-__all__ = ["COMPILING", "MAYBE_COMPILING", "announce_compiling", "is_cold", "kernels_for"]
+from mcbat.core.jit import is_cold
+
+__all__ = ["COMPILING", "MAYBE_COMPILING", "announce_compiling", "announced", "is_cold",
+           "kernels_for"]
 
 COMPILING = "mcbat: compiling the kernels (first run only, ~30 s)"
 MAYBE_COMPILING = "mcbat: the kernels may need compiling (first run only, ~30 s)"
 
-
-def is_cold(dispatcher):
-    """True when calling ``dispatcher`` (a numba function) will compile it first: no
-    machine code in this process, and none in its on-disk cache for this CPU and source;
-    False when it will not; None when this numba's cache cannot be read this way."""
-    if dispatcher.signatures:
-        return False  # compiled (or loaded from the cache) in this process already
-    try:
-        cache = dispatcher._cache  # numba's internals: any change means "unknown"
-        index = cache._cache_file._load_index()  # {} without a file, or for an old source
-        wanted = cache._index_key(None, dispatcher.targetctx.codegen())[1:]
-    except Exception:  # noqa: BLE001 - an unknown state, never a failed run
-        return None
-    return not any(tuple(key[1:]) == wanted for key in index)
+#: The line ``announce_compiling`` printed in this command, None before (the CLI resets
+#: it per command): the CLI's own notice at the first compile (``mcbat.cli.compiling``)
+#: stays silent once a run has said it.
+announced: str | None = None
 
 
 def kernels_for(study) -> list:
@@ -59,5 +52,7 @@ def announce_compiling(kernels, stream=None) -> str | None:
         line = MAYBE_COMPILING
     else:
         return None
+    global announced
     print(line, file=sys.stderr if stream is None else stream, flush=True)
+    announced = line
     return line

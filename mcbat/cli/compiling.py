@@ -1,0 +1,199 @@
+"""The line a command prints when it starts compiling numba kernels, and the kernel groups.
+
+A fresh install compiles the kernels a command needs on its first call (10-20 s on two
+cores, ``docs/accuracy-and-speed.md``); later calls load them from numba's cache. Rather
+than sit silent, the first compile of a command prints one line on stderr, at once:
+
+    mcbat: compiling the game kernel and the flight kernel (first run only, about 15 s)
+
+naming the kernel groups of the command (``COMMAND_GROUPS``) that are still to compile,
+with the time they take (``KERNEL_GROUPS``). ``notice`` is the one place that does it,
+around every command in ``mcbat.cli.app.main``: it listens for numba's own compile event
+(its cache misses), so a warm command (everything loaded from the cache) prints nothing,
+and an error found before any kernel runs stays the command's one line. A command with
+``--quiet`` prints nothing; a study run prints its own line before its progress bar
+(``mcbat.runner.compiling``). ``mcbat warmup`` compiles every group ahead of time.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import sys
+from dataclasses import dataclass
+
+__all__ = ["COMMAND_GROUPS", "KERNEL_GROUPS", "SOLVER", "KernelGroup", "command_groups",
+           "compiling_line", "group_of", "notice"]
+
+
+@dataclass(frozen=True)
+class KernelGroup:
+    """Kernels compiled together: what the line calls them, their entry points
+    (``"module:function"``), and the seconds their first compile takes on two cores
+    besides the shared impact solver (``SOLVER``), if ``uses_solver``."""
+
+    label: str
+    entries: tuple[str, ...]
+    seconds: float
+    uses_solver: bool = False
+
+    def dispatchers(self) -> list:
+        """The entry points' numba dispatchers (importing their modules compiles nothing)."""
+        found = []
+        for entry in self.entries:
+            module, name = entry.split(":")
+            found.append(getattr(importlib.import_module(module), name))
+        return found
+
+
+#: The impact solver every game, bat-frame and inference kernel calls (compiled once,
+#: cached on its own): its entry point and seconds.
+SOLVER = ("mcbat.core.cabo2012.impact:solve_impact", 7.0)
+
+#: Every kernel group (``mcbat warmup`` compiles them in this order). The seconds are
+#: first compiles measured on two cores (``python -m benchmarks first_call``).
+KERNEL_GROUPS = {
+    "game": KernelGroup("the game kernel", ("mcbat.core.swing.game:solve_game_batch",), 4.0,
+                        True),
+    "flight": KernelGroup("the flight kernel", (
+        "mcbat.core.flight.trajectory:fly", "mcbat.core.flight.trajectory:integrate",
+        "mcbat.core.flight.trajectory:fly_batch",
+        "mcbat.core.flight.trajectory:fly_batch_each",
+        "mcbat.core.flight.trajectory:height_at_distance_batch"), 6.0),
+    "bat_frame": KernelGroup("the bat-frame kernel", (
+        "mcbat.core.batch:solve_batch", "mcbat.core.cabo2012.impact:solve_impact"), 2.0, True),
+    "sampling": KernelGroup("the sampler", ("mcbat.core.sampling:draw_random_inputs",), 4.0),
+    "inference": KernelGroup("the inference kernel", (
+        "mcbat.core.contact_inference.solver:infer_contact_batch",), 12.0, True),
+}
+
+_GAME = ("game", "flight")
+
+
+def _study_groups(path) -> tuple[str, ...]:
+    """The groups a study's kernels are in: the game's and the flight's, or the bat
+    frame's (the study file read as TOML; a game's if it cannot be read)."""
+    import tomllib
+    from pathlib import Path
+
+    from mcbat.study.game import is_game
+
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError, TypeError):
+        return _GAME
+    return _GAME if is_game(data) else ("bat_frame",)
+
+
+def command_groups(args) -> tuple[str, ...]:
+    """The kernel groups the command of the parsed ``args`` compiles on a first run (a
+    bat-frame case of ``impact`` is told apart when it compiles: ``notice``)."""
+    command = getattr(args, "command", None)
+    study = getattr(args, "study", None)
+    if command in ("run", "synth") or (command in ("fit", "calibrate") and study
+                                       and not getattr(args, "flight", False)):
+        return ("sampling", *_study_groups(study)) if study else ("sampling", *_GAME)
+    if command == "reproduce":
+        return {"sawicki2003": _GAME, "statcast": ("flight",)}.get(
+            getattr(args, "paper", None), ("sampling", "bat_frame"))
+    return COMMAND_GROUPS.get(command, ())
+
+
+#: The kernel groups of each command that compiles (a study's commands: its kind's,
+#: ``command_groups``).
+COMMAND_GROUPS = {
+    "impact": _GAME,
+    "flight": ("flight",),
+    "calibrate": ("bat_frame",),
+    "fit": ("flight",),  # (--flight; with a study, the study's groups)
+    "infer": ("inference", "game"),
+    "replay": ("flight",),
+}
+
+
+def group_of(dispatcher) -> str | None:
+    """The name of the group whose entry point ``dispatcher`` is, if any."""
+    for name, group in KERNEL_GROUPS.items():
+        for entry in group.entries:
+            module, function = entry.split(":")
+            if (getattr(dispatcher, "py_func", None) is not None
+                    and dispatcher.py_func.__module__ == module
+                    and dispatcher.py_func.__name__ == function):
+                return name
+    return None
+
+
+def _cold(name) -> bool:
+    from mcbat.core.jit import is_cold
+
+    try:
+        return any(is_cold(d) is not False for d in KERNEL_GROUPS[name].dispatchers())
+    except (ImportError, AttributeError):
+        return True
+
+
+def compiling_line(names) -> str:
+    """The line for compiling the groups ``names`` (with the shared solver if it is still
+    to compile)."""
+    from mcbat.core.jit import is_cold
+
+    groups = [KERNEL_GROUPS[n] for n in names]
+    if not groups:
+        return "mcbat: compiling the kernels (first run only)"
+    seconds = sum(g.seconds for g in groups)
+    if any(g.uses_solver for g in groups):
+        module, function = SOLVER[0].split(":")
+        if is_cold(getattr(importlib.import_module(module), function)) is not False:
+            seconds += SOLVER[1]
+    labels = [g.label for g in groups]
+    what = labels[0] if len(labels) == 1 else ", ".join(labels[:-1]) + " and " + labels[-1]
+    return f"mcbat: compiling {what} (first run only, about {5 * round(seconds / 5):.0f} s)"
+
+
+class _FirstCompile:
+    """numba listener: on the first compile event, print the line once."""
+
+    def __init__(self, args, stream):
+        self.args, self.stream, self.said = args, stream, False
+
+    def on_start(self, dispatcher) -> None:
+        if self.said:
+            return
+        self.said = True
+        runner = sys.modules.get("mcbat.runner.compiling")
+        if runner is not None and getattr(runner, "announced", None):
+            return  # a study run said it before its progress bar
+        names = [n for n in command_groups(self.args) if _cold(n)]
+        own = group_of(dispatcher)
+        if own is not None and own not in names:
+            names = [own]  # (a bat-frame case of impact, a bat-frame study)
+        print(compiling_line(names), file=self.stream or sys.stderr, flush=True)
+
+
+@contextlib.contextmanager
+def notice(args, stream=None):
+    """Within the block, the first numba compile (a cache miss) prints the compiling line
+    for the command of ``args`` to ``stream`` (default stderr); nothing for a command that
+    compiles no kernel of its own, nor with ``--quiet``."""
+    if getattr(args, "quiet", False) or not command_groups(args):
+        yield
+        return
+    runner = sys.modules.get("mcbat.runner.compiling")
+    if runner is not None:
+        runner.announced = None
+    first = _FirstCompile(args, stream)
+    try:
+        from numba.core import event
+    except ImportError:  # no numba event API: no line, the command runs as before
+        yield
+        return
+
+    class Listener(event.Listener):
+        def on_start(self, ev):
+            first.on_start((ev.data or {}).get("dispatcher"))
+
+        def on_end(self, ev):
+            pass
+
+    with event.install_listener("numba:compile", Listener()):
+        yield
