@@ -18,8 +18,9 @@ def add_parser(sub) -> None:
                     "play's contact and spin through the game model under the default "
                     "assumptions (docs/spin_inference.md), print the counts.")
     inf.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
-    inf.add_argument("--out", metavar="TABLE.parquet",
-                     help="write the balls and their inferred contact and spin (Parquet)")
+    inf.add_argument("--out", metavar="TABLE.parquet|TABLE.csv",
+                     help="write the balls and their inferred contact and spin (Parquet; or "
+                     "CSV, units in the column header)")
     inf.add_argument("--strict", action="store_true", help="refuse a pitch given twice (the "
                      "same game_pk, at_bat_number and pitch_number) instead of dropping the "
                      "copy and counting it")
@@ -34,7 +35,7 @@ def cmd_infer(args) -> int:
     from mcbat.statcast.reader import read_with_lines
 
     if args.out:
-        check_output(args.out, "--out", (".parquet", ".pq"))
+        check_output(args.out, "--out", (".parquet", ".pq", ".csv"))
     check_input_file(args.file)
     with flags("strict"):
         pitches, lines = read_with_lines(args.file, strict=args.strict)

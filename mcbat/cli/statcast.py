@@ -23,8 +23,9 @@ def add_parser(sub) -> None:
                     "per pitch type.")
     sc.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
     sc.add_argument("--json", action="store_true", help="print one JSON object")
-    sc.add_argument("--out", metavar="TABLE.parquet", help="write the tidy table (Parquet, "
-                    "units in the schema metadata)")
+    sc.add_argument("--out", metavar="TABLE.parquet|TABLE.csv",
+                    help="write the tidy table (Parquet, units in the schema metadata; or CSV, "
+                    "units in the column header: launch_speed [mph])")
     sc.add_argument("--strict", action="store_true", help="refuse a pitch given twice "
                     "(the same game_pk, at_bat_number and pitch_number) instead of dropping "
                     "the copy and counting it")
@@ -33,16 +34,20 @@ def add_parser(sub) -> None:
 
 def cmd_statcast(args) -> int:
     """Read the export; print its summary (or JSON), write the tidy table with --out."""
+    from mcbat.dataset.tables import write_table
     from mcbat.statcast import read, summarize, write
 
     if args.out:
-        check_output(args.out, "--out", (".parquet", ".pq"))
+        check_output(args.out, "--out", (".parquet", ".pq", ".csv"))
     with flags("strict"):
         table = read(args.file, strict=args.strict)
     summary = summarize(table)
     if args.out:
         try:
-            write(table, args.out)
+            if str(args.out).lower().endswith(".csv"):
+                write_table(table, args.out, field="--out")
+            else:
+                write(table, args.out)
         except OSError as err:
             raise InputError("--out", f"cannot write: {err.strerror or err}",
                              args.out) from None

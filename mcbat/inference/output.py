@@ -21,7 +21,9 @@ METADATA_KEY = b"mcbat.inference"
 def write(table, spin, path) -> None:
     """Write the balls (``CARRIED_COLUMNS`` of ``table``) and their inferred contact
     and spin (``spin``, from ``infer_spin`` on ``table``) to one Parquet file,
-    atomically, with units, assumptions and status counts in the schema metadata."""
+    atomically, with units, assumptions and status counts in the schema metadata; or,
+    for a path ending in ``.csv``, to a CSV file with the units in its header
+    (:func:`mcbat.dataset.tables.write_table`)."""
     import json
     import os
     from pathlib import Path
@@ -33,6 +35,11 @@ def write(table, spin, path) -> None:
     df = pd.concat([table[carried], spin], axis=1)
     units = {c: table.attrs.get("units", {}).get(c, "") for c in carried}
     units.update(spin.attrs["units"])
+    if str(path).lower().endswith(".csv"):
+        from mcbat.dataset.tables import write_table
+
+        write_table(df, path, units)
+        return
     info = {"units": units, "assumptions": spin.attrs["assumptions"],
             "status_counts": spin.attrs["status_counts"]}
     arrow = pa.Table.from_pandas(df, preserve_index=False)
