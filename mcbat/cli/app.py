@@ -31,6 +31,7 @@ from mcbat.cli.common import (
     ArgumentParser,
     UsageError,
     one_line,
+    reading_progress,
 )
 from mcbat.errors import EnvironmentFailure, InputError
 
@@ -76,7 +77,7 @@ def main(argv=None) -> int:
         if not getattr(args, "func", None):
             parser.print_help(sys.stderr)
             return EXIT_USER
-        with compiling.notice(args):  # a first run's compile says so (mcbat.cli.compiling)
+        with compiling.notice(args), reading_progress():  # (mcbat.cli.compiling, .common)
             return args.func(args)
     except UsageError as err:
         print(f"mcbat: error: {one_line(str(err))}", file=sys.stderr)

@@ -153,6 +153,26 @@ def print_json(value) -> None:
     sys.stdout.write("\n")
 
 
+@contextlib.contextmanager
+def reading_progress(stream=None):
+    """On a terminal, a line on stderr that counts the rows of a Statcast export as they
+    are read (a season's export takes tens of seconds), cleared when the command goes on;
+    nothing when stderr is a file or a pipe, so that logs and tests see only the
+    command's own lines."""
+    stream = sys.stderr if stream is None else stream
+    if not getattr(stream, "isatty", lambda: False)():
+        yield
+        return
+    from mcbat.statcast import reader
+
+    def report(rows, label, done):
+        stream.write(f"\rmcbat: reading {label}: {rows:,} rows" + ("\n" if done else ""))
+        stream.flush()
+
+    with reader.progress(report):
+        yield
+
+
 def check_output(path, flag, suffixes):
     """Refuse an output path that cannot be written, before any work is done."""
     import os

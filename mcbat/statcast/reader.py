@@ -46,6 +46,8 @@ a Parquet file named ``.csv``                 read as Parquet (told by its magic
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import csv
 import json
 import math
@@ -403,17 +405,39 @@ def _csv_chunks(path, label, rows=None):
             duplicates
 
 
+_PROGRESS = contextvars.ContextVar("mcbat_statcast_progress", default=None)
+
+
+@contextlib.contextmanager
+def progress(report):
+    """Within the block, ``report(rows, label, done)`` is called after each piece of a CSV
+    export is read (rows read so far; ``done`` True once, after the last piece): how a
+    command shows its progress on a season's export."""
+    token = _PROGRESS.set(report)
+    try:
+        yield
+    finally:
+        _PROGRESS.reset(token)
+
+
 def _read_csv_tidy(path, label):
     """The tidy table of a CSV export, parsed ``CHUNK_ROWS`` rows at a time, and the
     file line of each row."""
     import pandas as pd
 
+    report = _PROGRESS.get()
     parts, reports, all_lines = [], [], []
+    rows = 0
     for raw, lines, duplicates in _csv_chunks(path, label):
         part = _tidy(raw, label, lines, duplicates)
         reports.append(part.attrs["statcast"])
         parts.append(part)
         all_lines.append(np.asarray(lines, dtype=np.int64))
+        rows += len(part)
+        if report is not None:
+            report(rows, label, False)
+    if report is not None:
+        report(rows, label, True)
     df = parts[0] if len(parts) == 1 else pd.concat(parts, ignore_index=True)
     df.attrs["units"] = dict(UNITS)
     df.attrs["statcast"] = _merged_reports(reports)
