@@ -443,6 +443,25 @@ def judge(argv, code, stdout, stderr):
     return bad
 
 
+def warm_up(scratch, dataset):
+    """One valid input of each surface, untimed and unjudged: the first call of a command
+    loads (or, after a change to a kernel's source, compiles) its numba kernels, which
+    prints one line on stderr and is no hang."""
+    from mcbat.cli import main as cli_main
+
+    flight = ["fit", "--flight", "--data", str(BASE), "--intervals", "curvature"]
+    game = ["fit", "--study", str(ROOT / "studies" / "game_fastball.toml"), "--data",
+            str(BASE), "--free", "e", "--intervals", "curvature", "--no-compare", "--draws",
+            "4"]
+    for argv in (["statcast", str(BASE)], ["infer", str(BASE)],
+                 ["compare", str(dataset), str(BASE), "--permutations", "10"], flight, game,
+                 ["impact", str(ROOT / "examples" / "game_fastball.json")],
+                 ["impact", str(ROOT / "examples" / "cabo2012_sec5.json")]):
+        with contextlib.redirect_stdout(io.StringIO()), \
+                contextlib.redirect_stderr(io.StringIO()):
+            cli_main(argv)
+
+
 def _dataset(scratch):
     """A small game dataset to compare the files with."""
     from mcbat.cli import main as cli_main
@@ -469,6 +488,7 @@ def work(task):
         if TRACKED.exists():
             bases.append(_base_rows(TRACKED, 90))
         dataset = _dataset(scratch)
+        warm_up(scratch, dataset)
         surfaces = list(WEIGHTS)
         for i in indices:
             rng = random.Random(f"{seed}-{i}")

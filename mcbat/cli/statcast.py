@@ -110,6 +110,6 @@ def statcast_lines(summary):
 
 
 def _code(kind):
-    """A pitch type as printed: Savant's codes (FF, SL, ...) as they are, anything else
-    the file holds quoted (a cell of text that is no code)."""
-    return kind if re.fullmatch(r"[A-Za-z]{1,4}|\(none\)", kind) else repr(kind)
+    """A pitch type as printed: Savant's codes (FF, SL, ...: capital letters) as they
+    are, anything else the file holds quoted (a cell of text that is no code)."""
+    return kind if re.fullmatch(r"[A-Z]{1,3}|\(none\)", kind) else repr(kind)
