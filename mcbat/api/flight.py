@@ -39,6 +39,7 @@ from mcbat.api.contract import (
 )
 from mcbat.api.game import GameResult
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
+from mcbat.core.flight import FlightStatus
 from mcbat.core.flight import fly as flight_kernel
 from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.errors import InputError
@@ -333,13 +334,13 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
             raise InputError("trajectory", "not available with scheme = \"sheet\"")
         samples = np.empty((4, int(min(120.0 / dt, MAX_TRAJECTORY_POINTS)) + 2))
         f, count = integrate_flight(params, x, v, w, samples, dt)
-    if f.status == 3:
+    if f.status == FlightStatus.NOT_RISEN:
         raise InputError("landing_height", "the ball never rises to the landing height: it "
                          "reaches the ground first")
-    if f.status == 1:  # the launch point: below the ground, or not finite
+    if f.status == FlightStatus.INVALID:  # the launch point: below the ground, or not finite
         raise InputError("position", "the ball cannot fly from there (below the ground)")
     landing = (f.distance, f.landing_x, f.landing_y, f.hang_time, f.apex)
-    if f.status != 0 or not all(math.isfinite(value) for value in landing):
+    if f.status != FlightStatus.OK or not all(math.isfinite(value) for value in landing):
         # A successful answer holds numbers only: a ball the model cannot carry (a
         # feather's mass, a balloon's radius, a launch near the speed of light) is the
         # input's fault, said so, not a null in the output. A ball that hovers (a 36 km

@@ -18,6 +18,7 @@ from mcbat.core.contact_inference import (
     INFER_NEAREST_BAT_SPEED,
     INFERENCE_STATUS_NAMES,
     SOLUTION_FIELDS,
+    InferenceStatus,
     allocate_inference_outputs,
     infer_contact_batch,
 )
@@ -272,9 +273,10 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
                               - measured_bat_speed)
         # the z-mode solution carries the measured bat speed itself: exactly 0
         adjustment[np.abs(adjustment) < 1e-9] = 0.0
-        inconsistent = (status == 0) & (np.abs(adjustment) > options.bat_speed_error)
+        converged = status == InferenceStatus.CONVERGED
+        inconsistent = converged & (np.abs(adjustment) > options.bat_speed_error)
         if len(nodes) > 1:
-            ok = (status == 0) & ~inconsistent
+            ok = converged & ~inconsistent
             prior = prior * _posterior_weight(game, mode, solution, ok, assumptions, options)
         runs.append((attack_node, prior, solution, status, iterations, evaluations,
                      adjustment, inconsistent))
@@ -393,7 +395,7 @@ def _combine(runs, a: SpinAssumptions):
     evaluations = np.zeros(n, np.int32)
     any_bad = np.zeros(n, bool)
     for node, prior, sol, status, its, evs, adj, bad in runs:
-        ok = (status == 0) & ~bad
+        ok = (status == InferenceStatus.CONVERGED) & ~bad
         w = np.where(ok, np.nan_to_num(prior), 0.0)
         total += w
         solution += np.where(ok, w * np.where(ok, sol, 0.0), 0.0)

@@ -18,6 +18,7 @@ import pandas as pd
 from scipy import special
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.statcast import parks
 from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
@@ -111,7 +112,7 @@ def _margin(settings, ball, launch, per_ball, distance, height, clearance):
     per = {} if per_ball is None else dict(per_ball)
     per["landing_height"] = np.nan_to_num(height, nan=0.0) * M_PER_FT
     out, status = fly_launches(settings, ball.mass, ball.radius, *launch, per_ball=per)
-    down_at = np.where(status == 0, out["hit_distance"] / M_PER_FT, -np.inf)
+    down_at = np.where(status == FlightStatus.OK, out["hit_distance"] / M_PER_FT, -np.inf)
     margin = down_at - distance
     below = np.isfinite(clearance) & (clearance <= 0)
     return np.where(below, np.minimum(margin, clearance), margin)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.statcast.spin import nathan_average_spin
 from mcbat.study.flight import FlightSettings, fly_launches
@@ -81,5 +82,5 @@ def _landing(speed, angle, spray, handedness, per_ball, settings, ball):
     out, status = fly_launches(settings, ball.mass, ball.radius, speed, angle * RAD_PER_DEG,
                                spray * RAD_PER_DEG, back * RAD_S_PER_RPM, side * RAD_S_PER_RPM,
                                per_ball=per_ball)
-    return np.where(status == 0, np.degrees(np.arctan2(out["landing_x"], out["landing_y"])),
-                    np.nan)
+    landed = status == FlightStatus.OK
+    return np.where(landed, np.degrees(np.arctan2(out["landing_x"], out["landing_y"])), np.nan)

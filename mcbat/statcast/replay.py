@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.errors import InputError
 from mcbat.statcast import parks, weather
@@ -157,7 +158,7 @@ def _fly(balls, air, drag, backspin, sidespin, park_ids):
                                launch[1] * RAD_PER_DEG, launch[2] * RAD_PER_DEG,
                                backspin * RAD_S_PER_RPM, sidespin * RAD_S_PER_RPM,
                                per_ball=per_ball)
-    ok = status == 0
+    ok = status == FlightStatus.OK
     call = home_run_call(*launch, backspin, sidespin, park_ids, per_ball=per_ball,
                          game_date=pd.to_datetime(balls["game_date"]).to_numpy(),
                          scatter_ft=_scatter(balls["game_year"]))

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from mcbat.core.status import ImpactStatus
 from mcbat.errors import InputError
 
 __all__ = ["binned", "end_state_fractions", "ok_rows"]
@@ -18,7 +19,8 @@ __all__ = ["binned", "end_state_fractions", "ok_rows"]
 def ok_rows(df: pd.DataFrame) -> pd.DataFrame:
     """Rows the solver solved (``status == 0``); failed rows carry NaN outputs."""
     status = df["status"]
-    ok = status == "ok" if isinstance(status.dtype, pd.CategoricalDtype) else status == 0
+    categorical = isinstance(status.dtype, pd.CategoricalDtype)
+    ok = status == "ok" if categorical else status == ImpactStatus.OK
     return df[ok]
 
 

@@ -11,7 +11,14 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
-from mcbat.core.flight import FLIGHT_FIELDS, allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.flight import (
+    FLIGHT_FIELDS,
+    FlightStatus,
+    allocate_flight_outputs,
+    fly_batch,
+    pack_params,
+)
+from mcbat.core.status import ImpactStatus
 from mcbat.core.swing import (
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
@@ -179,7 +186,7 @@ def _solve_and_fly(study, inputs):
     fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
               w, flown, flight_status)
     batted["hit_distance"] = flown[FLIGHT_FIELDS.index("hit_distance")] / u.UNITS["length"]["ft"]
-    return batted, (status == 0) & (flight_status == 0)
+    return batted, (status == ImpactStatus.OK) & (flight_status == FlightStatus.OK)
 
 
 def simulate_table(study, pitches, rows, seed, values=None):

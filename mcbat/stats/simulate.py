@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.core.status import ImpactStatus
 from mcbat.core.swing import (
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
@@ -53,7 +54,7 @@ def _solve_drop_test(study, rows, seed, params):
     observed = {"exit_speed": derived["exit_speed"],
                 "scattering_angle": derived["scattering_angle"],
                 "spin_out": derived["spin_axial"]}
-    return measured, observed, status == 0
+    return measured, observed, status == ImpactStatus.OK
 
 
 def _solve_game(study, rows, seed, params):
@@ -82,4 +83,4 @@ def solve_game_inputs(study, inputs):
     g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
     batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
                          [g[f"field_ball_w{c}"] for c in "xyz"])
-    return batted, status == 0
+    return batted, status == ImpactStatus.OK

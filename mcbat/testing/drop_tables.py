@@ -65,6 +65,7 @@ def kernel_solver(b, spin_in, axial, e, mu, e_x):
     for validation runs of many tables (``validation/drop_fit_checks.py --crosscheck``
     shows the two give the same tables)."""
     from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+    from mcbat.core.status import ImpactStatus
 
     d = DROP_TEST
     n = len(b)
@@ -80,8 +81,8 @@ def kernel_solver(b, spin_in, axial, e, mu, e_x):
         inputs[INPUT_FIELDS.index(name)] = value
     out, status, end = allocate_outputs(n)
     solve_batch(inputs, 8, 5e-9, 20000, out, status, end)  # the studies' default accuracy
-    if (status != 0).any():
-        raise RuntimeError(f"the kernel failed on {int((status != 0).sum())} drops")
+    if (status != ImpactStatus.OK).any():
+        raise RuntimeError(f"the kernel failed on {int((status != ImpactStatus.OK).sum())} drops")
     o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
     v = np.stack([o["ball_vx"], o["ball_vy"], o["ball_vz"]], axis=1)
     return np.stack([np.linalg.norm(v, axis=1), np.degrees(np.arctan2(v[:, 1], v[:, 0])),

@@ -13,12 +13,12 @@ from mcbat.core.contact_inference.solver import (
     OBSERVED_FIELDS,
     SOLUTION_FIELDS,
     InferenceSettings,
+    InferenceStatus,
     allocate_inference_outputs,
     infer_contact_batch,
 )
 
 __all__ = ["CONVERGED", "INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
            "INFER_NEAREST_BAT_SPEED", "INVALID_INPUT", "MAX_ITERATIONS", "NO_SOLUTION",
-           "OBSERVED_FIELDS",
-           "SOLUTION_FIELDS", "InferenceSettings", "allocate_inference_outputs",
-           "infer_contact_batch"]
+           "OBSERVED_FIELDS", "SOLUTION_FIELDS", "InferenceSettings", "InferenceStatus",
+           "allocate_inference_outputs", "infer_contact_batch"]

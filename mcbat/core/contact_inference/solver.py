@@ -14,6 +14,7 @@ and NaN outputs unless it converged.
 
 import math
 from collections import namedtuple
+from enum import IntEnum
 
 import numba
 import numpy as np
@@ -39,19 +40,32 @@ from mcbat.core.swing.game import (
 )
 
 __all__ = ["CONVERGED", "INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
-           "INFER_NEAREST_BAT_SPEED", "INVALID_INPUT", "InferenceSettings", "MAX_ITERATIONS",
-           "NO_SOLUTION",
+           "INFER_NEAREST_BAT_SPEED", "INVALID_INPUT", "InferenceSettings", "InferenceStatus",
+           "MAX_ITERATIONS", "NO_SOLUTION",
            "OBSERVED_FIELDS", "SOLUTION_FIELDS", "allocate_inference_outputs",
            "infer_contact_batch", "infer_contact_row"]
 
-CONVERGED = 0
+
+class InferenceStatus(IntEnum):
+    """Status of an inferred contact (the kernel's status array; names in
+    ``INFERENCE_STATUS_NAMES``). Python code compares with these members; the jitted
+    kernels use the plain integer constants ``CONVERGED``, ``NO_SOLUTION``,
+    ``MAX_ITERATIONS`` and ``INVALID_INPUT``, which hold the same values."""
+
+    CONVERGED = 0
+    NO_SOLUTION = 1
+    MAX_ITERATIONS = 2
+    INVALID_INPUT = 3
+
+
+CONVERGED = int(InferenceStatus.CONVERGED)
 """The contact reproduces the observed ball to the tolerance."""
-NO_SOLUTION = 1
+NO_SOLUTION = int(InferenceStatus.NO_SOLUTION)
 """No contact within the bounds reproduces the ball (e.g. a launch speed beyond what the
 bat speed, or the contact position, can give; a launch angle beyond the reach)."""
-MAX_ITERATIONS = 2
+MAX_ITERATIONS = int(InferenceStatus.MAX_ITERATIONS)
 """The iteration did not converge within ``max_iterations`` (no bound active)."""
-INVALID_INPUT = 3
+INVALID_INPUT = int(InferenceStatus.INVALID_INPUT)
 """Non-finite or out-of-range numbers, or assumptions the game model refuses
 (e.g. inconsistent swing angles): the forward model cannot be evaluated."""
 

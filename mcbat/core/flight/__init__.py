@@ -9,6 +9,7 @@ from mcbat.core.flight.trajectory import (
     GRAVITY,
     Flight,
     FlightParams,
+    FlightStatus,
     allocate_flight_outputs,
     fly,
     fly_batch,
@@ -19,6 +20,6 @@ from mcbat.core.flight.trajectory import (
 )
 
 __all__ = ["CONSTANT", "DEFAULT_TOLERANCE", "FLIGHT_FIELDS", "GRAVITY", "MODELS", "NATHAN",
-           "SAWICKI2003", "Aero", "Flight", "FlightParams", "air_density",
+           "SAWICKI2003", "Aero", "Flight", "FlightParams", "FlightStatus", "air_density",
            "allocate_flight_outputs", "fly", "fly_batch", "fly_batch_each",
            "height_at_distance", "height_at_distance_batch", "pack_params"]

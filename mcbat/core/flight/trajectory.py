@@ -8,6 +8,7 @@ field, ``z`` up; SI units. The equations are in ``README.md``.
 
 import math
 from collections import namedtuple
+from enum import IntEnum
 
 import numba
 import numpy as np
@@ -16,7 +17,7 @@ from mcbat.core.flight.aero import Aero, coefficients
 from mcbat.core.jit import njit
 
 __all__ = ["DEFAULT_TOLERANCE", "FLIGHT_FIELDS", "GRAVITY", "MAX_STEPS", "SHEET_STEP",
-           "Flight", "FlightParams", "allocate_flight_outputs", "fly", "fly_batch",
+           "Flight", "FlightParams", "FlightStatus", "allocate_flight_outputs", "fly", "fly_batch",
            "fly_batch_each", "fly_sheet", "height_at_distance", "height_at_distance_batch",
            "integrate", "pack_params", "rates"]
 
@@ -28,8 +29,29 @@ DEFAULT_TOLERANCE = 1e-5
 MAX_STEPS = 20000
 #: The spreadsheet's time step (s).
 SHEET_STEP = 0.01
-#: Status codes of a flight.
-OK, INVALID, MAX_STEPS_REACHED, NOT_RISEN = 0, 1, 2, 3
+
+
+class FlightStatus(IntEnum):
+    """Status of a flight (``Flight.status``, ``fly_batch``'s status array).
+
+    Python code compares with these members (an ``IntEnum`` member equals its integer,
+    element-wise on arrays too); the jitted kernels use the plain integer constants
+    ``OK``, ``INVALID``, ``MAX_STEPS_REACHED`` and ``NOT_RISEN``, which hold the same values.
+    """
+
+    OK = 0
+    """The ball landed."""
+    INVALID = 1
+    """The launch point is below the ground, or an input is not finite."""
+    MAX_STEPS_REACHED = 2
+    """The integration hit its step limit before the ball landed."""
+    NOT_RISEN = 3
+    """The ball reached the ground without ever rising to the landing height."""
+
+
+#: Status codes of a flight, as plain integers for the kernels (``FlightStatus``).
+OK, INVALID = int(FlightStatus.OK), int(FlightStatus.INVALID)
+MAX_STEPS_REACHED, NOT_RISEN = int(FlightStatus.MAX_STEPS_REACHED), int(FlightStatus.NOT_RISEN)
 
 FLIGHT_FIELDS = ("hit_distance", "landing_x", "landing_y", "hang_time", "apex",
                  "flight_steps")

@@ -5,7 +5,13 @@ spin decay, from the calculator's launch point (0, 2, 3) ft, for the game studie
 import numpy as np
 
 from mcbat.bodies import ball_preset
-from mcbat.core.flight import FLIGHT_FIELDS, allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.flight import (
+    FLIGHT_FIELDS,
+    FlightStatus,
+    allocate_flight_outputs,
+    fly_batch,
+    pack_params,
+)
 from mcbat.core.units import M_PER_FT
 from mcbat.study.flight import FlightSettings
 
@@ -33,7 +39,7 @@ def fly(v, w, settings=SETTINGS):
     fly_batch(pack_params(settings.params(BALL.mass, BALL.radius)), start, v, w, out,
               status)
     row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
-    bad = status != 0
+    bad = status != FlightStatus.OK
     result = {name: np.where(bad, np.nan, out[row[name]] / M_PER_FT)
               for name in ("hit_distance", "landing_x", "landing_y", "apex")}
     result["hang_time"] = np.where(bad, np.nan, out[row["hang_time"]])

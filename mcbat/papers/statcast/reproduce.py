@@ -52,6 +52,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.dataset import storage
 from mcbat.papers.outputs import ResultsDirectory
@@ -199,8 +200,8 @@ def compare_file(table: pd.DataFrame, source=None, *, weather_table=None,
                 balls[SPRAY_COLUMNS[spin_name]].to_numpy() * RAD_PER_DEG,
                 np.where(spun, backspin, 0.0) * RAD_S_PER_RPM,
                 np.where(spun, sidespin, 0.0) * RAD_S_PER_RPM, per_ball=per_ball)
-            predicted = np.where((status == 0) & flown & spun, out["hit_distance"] / M_PER_FT,
-                                 np.nan)
+            landed = status == FlightStatus.OK
+            predicted = np.where(landed & flown & spun, out["hit_distance"] / M_PER_FT, np.nan)
             part = balls.copy()
             part["spin_model"] = spin_name
             part["flight"] = flight_name
