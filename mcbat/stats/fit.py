@@ -27,6 +27,7 @@ from scipy import stats
 from mcbat.errors import InputError
 from mcbat.stats.intervals import (
     PHYSICAL_EDGES,
+    Interval,
     bootstrap_errors,
     curvature_errors,
     flat_to_edge,
@@ -56,16 +57,17 @@ class FitResult:
 
     ``stderr`` holds the curvature errors (``inf`` for a parameter the data do not bound,
     NaN where the curvature is not positive); ``intervals`` the profile-likelihood result
-    per parameter: ``lower_error``, ``upper_error`` (positive, or None on a side the data do
-    not bound), ``status`` (``"measured"``, ``"lower_limit"``, ``"upper_limit"`` or
-    ``"unidentified"``, or ``"profile_failed"`` when the profile jumps at the best fit and
-    no interval can be given: its ``stderr`` is then still the curvature error, which
-    describes the likelihood only near the best fit), ``limit`` (the one-sided 95 % limit,
-    or None; ``limit_kind`` says how: ``"conditional"`` on the profile being flat,
-    ``mcbat.stats.selective``, or ``"likelihood_ratio"``) and ``at_bound`` (the
-    physical edge the interval reaches, or None); a measured parameter whose likelihood at
-    the end of its range (not a physical edge) rises less than the 95 % level above the
-    best fit has that end as ``open_at_95`` (and a warning).
+    per parameter (``mcbat.stats.intervals.Interval``): ``lower_error``, ``upper_error``
+    (positive, or None on a side the data do not bound), ``status`` (``"measured"``,
+    ``"lower_limit"``, ``"upper_limit"`` or ``"unidentified"``, or ``"profile_failed"``
+    when the profile jumps at the best fit and no interval can be given: its ``stderr``
+    is then still the curvature error, which describes the likelihood only near the best
+    fit), ``limit`` (the one-sided 95 % limit, or None; ``limit_kind`` says how:
+    ``"conditional"`` on the profile being flat, ``mcbat.stats.selective``, or
+    ``"likelihood_ratio"``) and ``at_bound`` (the physical edge the interval reaches, or
+    None); a measured parameter whose likelihood at the end of its range (not a physical
+    edge) rises less than the 95 % level above the best fit has that end as
+    ``open_at_95`` (and a warning).
     """
 
     params: dict
@@ -79,7 +81,7 @@ class FitResult:
     unconstrained: list = field(default_factory=list)
     """Parameters the data do not bound on at least one side (status other than
     ``"measured"``): their ``stderr`` is inf and their value is not a measurement."""
-    intervals: dict = field(default_factory=dict)
+    intervals: dict[str, Interval] = field(default_factory=dict)
     priors: dict = field(default_factory=dict)
     """Measured input -> the flat prior its true values were marginalised over
     (``mcbat.stats.models._DrawModel.priors``: ``study_range``, ``range``, ``widened``,
@@ -103,7 +105,8 @@ class FitResult:
         params = {}
         for k, v in self.params.items():
             entry = {"value": v, "stderr": self.stderr.get(k, math.nan)}
-            entry.update(self.intervals.get(k, {}))
+            if k in self.intervals:
+                entry.update(self.intervals[k].to_dict())
             if k in self.bootstrap_stderr:
                 entry["bootstrap_stderr"] = self.bootstrap_stderr[k]
             params[k] = entry

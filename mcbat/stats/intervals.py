@@ -10,7 +10,10 @@ the best fit.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Iterator, Mapping
+from typing import Any, Literal
 
 import numpy as np
 from scipy import optimize, stats
@@ -18,8 +21,9 @@ from scipy import optimize, stats
 from mcbat.stats.likelihood import FREE
 from mcbat.stats.selective import conditional_limit
 
-__all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "RISE_95", "bootstrap_errors",
-           "curvature_errors", "flat_to_edge", "hessian", "profile_intervals"]
+__all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "RISE_95", "Interval", "IntervalStatus",
+           "bootstrap_errors", "curvature_errors", "flat_to_edge", "hessian",
+           "profile_intervals"]
 
 PHYSICAL_EDGES = {("e", 1.0), ("e_x", 0.0), ("e_x", 1.0), ("mu", 1e-3), ("e", 1e-3),
                   ("lift_scale", 0.0)}
@@ -32,6 +36,72 @@ LIMIT_95 = 0.5 * stats.chi2.ppf(0.90, 1)
 """Rise of ``-ln L`` (1.353) that sets a one-sided 95 % limit."""
 RISE_95 = 0.5 * stats.chi2.ppf(0.95, 1)
 """Rise of ``-ln L`` (1.921) that ends a two-sided 95 % profile interval."""
+
+IntervalStatus = Literal["measured", "lower_limit", "upper_limit", "unidentified",
+                         "profile_failed"]
+"""What a profile-likelihood interval says about its parameter (``Interval.status``)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Interval(Mapping[str, Any]):
+    """The profile-likelihood result of one fitted parameter (``FitResult.intervals``).
+
+    Parameters
+    ----------
+    lower_error, upper_error : float or None
+        Distances (parameter units, >= 0) from the best value down and up to where
+        ``-ln L`` has risen by ``ONE_SIGMA``; None on a side the data do not bound.
+    status : {"measured", "lower_limit", "upper_limit", "unidentified", "profile_failed"}
+        ``"measured"``: a two-sided interval; ``"lower_limit"`` / ``"upper_limit"``: the
+        data bound the parameter on one side only (``limit``); ``"unidentified"``: on
+        neither; ``"profile_failed"``: the profile jumps at the best fit, no interval.
+    limit : float or None
+        The one-sided 95 % limit (parameter units), or None.
+    at_bound : float or None
+        The physical edge of the parameter's range (``PHYSICAL_EDGES``) the interval
+        reaches, or None.
+    limit_kind : {"conditional", "likelihood_ratio"} or None
+        How a one-sided ``limit`` was found: conditional on the profile being flat
+        (``mcbat.stats.selective``) or from the likelihood ratio alone; None for no limit.
+    open_at_95 : float or None
+        For a measured parameter: the end of its range (not a physical edge) where the
+        likelihood still lies within the 95 % level of its best value, else None.
+
+    Notes
+    -----
+    An ``Interval`` also reads as a read-only mapping with the keys of ``to_dict()``
+    (``iv["lower_error"]``, ``iv.get("limit_kind")``), kept for code written when the
+    intervals were plain dictionaries.
+    """
+
+    lower_error: float | None
+    upper_error: float | None
+    status: IntervalStatus
+    limit: float | None = None
+    at_bound: float | None = None
+    limit_kind: Literal["conditional", "likelihood_ratio"] | None = None
+    open_at_95: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The interval as JSON-ready data (the entries of ``mcbat fit --json``'s
+        ``params``): ``limit_kind`` and ``open_at_95`` only where they are set."""
+        out: dict[str, Any] = {"lower_error": self.lower_error,
+                               "upper_error": self.upper_error, "status": self.status,
+                               "limit": self.limit, "at_bound": self.at_bound}
+        if self.limit_kind is not None:
+            out["limit_kind"] = self.limit_kind
+        if self.open_at_95 is not None:
+            out["open_at_95"] = self.open_at_95
+        return out
+
+    def __getitem__(self, key: str) -> Any:
+        return self.to_dict()[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.to_dict())
+
+    def __len__(self) -> int:
+        return len(self.to_dict())
 
 
 def curvature_errors(like, best):
@@ -142,10 +212,10 @@ def profile_intervals(like, best, nll_min, err, cov, seed=0):
         for sign, edge in ((-1, lo_edge), (1, hi_edge)):
             sides[sign] = _side(lambda t, i=i: profile(i, t), best[i], sign, edge,
                                 scale[i], (name, edge) in PHYSICAL_EDGES)
-        summary[name] = entry = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
+        entry = _entry(sides[-1], sides[1], lambda sign, side, i=i: _limit(
             lambda t: profile(i, t), best[i], sign, side["edge"], scale[i], side["root"]))
-        _complete(entry, sides, like, best, i, lambda t, i=i: profile(i, t),
-                  lambda t, i=i: point(i, t), seed)
+        summary[name] = _complete(entry, sides, like, best, i, lambda t, i=i: profile(i, t),
+                                  lambda t, i=i: point(i, t), seed)
     return summary, found["x"]
 
 
@@ -153,9 +223,9 @@ def _complete(entry, sides, like, best, i, rise, point, seed):
     """Add to parameter ``i``'s entry what its two sides alone do not give: the end of the
     range its 95 % region reaches (``open_at_95``), and a one-sided limit conditional on
     the flat side (``mcbat.stats.selective``). ``rise(t)`` is the profile's rise at
-    ``t``, ``point(t)`` its point there."""
+    ``t``, ``point(t)`` its point there. Returns the completed entry."""
     name = like.free[i]
-    if entry["status"] == "measured":
+    if entry.status == "measured":
         # A 68 % interval can end below a plateau that the 95 % level still reaches (a
         # drop-test table whose drops all stick, with one row that looks as if it slid):
         # say so rather than let the interval stand for a measurement at 95 %.
@@ -163,36 +233,37 @@ def _complete(entry, sides, like, best, i, rise, point, seed):
             edge = sides[sign]["edge"]
             if (sides[sign]["error"] is not None and (name, edge) not in PHYSICAL_EDGES
                     and abs(edge - best[i]) > 1e-9 and rise(edge) < RISE_95):
-                entry["open_at_95"] = edge
-    if entry["status"] in ("lower_limit", "upper_limit") and entry["limit"] is not None:
-        sign, side = (-1, sides[-1]) if entry["status"] == "lower_limit" else (1, sides[1])
-        entry["limit_kind"] = "likelihood_ratio"
+                entry = dataclasses.replace(entry, open_at_95=edge)
+    if entry.status in ("lower_limit", "upper_limit") and entry.limit is not None:
+        sign, side = (-1, sides[-1]) if entry.status == "lower_limit" else (1, sides[1])
+        entry = dataclasses.replace(entry, limit_kind="likelihood_ratio")
         if side["root"] is not None:
-            limit = conditional_limit(like, best, i, sign, point, entry["limit"], side["root"],
+            limit = conditional_limit(like, best, i, sign, point, entry.limit, side["root"],
                                       sides[-sign]["edge"], seed, ONE_SIGMA)
             if limit is not None:
-                entry.update(limit=limit, limit_kind="conditional")
+                entry = dataclasses.replace(entry, limit=limit, limit_kind="conditional")
+    return entry
 
 
 def _entry(lower, upper, limit):
-    """The ``FitResult.intervals`` entry of one parameter from its two sides;
-    ``limit(sign, side)`` computes a one-sided 95 % limit."""
-    entry = {"lower_error": lower["error"], "upper_error": upper["error"],
-             "status": "measured", "limit": None, "at_bound": None}
+    """The ``FitResult.intervals`` entry (``Interval``) of one parameter from its two
+    sides; ``limit(sign, side)`` computes a one-sided 95 % limit."""
     if lower.get("failed") or upper.get("failed"):
-        entry.update(lower_error=None, upper_error=None, status="profile_failed")
-        return entry
+        return Interval(lower_error=None, upper_error=None, status="profile_failed")
+    at_bound = None
     for side in (lower, upper):
         if side["physical"]:
-            entry["at_bound"] = side["edge"]
+            at_bound = side["edge"]
+    status, bound = "measured", None
     if lower["error"] is None and upper["error"] is None:
-        entry["status"] = "unidentified"
+        status = "unidentified"
     elif upper["error"] is None or lower["error"] is None:
         sign, side = (-1, lower) if upper["error"] is None else (1, upper)
-        entry["status"] = "lower_limit" if sign < 0 else "upper_limit"
+        status = "lower_limit" if sign < 0 else "upper_limit"
         # The bounded side's 95 % limit, or the physical edge its interval reaches.
-        entry["limit"] = limit(sign, side) if side["root"] is not None else side["edge"]
-    return entry
+        bound = limit(sign, side) if side["root"] is not None else side["edge"]
+    return Interval(lower_error=lower["error"], upper_error=upper["error"], status=status,
+                    limit=bound, at_bound=at_bound)
 
 
 def _side(delta, best, sign, edge, scale, physical):
