@@ -50,6 +50,31 @@ Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistic
                    ``mcbat`` command
 """
 
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING, Any, cast
+
+if TYPE_CHECKING:  # the types only: ``import mcbat`` loads none of these modules
+    from pathlib import Path
+
+    import pandas as pd
+
+    from mcbat.api import (
+        FlightCase,
+        FlightResult,
+        GameCase,
+        GameResult,
+        ImpactCase,
+        ImpactResult,
+        SolverSettings,
+    )
+    from mcbat.dataset.check import DatasetCheck
+    from mcbat.runner.study_run import RunSummary
+    from mcbat.study import Study
+
+    Result = ImpactResult | GameResult | FlightResult
+
 __version__ = "0.1.0"
 
 
@@ -64,7 +89,9 @@ __all__ = ["Ball", "Bat", "Contact", "FlightCase", "FlightResult", "GameCase", "
            "load_study", "load_summary", "run", "solve", "solve_frame"]
 
 
-def solve(case, *, settings=None):
+def solve(case: ImpactCase | GameCase | FlightCase | dict[str, Any] | str
+          | os.PathLike[str], *,
+          settings: SolverSettings | None = None) -> Result | list[Result]:
     """Solve one case; the result's type follows the case's.
 
     Parameters
@@ -102,8 +129,6 @@ def solve(case, *, settings=None):
     >>> flight.hit_distance > 100                                  # ft
     True
     """
-    import os
-
     from mcbat import api
     from mcbat.errors import InputError
 
@@ -111,7 +136,8 @@ def solve(case, *, settings=None):
         data = _read_json(case)
         try:
             if isinstance(data, list):
-                return [solve(api.any_case_from_dict(item), settings=settings) for item in data]
+                return [cast("Result", solve(api.any_case_from_dict(item), settings=settings))
+                        for item in data]
             return solve(api.any_case_from_dict(data), settings=settings)
         except InputError as err:
             raise err.within(source=os.fspath(case)) from None
@@ -132,17 +158,16 @@ def solve(case, *, settings=None):
                      f"(dict) or the path of a JSON file, got {type(case).__name__}")
 
 
-def _read_json(path):
+def _read_json(path: str | os.PathLike[str]) -> dict[str, Any] | list[Any]:
     """The JSON in the file at ``path`` (UTF-8; NaN and Infinity refused, as ``mcbat impact``
     refuses them)."""
     import json
-    import os
 
     from mcbat.errors import InputError
 
     source = os.fspath(path)
 
-    def refuse(constant):
+    def refuse(constant: str) -> Any:
         raise InputError(None, f"not valid JSON: {constant} is not a JSON number", source)
 
     try:
@@ -161,12 +186,14 @@ def _read_json(path):
     if not (isinstance(data, dict) or isinstance(data, list) and data):
         raise InputError(None, "expected a JSON object (one case) or a non-empty array of "
                          "them", source)
-    return data
+    return cast("dict[str, Any] | list[Any]", data)
 
 
-def run(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
-        overwrite=False, progress=True, engine="local", scheduler=None, workers=None,
-        summary_only=False, tolerance=None, columns=None):
+def run(study: str | Path | Study, out: str | Path, *, samples: int | None = None,
+        seed: int | None = None, threads: int | None = None, chunk_size: int | None = None,
+        overwrite: bool = False, progress: bool = True, engine: str = "local",
+        scheduler: str | None = None, workers: int | None = None, summary_only: bool = False,
+        tolerance: float | None = None, columns: list[str] | None = None) -> RunSummary:
     """Run a study into a dataset directory (resuming if possible); returns a
     ``mcbat.runner.study_run.RunSummary``.
 
@@ -214,32 +241,38 @@ def run(study, out, *, samples=None, seed=None, threads=None, chunk_size=None,
                      summary_only=summary_only, tolerance=tolerance)
 
 
-def solve_frame(frame, *, steps=8, tolerance=5e-9, max_steps=20_000, threads=None):
+def solve_frame(frame: pd.DataFrame, *, steps: int = 8, tolerance: float = 5e-9,
+                max_steps: int = 20_000, threads: int | None = None) -> pd.DataFrame:
     """A DataFrame of inputs -> a DataFrame of results, in memory, with the parallel
     kernel: see ``mcbat.runner.frame.solve_frame`` (the same defaults: the kernel's;
     ``tolerance`` finite with ``0 < tolerance < 1``)."""
     from mcbat.runner.frame import solve_frame as _solve_frame
 
-    return _solve_frame(frame, steps=steps, tolerance=tolerance, max_steps=max_steps,
-                        threads=threads)
+    result: pd.DataFrame = _solve_frame(frame, steps=steps, tolerance=tolerance,
+                                        max_steps=max_steps, threads=threads)
+    return result
 
 
-def load(directory, *, columns=None, labels=False, allow_partial=False):
+def load(directory: str | Path, *, columns: list[str] | None = None, labels: bool = False,
+         allow_partial: bool = False) -> pd.DataFrame:
     """A dataset directory as a pandas DataFrame: see ``mcbat.dataset.load``."""
     from mcbat.dataset import load as _load
 
-    return _load(directory, columns=columns, labels=labels, allow_partial=allow_partial)
+    df: pd.DataFrame = _load(directory, columns=columns, labels=labels,
+                             allow_partial=allow_partial)
+    return df
 
 
-def load_summary(directory):
+def load_summary(directory: str | Path) -> pd.DataFrame:
     """The binned statistics of a run with a ``[summary]`` section, one row per bin: see
     ``mcbat.dataset.summary.load_summary``."""
     from mcbat.dataset.summary import load_summary as _load_summary
 
-    return _load_summary(directory)
+    df: pd.DataFrame = _load_summary(directory)
+    return df
 
 
-def check(directory, *, checksums=True):
+def check(directory: str | Path, *, checksums: bool = True) -> DatasetCheck:
     """Check a dataset directory against its manifest (with ``checksums``, every byte's
     CRC-32): see ``mcbat.dataset.check.check_dataset``."""
     from mcbat.dataset.check import check_dataset
@@ -247,7 +280,7 @@ def check(directory, *, checksums=True):
     return check_dataset(directory, checksums=checksums)
 
 
-def load_study(path):
+def load_study(path: str | Path) -> Study:
     """A TOML study file -> a validated study: see ``mcbat.study.load_study``. A game
     study's ``[pitches]`` file is read too (``mcbat.runner.pitches.load_pitches``), so
     the study samples at once."""
@@ -258,14 +291,15 @@ def load_study(path):
         return study
     from mcbat.runner.pitches import load_pitches  # (pandas: only for such a study)
 
-    return load_pitches(study)
+    with_pitches: Study = load_pitches(study)
+    return with_pitches
 
 
 _SUBPACKAGES = ("api", "bodies", "core", "dataset", "errors", "inference", "papers", "runner",
                 "statcast", "stats", "study", "testing")
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> Any:
     # Subpackages and the case types on first use (``mcbat.stats.analysis``,
     # ``mcbat.ImpactCase``...), so that ``import mcbat`` imports neither numba nor pandas.
     import importlib
@@ -279,5 +313,5 @@ def __getattr__(name):
     raise AttributeError(f"module 'mcbat' has no attribute {name!r}")
 
 
-def __dir__():
+def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY) | set(_SUBPACKAGES))

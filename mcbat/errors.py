@@ -42,7 +42,8 @@ class InputError(ValueError):
         The message with each mention in call syntax (``overwrite=True``).
     """
 
-    def __init__(self, field, message, source=None, *, mentions=None):
+    def __init__(self, field: str | None, message: str, source: str | None = None, *,
+                 mentions: dict[str, object] | None = None) -> None:
         self.field = field
         self.template = message
         self.mentions = dict(mentions or {})
@@ -66,7 +67,8 @@ class InputError(ValueError):
         field = f"{self.field}: " if self.field else ""
         return _one_line(f"{where}{field}{self.message}")
 
-    def within(self, prefix=None, source=None):
+    def within(self, prefix: str | None = None,
+               source: str | None = None) -> "InputError":
         """A copy located inside ``prefix`` (a parent field) and/or ``source`` (a file)."""
         field = self.field
         if prefix:

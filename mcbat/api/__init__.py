@@ -35,6 +35,8 @@ Example
 'stuck'
 """
 
+from typing import Any
+
 from mcbat.api.flight import (
     MAX_TRAJECTORY_POINTS,
     FlightCase,
@@ -71,8 +73,9 @@ __all__ = ["MAX_AZIMUTH", "MAX_TRAJECTORY_POINTS", "Ball", "Bat", "Contact", "Fl
 # Defined here rather than in a submodule: it finds ``solve`` and ``solve_game`` by their
 # names in this package, so that whoever replaces ``mcbat.api.solve`` (a test standing in
 # a broken solver) reaches every caller of solve_any, the command line among them.
-def solve_any(case, settings: SolverSettings = SolverSettings(), *,  # noqa: B008 (frozen)
-              json_keys=False):
+def solve_any(case: ImpactCase | GameCase,
+              settings: SolverSettings = SolverSettings(),  # noqa: B008 (frozen)
+              *, json_keys: bool = False) -> ImpactResult | GameResult:
     """``solve`` for an ``ImpactCase``, ``solve_game`` for a ``GameCase``
     (with ``json_keys``, a game's errors name the JSON keys, ``pitch.speed``)."""
     if isinstance(case, GameCase):
@@ -85,13 +88,13 @@ def solve_any(case, settings: SolverSettings = SolverSettings(), *,  # noqa: B00
     return solve(case, settings)
 
 
-def case_from_dict(data):
+def case_from_dict(data: Any) -> ImpactCase | GameCase:
     """A ``GameCase`` for a JSON case of ``mcbat impact`` with ``pitch``/``swing`` keys,
     else an ``ImpactCase``."""
     return game_case_from_dict(data) if is_game(data) else impact_case_from_dict(data)
 
 
-def any_case_from_dict(data):
+def any_case_from_dict(data: Any) -> ImpactCase | GameCase | FlightCase:
     """The case of any JSON object ``mcbat impact`` or ``mcbat flight`` reads: a
     ``FlightCase`` for one with ``launch_speed`` (a game's answer among them), else
     ``case_from_dict``."""

@@ -39,13 +39,19 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Callable, Iterable
+from typing import Any, ParamSpec, TypeVar, cast
 
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.core.units import M_PER_FT as FT
 from mcbat.dataset.schema import UNITS as COLUMN_UNITS
 from mcbat.errors import InputError
 from mcbat.study import units as u
+from mcbat.study.dist_types import Fixed
 from mcbat.study.distributions import parse
+
+_P = ParamSpec("_P")
+_T = TypeVar("_T")
 
 __all__ = ["FIELD_KEYS", "FLIGHT_UNITS", "FT", "GAME_UNITS", "IMPACT_CASE_UNITS",
            "IMPACT_UNITS", "ball_from_dict", "bat_from_dict", "check_object", "field_spec",
@@ -103,8 +109,10 @@ _TRAJECTORY_UNITS = {"t": "s", "x": "m", "y": "m", "z": "m"}
 # ---- results -> JSON ----
 
 
-def impact_result_to_dict(result) -> dict:
-    """An impact's answer (the output contract of ``mcbat impact``, ``docs/impact.md``)."""
+def impact_result_to_dict(result: Any) -> dict[str, Any]:
+    """An impact's answer, the output contract of ``mcbat impact`` (``docs/impact.md``).
+    The results are typed ``Any`` here: their classes import this module, not the other
+    way round."""
     return {
         "status": result.status,
         "end_state": result.end_state,
@@ -131,7 +139,7 @@ def impact_result_to_dict(result) -> dict:
     }
 
 
-def game_result_to_dict(result) -> dict:
+def game_result_to_dict(result: Any) -> dict[str, Any]:
     """A game's answer (the output of ``mcbat impact`` for a game case): the batted ball
     in Statcast's units (mph, deg, rpm), the field-frame vectors (SI), the bat-frame case
     and its answer. ``mcbat flight`` reads it as it is
@@ -154,10 +162,10 @@ def game_result_to_dict(result) -> dict:
     }
 
 
-def flight_result_to_dict(result) -> dict:
+def flight_result_to_dict(result: Any) -> dict[str, Any]:
     """A flight's answer (the output of ``mcbat flight``, ``docs/flight.md``): distances in
     ft as Statcast gives them and in m."""
-    out = {"hit_distance": result.hit_distance, "hang_time": result.hang_time,
+    out: dict[str, Any] = {"hit_distance": result.hit_distance, "hang_time": result.hang_time,
            "apex": result.apex_m / FT, "landing_x": result.landing_x_m / FT,
            "landing_y": result.landing_y_m / FT, "hit_distance_m": result.hit_distance_m,
            "apex_m": result.apex_m, "landing_x_m": result.landing_x_m,
@@ -169,7 +177,7 @@ def flight_result_to_dict(result) -> dict:
     return out
 
 
-def impact_case_to_dict(case) -> dict:
+def impact_case_to_dict(case: Any) -> dict[str, Any]:
     """An ``ImpactCase`` as a bat-frame JSON case of ``mcbat impact`` (SI units,
     ``IMPACT_CASE_UNITS``)."""
     bat = case.bat
@@ -226,11 +234,11 @@ _OTHER_UNIT = {u.SPEED: "m/s", u.ANGLE: "rad", u.SPIN: "rad/s", u.LENGTH: "m",
                u.TEMPERATURE: "K", u.PRESSURE: "hPa"}
 
 
-def _is_number(value) -> bool:
+def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def field_spec(spec, key):
+def field_spec(spec: Any, key: str) -> Any:
     """``spec`` with the unit of a bare number made explicit: a number (or a list of
     numbers, a vector) becomes ``{"value": ..., "unit": <the field's unit>}`` once it is
     found within the key's plausible range (``FIELD_KEYS``); anything else is
@@ -255,7 +263,7 @@ def field_spec(spec, key):
     return {"value": spec, "unit": unit}
 
 
-def field_value(spec, key, quantity=None):
+def field_value(spec: Any, key: str, quantity: str | None = None) -> float:
     """A game or flight key's value in SI: a bare number in the field's unit
     (``field_spec``), or ``{"value": ..., "unit": ...}``. A key not in
     ``FIELD_KEYS`` (``quantity`` needed) reads a bare number in SI."""
@@ -267,7 +275,8 @@ def field_value(spec, key, quantity=None):
 # ---- readers of the parts the JSON cases share ----
 
 
-def check_object(data, name, allowed, required):
+def check_object(data: Any, name: str, allowed: Iterable[str],
+                 required: Iterable[str]) -> dict[str, Any]:
     """``data`` if it is a JSON object with only ``allowed`` keys and every ``required``
     one, else ``InputError`` naming ``name`` or the key."""
     if not isinstance(data, dict):
@@ -284,7 +293,8 @@ def check_object(data, name, allowed, required):
     return data
 
 
-def located(prefix, builder, *args, **kwargs):
+def located(prefix: str, builder: Callable[_P, _T], *args: _P.args,
+            **kwargs: _P.kwargs) -> _T:
     """``builder(*args, **kwargs)``, with input errors located inside ``prefix``."""
     try:
         return builder(*args, **kwargs)
@@ -292,13 +302,14 @@ def located(prefix, builder, *args, **kwargs):
         raise err.within(prefix) from None
 
 
-def fixed_value(spec, field, quantity):
+def fixed_value(spec: Any, field: str, quantity: str | None) -> float:
     """A number in SI, or ``{"value": ..., "unit": ...}`` converted to SI (a ``quantity`` of
     ``mcbat.study.units``)."""
-    return parse(spec, field, quantity, kinds=("fixed",)).value
+    fixed = cast(Fixed, parse(spec, field, quantity, kinds=("fixed",)))  # kinds: a Fixed
+    return fixed.value
 
 
-def ball_from_dict(data) -> Ball:
+def ball_from_dict(data: Any) -> Ball:
     """A ball from ``{"preset": name}`` or ``{"mass", "radius"[, "inertia_factor"]}``."""
     if isinstance(data, dict) and "preset" in data:
         check_object(data, "", {"preset"}, ())
@@ -309,7 +320,7 @@ def ball_from_dict(data) -> Ball:
     return Ball(**data)
 
 
-def bat_from_dict(data, game=False) -> Bat:
+def bat_from_dict(data: Any, game: bool = False) -> Bat:
     """A bat from ``{"preset": name}`` or a cylinder's values (a game bat also needs
     ``length`` and ``cm_from_knob``)."""
     if isinstance(data, dict) and "preset" in data:
@@ -324,7 +335,7 @@ def bat_from_dict(data, game=False) -> Bat:
         keys |= {"length", "cm_from_knob"}
         required += ["length", "cm_from_knob"]
     check_object(data, "", keys, required)
-    values = {k: fixed_value(v, k, _BAT_QUANTITIES[k]) for k, v in data.items()}
+    values: dict[str, Any] = {k: fixed_value(v, k, _BAT_QUANTITIES[k]) for k, v in data.items()}
     if game:
         length = values["length"]
         cm = values.pop("cm_from_knob")

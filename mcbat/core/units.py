@@ -9,6 +9,10 @@ Nathan's calculator) or, for angles and spins, the double nearest the exact valu
 
 import math
 from fractions import Fraction
+from typing import overload
+
+import numpy as np
+from numpy.typing import NDArray
 
 __all__ = ["DEG_PER_RAD", "EXACT", "FT_S_PER_MPH", "KG_PER_LB", "KG_PER_OZ", "M_PER_FT",
            "M_PER_IN", "M_S_PER_MPH", "PA_PER_INHG", "PA_PER_MMHG", "RAD_PER_DEG",
@@ -47,11 +51,21 @@ RAD_S_PER_RPM = 2.0 * math.pi / 60.0
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
 
-def kelvin_from_fahrenheit(temperature):
+@overload
+def kelvin_from_fahrenheit(temperature: float) -> float: ...
+@overload
+def kelvin_from_fahrenheit(temperature: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def kelvin_from_fahrenheit(
+        temperature: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
     """K from degF (scalars or arrays)."""
     return (temperature - 32.0) * 5.0 / 9.0 + 273.15
 
 
-def celsius_from_fahrenheit(temperature):
+@overload
+def celsius_from_fahrenheit(temperature: float) -> float: ...
+@overload
+def celsius_from_fahrenheit(temperature: NDArray[np.float64]) -> NDArray[np.float64]: ...
+def celsius_from_fahrenheit(
+        temperature: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
     """DegC from degF (scalars or arrays)."""
     return (temperature - 32.0) * 5.0 / 9.0
