@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 
@@ -79,13 +80,13 @@ GAME_JSON_KEYS = {  # Python parameter -> (JSON section, key)
 _RIGHT_ANGLE = math.pi / 2
 
 
-def _radians(value):
+def _radians(value: float) -> str:
     """An angle received in radians, shown as given and in degrees (a value in degrees
     passed by mistake shows as such)."""
     return f"{value:.6g} rad ({math.degrees(value):.6g} deg; GameCase takes radians)"
 
 
-def _solver_range(value, name, high, unit):
+def _solver_range(value: float, name: str, high: float, unit: str) -> None:
     """A game input beyond the solver's range (``docs/physics.md``, "Valid inputs"): the
     impact's velocities and spins scale with it."""
     if not value <= high:
@@ -147,7 +148,7 @@ class GameCase:
     undercut: float = 0.0
     restitution: Restitution = GAME_RESTITUTION
 
-    def __post_init__(self):  # noqa: C901 - one check per key, in the contract's order
+    def __post_init__(self) -> None:  # noqa: C901 - one check per key, in the contract's order
         for name, kind in (("ball", Ball), ("bat", Bat), ("restitution", Restitution)):
             if not isinstance(getattr(self, name), kind):
                 raise InputError(name, f"must be a {kind.__module__}.{kind.__name__}, got "
@@ -198,7 +199,8 @@ class GameCase:
     @property
     def axial(self) -> float:
         """The contact's axial position from the bat CM (m)."""
-        return self.bat.cm_from_barrel_end - self.from_barrel_end
+        # a game bat has its length and CM (``__post_init__`` checks the bat)
+        return cast(float, self.bat.cm_from_barrel_end) - self.from_barrel_end
 
     def contact_surface(self) -> tuple[float, float]:
         """Bat radius and slope at the contact."""
@@ -214,7 +216,8 @@ class GameCase:
             ball_inertia_factor=self.ball.inertia_factor, bat_mass=self.bat.mass,
             bat_transverse_inertia=self.bat.transverse_inertia,
             bat_axial_inertia=self.bat.axial_inertia, bat_length=self.bat.length,
-            bat_cm_from_knob=self.bat.length - self.bat.cm_from_barrel_end,
+            bat_cm_from_knob=(cast(float, self.bat.length)
+                              - cast(float, self.bat.cm_from_barrel_end)),
             bat_radius=radius, bat_slope=slope,
             handedness=parse_handedness(self.handedness), mu=self.mu, e_ref=rest.e_ref,
             e_slope=rest.e_slope, e_speed_ref=rest.e_speed_ref,
@@ -231,7 +234,7 @@ class GameCase:
             spin_axis=2.0 * math.pi - self.spin_axis, gyro_sign=-self.gyro_sign)
 
     @classmethod
-    def from_dict(cls, data) -> GameCase:
+    def from_dict(cls, data: Any) -> GameCase:
         """Build a game case from the JSON contract of ``mcbat impact`` (``docs/batting.md``;
         there ``{value, unit}`` tables give other units): see
         ``game_case_from_dict``."""
@@ -274,18 +277,19 @@ class GameResult:
     undercut_impact_parameter: float
 
     @property
-    def batted_ball(self) -> dict:
+    def batted_ball(self) -> dict[str, float]:
         """``launch_speed`` (mph), ``launch_angle``, ``spray_angle`` (deg), ``spin_rate``,
         ``backspin``, ``sidespin``, ``gyrospin`` (rpm)."""
-        return derive_game(self.ball_velocity, self.ball_spin)
+        ball: dict[str, float] = derive_game(self.ball_velocity, self.ball_spin)
+        return ball
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> float:
         if name in ("launch_speed", "launch_angle", "spray_angle", "spin_rate", "backspin",
                     "sidespin", "gyrospin"):
             return self.batted_ball[name]
         raise AttributeError(name)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (the output of ``mcbat impact`` for a game case), with a
         ``units`` block: see ``mcbat.api.contract.game_result_to_dict``. ``mcbat flight``
         reads it as it is (``docs/flight.md``)."""
@@ -319,10 +323,11 @@ def solve_game(case: GameCase,
     o = dict(zip(OUTPUT_FIELDS, out[:, 0]))
     go = dict(zip(GAME_OUTPUT_FIELDS, game_out[:, 0]))
 
-    def vec(d, fmt):
-        return tuple(float(d[fmt.format(c)]) for c in "xyz")
+    def vec(d: dict[str, Any], fmt: str) -> Vector:
+        x, y, z = (float(d[fmt.format(c)]) for c in "xyz")
+        return x, y, z
 
-    pitch_v, pitch_w, bat_v, bat_w = (tuple(float(x) for x in v)
+    pitch_v, pitch_w, bat_v, bat_w = ((float(v[0]), float(v[1]), float(v[2]))
                                       for v in incoming_state(g, 0))
 
     impact_case = ImpactCase(
@@ -354,7 +359,7 @@ def solve_game(case: GameCase,
         undercut_impact_parameter=float(go["impact_parameter"]))
 
 
-def game_case_from_dict(data) -> GameCase:
+def game_case_from_dict(data: Any) -> GameCase:
     """A game case of ``mcbat impact`` (``docs/batting.md``): numbers as
     ``{"value": ..., "unit": ...}``, or bare numbers in the field's units where the field
     measures the key (``pitch.speed`` mph, angles deg, ``pitch.spin_rate`` rpm:
@@ -371,9 +376,9 @@ def game_case_from_dict(data) -> GameCase:
     ball = (BALL_PRESETS[DEFAULT_BALL] if "ball" not in data
             else located("ball", ball_from_dict, data["ball"]))
     bat = located("bat", bat_from_dict, data["bat"], game=True)
-    values = {}
+    values: dict[str, Any] = {}
     for section in ("pitch", "swing", "contact"):
-        keys = dict(GAME_KEYS[section])
+        keys: dict[str, Any] = dict(cast("dict[str, Any]", GAME_KEYS[section]))
         if section == "pitch":
             keys.update(_RELEASE_KEYS)
         table = check_object(data.get(section, {}), section, set(keys),
@@ -401,14 +406,15 @@ def game_case_from_dict(data) -> GameCase:
     mu = fixed_value(data["mu"], "mu", "dimensionless")
     restitution = GAME_RESTITUTION
     if "restitution" in data:
-        keys = GAME_KEYS["restitution"]
+        keys = cast("dict[str, Any]", GAME_KEYS["restitution"])
         rest = check_object(data["restitution"], "restitution", set(keys) | {"location"}, ())
         if ("e" in rest) == ("e_ref" in rest):
             raise InputError("restitution", "give exactly one of 'e' (a constant e*) or "
                              "'e_ref' (with e_slope and e_speed_ref)")
-        kw = {("e_ref" if k == "e" else k): (fixed_value(v, f"restitution.{k}", keys[k][0])
-                                                         if k != "location" else v)
-              for k, v in rest.items()}
+        kw: dict[str, Any] = {
+            ("e_ref" if k == "e" else k): (fixed_value(v, f"restitution.{k}", keys[k][0])
+                                           if k != "location" else v)
+            for k, v in rest.items()}
         restitution = located("restitution", Restitution, **kw)
     handedness = data.get("handedness", "R")
     try:

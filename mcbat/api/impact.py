@@ -22,8 +22,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from mcbat.api.contract import (
     bat_from_dict,
@@ -74,7 +76,7 @@ Vector = tuple[float, float, float]
 MAX_AZIMUTH = 1e6
 
 
-def _attr(case, dotted):
+def _attr(case: ImpactCase, dotted: str) -> Any:
     """The value at a dotted name of a case (``bat.radius``: at the contact)."""
     if dotted == "bat.radius":
         return case.contact_surface()[0]
@@ -91,13 +93,13 @@ class Contact:
     axial: float
     angle: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "axial", _real(self.axial, "axial"))
         object.__setattr__(self, "angle", _real(self.angle, "angle"))
 
     @classmethod
-    def from_impact_parameter(cls, axial, impact_parameter, ball: Ball, bat: Bat,
-                              approach_azimuth=0.0) -> Contact:
+    def from_impact_parameter(cls, axial: float, impact_parameter: float, ball: Ball, bat: Bat,
+                              approach_azimuth: float = 0.0) -> Contact:
         """Contact of a ball arriving perpendicular to the bat along an offset line.
 
         ``impact_parameter`` (m) is the offset of the ball's line from the bat axis;
@@ -139,7 +141,7 @@ class SolverSettings:
     tolerance: float = DEFAULT_TOLERANCE
     max_steps: int = DEFAULT_MAX_STEPS
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "tolerance",
                            check_tolerance(_real(self.tolerance, "tolerance"), "tolerance"))
 
@@ -165,7 +167,7 @@ class ImpactCase:
     e: float = 1.0
     e_x: float = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for name in ("ball_velocity", "ball_spin", "bat_velocity", "bat_spin"):
             object.__setattr__(self, name, _vector(getattr(self, name), name))
         object.__setattr__(self, "mu", _real(self.mu, "mu", minimum=0.0))
@@ -247,7 +249,7 @@ class ImpactCase:
                              f"(normal relative velocity v_n = {vn:.6g} m/s >= 0)")
 
     @classmethod
-    def from_dict(cls, data) -> ImpactCase:
+    def from_dict(cls, data: Any) -> ImpactCase:
         """Build a case from the JSON contract of ``mcbat impact`` (docs/impact.md): see
         ``impact_case_from_dict``."""
         return impact_case_from_dict(data)
@@ -283,12 +285,14 @@ class ImpactResult:
     @property
     def exit_speed(self) -> float:
         """Speed of the outgoing ball, m/s."""
-        return derive(self.ball_velocity, self.ball_spin)["exit_speed"]
+        speed: float = derive(self.ball_velocity, self.ball_spin)["exit_speed"]
+        return speed
 
     @property
     def scattering_angle(self) -> float:
         """``atan2(v_y, v_x)`` of the outgoing ball, degrees (0 = straight back along ``+x``)."""
-        return derive(self.ball_velocity, self.ball_spin)["scattering_angle"]
+        angle: float = derive(self.ball_velocity, self.ball_spin)["scattering_angle"]
+        return angle
 
     def __repr__(self) -> str:
         v = ", ".join(f"{c:.6g}" for c in self.ball_velocity)
@@ -306,7 +310,7 @@ class ImpactResult:
         """Energy lost besides friction, ``-W_n(I_f)`` (J): the paper's extra loss."""
         return -self.normal_work
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (the output contract of ``mcbat impact``), with a ``units``
         block naming the unit of every quantity: see
         ``mcbat.api.contract.impact_result_to_dict``."""
@@ -342,10 +346,11 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
                          f"{st.STATUS_NAMES[code]!r}: docs/errors.md lists what each status "
                          "means)")
 
-    def vec(prefix):
-        return tuple(float(out[f"{prefix}{c}"]) for c in "xyz")
+    def vec(prefix: str) -> Vector:
+        x, y, z = (float(out[f"{prefix}{c}"]) for c in "xyz")
+        return x, y, z
 
-    def optional(value):
+    def optional(value: float) -> float | None:
         return None if math.isnan(value) else float(value)
 
     return ImpactResult(
@@ -369,7 +374,7 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
     )
 
 
-def contact_problem(case: ImpactCase) -> dict:
+def contact_problem(case: ImpactCase) -> dict[str, Any]:
     """The impact in its contact basis: the Delassus matrix and the initial slip.
 
     Returns a dict with ``K`` (3x3, 1/kg, basis ``t1, t2, t3``), ``v0`` (initial relative
@@ -389,7 +394,8 @@ def contact_problem(case: ImpactCase) -> dict:
             "r_c": np.array(r_c), "s1": case.mu * k11, "s2": case.mu * k22, "s0": k23}
 
 
-def history(case: ImpactCase, impulses, settings: SolverSettings = SolverSettings()) -> dict:
+def history(case: ImpactCase, impulses: ArrayLike,
+            settings: SolverSettings = SolverSettings()) -> dict[str, Any]:
     """The impact as a function of the normal impulse (for plots and checks).
 
     Parameters
@@ -432,7 +438,7 @@ _CASE_KEYS = {"ball", "bat", "contact", "ball_velocity", "ball_spin", "bat_veloc
 _REQUIRED = ("ball", "bat", "contact", "ball_velocity", "mu")
 
 
-def impact_case_from_dict(data) -> ImpactCase:
+def impact_case_from_dict(data: Any) -> ImpactCase:
     """A bat-frame case of ``mcbat impact`` (``docs/impact.md``; SI), checked against the
     solver's ranges and for bodies approaching at the contact."""
     check_object(data, "", _CASE_KEYS, _REQUIRED)
