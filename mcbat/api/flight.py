@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any, cast
 
 import numpy as np
 
@@ -57,7 +58,7 @@ _LAUNCH_NAMES = ("launch_speed", "launch_angle", "spray_angle", "backspin", "sid
                  "gyrospin")
 
 
-def _angle(value, name, limit, shown):
+def _angle(value: float, name: str, limit: float, shown: int) -> float:
     value = _real(value, name)
     if not abs(value) <= limit:
         raise InputError(name, f"must be within [-{shown}, {shown}] deg, got {value:.6g} rad "
@@ -99,7 +100,7 @@ class FlightCase:
     ball: Ball = BALL_PRESETS[DEFAULT_BALL]
     settings: FlightSettings = FlightSettings()
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         speed = _real(self.launch_speed, "launch_speed")
         if not speed > 0.0:
             raise InputError("launch_speed", f"must be > 0 m/s, got {speed:.6g} m/s")
@@ -154,7 +155,7 @@ class FlightCase:
         return cls(**launch, ball=result.case.ball if ball is None else ball,
                    settings=FlightSettings() if settings is None else settings)
 
-    def vectors(self):
+    def vectors(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """Field-frame velocity (m/s) and spin (rad/s) at launch."""
         v, w = launch_vectors(self.launch_speed, self.launch_angle, self.spray_angle,
                               self.backspin, self.sidespin, self.gyrospin)
@@ -173,7 +174,7 @@ class FlightResult:
     hang_time: float
     apex_m: float
     steps: int
-    trajectory: dict | None = None
+    trajectory: dict[str, list[float]] | None = None
 
     @property
     def hit_distance(self) -> float:
@@ -195,7 +196,7 @@ class FlightResult:
         """Greatest height of the flight (ft)."""
         return self.apex_m / FT
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready dictionary (the output of ``mcbat flight``), with a ``units`` block:
         see ``mcbat.api.contract.flight_result_to_dict``."""
         return flight_result_to_dict(self)
@@ -209,7 +210,7 @@ _GAME_ANSWER_KEYS = {"status", "end_state", "spin_rate", "collision_efficiency",
                      "bat_frame_case", "bat_frame"}
 
 
-def _launch_units(data, game_answer) -> dict:
+def _launch_units(data: dict[str, Any], game_answer: bool) -> dict[str, str]:
     """The ``units`` block of a flight's input: the unit of each bare launch number (a key
     it does not name: the field's unit)."""
     if "units" not in data:
@@ -217,7 +218,7 @@ def _launch_units(data, game_answer) -> dict:
     units = data["units"]
     if not isinstance(units, dict):
         raise InputError("units", f"must be an object, got {type(units).__name__}")
-    out = {}
+    out: dict[str, str] = {}
     for key, unit in units.items():
         if key in _LAUNCH_KEYS:
             if not isinstance(unit, str):
@@ -231,7 +232,7 @@ def _launch_units(data, game_answer) -> dict:
     return out
 
 
-def flight_case_from_dict(data) -> FlightCase:
+def flight_case_from_dict(data: Any) -> FlightCase:
     """A ``FlightCase`` from a ``mcbat flight`` JSON object: bare numbers in the
     field's units (``launch_speed`` mph, angles deg, spins rpm, ``position`` and
     ``landing_height`` ft, ``wind`` mph, ``atmosphere`` degF, inHg, ft:
@@ -256,17 +257,17 @@ def flight_case_from_dict(data) -> FlightCase:
         raise InputError("status", f"the game was not solved (status {data['status']!r})")
     units = _launch_units(data, game_answer)
 
-    def shown(key):  # the value as written, with the unit it is read in
+    def shown(key: str) -> str:  # the value as written, with the unit it is read in
         value = data[key]
         if isinstance(value, dict):
             return repr(value)
         return f"{value!r} {units.get(key, FIELD_KEYS[key][0])}"
 
-    launch = {}
+    launch: dict[str, float] = {}
     for key, (quantity, default) in _LAUNCH_KEYS.items():
         spec = data.get(key, default)
         if key not in data:
-            value = default
+            value = cast(float, default)  # (the keys without a default are required)
         elif key in units and not isinstance(spec, dict):
             value = fixed_value({"value": spec, "unit": units[key]}, key, quantity)
         else:
@@ -293,7 +294,7 @@ def flight_case_from_dict(data) -> FlightCase:
     return FlightCase(ball=ball, settings=settings, **launch)
 
 
-def _settings_in_field_units(data) -> dict:
+def _settings_in_field_units(data: dict[str, Any]) -> dict[str, Any]:
     """The flight keys of a case, their bare numbers given the field's units
     (``mcbat.api.contract.field_spec``), for ``mcbat.study.flight.parse_flight``
     (which reads bare numbers in SI, as a study's ``[flight]`` section)."""
@@ -324,6 +325,7 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
     v, w = case.vectors()
     params = case.settings.params(case.ball.mass, case.ball.radius)
     x = tuple(float(c) for c in case.settings.start)
+    sampled: dict[str, list[float]] | None = None
     if trajectory is None:
         f, count, samples = flight_kernel(params, x, v, w), 0, None
     else:
@@ -361,7 +363,7 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
         if not t or t[-1] < f.hang_time:
             t, px, py, pz = (t + [f.hang_time], px + [f.landing_x], py + [f.landing_y],
                              pz + [0.0])
-        trajectory = {"t": t, "x": px, "y": py, "z": pz}
+        sampled = {"t": t, "x": px, "y": py, "z": pz}
     return FlightResult(hit_distance_m=float(f.distance), landing_x_m=float(f.landing_x),
                         landing_y_m=float(f.landing_y), hang_time=float(f.hang_time),
-                        apex_m=float(f.apex), steps=int(f.steps), trajectory=trajectory)
+                        apex_m=float(f.apex), steps=int(f.steps), trajectory=sampled)

@@ -29,8 +29,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
+from mcbat.core.flight import FlightParams
 from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH
 from mcbat.errors import InputError
@@ -63,7 +65,9 @@ _DT = 1e-3          # s: the flight's samples, fitted near the plate for its vel
 _MAX_TIME = 4.0     # s: a pitch slower than ~10 mph does not reach the plate in this time
 
 
-def _crossing(params, height, speed, elevation, spin, distance):
+def _crossing(params: FlightParams, height: float, speed: float, elevation: float,
+              spin: tuple[float, float, float],
+              distance: float) -> tuple[NDArray[np.float64], float] | None:
     """Velocity (m/s, 3-vector) and height (m) where a pitch launched from ``(0, 0,
     height)`` towards ``+y`` crosses ``y = distance``; None if it does not get there."""
     v, w = launch_vectors(speed, elevation, 0.0, *spin)
@@ -89,9 +93,11 @@ def _crossing(params, height, speed, elevation, spin, distance):
     return velocity, float(fits[2](tc))
 
 
-def plate_speed(release_speed, extension=DEFAULT_EXTENSION, spin_rate=0.0, *,
-                spin_axis=math.pi, spin_efficiency=1.0, gyro_sign=1.0,
-                release_height=DEFAULT_RELEASE_HEIGHT, plate_height=DEFAULT_PLATE_HEIGHT,
+def plate_speed(release_speed: float, extension: float = DEFAULT_EXTENSION,
+                spin_rate: float = 0.0, *, spin_axis: float = math.pi,
+                spin_efficiency: float = 1.0, gyro_sign: float = 1.0,
+                release_height: float = DEFAULT_RELEASE_HEIGHT,
+                plate_height: float = DEFAULT_PLATE_HEIGHT,
                 ball: Ball | None = None, settings: FlightSettings | None = None) -> float:
     """The pitch's speed at the front of the plate (m/s).
 
@@ -155,7 +161,7 @@ def plate_speed(release_speed, extension=DEFAULT_EXTENSION, spin_rate=0.0, *,
     # Aim: the elevation that would fall to the plate's height in a vacuum, then the
     # secant method on the height where the pitch crosses the front of the plate.
 
-    def miss(aim):
+    def miss(aim: float) -> tuple[NDArray[np.float64], float] | None:
         crossing = _crossing(params, release_height, speed, aim, spin, distance)
         return None if crossing is None else (crossing[0], crossing[1] - plate_height)
 
