@@ -42,6 +42,7 @@ from mcbat.api.game import GameResult
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight import FlightStatus
 from mcbat.core.flight import fly as flight_kernel
+from mcbat.core.flight.trajectory import MAX_STEPS
 from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
@@ -335,7 +336,7 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
         if case.settings.scheme == "sheet":
             raise InputError("trajectory", "not available with scheme = \"sheet\"")
         samples = np.empty((4, int(min(120.0 / dt, MAX_TRAJECTORY_POINTS)) + 2))
-        f, count = integrate_flight(params, x, v, w, samples, dt)
+        f, count = integrate_flight(params, x, v, w, samples, dt, MAX_STEPS)
     if f.status == FlightStatus.NOT_RISEN:
         raise InputError("landing_height", "the ball never rises to the landing height: it "
                          "reaches the ground first")

@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight import FlightParams
+from mcbat.core.flight.trajectory import MAX_STEPS
 from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH
 from mcbat.errors import InputError
@@ -73,7 +74,7 @@ def _crossing(params: FlightParams, height: float, speed: float, elevation: floa
     v, w = launch_vectors(speed, elevation, 0.0, *spin)
     samples = np.empty((4, int(_MAX_TIME / _DT) + 2))
     _, count = integrate_flight(params, (0.0, 0.0, height), tuple(float(c) for c in v),
-                                tuple(float(c) for c in w), samples, _DT)
+                                tuple(float(c) for c in w), samples, _DT, MAX_STEPS)
     t, y = samples[0, :count], samples[2, :count]
     after = np.flatnonzero(y >= distance)
     if after.size == 0 or after[0] == 0:

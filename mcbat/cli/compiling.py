@@ -70,9 +70,10 @@ KERNEL_GROUPS = {
 _GAME = ("game", "flight")
 
 
-def _study_groups(path) -> tuple[str, ...]:
-    """The groups a study's kernels are in: the game's and the flight's, or the bat
-    frame's (the study file read as TOML; a game's if it cannot be read)."""
+def _study_groups(path, flies) -> tuple[str, ...]:
+    """The groups of a study's kernels: the game's (and the flight's, if ``flies`` and the
+    study has ``[flight]``) or the bat frame's (the study file read as TOML; a game with
+    flight if it cannot be read: a shipped study's name)."""
     import tomllib
     from pathlib import Path
 
@@ -81,8 +82,10 @@ def _study_groups(path) -> tuple[str, ...]:
     try:
         data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, ValueError, TypeError):
-        return _GAME
-    return _GAME if is_game(data) else ("bat_frame",)
+        return _GAME if flies else ("game",)
+    if not is_game(data):
+        return ("bat_frame",)
+    return _GAME if flies and "flight" in data else ("game",)
 
 
 def command_groups(args) -> tuple[str, ...]:
@@ -92,7 +95,8 @@ def command_groups(args) -> tuple[str, ...]:
     study = getattr(args, "study", None)
     if command in ("run", "synth") or (command in ("fit", "calibrate") and study
                                        and not getattr(args, "flight", False)):
-        return ("sampling", *_study_groups(study)) if study else ("sampling", *_GAME)
+        flies = command == "run"  # (fit, synth and calibrate do not fly the balls)
+        return ("sampling", *_study_groups(study, flies)) if study else ("sampling", *_GAME)
     if command == "reproduce":
         return {"sawicki2003": _GAME, "statcast": ("flight",)}.get(
             getattr(args, "paper", None), ("sampling", "bat_frame"))

@@ -100,6 +100,7 @@ def test_the_groups_of_each_command(tmp_path):
     assert groups(_args("run", str(game))) == ("sampling", "game", "flight")
     assert groups(_args("run", str(drop))) == ("sampling", "bat_frame")
     assert groups(_args("synth", "--study", str(drop))) == ("sampling", "bat_frame")
+    assert groups(_args("fit", "--study", str(game))) == ("sampling", "game")
     assert groups(_args("fit", "--flight")) == ("flight",)
     assert groups(_args("calibrate")) == ("bat_frame",)
     assert groups(_args("reproduce", "sawicki2003")) == ("game", "flight")

@@ -74,7 +74,7 @@ Flight = namedtuple("Flight", ("status", "distance", "landing_x", "landing_y", "
 _POS, _VEL = 10.0, 10.0  # error scales (m, m/s)
 
 
-@njit(inline="always")
+@njit  # (not inlined: compiled once for its eight callers; LLVM inlines it where it pays)
 def rates(p, axis, spin, t, v):
     """Acceleration (m/s^2) at time ``t`` (s) and velocity ``v``; ``axis`` the unit spin
     axis (kept from the launch) and ``spin`` its initial rate (rad/s)."""
@@ -89,7 +89,7 @@ def rates(p, axis, spin, t, v):
             d * rz + m * (axis[0] * ry - axis[1] * rx) - p.gravity)
 
 
-@njit(inline="always")
+@njit  # (not inlined: compiled once for its callers, none of them on the hot path)
 def _hermite(s, h, y0, d0, a0, y1, d1, a1):
     """Quintic Hermite interpolant at ``s`` in [0, 1] of a step of length ``h`` with
     values, first and second derivatives at both ends; returns (value, d/dt, d2/dt2)."""
@@ -293,7 +293,9 @@ def fly(p, x, v, w, max_steps=MAX_STEPS):
     """One flight from position ``x`` (m) with velocity ``v`` (m/s) and spin ``w`` (rad/s,
     field frame) to the ground (``z = 0``); returns a ``Flight`` (SI). The spin axis
     keeps its launch direction; its rate decays as the model says (``README.md``)."""
-    return integrate(p, x, v, w, np.empty((4, 0)), 0.0, max_steps)[0]
+    # (np.int64: the integrate the API compiles, which passes MAX_STEPS, not one for the
+    # constant default)
+    return integrate(p, x, v, w, np.empty((4, 0)), 0.0, np.int64(max_steps))[0]
 
 
 @njit
