@@ -59,12 +59,12 @@ KERNEL_GROUPS = {
         "mcbat.core.flight.trajectory:fly", "mcbat.core.flight.trajectory:integrate",
         "mcbat.core.flight.trajectory:fly_batch",
         "mcbat.core.flight.trajectory:fly_batch_each",
-        "mcbat.core.flight.trajectory:height_at_distance_batch"), 6.0),
+        "mcbat.core.flight.trajectory:height_at_distance_batch"), 5.0),
     "bat_frame": KernelGroup("the bat-frame kernel", (
         "mcbat.core.batch:solve_batch", "mcbat.core.cabo2012.impact:solve_impact"), 2.0, True),
-    "sampling": KernelGroup("the sampler", ("mcbat.core.sampling:draw_random_inputs",), 4.0),
+    "sampling": KernelGroup("the sampler", ("mcbat.core.sampling:draw_random_inputs",), 5.0),
     "inference": KernelGroup("the inference kernel", (
-        "mcbat.core.contact_inference.solver:infer_contact_batch",), 12.0, True),
+        "mcbat.core.contact_inference.solver:infer_contact_batch",), 14.0, True),
 }
 
 _GAME = ("game", "flight")
