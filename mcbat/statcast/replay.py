@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import cast
 
 import numpy as np
 import pandas as pd
@@ -222,7 +223,8 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
                                               "bb_type", "launch_speed", "launch_angle",
                                               "spray_angle", "hit_distance_sc")})
     out["spray_angle"] = landing
-    out.insert(out.columns.get_loc("spray_angle") + 1, "launch_spray_angle", spray)
+    at = cast(int, out.columns.get_loc("spray_angle"))  # a unique column: its position
+    out.insert(at + 1, "launch_spray_angle", spray)
     out["backspin"], out["sidespin"] = backspin, sidespin
     out["park"] = air["park"].to_numpy(object)
     out["temperature"] = air["temperature"].to_numpy(float)
