@@ -26,6 +26,7 @@ difference of about ``sin V cos V H^2 / 2``: under 0.05 deg for ``|H| < 5 deg`` 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["FT_S_PER_MPH", "HOME_PLATE_HC", "PLATE_FRONT_FT", "Y0_FT", "plate_crossing",
            "spray_angle"]
@@ -41,7 +42,10 @@ HOME_PLATE_HC = (125.42, 198.27)
 literature uses; the chart's units are about 2.5 ft)."""
 
 
-def plate_crossing(vx0, vy0, vz0, ax, ay, az, y0=Y0_FT, y_plate=PLATE_FRONT_FT):
+def plate_crossing(vx0: ArrayLike, vy0: ArrayLike, vz0: ArrayLike, ax: ArrayLike,
+                   ay: ArrayLike, az: ArrayLike, y0: float = Y0_FT,
+                   y_plate: float = PLATE_FRONT_FT
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """The pitch's speed and approach angles where it crosses ``y = y_plate``.
 
     Parameters
@@ -81,7 +85,7 @@ def plate_crossing(vx0, vy0, vz0, ax, ay, az, y0=Y0_FT, y_plate=PLATE_FRONT_FT):
     return speed, vertical, horizontal
 
 
-def spray_angle(hc_x, hc_y):
+def spray_angle(hc_x: ArrayLike, hc_y: ArrayLike) -> NDArray[np.float64]:
     """The batted ball's horizontal direction from Statcast's hit coordinates, deg.
 
     ``atan2(hc_x - 125.42, 198.27 - hc_y)``: 0 towards centre field, positive towards

@@ -27,11 +27,15 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from mcbat.statcast.collision import COLLISION_UNITS
 from mcbat.statcast.reader import COLUMNS, REQUIRED, balls_in_play, read_with_lines
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = ["FIT_COLUMNS", "is_statcast", "measurement_table"]
 
@@ -41,7 +45,7 @@ FIT_COLUMNS = ("launch_speed", "launch_angle", "spray_angle", "pitch_speed", "ba
 _OBSERVED = ("launch_speed", "launch_angle", "spray_angle")
 
 
-def is_statcast(path) -> bool:
+def is_statcast(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` (CSV, ``.csv.gz`` or Parquet) is a Savant export or a tidy table,
     judged by its header alone: Savant's required columns, or the tidy table's columns.
     False for anything unreadable (the caller's own reader then reports the problem)."""
@@ -63,7 +67,8 @@ def is_statcast(path) -> bool:
     return set(REQUIRED) <= names or set(COLUMNS) - set(COLLISION_UNITS) <= names
 
 
-def measurement_table(source, *, name=None):
+def measurement_table(source: str | os.PathLike[str] | pd.DataFrame, *,
+                      name: str | None = None) -> pd.DataFrame:
     """The fit's measurement table from a Savant export (see the module docstring).
 
     Parameters

@@ -54,14 +54,19 @@ import math
 import operator
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from mcbat.errors import InputError
 from mcbat.statcast import kinematics, parks
 from mcbat.statcast.collision import COLLISION_UNITS, collision_columns
 from mcbat.statcast.files import MAX_LINE_BYTES, CappedReader, check_regular_file
 from mcbat.statcast.plays import balls_in_play
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = ["COLUMNS", "METADATA_KEY", "OPTIONAL", "PITCH_KEY", "RANGES", "REQUIRED", "UNITS",
            "attack_direction_check", "balls_in_play", "read", "read_with_lines", "summarize",
@@ -141,7 +146,8 @@ _DERIVED = tuple(COLLISION_UNITS)
 when read."""
 
 
-def read(source, *, name=None, strict=False, keep_duplicates=False):
+def read(source: str | os.PathLike[str] | pd.DataFrame, *, name: str | None = None,
+         strict: bool = False, keep_duplicates: bool = False) -> pd.DataFrame:
     """Read a Savant export into mcbat's tidy table, one row per pitch.
 
     Parameters
@@ -190,7 +196,9 @@ def read(source, *, name=None, strict=False, keep_duplicates=False):
                            keep_duplicates=keep_duplicates)[0]
 
 
-def read_with_lines(source, *, name=None, strict=False, keep_duplicates=False):
+def read_with_lines(source: str | os.PathLike[str] | pd.DataFrame, *, name: str | None = None,
+                    strict: bool = False, keep_duplicates: bool = False
+                    ) -> tuple[pd.DataFrame, NDArray[np.int64] | None]:
     """``read``, and the file line (from 1, as an editor counts) of each row of the
     table: an int64 array for a CSV export, None for Parquet or a DataFrame. For messages
     about a row that name the line of the file it came from."""

@@ -28,6 +28,7 @@ model is an average over balls: real balls scatter about it by hundreds of rpm.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["HANDEDNESS", "nathan_average_spin"]
 
@@ -35,7 +36,8 @@ __all__ = ["HANDEDNESS", "nathan_average_spin"]
 HANDEDNESS = {"R": 1.0, "L": -1.0}
 
 
-def nathan_average_spin(launch_angle, spray_angle, handedness):
+def nathan_average_spin(launch_angle: ArrayLike, spray_angle: ArrayLike, handedness: ArrayLike
+                        ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """``(backspin, sidespin)`` in rpm of Nathan's average model (module docstring).
 
     Parameters
