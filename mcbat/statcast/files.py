@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import stat
+from typing import Protocol
 
 from mcbat.errors import InputError
 
@@ -37,7 +38,7 @@ _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
           (stat.S_ISSOCK, "a socket"))
 
 
-def file_kind(mode) -> str | None:
+def file_kind(mode: int) -> str | None:
     """What a file of ``st_mode`` ``mode`` is when it is not a regular file, else None."""
     if stat.S_ISREG(mode):
         return None
@@ -47,7 +48,8 @@ def file_kind(mode) -> str | None:
     return "not a regular file"
 
 
-def check_regular_file(path, label=None, field=None) -> os.stat_result:
+def check_regular_file(path: str | os.PathLike[str], label: str | None = None,
+                       field: str | None = None) -> os.stat_result:
     """``path``'s status if it is a regular file (symbolic links followed), else
     ``mcbat.errors.InputError`` saying what it is, before anything is opened.
 
@@ -78,6 +80,12 @@ def check_regular_file(path, label=None, field=None) -> os.stat_result:
     return status
 
 
+class _Stream(Protocol):
+    """What a ``CappedReader`` reads from: ``read(n)`` giving bytes."""
+
+    def read(self, n: int, /) -> bytes: ...
+
+
 class CappedReader:
     """A binary stream (a decompressor) that refuses to give more than ``limit`` bytes.
 
@@ -95,18 +103,20 @@ class CappedReader:
         The field the error is about.
     """
 
-    def __init__(self, stream, limit, label, on_disk, field=None):
+    def __init__(self, stream: _Stream, limit: int, label: str, on_disk: int,
+                 field: str | None = None) -> None:
         self.stream, self.limit, self.label = stream, int(limit), label
         self.on_disk, self.field, self.given = int(on_disk), field, 0
 
     @classmethod
-    def for_file(cls, stream, on_disk, label, field=None):
+    def for_file(cls, stream: _Stream, on_disk: int, label: str,
+                 field: str | None = None) -> CappedReader:
         """A reader capped at ``MAX_EXPANSION`` times ``on_disk`` bytes (at least
         ``MIN_EXPANDED_BYTES``)."""
         return cls(stream, max(MAX_EXPANSION * on_disk, MIN_EXPANDED_BYTES), label, on_disk,
                    field)
 
-    def read(self, n=-1):
+    def read(self, n: int | None = -1) -> bytes:
         """Up to ``n`` bytes; ``mcbat.errors.InputError`` once the cap is passed."""
         want = self.limit + 1 - self.given if n is None or n < 0 else \
             min(n, self.limit + 1 - self.given)
@@ -121,7 +131,8 @@ class CappedReader:
         return block
 
 
-def check_expansion(path, label=None, field=None) -> None:
+def check_expansion(path: str | os.PathLike[str], label: str | None = None,
+                    field: str | None = None) -> None:
     """Read a gzip file through to its end under the cap (``CappedReader``), keeping
     nothing: ``mcbat.errors.InputError`` if it expands beyond the cap or is broken.
     Nothing happens for a file that is not gzip. For readers that would decompress the

@@ -11,9 +11,13 @@ spray angle.
 
 from __future__ import annotations
 
-import numpy as np
+from collections.abc import Mapping
+from typing import Any
 
-from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.statcast.spin import nathan_average_spin
@@ -23,8 +27,11 @@ __all__ = ["launch_spray"]
 
 
 
-def launch_spray(launch_speed, launch_angle, spray_angle, handedness, *, per_ball=None,
-                 settings: FlightSettings | None = None, ball=None, iterations=3):
+def launch_spray(launch_speed: ArrayLike, launch_angle: ArrayLike, spray_angle: ArrayLike,
+                 handedness: ArrayLike, *, per_ball: Mapping[str, ArrayLike] | None = None,
+                 settings: FlightSettings | None = None, ball: Ball | None = None,
+                 iterations: int = 3
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Launch spray angle (deg) and Nathan's spin for it (rpm) of each ball, such that its
     flight comes down along its measured ``spray_angle``.
 
@@ -75,7 +82,10 @@ def launch_spray(launch_speed, launch_angle, spray_angle, handedness, *, per_bal
     return spray, back, side
 
 
-def _landing(speed, angle, spray, handedness, per_ball, settings, ball):
+def _landing(speed: NDArray[np.float64], angle: NDArray[np.float64],
+             spray: NDArray[np.float64], handedness: NDArray[Any],
+             per_ball: dict[str, NDArray[np.float64]] | None, settings: FlightSettings,
+             ball: Ball) -> NDArray[np.float64]:
     """Landing direction (deg) of balls flown from ``spray`` with Nathan's spin for it."""
     back, side = (np.asarray(x, float) for x in nathan_average_spin(angle, spray,
                                                                       handedness))
