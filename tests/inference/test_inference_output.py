@@ -28,7 +28,7 @@ def test_cli_infer_refuses_a_bad_output_before_any_work(tmp_path, capsys):
     from mcbat.cli import main
 
     code = main(["infer", str(ROOT / "data" / "statcast_2019_darvish.csv"), "--out",
-                 str(tmp_path / "spin.csv")])
+                 str(tmp_path / "spin.txt")])
     assert code == 2
-    assert "--out: unsupported file type '.csv'" in capsys.readouterr().err
+    assert "--out: unsupported file type '.txt'" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []

@@ -127,10 +127,10 @@ def test_bad_input_through_the_real_command_has_no_traceback(tmp_path):
 
 
 def test_a_bad_out_path_is_refused_before_reading(tmp_path, cli):
-    proc = cli("statcast", FILE_2020, "--out", str(tmp_path / "t.csv"))
+    proc = cli("statcast", FILE_2020, "--out", str(tmp_path / "t.txt"))
     assert proc.returncode == 2
-    assert proc.stderr.strip() == (f"mcbat: error: --out: unsupported file type '.csv' for "
-                                   f"{tmp_path / 't.csv'} (use one of: .parquet, .pq)")
+    assert proc.stderr.strip() == (f"mcbat: error: --out: unsupported file type '.txt' for "
+                                   f"{tmp_path / 't.txt'} (use one of: .parquet, .pq, .csv)")
 
 
 def test_a_non_numeric_cell_is_reported_not_fatal(tmp_path, cli):
