@@ -52,6 +52,7 @@ def test_interval_statistics_count_pulls_on_the_truths_side_and_limits_apart():
     assert stats["zero_width"] == 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("setting", ["inside", "edges"])
 def test_a_few_independent_tables_fit_without_refusal_or_zero_width(study, setting):
     records = _records(study, [setting], 2)
@@ -181,6 +182,7 @@ def test_tables_reaching_beyond_the_studys_range_fit_without_bias(study):
         assert abs(row["mean_pull"]) <= 0.3, row["param"]
 
 
+@pytest.mark.slow
 def test_an_interval_below_a_plateau_the_95_percent_level_reaches_says_so(study):
     # Table 5 of "stick" (truth mu = 0.5, every drop sticks): one row looks as if it slid,
     # and the best fit sits at mu = 0.203 +- 0.004 just below the plateau of mu where all
@@ -224,6 +226,7 @@ def test_the_fits_likelihood_has_the_exact_marginal_likelihoods_score_at_the_tru
     assert np.all(np.abs(shift) < 0.5 * np.sqrt(np.diag(inverse)))
 
 
+@pytest.mark.slow
 def test_the_test_behind_a_limit_rejects_the_truth_where_the_limit_excludes_it(study):
     # Table 1002 of "onset_low" (truth mu = 0.19) looks flat above and reports the lower
     # limit 0.1949: it excludes the truth. The conditional test at the truth, with a

@@ -106,6 +106,7 @@ def test_flat_side_is_read_from_the_minimum_towards_the_chosen_end():
     assert flat_side_mask(rises, 1, ONE_SIGMA).tolist() == [False, True, False]
 
 
+@pytest.mark.slow
 def test_conditional_limits_hold_the_truth_where_likelihood_ratio_limits_do_not(monkeypatch):
     # Fewer simulated tables than a fit's: each p-value is then known to about 2 % near
     # 5 %, which spreads the limits but does not bias their coverage.
