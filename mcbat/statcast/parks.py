@@ -15,8 +15,10 @@ import csv
 import functools
 import math
 from importlib import resources
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from mcbat.errors import InputError
 
@@ -33,18 +35,18 @@ _NO_END = np.datetime64("9999-12-31")
 _NO_START = np.datetime64("0001-01-01")
 
 
-def _read(name):
+def _read(name: str) -> list[dict[str, str]]:
     text = resources.files("mcbat.data").joinpath(name).read_text(encoding="utf-8")
     return list(csv.DictReader(line for line in text.splitlines()
                                if line.strip() and not line.startswith("#")))
 
 
-def _float(cell):
+def _float(cell: str) -> float:
     return float(cell) if cell.strip() else math.nan
 
 
 @functools.cache
-def parks() -> tuple[dict, ...]:
+def parks() -> tuple[dict[str, Any], ...]:
     """The park table as dicts, cached.
 
     Keys: ``park_id``, ``home_team``, ``park``, ``first_date`` and ``last_date``
@@ -54,7 +56,7 @@ def parks() -> tuple[dict, ...]:
     ``*_source`` cells, and for older callers ``first_season``, ``last_season`` and
     ``source`` (the elevation's source).
     """
-    rows = []
+    rows: list[dict[str, Any]] = []
     for row in _read(PARKS_FILE):
         first = np.datetime64(row["first_date"].strip(), "D")
         last = (np.datetime64(row["last_date"].strip(), "D") if row["last_date"].strip()
@@ -79,11 +81,11 @@ def parks() -> tuple[dict, ...]:
 
 
 @functools.cache
-def _park_info() -> dict:
+def _park_info() -> dict[str, dict[str, Any]]:
     return {p["park_id"]: p for p in parks()}
 
 
-def _dates(game_date):
+def _dates(game_date: ArrayLike) -> NDArray[np.datetime64]:
     values = np.asarray(game_date)
     if values.dtype.kind == "M":
         return values.astype("datetime64[D]")
@@ -96,7 +98,7 @@ def _dates(game_date):
     return out
 
 
-def park_of(home_team, game_date):
+def park_of(home_team: ArrayLike, game_date: ArrayLike) -> NDArray[np.object_]:
     """The park (``park_id``) of each row: the row of ``data/mlb_parks.csv`` whose team and
     date span hold the game; neutral-site rows win over temporary rows over home parks.
 
@@ -122,7 +124,7 @@ def park_of(home_team, game_date):
     return out
 
 
-def park_value(park_ids, key):
+def park_value(park_ids: ArrayLike, key: str) -> NDArray[Any]:
     """One column of the park table (``elevation_ft``, ``roof``, ``bearing_deg``, ...) for
     each ``park_id`` (None gives NaN or None)."""
     info = _park_info()
@@ -135,7 +137,8 @@ def park_value(park_ids, key):
     return out
 
 
-def elevation(home_team, game_year=None, game_date=None):
+def elevation(home_team: ArrayLike, game_year: ArrayLike | None = None,
+              game_date: ArrayLike | None = None) -> NDArray[np.float64]:
     """Elevation (ft) of the park of each row; NaN where the team and date are not in the
     table.
 
@@ -161,7 +164,7 @@ def elevation(home_team, game_year=None, game_date=None):
 
 
 @functools.cache
-def fence_configurations() -> tuple[dict, ...]:
+def fence_configurations() -> tuple[dict[str, Any], ...]:
     """The fence configurations of ``data/park_fences.csv``, one dict per park and span.
 
     Keys: ``config_id`` (``park_id@first_date``, or ``park_id@opening`` for a
@@ -170,7 +173,7 @@ def fence_configurations() -> tuple[dict, ...]:
     ``spray_angle_deg``, ``distance_ft``, ``height_ft`` (arrays sorted by spray angle, NaN
     where a cell is empty). Sorted by park and first date.
     """
-    groups: dict = {}
+    groups: dict[tuple[str, str, str], list[tuple[float, float, float]]] = {}
     for row in _read(FENCES_FILE):
         pid = row["park_id"].strip()
         first, last = row["first_date"].strip(), row["last_date"].strip()
@@ -190,12 +193,12 @@ def fence_configurations() -> tuple[dict, ...]:
 
 
 @functools.cache
-def fences() -> dict:
+def fences() -> dict[str, tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]]:
     """The fence table: ``{key: (spray_angle_deg, distance_ft, height_ft)}`` arrays sorted
     by spray angle (NaN where a cell is empty). A ``park_id`` key gives the park's latest
     configuration (the one standing now); a ``config_id`` key
     (``fence_configurations``) gives that configuration."""
-    table: dict = {}
+    table: dict[str, tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = {}
     for c in fence_configurations():  # sorted by first date: the latest overwrites
         arrays = (c["spray_angle_deg"], c["distance_ft"], c["height_ft"])
         table[c["config_id"]] = arrays
@@ -203,7 +206,7 @@ def fences() -> dict:
     return table
 
 
-def fence_config(park, game_date):
+def fence_config(park: ArrayLike, game_date: ArrayLike) -> NDArray[np.object_]:
     """The fence configuration standing at each park on each date.
 
     Parameters
@@ -230,7 +233,8 @@ def fence_config(park, game_date):
     return out
 
 
-def fence(park, spray_angle_deg, game_date=None):
+def fence(park: ArrayLike, spray_angle_deg: ArrayLike, game_date: ArrayLike | None = None
+          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Outfield fence distance and height along a spray angle.
 
     Distance is interpolated linearly in spray angle between the table's points and held
