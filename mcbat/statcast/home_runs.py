@@ -13,11 +13,14 @@ configuration per park; ``docs/parks-and-weather.md``).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
-from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
+from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.statcast import parks
@@ -25,11 +28,15 @@ from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
 
 __all__ = ["home_run_call"]
 
+_Floats = NDArray[np.float64]
 
 
-def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, park, *,
-                  game_date=None, settings: FlightSettings | None = None, ball=None,
-                  per_ball=None, scatter_ft=None) -> pd.DataFrame:
+
+def home_run_call(launch_speed: ArrayLike, launch_angle: ArrayLike, spray_angle: ArrayLike,
+                  backspin: ArrayLike, sidespin: ArrayLike, park: ArrayLike, *,
+                  game_date: ArrayLike | None = None, settings: FlightSettings | None = None,
+                  ball: Ball | None = None, per_ball: Mapping[str, ArrayLike] | None = None,
+                  scatter_ft: ArrayLike | None = None) -> pd.DataFrame:
     """Whether each ball clears its park's fence.
 
     Parameters
@@ -70,7 +77,7 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
     ids = np.broadcast_to(np.asarray(park, dtype=object), (n,))
     dates = None if game_date is None else np.broadcast_to(
         np.asarray(game_date, dtype="datetime64[D]"), (n,))
-    def each(values):
+    def each(values: ArrayLike) -> NDArray[np.float64]:
         return np.broadcast_to(np.asarray(values, float), (n,))
 
     launch = (speed * M_S_PER_MPH, each(launch_angle) * RAD_PER_DEG, spray * RAD_PER_DEG,
@@ -105,7 +112,10 @@ def home_run_call(launch_speed, launch_angle, spray_angle, backspin, sidespin, p
     return out
 
 
-def _margin(settings, ball, launch, per_ball, distance, height, clearance):
+def _margin(settings: FlightSettings, ball: Ball,
+            launch: tuple[_Floats, _Floats, _Floats, _Floats, _Floats],
+            per_ball: Mapping[str, ArrayLike] | None, distance: _Floats, height: _Floats,
+            clearance: _Floats) -> _Floats:
     """How much farther than the fence each ball passes the fence's height on its way down
     (ft); for a ball below the wall's top where it meets it, at most minus the height it
     lacks (a line drive still rising at the wall is short however far it would carry)."""
