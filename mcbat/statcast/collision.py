@@ -20,8 +20,16 @@ column). ``collision_summary`` sums them up for comparison with a model.
 from __future__ import annotations
 
 import re
+from collections.abc import Collection, Iterable, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+_Floats = NDArray[np.float64]
 
 __all__ = ["COLLISION_UNITS", "SQUARED_UP_BAT", "SQUARED_UP_PITCH", "SQUARED_UP_THRESHOLD",
            "collision_columns", "collision_summary", "is_bunt", "squared_up_maximum"]
@@ -40,14 +48,15 @@ SQUARED_UP_THRESHOLD = 0.8
 _BUNT_WORD = re.compile(r"\bbunt", re.IGNORECASE)
 
 
-def squared_up_maximum(bat_speed, pitch_speed):
+def squared_up_maximum(bat_speed: ArrayLike, pitch_speed: ArrayLike) -> _Floats:
     """Statcast's largest possible exit velocity (mph) for a bat speed and a pitch speed
     at the plate (mph): ``1.23 bat_speed + 0.23 pitch_speed``."""
     return (SQUARED_UP_BAT * np.asarray(bat_speed, dtype=float)
             + SQUARED_UP_PITCH * np.asarray(pitch_speed, dtype=float))
 
 
-def _tracked(df, in_play):
+def _tracked(df: pd.DataFrame, in_play: NDArray[np.bool_]
+             ) -> tuple[NDArray[np.bool_], _Floats, _Floats, _Floats]:
     speed = df["bat_speed"].to_numpy(dtype=float)
     launch = df["launch_speed"].to_numpy(dtype=float)
     pitch = df["pitch_speed"].to_numpy(dtype=float)
@@ -56,7 +65,7 @@ def _tracked(df, in_play):
     return ok, speed, launch, pitch
 
 
-def collision_columns(df, in_play):
+def collision_columns(df: pd.DataFrame, in_play: ArrayLike) -> dict[str, Any]:
     """``collision_efficiency``, ``squared_up_fraction`` (float64, NaN where not a tracked
     ball in play) and ``squared_up`` (pandas ``"boolean"``, ``<NA>`` there) of the tidy
     table ``df``; ``in_play`` is the balls-in-play mask. Returns a dict of columns."""
@@ -73,7 +82,9 @@ def collision_columns(df, in_play):
             "squared_up": squared}
 
 
-def is_bunt(description=None, events=None, des=None):
+def is_bunt(description: Collection[object] | None = None,
+            events: Collection[object] | None = None,
+            des: Collection[object] | None = None) -> NDArray[np.bool_]:
     """Which rows Savant marks as bunts, from any of its text columns (arrays of str or
     missing): ``description`` containing ``bunt`` (``foul_bunt``, ``missed_bunt``,
     ``bunt_foul_tip``), ``events`` starting ``sac_bunt``, or the play's words ``des``
@@ -85,21 +96,24 @@ def is_bunt(description=None, events=None, des=None):
     n = len(columns[0])
     out = np.zeros(n, dtype=bool)
 
-    def text(values):
+    def text(values: Iterable[object]) -> list[str]:
         return [v.lower() if isinstance(v, str) else "" for v in values]
 
     if description is not None:
-        out |= np.array(["bunt" in t for t in text(description)], dtype=bool)
+        out |= np.array(["bunt" in t for t in text(description)], dtype=np.bool_)
     if events is not None:
-        out |= np.array([t.startswith("sac_bunt") for t in text(events)], dtype=bool)
+        out |= np.array([t.startswith("sac_bunt") for t in text(events)], dtype=np.bool_)
     if des is not None:
-        out |= np.array([_BUNT_WORD.search(t) is not None for t in text(des)], dtype=bool)
+        out |= np.array([_BUNT_WORD.search(t) is not None for t in text(des)],
+                        dtype=np.bool_)
     return out
 
 
-def collision_summary(table, *, bat_speed_floor=40.0, exclude_bunts=True,
-                      bat_speed_bins=(40, 55, 60, 65, 70, 75, 80, 90),
-                      attack_angle_bins=(-30, -10, 0, 5, 10, 15, 20, 30, 60)):
+def collision_summary(table: pd.DataFrame, *, bat_speed_floor: float = 40.0,
+                      exclude_bunts: bool = True,
+                      bat_speed_bins: Sequence[float] = (40, 55, 60, 65, 70, 75, 80, 90),
+                      attack_angle_bins: Sequence[float] = (-30, -10, 0, 5, 10, 15, 20, 30,
+                                                            60)) -> dict[str, Any]:
     """The measured collision of a tidy table's tracked balls in play, for comparison
     with a model.
 
@@ -140,9 +154,9 @@ def collision_summary(table, *, bat_speed_floor=40.0, exclude_bunts=True,
     if exclude_bunts:
         used &= ~bunts
     used &= ~slow
-    out = {"balls": int(used.sum()),
-           "left_out": {"bunts": int(bunts.sum()) if exclude_bunts else 0,
-                        "below_floor": int(slow.sum())}}
+    out: dict[str, Any] = {"balls": int(used.sum()),
+                           "left_out": {"bunts": int(bunts.sum()) if exclude_bunts else 0,
+                                        "below_floor": int(slow.sum())}}
     if not used.any():
         return out
     qs = q[used]
@@ -169,8 +183,9 @@ def collision_summary(table, *, bat_speed_floor=40.0, exclude_bunts=True,
     return out
 
 
-def _binned(x, edges, q, fraction, launch):
-    rows = []
+def _binned(x: _Floats, edges: Sequence[float], q: _Floats, fraction: _Floats,
+            launch: _Floats) -> list[dict[str, float | int]]:
+    rows: list[dict[str, float | int]] = []
     for low, high in zip(edges[:-1], edges[1:]):
         inside = (x >= low) & (x < high)
         if not inside.any():
