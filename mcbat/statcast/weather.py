@@ -13,14 +13,24 @@ from __future__ import annotations
 import csv
 import functools
 import math
+from collections.abc import Callable, Iterable
 from importlib import resources
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from mcbat.core.units import M_S_PER_MPH as MPH
 from mcbat.errors import InputError
 from mcbat.statcast import parks
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+_Floats = NDArray[np.float64]
+_Index = int | np.integer[Any]  # a row number (numpy's, from flatnonzero)
+_Fail = Callable[[str, _Index, str], NoReturn]
 
 __all__ = ["CLIMATE_FILE", "INDOOR_HUMIDITY", "INDOOR_TEMPERATURE", "MPH", "STANDARD",
            "TEAM_ALIASES", "WIND_CODES", "air", "climate", "read_weather", "wind_vector"]
@@ -52,7 +62,7 @@ UNITS = {"game_pk": "id", "game_date": "date", "home_team": "code", "game_number
          "relative_humidity": "%"}
 
 
-def wind_vector(direction_code, speed_mph):
+def wind_vector(direction_code: ArrayLike, speed_mph: ArrayLike) -> tuple[_Floats, _Floats]:
     """Wind velocity in the field frame from Retrosheet's direction code and a speed.
 
     Parameters
@@ -91,7 +101,7 @@ def wind_vector(direction_code, speed_mph):
     return np.where(known, ux * v, 0.0), np.where(known, uy * v, 0.0)
 
 
-def read_weather(path):
+def read_weather(path: str | Path) -> pd.DataFrame:
     """Read and check a per-game weather table (CSV or Parquet).
 
     Parameters
@@ -129,11 +139,12 @@ def read_weather(path):
         raise InputError("path", f"cannot read the weather table: {err}", str(path)) from None
     raw = raw.astype(str).replace({"nan": "", "None": "", "<NA>": ""})
     source = str(path)
+    i: _Index  # a row number
 
-    def line(i):
+    def line(i: _Index) -> _Index:
         return i + 2 + comments if path.suffix != ".parquet" else i + 1
 
-    def fail(column, i, what):
+    def fail(column: str, i: _Index, what: str) -> NoReturn:
         raise InputError(column, f"line {line(i)}: {what}", source)
 
     by_pk = "game_pk" in raw.columns
@@ -169,7 +180,7 @@ def read_weather(path):
     return out.reset_index(drop=True)
 
 
-def _numbers(raw, out, fail):
+def _numbers(raw: pd.DataFrame, out: pd.DataFrame, fail: _Fail) -> None:
     import pandas as pd
 
     for column, unknown in (("temperature", 0.0), ("wind_speed", -1.0),
@@ -189,7 +200,7 @@ def _numbers(raw, out, fail):
         out[column] = values.to_numpy(dtype=float)
 
 
-def _codes(raw, out, fail):
+def _codes(raw: pd.DataFrame, out: pd.DataFrame, fail: _Fail) -> None:
     winds = raw["wind_direction"].str.strip().str.lower()
     for i in np.flatnonzero(~winds.isin(list(WIND_CODES)).to_numpy()):
         fail("wind_direction", i, f"unknown wind code {raw['wind_direction'].iloc[i]!r}")
@@ -201,7 +212,7 @@ def _codes(raw, out, fail):
     out["roof"] = roofs
 
 
-def _integers(column, name, fail):
+def _integers(column: pd.Series, name: str, fail: _Fail) -> NDArray[np.int64]:
     import pandas as pd
 
     values = pd.to_numeric(column.str.strip(), errors="coerce")
@@ -212,9 +223,9 @@ def _integers(column, name, fail):
 
 
 @functools.cache
-def _climate_rows() -> dict:
+def _climate_rows() -> dict[tuple[str, int], tuple[float, float, float]]:
     text = resources.files("mcbat.data").joinpath(CLIMATE_FILE).read_text(encoding="utf-8")
-    table = {}
+    table: dict[tuple[str, int], tuple[float, float, float]] = {}
     for row in csv.DictReader(line for line in text.splitlines()
                               if line.strip() and not line.startswith("#")):
         rh = row["relative_humidity"].strip()
@@ -224,7 +235,7 @@ def _climate_rows() -> dict:
     return table
 
 
-def climate(park_ids, months):
+def climate(park_ids: ArrayLike, months: ArrayLike) -> tuple[_Floats, _Floats, _Floats]:
     """Normal game-time temperature (degF), relative humidity (%) and the share of games
     played under a closed roof, per park and month, from ``data/park_climate.csv``; NaN
     where the table has no row."""
@@ -240,7 +251,8 @@ def climate(park_ids, months):
     return temp, rh, closed
 
 
-def air(table, weather=None):
+def air(table: pd.DataFrame, weather: pd.DataFrame | str | Path | None = None
+        ) -> pd.DataFrame:
     """The air of each row of a tidy Statcast table.
 
     Parameters
@@ -336,11 +348,11 @@ def air(table, weather=None):
 TEAM_ALIASES = {"ARI": "AZ"}
 
 
-def _team(codes):
+def _team(codes: Iterable[str]) -> NDArray[np.object_]:
     return np.array([TEAM_ALIASES.get(c, c) for c in codes], dtype=object)
 
 
-def _match(table, dates, w):
+def _match(table: pd.DataFrame, dates: pd.Series, w: pd.DataFrame) -> NDArray[np.int64]:
     """Index of each Statcast row's weather row (-1 for none)."""
     import pandas as pd
 
