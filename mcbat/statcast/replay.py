@@ -22,10 +22,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import cast
+from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike, NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.core.flight import FlightStatus
@@ -87,7 +89,7 @@ class Conditions:
     wind_direction: str | None = None
     drag_scale: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.park is not None and not any(p["home_team"] == self.park
                                              for p in parks.parks()):
             codes = sorted({p["home_team"] for p in parks.parks()})
@@ -128,10 +130,11 @@ def _batted(table: pd.DataFrame) -> pd.DataFrame:
     side = table["handedness"].astype("string").isin(("R", "L")).fillna(False).to_numpy(bool)
     keep = balls_in_play(table) & np.isfinite(numbers).all(axis=1) & side & (
         numbers[:, 0] > 0)
-    return table.loc[keep].reset_index(drop=True)
+    batted: pd.DataFrame = table.loc[keep].reset_index(drop=True)
+    return batted
 
 
-def _per_ball(air, drag):
+def _per_ball(air: pd.DataFrame, drag: ArrayLike) -> dict[str, ArrayLike]:
     return {"temperature": (air["temperature"].to_numpy(float) - 32.0) / 1.8 + 273.15,
             "pressure": air["pressure"].to_numpy(float) * 3386.389,
             "relative_humidity": air["relative_humidity"].to_numpy(float),
@@ -140,7 +143,7 @@ def _per_ball(air, drag):
             "wind_y": air["wind_y"].to_numpy(float), "drag_scale": drag}
 
 
-def _scatter(game_year):
+def _scatter(game_year: ArrayLike) -> NDArray[np.float64]:
     """Each ball's season's scatter of the carry about the model (ft): the season table's
     ``sigma_ft``, the median over seasons for a season it lacks."""
     seasons = flight_seasons()
@@ -150,7 +153,9 @@ def _scatter(game_year):
                      else typical for y in years])
 
 
-def _fly(balls, air, drag, backspin, sidespin, park_ids):
+def _fly(balls: pd.DataFrame, air: pd.DataFrame, drag: ArrayLike, backspin: NDArray[np.float64],
+         sidespin: NDArray[np.float64], park_ids: ArrayLike
+         ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], pd.DataFrame]:
     """Carry, landing point (ft) and home-run call of ``balls`` in ``air``."""
     per_ball = _per_ball(air, drag)
     launch = (balls["launch_speed"].to_numpy(float), balls["launch_angle"].to_numpy(float),
@@ -169,7 +174,7 @@ def _fly(balls, air, drag, backspin, sidespin, park_ids):
 
 
 def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
-           weather_table=None) -> pd.DataFrame:
+           weather_table: pd.DataFrame | str | Path | None = None) -> pd.DataFrame:
     """Every batted ball of ``table`` (``mcbat.statcast.read``) as it was and under
     ``conditions`` (module docstring).
 
@@ -245,7 +250,7 @@ def replay(table: pd.DataFrame, conditions: Conditions | None = None, *,
     return out
 
 
-def replay_summary(out: pd.DataFrame) -> dict:
+def replay_summary(out: pd.DataFrame) -> dict[str, Any]:
     """The replay's headline numbers: the median change of the fly balls and home runs of
     20-50 deg, their median carry replayed and as it was, and the home runs gained and
     lost (calls against the fences, replayed against as it was)."""
@@ -259,7 +264,7 @@ def replay_summary(out: pd.DataFrame) -> dict:
     replayed = out["home_run"].fillna(False).to_numpy(bool)
     before = out["actual_home_run"].fillna(False).to_numpy(bool)
 
-    def median(values):
+    def median(values: NDArray[np.float64]) -> float:
         values = values[np.isfinite(values)]
         return float(np.median(values)) if values.size else math.nan
 
