@@ -17,8 +17,8 @@ from mcbat.core.jit import is_cold
 __all__ = ["COMPILING", "MAYBE_COMPILING", "announce_compiling", "announced", "is_cold",
            "kernels_for"]
 
-COMPILING = "mcbat: compiling the kernels (first run only, ~30 s)"
-MAYBE_COMPILING = "mcbat: the kernels may need compiling (first run only, ~30 s)"
+COMPILING = "mcbat: compiling the kernels (first run only, about 25 s)"
+MAYBE_COMPILING = "mcbat: the kernels may need compiling (first run only, about 25 s)"
 
 #: The line ``announce_compiling`` printed in this command, None before (the CLI resets
 #: it per command): the CLI's own notice at the first compile (``mcbat.cli.compiling``)
