@@ -74,7 +74,7 @@ Flight = namedtuple("Flight", ("status", "distance", "landing_x", "landing_y", "
 _POS, _VEL = 10.0, 10.0  # error scales (m, m/s)
 
 
-@njit  # (not inlined: compiled once for its eight callers; LLVM inlines it where it pays)
+@njit(inline="always")
 def rates(p, axis, spin, t, v):
     """Acceleration (m/s^2) at time ``t`` (s) and velocity ``v``; ``axis`` the unit spin
     axis (kept from the launch) and ``spin`` its initial rate (rad/s)."""
@@ -89,7 +89,7 @@ def rates(p, axis, spin, t, v):
             d * rz + m * (axis[0] * ry - axis[1] * rx) - p.gravity)
 
 
-@njit  # (not inlined: compiled once for its callers, none of them on the hot path)
+@njit(inline="always")
 def _hermite(s, h, y0, d0, a0, y1, d1, a1):
     """Quintic Hermite interpolant at ``s`` in [0, 1] of a step of length ``h`` with
     values, first and second derivatives at both ends; returns (value, d/dt, d2/dt2)."""
@@ -199,10 +199,9 @@ def _landing(h, t, x, v, a, x1, v1, a1, height, start):
     """Time, position where the step, from ``start`` (a fraction of it) on, descends
     through ``z = height``. The interpolant of ``z - height`` is that of ``z`` shifted: its
     end values move and its derivatives do not."""
-    # (np.bool_ and an explicit start in both callers: one compiled _root, not one per
-    # constant)
-    s = _root(h, x[2] - height, v[2], a[2], x1[2] - height, v1[2], a1[2], np.bool_(False),
-              start)
+    # (a constant flag: _root is compiled for each, without the other's branches; these
+    # root searches are a good part of a five-step flight)
+    s = _root(h, x[2] - height, v[2], a[2], x1[2] - height, v1[2], a1[2], False, start)
     lx = _hermite(s, h, x[0], v[0], a[0], x1[0], v1[0], a1[0])[0]
     ly = _hermite(s, h, x[1], v[1], a[1], x1[1], v1[1], a1[1])[0]
     return t + s * h, lx, ly
@@ -212,7 +211,7 @@ def _landing(h, t, x, v, a, x1, v1, a1, height, start):
 def _apex(h, x, v, a, x1, v1, a1):
     """Greatest height inside a step where the vertical velocity changes sign, and where
     in the step (a fraction of it) it lies."""
-    s = _root(h, x[2], v[2], a[2], x1[2], v1[2], a1[2], np.bool_(True), 0.0)
+    s = _root(h, x[2], v[2], a[2], x1[2], v1[2], a1[2], True)
     return _hermite(s, h, x[2], v[2], a[2], x1[2], v1[2], a1[2])[0], s
 
 
