@@ -256,8 +256,12 @@ def field_spec(spec: Any, key: str) -> Any:
     if not numbers or not all(_is_number(x) for x in numbers):
         return spec
     for x in numbers:
-        if math.isfinite(x) and not low <= x <= high:
-            raise InputError(key, f"a bare number here is in {unit}, and {x!r} {unit} lies "
+        try:
+            value, shown = float(x), repr(x)
+        except OverflowError:  # an integer beyond any float: far outside the range too
+            value, shown = high * 2.0 + 1.0, f"a number of {len(str(abs(x)))} digits"
+        if math.isfinite(value) and not low <= value <= high:
+            raise InputError(key, f"a bare number here is in {unit}, and {shown} {unit} lies "
                              f"outside [{low:g}, {high:g}] {unit}; for another unit write "
                              f'{{"value": ..., "unit": "{_OTHER_UNIT[quantity]}"}}')
     return {"value": spec, "unit": unit}

@@ -141,3 +141,13 @@ def test_from_result_reads_the_answers_units():
     case = FlightCase.from_result(game)
     assert case.launch_speed == pytest.approx(game.launch_speed * MPH, rel=1e-15)
     assert case == flight_case_from_dict(json.loads(json.dumps(game.to_dict())))
+
+
+def test_an_integer_beyond_any_float_is_refused_naming_its_key():
+    from mcbat.api.contract import field_spec
+    from mcbat.errors import InputError
+
+    with pytest.raises(InputError) as err:
+        field_spec(10 ** 400, "pitch.vertical_approach_angle")
+    assert err.value.field == "pitch.vertical_approach_angle"
+    assert "401 digits" in err.value.message
