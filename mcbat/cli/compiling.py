@@ -48,23 +48,23 @@ class KernelGroup:
 
 #: The impact solver every game, bat-frame and inference kernel calls (compiled once,
 #: cached on its own): its entry point and seconds.
-SOLVER = ("mcbat.core.cabo2012.impact:solve_impact", 7.0)
+SOLVER = ("mcbat.core.cabo2012.impact:solve_impact", 8.0)
 
 #: Every kernel group (``mcbat warmup`` compiles them in this order). The seconds are
 #: first compiles measured on two cores (``python -m benchmarks first_call``).
 KERNEL_GROUPS = {
-    "game": KernelGroup("the game kernel", ("mcbat.core.swing.game:solve_game_batch",), 4.0,
+    "game": KernelGroup("the game kernel", ("mcbat.core.swing.game:solve_game_batch",), 5.0,
                         True),
     "flight": KernelGroup("the flight kernel", (
         "mcbat.core.flight.trajectory:fly", "mcbat.core.flight.trajectory:integrate",
         "mcbat.core.flight.trajectory:fly_batch",
         "mcbat.core.flight.trajectory:fly_batch_each",
-        "mcbat.core.flight.trajectory:height_at_distance_batch"), 5.0),
+        "mcbat.core.flight.trajectory:height_at_distance_batch"), 6.0),
     "bat_frame": KernelGroup("the bat-frame kernel", (
         "mcbat.core.batch:solve_batch", "mcbat.core.cabo2012.impact:solve_impact"), 2.0, True),
     "sampling": KernelGroup("the sampler", ("mcbat.core.sampling:draw_random_inputs",), 5.0),
     "inference": KernelGroup("the inference kernel", (
-        "mcbat.core.contact_inference.solver:infer_contact_batch",), 14.0, True),
+        "mcbat.core.contact_inference.solver:infer_contact_batch",), 16.0, True),
 }
 
 _GAME = ("game", "flight")
