@@ -150,13 +150,14 @@ def test_warmup_runs_a_command_for_every_group(cli):
 @pytest.mark.slow
 def test_after_warmup_no_command_compiles(tmp_path):
     """An empty cache filled by ``mcbat warmup``: the game case, the bat-frame case, the
-    flight and the inference start without compiling."""
+    flight, the inference and the paper's reproduction start without compiling."""
     cache = tmp_path / "cache"
     done = _mcbat(cache, "warmup")
     assert done.returncode == 0 and "failed" not in done.stdout, done.stdout
     for args in (("impact", "examples/game_fastball.json"),
                  ("impact", "examples/cabo2012_sec5.json"),
-                 ("infer", "data/statcast_2020-09-03_in_play.csv")):
+                 ("infer", "data/statcast_2020-09-03_in_play.csv"),
+                 ("reproduce", "--samples", "64", "--out", str(tmp_path / "cabo2012"))):
         proc = _mcbat(cache, *args)
         assert proc.returncode == 0 and "compiling" not in proc.stderr, (args, proc.stderr)
     proc = _mcbat(cache, "flight", "-", stdin=json.dumps(BALL))
