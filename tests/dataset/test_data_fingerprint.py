@@ -75,3 +75,19 @@ def test_the_record_names_its_environment():
     env = FP.environment()
     assert {"numpy", "numba", "python", "machine", "cpu", "numpy_simd"} <= set(env)
     assert env["numpy"] == np.__version__
+
+
+def test_the_shipped_studies_datasets_are_as_recorded(capsys):
+    """Every column of every shipped study's dataset, bit for bit as recorded in
+    ``validation/data_fingerprint.json``: a change that is meant to leave behaviour alone
+    (a refactor) must leave these hashes alone; a change of the data re-records them
+    (``python -m validation data_fingerprint --record``) and says why in its commit."""
+    import json
+
+    record = json.loads((FP.ROOT / "validation" / "data_fingerprint.json").read_text())
+    if {k: record["environment"].get(k) for k in FP.environment()} != FP.environment():
+        pytest.skip("recorded in another environment (CPU, numpy or numba): bit identity "
+                    "is checked where the record was made")
+    assert set(record["datasets"]) == set(FP.DATASETS)
+    assert FP.main(["--check", str(FP.ROOT / "validation" / "data_fingerprint.json")]) == 0, \
+        capsys.readouterr().out
