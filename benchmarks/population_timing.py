@@ -20,7 +20,7 @@ import harness
 import mcbat
 from harness.population import SETS, TRUTH
 from mcbat.statcast import read
-from mcbat.stats.population import fit_population, population_table, simulate_table
+from mcbat.stats.population.fit import fit_population, population_table, simulate_table
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -41,9 +41,9 @@ import pandas as pd
 
 import mcbat.statcast as sc
 from mcbat.runner.pitches import load_pitches
-from mcbat.stats.population import fit_population
-from mcbat.stats.population_table import write_pitches
-from mcbat.stats.simulate import solve_game_inputs
+from mcbat.stats.models.simulate import solve_game_inputs
+from mcbat.stats.population.fit import fit_population
+from mcbat.stats.population.table import write_pitches
 from mcbat.study.spec import Study
 
 ROOT = Path(__file__).resolve().parents[1]

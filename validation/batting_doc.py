@@ -245,7 +245,7 @@ def presets_vs_real() -> tuple[dict, dict]:
     """The presets' batted balls against the real ones (``presets_vs_statcast``, each at
     its study's samples and seed): the spin table against Nathan's model, the KS table,
     and the numbers the text quotes from them."""
-    from mcbat.stats.compare import ks_test
+    from mcbat.stats.compare.comparison import ks_test
     from validation.presets_vs_statcast import spin_rows
 
     in_play = ROOT / "data" / "statcast_2020-09-03_in_play.csv"

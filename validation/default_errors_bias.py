@@ -21,11 +21,11 @@ same draws (paired):
   stated  for reference, the table's own _err columns (synthesize's sigmas) kept
 
 The pull of the maximum-likelihood estimate is estimated by one Newton step from the truth:
-the gradient and Hessian of the fit's -ln L (mcbat.stats.likelihood.Likelihood, draws seeded k as
-in the coverage fits) by central differences at the truth, the step -H^-1 g over the
-curvature error sqrt(diag H^-1). docs/fitting.md: on 60 game tables this one-step estimate
+the gradient and Hessian of the fit's -ln L (mcbat.stats.fit.likelihood.Likelihood, draws
+seeded k as in the coverage fits) by central differences at the truth, the step -H^-1 g over
+the curvature error sqrt(diag H^-1). docs/fitting.md: on 60 game tables this one-step estimate
 reproduced the profile fits' pulls with correlation 0.999999. ``--check N`` fits the first N
-tables with mcbat.stats.fit.fit (profile intervals) under each rule and appends, per table
+tables with mcbat.stats.fit.estimate.fit (profile intervals) under each rule and appends, per table
 and rule, the one-step pull next to the fit's pull ((value - truth) over the error on the
 truth's side), so that the approximation can be checked where the bias is large.
 
@@ -73,7 +73,7 @@ def strip_errors(table):
 
 def likelihood(study, full, free, seed, rule):
     """The fit's likelihood of the table ``full`` with the errors of ``rule``."""
-    from mcbat.stats.fit import Likelihood
+    from mcbat.stats.fit.estimate import Likelihood
 
     like = Likelihood(study, full if rule == "stated" else strip_errors(full), free,
                       seed=seed)
@@ -125,8 +125,8 @@ def one_step(like, truth):
 
 
 def fit_pull(study, table, truth, seed, rule):
-    """Pulls of the profile fit (:func:`mcbat.stats.fit.fit`) under ``rule``."""
-    import mcbat.stats.fit as fitmod
+    """Pulls of the profile fit (:func:`mcbat.stats.fit.estimate.fit`) under ``rule``."""
+    import mcbat.stats.fit.estimate as fitmod
 
     saved = fitmod.default_errors
     if rule == "row":  # the stated rule's table has its _err columns: no defaults

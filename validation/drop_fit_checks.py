@@ -7,7 +7,7 @@ Run:  .venv/bin/python -m validation drop_fit_checks --settings inside,edges --t
       .venv/bin/python -m validation drop_fit_checks --summary fit-validation \
           --figure docs/figures/fit_checks_pulls.png
 
-The tables, the fit and the summary are :mod:`mcbat.testing.fit_validation` (its docstring
+The tables, the fit and the summary are :mod:`harness.fit_validation` (its docstring
 lists the settings). The impacts of the tables are solved by the kernel, because the
 reference solver takes ~0.5 s an impact; `--crosscheck N` makes N tables with both solvers
 from the same random numbers and prints their largest difference over the measurement
@@ -29,7 +29,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import (  # noqa: E402
+from harness.fit_validation import (  # noqa: E402
     SETTINGS,
     TRUTH,
     fit_table,

@@ -31,7 +31,7 @@ from mcbat.papers.statcast.calibrate import FIT_CLASSES, fit_scales, flight_tabl
 from mcbat.papers.statcast.compare import select_balls
 from mcbat.papers.statcast.reproduce import read_statcast
 from mcbat.statcast.spin import nathan_average_spin
-from mcbat.stats.flight_model import FlightFitSetup
+from mcbat.stats.models.flight import FlightFitSetup
 
 
 def sample_table(rows=None, seed=0):

@@ -5,7 +5,7 @@ Run:  NUMBA_NUM_THREADS=1 .venv/bin/python -m validation game_fit_validation --t
       .venv/bin/python -m validation game_fit_validation --summary game-fit-validation
       .venv/bin/python -m validation game_fit_validation --crosscheck 2
 
-Each table comes from :func:`mcbat.testing.game_tables.game_table` (its own draws,
+Each table comes from :func:`harness.game_tables.game_table` (its own draws,
 kinematics and noise; every impact solved by the scipy reference solver, ~0.1 s a row) and
 is fitted as a user would fit it: ``fit(tests/stats/data/game_fit_independent.toml, table,
 ("e", "e_x"))`` with profile intervals (the fit's defaults). Table ``k`` uses the seed
@@ -36,7 +36,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import (  # noqa: E402
+from harness.fit_validation import (  # noqa: E402
     format_or_dash,
     interval_statistics,
     run_jobs,
@@ -52,16 +52,16 @@ QUICK_ARGS = ["--tables", "2", "--rows", "40", "--out", "game-fit-validation-qui
 
 
 def kernel_solver(inputs, e, e_x, bat="cylinder", handedness=1.0):
-    """As :func:`mcbat.testing.game_tables.reference_solver`, each row solved by mcbat's
+    """As :func:`harness.game_tables.reference_solver`, each row solved by mcbat's
     game kernel through its public API (:class:`mcbat.api.GameCase`,
     :func:`mcbat.api.solve_game`) with the same bodies, restitution and inputs: not
     independent, but a hundred times faster, for many tables and for comparing the two.
-    ``bat`` is ``"cylinder"`` or a dict of :func:`mcbat.testing.game_tables.bat_bodies`
+    ``bat`` is ``"cylinder"`` or a dict of :func:`harness.game_tables.bat_bodies`
     naming a bat preset as ``"preset"``."""
+    from harness.game_tables import BODIES, OBSERVABLES, RESTITUTION
     from mcbat.api import GameCase, solve_game
     from mcbat.bodies import Ball, Bat, bat_preset
     from mcbat.bodies.restitution import Restitution
-    from mcbat.testing.game_tables import BODIES, OBSERVABLES, RESTITUTION
 
     b = BODIES
     ball = Ball(mass=b["ball_mass"], radius=b["ball_radius"],
@@ -92,7 +92,7 @@ def kernel_solver(inputs, e, e_x, bat="cylinder", handedness=1.0):
 def make_table(k, rows, truth, solver="reference", measured=MEASURED):
     """Table ``k`` (seed ``2000 + k``) of ``rows`` rows at ``truth``, carrying the measured
     inputs ``measured``."""
-    from mcbat.testing.game_tables import game_table, reference_solver
+    from harness.game_tables import game_table, reference_solver
 
     chosen = kernel_solver if solver == "kernel" else reference_solver
     return game_table(rows, 2000 + k, solver=chosen, measured=measured, **truth)
@@ -102,7 +102,7 @@ def fit_table(k, study, rows, truth, solver="reference", measured=MEASURED):
     """Simulate and fit table ``k``; a JSON-ready record: the setup, the fit's parameters,
     chi2, p-value and warnings, or the refusal's message, and the seconds taken."""
     from mcbat.errors import InputError
-    from mcbat.stats.fit import fit
+    from mcbat.stats.fit.estimate import fit
 
     t0 = time.perf_counter()
     table = make_table(k, rows, truth, solver, measured)
@@ -187,7 +187,7 @@ def worker(args):
 
 def crosscheck(n, rows, truth):
     """Largest difference between reference and kernel tables, over the stated errors."""
-    from mcbat.testing.game_tables import OBSERVABLES
+    from harness.game_tables import OBSERVABLES
 
     worst = dict.fromkeys(OBSERVABLES, 0.0)
     for k in range(n):
@@ -218,7 +218,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     truth = {"e": args.e, "e_x": args.e_x}
     measured = tuple(m for m in args.measured.split(",") if m and m != "none")
-    from mcbat.testing.game_tables import MEASURED as MEASURABLE
+    from harness.game_tables import MEASURED as MEASURABLE
 
     unknown = [m for m in measured if m not in MEASURABLE]
     if unknown:

@@ -5,10 +5,11 @@ Run:  .venv/bin/python -m validation injection_recovery [--tables 150] [--rows 6
 Each table: `mcbat synth` of studies/cross_nathan_2006.toml at the truth (default e* = 0.6,
 mu = 0.15, where part of the impacts slide so that mu is measurable), noise 5 % on speed,
 3 deg on angle, 10 % on spin. Each fit: maximum likelihood with the nuisance scatter
-marginalised (mcbat.stats.fit). Reported: the fraction of tables whose 1-sigma interval covers
-the truth (expected 68 %; acceptance 60-76 %), the mean pull (bias in sigma; acceptance
-below 0.3) and the time per fit. With 50 tables the binomial spread of a coverage estimate
-is +-6.6 %, as wide as the acceptance window, so the default is 150 (+-3.8 %).
+marginalised (mcbat.stats.fit.estimate). Reported: the fraction of tables whose 1-sigma
+interval covers the truth (expected 68 %; acceptance 60-76 %), the mean pull (bias in
+sigma; acceptance below 0.3) and the time per fit. With 50 tables the binomial spread of a
+coverage estimate is +-6.6 %, as wide as the acceptance window, so the default is 150
+(+-3.8 %).
 
 Measured 2026-11-21 (150 tables): e* coverage 64 %, mean pull -0.07 sigma; mu coverage 68 %,
 mean pull +0.09 sigma; 4.4 s per fit (median, with another job running).
@@ -20,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mcbat.stats.fit import fit
+from mcbat.stats.fit.estimate import fit
 from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
 

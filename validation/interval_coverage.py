@@ -18,7 +18,7 @@ on spin):
      measured to 2 mm
 
 Table k of every setting is `synthesize(..., seed=1000 + k)` and its fit uses `seed=k`.
-Each fit (mcbat.stats.fit.fit, profile-likelihood intervals) appends one JSON line to
+Each fit (mcbat.stats.fit.estimate.fit, profile-likelihood intervals) appends one JSON line to
 DIR/<setting>.<worker>.jsonl, so an interrupted run keeps what it did and a rerun skips the
 tables already done. The summary reports, per setting and parameter, the 1-sigma coverage
 (the truth inside the profile interval [value - lower_error, value + upper_error]) with its
@@ -49,7 +49,7 @@ SETTINGS = {
 
 
 def one(setting, k, studies):
-    from mcbat.stats.fit import fit
+    from mcbat.stats.fit.estimate import fit
     from mcbat.stats.measurements import synthesize
 
     spec = SETTINGS[setting]

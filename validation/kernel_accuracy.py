@@ -4,7 +4,7 @@ Run:  .venv/bin/python -m validation kernel_accuracy [--n 520] [--seed S] [--cac
           [--tolerances 5e-7,5e-8,5e-9,5e-10,5e-11] [--default-only] [--json FILE]
           [--jobs 2] [--reference-check]
 
-The mix (mcbat.testing.accuracy_mix.draw_mix): bats from 5 g to 5000 kg, spins up to
+The mix (harness.accuracy_mix.draw_mix): bats from 5 g to 5000 kg, spins up to
 3000 rad/s, mu from 0 to 1 (some exactly 0), creeping slip at |f|/mu within 3 % of 1,
 slip that stops and re-slips, tapered contacts; the modes are cycled over the cases. Each
 case is solved once by the scipy reference (rtol 1e-12; in --jobs processes; --cache keeps
@@ -13,7 +13,7 @@ tolerance of --tolerances (the default tolerance is always included).
 
 Printed:
   1. per mode and overall, the largest error of each column at the default tolerance, the
-     target and pass/fail (columns: mcbat.testing.accuracy_mix, module docstring;
+     target and pass/fail (columns: harness.accuracy_mix, module docstring;
      velocity relative to |v_ball_out - v_ball_in|, I_s relative, works and C relative to
      E_in), with the number of cases over the target and the worst cases;
   2. monotone convergence: per column, the (case, tolerance pair) violations, i.e.
@@ -48,10 +48,8 @@ from pathlib import Path
 import numpy as np
 
 import harness
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
-from mcbat.testing import accuracy_mix, cabo2012_reference, impact_mix, reference_parts
-from mcbat.testing.accuracy_mix import (
+from harness import accuracy_mix, impact_mix
+from harness.accuracy_mix import (
     DEFAULT_SEED,
     ERROR_COLUMNS,
     MODES,
@@ -65,6 +63,9 @@ from mcbat.testing.accuracy_mix import (
     reference_for,
     run_kernel,
 )
+from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
+from mcbat.testing import cabo2012_reference, reference_parts
 
 DEFAULT_TOLERANCES = (5e-7, 5e-8, 5e-9, 5e-10, 5e-11)
 DEFAULT_REFERENCE = (1e-12, None)

@@ -9,14 +9,14 @@ Run:  .venv/bin/python -m validation drop_fit_checks --settings onset_low --tabl
 
 A one-sided limit holds the truth or not: one bit a table, so 100 tables that report a
 limit measure its 95 % to +-2.2 %. The test that sets a conditional limit
-(:mod:`mcbat.stats.selective`) says more: applied to the true value, its p-value is uniform
+(:mod:`mcbat.stats.fit.selective`) says more: applied to the true value, its p-value is uniform
 over the tables that report a limit when the test is calibrated, and the share of p-values
 below 0.05, 0.10, 0.20 and 0.50 tests that at four levels at once. A truth on the
 surrogate's plateau (nothing there can be excluded) has p = 1 and counts at no level below 1.
 
 The tables are those of ``fit_validation`` whose fit reported a limit on ``mu`` (read from
 ``--records``); each is fitted again and tested by
-:func:`mcbat.testing.fit_validation.limit_p_value`, and its record appended as one JSON
+:func:`harness.fit_validation.limit_p_value`, and its record appended as one JSON
 line to DIR/<setting>.<worker>.jsonl, so an interrupted run goes on where it stopped.
 """
 
@@ -28,7 +28,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import (  # noqa: E402
+from harness.fit_validation import (  # noqa: E402
     SETTINGS,
     limit_p_value,
     p_value_shares,

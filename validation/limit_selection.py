@@ -6,7 +6,7 @@ A model with the shape of a drop test's friction, small enough to fit 10^4 table
 second: row ``i`` observes ``y_i = slope * min(mu - stick_i, 0) + noise`` (unit noise), so
 it depends on ``mu`` below its own stick threshold ``stick_i`` and not above (the drop
 rolls off the bat). The thresholds are drawn uniformly per table. Each table's profile of
-``-ln L`` in ``mu`` (exact, on a fine grid) is read as :mod:`mcbat.stats.intervals` reads a
+``-ln L`` in ``mu`` (exact, on a fine grid) is read as :mod:`mcbat.stats.fit.intervals` reads a
 fit's: a side where the rise stays below 1/2 up to the end of the range gives a one-sided
 95 % limit where the rise reaches 1.353.
 
@@ -30,7 +30,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.stats.intervals import LIMIT_95, ONE_SIGMA  # noqa: E402
+from mcbat.stats.fit.intervals import LIMIT_95, ONE_SIGMA  # noqa: E402
 
 CONFIGURATIONS = (
     # rows, stick thresholds (low, high), slope of a sliding row's observable in mu

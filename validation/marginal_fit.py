@@ -5,11 +5,11 @@ Run:  NUMBA_NUM_THREADS=1 .venv/bin/python -m validation marginal_fit --setting 
       .venv/bin/python -m validation marginal_fit --setting large --summary marginal.jsonl \
           --fits DIR
 
-Each table of :mod:`mcbat.testing.fit_validation` (the same seeds and noise as the fit's
+Each table of :mod:`harness.fit_validation` (the same seeds and noise as the fit's
 check) is fitted twice without mcbat's fit machinery: by the textbook fit (every impact
-parameter at its true value, :func:`mcbat.testing.textbook_fit.textbook_fit`) and by the
+parameter at its true value, :func:`harness.textbook_fit.textbook_fit`) and by the
 exact marginal likelihood (each row's impact parameter and contact point integrated over
-their true uniform distributions by quadrature, :func:`mcbat.testing.textbook_fit.
+their true uniform distributions by quadrature, :func:`harness.textbook_fit.
 marginal_fit`; ``--contact-nodes 0`` keeps the contact points at their true values, which
 mcbat's fit does not know). With
 ``--fits DIR`` (a ``fit_validation`` run of the same setting) the summary sets mcbat's
@@ -29,8 +29,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import SETTINGS, TRUTH, make_table  # noqa: E402
-from mcbat.testing.textbook_fit import marginal_fit, textbook_fit  # noqa: E402
+from harness.fit_validation import SETTINGS, TRUTH, make_table  # noqa: E402
+from harness.textbook_fit import marginal_fit, textbook_fit  # noqa: E402
 
 QUICK_ARGS = ["--setting", "inside", "--tables", "1", "--out", "marginal-fit-quick.jsonl"]
 

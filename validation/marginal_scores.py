@@ -13,17 +13,17 @@ the covariance of the scores over tables). So the mean of ``-H^-1 g`` over table
 units of the error ``sqrt((H^-1)_jj)``, is the fit's mean pull to first order, measured
 without fitting: seconds a table instead of minutes.
 
-For each table of :mod:`mcbat.testing.fit_validation` (the fit check's seeds and noise)
+For each table of :mod:`harness.fit_validation` (the fit check's seeds and noise)
 the score of ``-ln L`` in ``e*`` and ``mu`` at the truth is taken by central differences
 for three likelihoods:
 
-* ``mcbat``: :class:`mcbat.stats.likelihood.Likelihood` as :func:`mcbat.stats.fit.fit`
+* ``mcbat``: :class:`mcbat.stats.fit.likelihood.Likelihood` as :func:`mcbat.stats.fit.estimate.fit`
   builds it (the study ``studies/cross_nathan_2006.toml``, the fit's draws and seed, its
   prior of the impact parameters fitted with the parameters), its draws refined at the
   truth;
 * ``marginal``: the exact marginal likelihood (each row's impact parameter and contact
   point integrated over their true uniform distributions by quadrature,
-  :func:`mcbat.testing.textbook_fit.marginal_neg_log_likelihood`), what mcbat estimates;
+  :func:`harness.textbook_fit.marginal_neg_log_likelihood`), what mcbat estimates;
 * ``true_contacts``: the same with the contact points at their true values, which no
   fit of a real table knows.
 
@@ -44,7 +44,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import SETTINGS, TRUTH, make_table, run_jobs  # noqa: E402
+from harness.fit_validation import SETTINGS, TRUTH, make_table, run_jobs  # noqa: E402
 
 QUICK_ARGS = ["--setting", "inside", "--tables", "2", "--out", "marginal-scores-quick"]
 STEP = 2e-5
@@ -67,9 +67,9 @@ def gradient(nll, point):
 def record(setting, k, stated_errors):
     """Table ``k`` of ``setting``, its errors stated as ``stated_errors`` says: the three
     likelihoods' scores at the truth."""
-    from mcbat.stats.likelihood import Likelihood
+    from harness.textbook_fit import marginal_neg_log_likelihood
+    from mcbat.stats.fit.likelihood import Likelihood
     from mcbat.study import load_study
-    from mcbat.testing.textbook_fit import marginal_neg_log_likelihood
 
     t0 = time.perf_counter()
     table = make_table(setting, k, stated_errors=stated_errors)
@@ -137,7 +137,7 @@ def main(argv=None):
     parser.add_argument("--stated-errors", default="truth",
                         choices=("truth", "measured", "constant"),
                         help="the errors the tables state for the exit speed and the outgoing "
-                             "spin (mcbat.testing.drop_tables.drop_table)")
+                             "spin (harness.drop_tables.drop_table)")
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--out", default="marginal-scores", metavar="DIR")
     parser.add_argument("--summary", metavar="DIR", help="summarise DIR and stop")

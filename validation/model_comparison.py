@@ -5,7 +5,7 @@ Run:  .venv/bin/python -m validation model_comparison [--tables 30] [--rows 60]
 For each true e_x (0, the rigid model, then 0.02, 0.05, 0.16 = Cross & Nathan's value),
 ``--tables`` synthetic tables (`mcbat synth` of studies/cross_nathan_2006.toml at e* = 0.6,
 mu = 0.15, noise 5 % speed, 3 deg angle, 10 % spin, 60 rows) are fitted with e and mu free,
-and `mcbat.stats.model_choice.compare_models` decides by BIC between the rigid model
+and `mcbat.stats.fit.model_choice.compare_models` decides by BIC between the rigid model
 (e_x = 0) and the compliant one (e_x free). Reported: how often compliance is preferred
 (the false-positive rate at e_x = 0, the power above), the fitted e_x, and the time per comparison.
 
@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mcbat.stats.fit.model_choice import compare_models
 from mcbat.stats.measurements import synthesize
-from mcbat.stats.model_choice import compare_models
 from mcbat.study import load_study
 
 ROOT = Path(__file__).resolve().parents[1]

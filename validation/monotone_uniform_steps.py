@@ -39,6 +39,14 @@ import time
 
 import numpy as np
 
+from harness.accuracy_mix import (
+    DEFAULT_SEED,
+    MONOTONE_FACTOR,
+    MONOTONE_FLOOR,
+    contact_problem,
+    draw_mix,
+    kernel_errors,
+)
 from mcbat.core.cabo2012.contact import (
     DEFAULT_STEPS,
     DEFAULT_TOLERANCE,
@@ -50,14 +58,6 @@ from mcbat.core.cabo2012.contact import (
     step_plan,
 )
 from mcbat.core.cabo2012.slip_time import tau_point, tau_step
-from mcbat.testing.accuracy_mix import (
-    DEFAULT_SEED,
-    MONOTONE_FACTOR,
-    MONOTONE_FLOOR,
-    contact_problem,
-    draw_mix,
-    kernel_errors,
-)
 from validation.kernel_accuracy import DEFAULT_TOLERANCES, load_or_compute_references
 
 MAX_STEPS = 20_000

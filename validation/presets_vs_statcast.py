@@ -24,7 +24,7 @@ import numpy as np
 import mcbat
 from mcbat.statcast import read
 from mcbat.statcast.spin import nathan_average_spin
-from mcbat.stats.compare import ks_test
+from mcbat.stats.compare.comparison import ks_test
 
 ROOT = Path(__file__).resolve().parents[1]
 REAL = ROOT / "data" / "statcast_2020-09-03_in_play.csv"

@@ -9,12 +9,12 @@ Run:  .venv/bin/python -m validation textbook_coverage --settings inside,wide,sl
       .venv/bin/python -m validation textbook_coverage --settings inside --tables 300 \
           --calibrate 100 --out calibrated.jsonl
 
-Each table of :mod:`mcbat.testing.fit_validation` (the same seeds and noise as the fit's
-check) is fitted by :func:`mcbat.testing.textbook_fit.textbook_fit` with its true impact
+Each table of :mod:`harness.fit_validation` (the same seeds and noise as the fit's
+check) is fitted by :func:`harness.textbook_fit.textbook_fit` with its true impact
 parameters and contact points: nothing is drawn, marginalised or estimated but e* and mu.
 The summary gives, per setting, the share of 68 % intervals of mu holding the truth, the
 pulls' mean and spread, and the same split by how much of mu's Fisher information the three
-most informative rows carry (:func:`mcbat.testing.textbook_fit.mu_information_share`).
+most informative rows carry (:func:`harness.textbook_fit.mu_information_share`).
 About 2 s a table; results are appended one JSON line each, so a rerun goes on.
 ``--hold K`` keeps table K's geometry (its true impact parameters, contacts and errors)
 and draws new noise ``--draws`` times: the coverage, mean pull and spread of one geometry.
@@ -38,8 +38,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mcbat.testing.fit_validation import SETTINGS, make_table  # noqa: E402
-from mcbat.testing.textbook_fit import mu_information_share, textbook_fit  # noqa: E402
+from harness.fit_validation import SETTINGS, make_table  # noqa: E402
+from harness.textbook_fit import mu_information_share, textbook_fit  # noqa: E402
 
 QUICK_ARGS = ["--tables", "3", "--settings", "inside", "--out", "textbook-quick.jsonl"]
 
@@ -63,8 +63,8 @@ def calibrated(setting, k, toys, seed=1000):
     ``toys`` parametric-bootstrap tables at its best fit give for a 68.3 % interval."""
     from scipy import optimize
 
-    from mcbat.testing.drop_tables import kernel_solver
-    from mcbat.testing.textbook_fit import _arrays
+    from harness.drop_tables import kernel_solver
+    from harness.textbook_fit import _arrays
 
     table = make_table(setting, k)
     b, spin, axial, e_x, y, s = _arrays(table)
@@ -107,8 +107,8 @@ def calibrated(setting, k, toys, seed=1000):
 
 def held_geometry(setting, k, draws, seed=5):
     """Pulls of ``mu`` over ``draws`` new noise draws on table ``k``'s geometry."""
-    from mcbat.testing.drop_tables import kernel_solver
-    from mcbat.testing.textbook_fit import OBSERVABLES
+    from harness.drop_tables import kernel_solver
+    from harness.textbook_fit import OBSERVABLES
 
     table = make_table(setting, k)
     truth = table.attrs["truth"]
@@ -132,8 +132,8 @@ def box_bias(setting, k, steps=(1e-4, 1e-3)):
     of the Fisher errors: ``-1/2 (J^T J)^-1 J^T d`` with ``d_i = tr((J^T J)^-1 H_i)``, ``J``
     and ``H_i`` the Jacobian and Hessians of the error-scaled observables (central
     differences of ``steps`` in ``e*`` and ``mu``)."""
-    from mcbat.testing.drop_tables import kernel_solver
-    from mcbat.testing.textbook_fit import _arrays
+    from harness.drop_tables import kernel_solver
+    from harness.textbook_fit import _arrays
 
     table = make_table(setting, k)
     truth = table.attrs["truth"]

@@ -65,7 +65,7 @@ def cmd_calibrate(args) -> int:
 
 def _calibrate_study(args) -> int:
     from mcbat import load_study  # (a game study's [pitches] file is read too)
-    from mcbat.stats.calibrate import calibrate
+    from mcbat.stats.fit.calibrate import calibrate
 
     if args.target is None:
         raise InputError("--target", "required with --study: the measured mean")

@@ -66,7 +66,7 @@ COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns
 
 def cmd_compare(args) -> int:
     """Compare the dataset with the measured tables; print the statistics."""
-    from mcbat.stats.compare import (
+    from mcbat.stats.compare.comparison import (
         check_settings,
         compare,
         fig_compare,

@@ -183,9 +183,9 @@ def cmd_fit(args) -> int:
 
 def _cmd_fit(args) -> int:
     from mcbat import load_study  # (a game study's [pitches] file is read too)
-    from mcbat.stats.fit import check_bootstrap, fit
-    from mcbat.stats.likelihood import check_free
-    from mcbat.stats.model_choice import compare_models
+    from mcbat.stats.fit.estimate import check_bootstrap, fit
+    from mcbat.stats.fit.likelihood import check_free
+    from mcbat.stats.fit.model_choice import compare_models
 
     if args.flight:
         return _fit_flight(args)
@@ -208,7 +208,7 @@ def _cmd_fit(args) -> int:
             study, table, free, draws=args.draws, seed=args.seed, fitted=result,
             input_prior=args.input_prior, likelihood=args.likelihood)
     if args.residuals:
-        from mcbat.stats.figures import fig_fit_residuals
+        from mcbat.stats.fit.figure import fig_fit_residuals
 
         fig_fit_residuals(args.residuals, table, result)
     if args.json:
@@ -310,7 +310,7 @@ def _fit_population(args) -> int:
     (docs/population.md)."""
     from mcbat import load_study
     from mcbat.statcast import read
-    from mcbat.stats.population import fit_population
+    from mcbat.stats.population.fit import fit_population
 
     for flag, value in (("--study", args.study), ("--data", args.data),
                         ("--free", args.free)):
@@ -327,7 +327,7 @@ def _fit_population(args) -> int:
                                 draws=args.draws, bins=args.bins, seed=args.seed,
                                 observables=args.observables.split(","), engine=args.engine)
     if args.figure:
-        from mcbat.stats.population_figure import fig_population
+        from mcbat.stats.population.figure import fig_population
 
         fig_population(args.figure, result)
     left_out = table.attrs["statcast"].get("left_out", {})

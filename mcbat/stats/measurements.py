@@ -57,7 +57,7 @@ import numpy as np
 
 from mcbat.errors import InputError
 from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS, GAME_WRITTEN
-from mcbat.stats.simulate import solve_study
+from mcbat.stats.models.simulate import solve_study
 
 __all__ = ["COLUMNS", "DEFAULT_ERRORS", "default_errors", "measured_fraction",
            "read_measurements", "synthesize", "table_error",

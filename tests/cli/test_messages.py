@@ -39,7 +39,7 @@ def test_an_interrupted_fit_does_not_speak_of_chunk_files(cli, monkeypatch):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("mcbat.stats.fit.fit", interrupted)
+    monkeypatch.setattr("mcbat.stats.fit.estimate.fit", interrupted)
     out = cli("fit", "--study", STUDY, "--data", str(DATA), "--no-compare")
     assert out.returncode == 130
     assert "interrupted" in out.stderr and "chunk" not in out.stderr

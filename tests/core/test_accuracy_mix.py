@@ -1,6 +1,6 @@
 """The kernel's accuracy instrument: its error measure on the random mix.
 
-``mcbat.testing.accuracy_mix`` draws a hard mix of impacts and measures the kernel against
+``harness.accuracy_mix`` draws a hard mix of impacts and measures the kernel against
 the scipy reference; ``validation/kernel_accuracy.py`` runs it on 520 cases. Here:
 
 * the mix itself (what the accuracy targets are stated on) is checked in
@@ -19,9 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from mcbat.core.batch import OUTPUT_FIELDS
-from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
-from mcbat.testing.accuracy_mix import (
+from harness.accuracy_mix import (
     ERROR_COLUMNS,
     TARGETS,
     kernel_errors,
@@ -30,7 +28,9 @@ from mcbat.testing.accuracy_mix import (
     reference_for,
     run_kernel,
 )
-from mcbat.testing.impact_mix import DEFAULT_SEED, MODES, draw_mix
+from harness.impact_mix import DEFAULT_SEED, MODES, draw_mix
+from mcbat.core.batch import OUTPUT_FIELDS
+from mcbat.core.cabo2012.contact import DEFAULT_TOLERANCE
 
 N_MIX = 520  # the benchmark's mix
 N_SUBSET = 40  # its first cases: 5 per mode

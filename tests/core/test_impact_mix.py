@@ -1,4 +1,4 @@
-"""The hard mix of impacts the kernel's accuracy is stated on (mcbat.testing.impact_mix):
+"""The hard mix of impacts the kernel's accuracy is stated on (harness.impact_mix):
 deterministic, every mode, creeping slip at ``|f|/mu ~ 1``, re-slip that the reference
 confirms, bats of 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1."""
 
@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from mcbat.testing.accuracy_mix import reference_for
-from mcbat.testing.impact_mix import (
+from harness.accuracy_mix import reference_for
+from harness.impact_mix import (
     CREEP_RATIO_OFFSET,
     DEFAULT_SEED,
     MAX_SPIN,

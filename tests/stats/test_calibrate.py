@@ -11,7 +11,7 @@ import pytest
 from mcbat.errors import InputError
 from mcbat.papers.cabo2012 import sec5
 from mcbat.papers.cabo2012.calibration import calibrate_restitution
-from mcbat.stats.calibrate import calibrate
+from mcbat.stats.fit.calibrate import calibrate
 from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
 

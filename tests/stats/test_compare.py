@@ -1,4 +1,4 @@
-"""mcbat.stats.compare: a simulated dataset against a measured table, column by column,
+"""mcbat.stats.compare.comparison: a simulated dataset against a measured table, column by column,
 with units converted or refused and rows without a value dropped and counted."""
 
 import numpy as np
@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats.compare import compare, ks_test
+from mcbat.stats.compare.comparison import compare, ks_test
 
 
 def _sim(n=4000, seed=0):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats.compare_units import PLAUSIBLE_ROWS, unit_contradiction
+from mcbat.stats.compare.units import PLAUSIBLE_ROWS, unit_contradiction
 
 
 @pytest.mark.parametrize("values, unit, looks_like", [

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mcbat.stats.fit import Likelihood, fit
+from mcbat.stats.fit.estimate import Likelihood, fit
 from mcbat.stats.measurements import (
     DEFAULT_ERRORS,
     default_errors,
@@ -98,7 +98,7 @@ def test_fit_without_error_columns_is_not_biased():
 
 
 def test_errors_stated_as_a_fraction_of_each_measured_value_are_recognised():
-    from mcbat.testing.drop_tables import drop_table, kernel_solver
+    from harness.drop_tables import drop_table, kernel_solver
 
     tables = {how: drop_table(60, 1000, solver=kernel_solver, stated_errors=how)
               for how in ("truth", "measured", "constant")}
@@ -118,7 +118,7 @@ def test_errors_stated_as_a_fraction_of_each_measured_value_are_recognised():
 
 
 def test_a_fit_says_when_errors_are_a_fraction_of_each_measured_value():
-    from mcbat.testing.drop_tables import drop_table, kernel_solver
+    from harness.drop_tables import drop_table, kernel_solver
 
     table = drop_table(60, 1000, solver=kernel_solver, stated_errors="measured")
     r = fit(STUDY, table, ("e", "mu"), intervals="curvature")

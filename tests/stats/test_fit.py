@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats.fit import fit
+from mcbat.stats.fit.estimate import fit
+from mcbat.stats.fit.model_choice import compare_models
 from mcbat.stats.measurements import synthesize
-from mcbat.stats.model_choice import compare_models
 from mcbat.study import load_study
 from tests.cli_runner import mcbat_main
 
@@ -119,7 +119,7 @@ def test_impact_parameter_error_is_marginalised():
 
 
 def test_a_non_positive_curvature_is_not_clipped_to_zero():
-    from mcbat.stats.intervals import curvature_errors
+    from mcbat.stats.fit.intervals import curvature_errors
 
     class Saddle:
         free = ["e", "mu"]
@@ -132,8 +132,8 @@ def test_a_non_positive_curvature_is_not_clipped_to_zero():
 
 
 def test_flat_on_both_sides_is_reported_unidentified_with_null_errors():
-    from mcbat.stats.fit import FitResult
-    from mcbat.stats.intervals import _entry
+    from mcbat.stats.fit.estimate import FitResult
+    from mcbat.stats.fit.intervals import _entry
 
     side = {"error": None, "physical": False, "edge": 2.0, "root": None}
     entry = _entry(dict(side, edge=1e-3), side, limit=None)

@@ -78,7 +78,7 @@ def test_bad_fit_input_exits_2_with_one_line(tmp_path, name, cli, monkeypatch):
     change, flags, words = BAD_FITS[name]
     data = _table(tmp_path, "m", change) if change else str(DATA)
     if flags and flags[0] != "--study":  # options are checked before any work
-        monkeypatch.setattr("mcbat.stats.fit.fit", _no_fit)
+        monkeypatch.setattr("mcbat.stats.fit.estimate.fit", _no_fit)
     out = cli("fit", "--study", STUDY, "--data", data, "--no-compare", *flags, cwd=tmp_path)
     assert out.returncode == 2, out.stderr
     line = out.stderr.strip()

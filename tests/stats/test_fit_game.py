@@ -8,8 +8,8 @@ import pandas as pd
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.stats.fit import fit
-from mcbat.stats.likelihood import draw_moments
+from mcbat.stats.fit.estimate import fit
+from mcbat.stats.fit.likelihood import draw_moments
 from mcbat.stats.measurements import synthesize
 from mcbat.study import load_study
 from tests.cli_runner import mcbat_main

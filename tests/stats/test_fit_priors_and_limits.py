@@ -8,19 +8,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from harness.drop_tables import drop_table, kernel_solver, reference_solver
 from mcbat.errors import InputError
-from mcbat.stats import intervals as fitting
-from mcbat.stats.fit import FitResult, Likelihood, fit
-from mcbat.stats.input_priors import (
+from mcbat.stats.fit import intervals as fitting
+from mcbat.stats.fit.estimate import FitResult, Likelihood, fit
+from mcbat.stats.measurements import read_measurements, synthesize
+from mcbat.stats.models.input_priors import (
     PRIOR_DEGREE,
     WIDEN_P_VALUE,
     PriorFamily,
     beyond_range_test,
     prior_range,
 )
-from mcbat.stats.measurements import read_measurements, synthesize
 from mcbat.study import load_study
-from mcbat.testing.drop_tables import drop_table, kernel_solver, reference_solver
 
 ROOT = Path(__file__).resolve().parents[2]
 DROP = load_study(ROOT / "studies" / "cross_nathan_2006.toml")
@@ -301,7 +301,7 @@ def test_draws_near_each_rows_posterior_resolve_the_likelihood_with_few_draws():
     # their true impact parameter, where the draws of the measurement's posterior are
     # sparse. Without refinement 48 draws put the best mu (at e* = 0.6) near 0.170, 384 near
     # 0.176; with half of them placed near each row's posterior, 48 draws agree with 384.
-    from mcbat.testing.fit_validation import make_table
+    from harness.fit_validation import make_table
 
     table = make_table("inside", 116)
     mus = np.linspace(0.166, 0.184, 7)

@@ -1,4 +1,4 @@
-"""The drop-test fit against tables simulated independently (mcbat.testing.fit_validation).
+"""The drop-test fit against tables simulated independently (harness.fit_validation).
 
 The default run fits two tables per setting (a fit takes ~10 s) and checks what must hold
 table by table (no refusal, no zero-width interval, pulls within reason); the slow-marked
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from scipy.stats import binom
 
+from harness.fit_validation import fit_table, interval_statistics, summarize
 from mcbat.study import load_study
-from mcbat.testing.fit_validation import fit_table, interval_statistics, summarize
 from tests.conftest import ROOT
 
 
@@ -202,9 +202,9 @@ def test_the_fits_likelihood_has_the_exact_marginal_likelihoods_score_at_the_tru
     fitted with the parameters) and the exact marginal likelihood (both integrated by
     quadrature over their true distributions) have nearly the same gradient at the truth:
     the best fits they lead to differ by far less than half an error."""
-    from mcbat.stats.likelihood import Likelihood
-    from mcbat.testing.fit_validation import make_table
-    from mcbat.testing.textbook_fit import marginal_neg_log_likelihood
+    from harness.fit_validation import make_table
+    from harness.textbook_fit import marginal_neg_log_likelihood
+    from mcbat.stats.fit.likelihood import Likelihood
 
     table = make_table("inside", k)
     truth = np.array([0.6, 0.18])
@@ -232,7 +232,7 @@ def test_the_test_behind_a_limit_rejects_the_truth_where_the_limit_excludes_it(s
     # limit 0.1949: it excludes the truth. The conditional test at the truth, with a
     # profile and a grid of its own, rejects it at 95 % too; table 7's limit (0.179) holds
     # the truth, which the test does not reject.
-    from mcbat.testing.fit_validation import limit_p_value
+    from harness.fit_validation import limit_p_value
 
     missed = limit_p_value("onset_low", 1002, study)
     assert missed["status"] == "lower_limit" and missed["limit"] > missed["truth"]
@@ -246,7 +246,7 @@ def test_the_test_behind_a_limit_rejects_the_truth_where_the_limit_excludes_it(s
 
 
 def test_p_value_shares_count_at_or_below_each_level():
-    from mcbat.testing.fit_validation import p_value_shares
+    from harness.fit_validation import p_value_shares
 
     shares = p_value_shares([0.01, 0.05, 0.3, 1.0], levels=(0.05, 0.5))
     assert [(a, s) for a, s, _ in shares] == [(0.05, 0.5), (0.5, 0.75)]

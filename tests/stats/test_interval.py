@@ -3,7 +3,7 @@ import json
 
 import pytest
 
-from mcbat.stats.intervals import Interval, _entry
+from mcbat.stats.fit.intervals import Interval, _entry
 
 
 def test_an_interval_reads_as_the_mapping_it_writes():

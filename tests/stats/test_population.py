@@ -1,4 +1,4 @@
-"""Population fits (`mcbat fit --population`, mcbat.stats.population): parameters recovered
+"""Population fits (`mcbat fit --population`, mcbat.stats.population.fit): parameters recovered
 from tables simulated at known values, the real Statcast rows shipped in data/, and every
 bad input refused with one line (exit 2)."""
 
@@ -10,7 +10,7 @@ import pytest
 
 import mcbat
 from mcbat.statcast import read, write
-from mcbat.stats.population import fit_population, population_table, simulate_table
+from mcbat.stats.population.fit import fit_population, population_table, simulate_table
 from tests.stats.population_shared import REAL, STUDY, assert_one_line_exit_2
 
 TRUTH = {"swing.bat_speed.mean": 69.0, "swing.attack_angle.mean": 12.0,

@@ -13,8 +13,8 @@ import pytest
 import mcbat
 from mcbat.errors import InputError
 from mcbat.statcast import read
-from mcbat.stats.population import fit_population, population_table, simulate_table
-from mcbat.stats.population_templates import TemplateSimulator
+from mcbat.stats.population.fit import fit_population, population_table, simulate_table
+from mcbat.stats.population.templates import TemplateSimulator
 from tests.stats.population_shared import ROOT, STUDY, assert_one_line_exit_2, run_mcbat
 
 FLIGHT_STUDY = ROOT / "studies" / "game_fastball.toml"  # a game with a [flight] section

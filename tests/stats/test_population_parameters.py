@@ -1,4 +1,4 @@
-"""The free parameters of a population fit (mcbat.stats.population_parameters): a
+"""The free parameters of a population fit (mcbat.stats.population.parameters): a
 parameter the study does not have, or cannot fit, refused with one line naming it."""
 
 import pytest
@@ -6,7 +6,7 @@ import pytest
 import mcbat
 from mcbat.errors import InputError
 from mcbat.statcast import read
-from mcbat.stats.population import fit_population, population_table
+from mcbat.stats.population.fit import fit_population, population_table
 from tests.stats.population_shared import REAL, ROOT, STUDY, assert_one_line_exit_2, run_mcbat
 
 

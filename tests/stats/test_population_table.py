@@ -1,4 +1,4 @@
-"""The rows a population fit uses (mcbat.stats.population_table): the balls in play of the
+"""The rows a population fit uses (mcbat.stats.population.table): the balls in play of the
 real Statcast rows shipped in data/, and a table without an observable refused."""
 
 import numpy as np
@@ -6,7 +6,7 @@ import pytest
 
 from mcbat.errors import InputError
 from mcbat.statcast import read
-from mcbat.stats.population_table import population_table
+from mcbat.stats.population.table import population_table
 from tests.stats.population_shared import REAL
 
 

@@ -1,11 +1,11 @@
-"""The template draws of a population fit (mcbat.stats.population_templates): the same
+"""The template draws of a population fit (mcbat.stats.population.templates): the same
 balls whichever engine solves them."""
 
 import pytest
 
 import mcbat
 from mcbat.statcast import read
-from mcbat.stats.population import fit_population, population_table, simulate_table
+from mcbat.stats.population.fit import fit_population, population_table, simulate_table
 from tests.stats.population_shared import REAL, STUDY
 
 

@@ -12,7 +12,7 @@ import pytest
 
 import mcbat
 from mcbat.statcast import read
-from mcbat.stats.compare import ks_test
+from mcbat.stats.compare.comparison import ks_test
 
 ROOT = Path(__file__).resolve().parents[2]
 DAY = ROOT / "data" / "statcast_2020-09-03.csv"

@@ -1,4 +1,4 @@
-"""One-sided limits conditional on a flat profile (mcbat.stats.selective).
+"""One-sided limits conditional on a flat profile (mcbat.stats.fit.selective).
 
 The model is a drop test's friction in miniature: row i observes
 slope * min(mu - stick_i, 0) + noise, flat in mu above its stick threshold. With one
@@ -10,9 +10,9 @@ and the conditional limit must hold it in about 95 %.
 import numpy as np
 import pytest
 
-from mcbat.stats import selective
-from mcbat.stats.intervals import LIMIT_95, ONE_SIGMA
-from mcbat.stats.selective import (
+from mcbat.stats.fit import selective
+from mcbat.stats.fit.intervals import LIMIT_95, ONE_SIGMA
+from mcbat.stats.fit.selective import (
     Surrogate,
     conditional_p_value,
     flat_side_mask,

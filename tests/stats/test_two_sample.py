@@ -1,4 +1,4 @@
-"""Two-sample statistics of mcbat.stats.two_sample, against direct formulas and on samples
+"""Two-sample statistics of mcbat.stats.compare.two_sample, against direct formulas and on samples
 whose answer is known (the same distribution, shifted ones)."""
 
 import itertools
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.distance import cdist
 
-from mcbat.stats.two_sample import energy_test, ks_test, plane_energy_test, wasserstein
+from mcbat.stats.compare.two_sample import energy_test, ks_test, plane_energy_test, wasserstein
 
 
 def _ecdf(sample, at):

@@ -9,7 +9,7 @@ import pytest
 
 from mcbat.errors import InputError
 from mcbat.runner.pitches import load_pitches
-from mcbat.stats.population_table import write_pitches
+from mcbat.stats.population.table import write_pitches
 from mcbat.study.spec import Study
 
 MPH, INCH = 0.44704, 0.0254
@@ -136,7 +136,7 @@ def test_swing_error_leaves_fallback_draws_alone(tmp_path):
 def test_population_templates_weigh_the_contact_before_the_trend(tmp_path):
     # a population fit reweights the drawn contact by its distribution's density: the
     # templates hand it the draws before the trend moved them (the same random numbers)
-    from mcbat.stats.population_templates import _solve_memory
+    from mcbat.stats.population.templates import _solve_memory
 
     plain = Study.from_dict(_data(tmp_path, _rows()))
     data = _data(tmp_path, _rows())
@@ -149,8 +149,8 @@ def test_population_templates_weigh_the_contact_before_the_trend(tmp_path):
 
 
 def test_population_fit_with_a_trend_refuses_other_engines(tmp_path):
-    from mcbat.stats.population_parameters import parse_free
-    from mcbat.stats.population_templates import TemplateSimulator
+    from mcbat.stats.population.parameters import parse_free
+    from mcbat.stats.population.templates import TemplateSimulator
 
     data = _data(tmp_path, _rows())
     data["contact"]["bat_speed_trend"] = _trend(1.0)

@@ -8,7 +8,7 @@ import pytest
 
 from mcbat.errors import InputError
 from mcbat.runner.pitches import load_pitches
-from mcbat.stats.population_table import population_table, write_pitches
+from mcbat.stats.population.table import population_table, write_pitches
 from mcbat.study.spec import Study
 
 

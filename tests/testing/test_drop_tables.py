@@ -1,9 +1,9 @@
-"""The drop-test tables' onset of sticking (mcbat.testing.drop_tables)."""
+"""The drop-test tables' onset of sticking (harness.drop_tables)."""
 
 import numpy as np
 import pytest
 
-from mcbat.testing.drop_tables import (
+from harness.drop_tables import (
     design_stick_onset,
     drop_table,
     kernel_solver,

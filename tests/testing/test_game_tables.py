@@ -1,4 +1,4 @@
-"""The independent game tables (mcbat/testing/game_tables.py): their kinematics against
+"""The independent game tables (harness/game_tables.py): their kinematics against
 mcbat's game kernel, physical invariants, and the game fit on tables it did not simulate."""
 
 import math
@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mcbat.testing import game_tables as gt
+from harness import game_tables as gt
 from validation.game_fit_validation import kernel_solver
 
 STUDY_FILE = Path(__file__).resolve().parents[1] / "stats" / "data" / "game_fit_independent.toml"
@@ -217,7 +217,7 @@ def test_undercut_lifts_the_ball_with_backspin():
 def test_game_fit_recovers_e_and_e_x_from_an_independent_table():
     """100 rows simulated independently, fitted as a user would: e* and e_x come back
     within two of their stated errors."""
-    from mcbat.stats.fit import fit
+    from mcbat.stats.fit.estimate import fit
     from mcbat.study import load_study
 
     table = gt.game_table(100, 11, **TRUTH)

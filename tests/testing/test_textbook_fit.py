@@ -3,8 +3,8 @@ independent check on the fit's intervals."""
 
 import pytest
 
-from mcbat.testing.drop_tables import drop_table, kernel_solver
-from mcbat.testing.textbook_fit import (
+from harness.drop_tables import drop_table, kernel_solver
+from harness.textbook_fit import (
     marginal_fit,
     marginal_neg_log_likelihood,
     mu_information_share,
@@ -39,7 +39,7 @@ def test_fit_with_exact_inputs_matches_the_textbook_fit():
     (the true contact points) of the same exact-b table agree within half an error."""
     from pathlib import Path
 
-    from mcbat.stats.fit import fit
+    from mcbat.stats.fit.estimate import fit
     from mcbat.study import load_study
 
     study = load_study(Path(__file__).resolve().parents[2] / "studies" / "cross_nathan_2006.toml")

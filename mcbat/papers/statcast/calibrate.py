@@ -1,6 +1,6 @@
 """Calibrate the flight model's drag and lift to measured distances.
 
-The fit (``mcbat.stats.fit.fit`` with ``mcbat.stats.flight_model.FlightModel``)
+The fit (``mcbat.stats.fit.estimate.fit`` with ``mcbat.stats.models.flight.FlightModel``)
 scales the spin-free drag ``C_D0`` and the lift ``C_L`` of Nathan's model so that the
 predicted distances of the balls whose measured point is known best (outfield catches at
 the catch height, home runs projected to the ground; ``mcbat.papers.statcast.compare``)
@@ -32,8 +32,8 @@ import pandas as pd
 
 from mcbat.errors import InputError
 from mcbat.papers.statcast.compare import eligible_window, residual_stats
-from mcbat.stats.fit import fit
-from mcbat.stats.flight_model import AIR_COLUMNS, FLIGHT_TABLE_COLUMNS, FlightFitSetup
+from mcbat.stats.fit.estimate import fit
+from mcbat.stats.models.flight import AIR_COLUMNS, FLIGHT_TABLE_COLUMNS, FlightFitSetup
 from mcbat.study.flight import FlightSettings
 
 __all__ = ["DISTANCE_SLOPE", "FIT_CLASSES", "FREE", "LAUNCH_SPEED_MEDIAN",
@@ -51,7 +51,7 @@ MIN_BALLS = 10
 
 @dataclasses.dataclass
 class FlightCalibration:
-    """A fitted calibration: the ``mcbat.stats.fit.FitResult``, the per-ball scatter
+    """A fitted calibration: the ``mcbat.stats.fit.estimate.FitResult``, the per-ball scatter
     ``sigma`` (ft) it used, and the number of balls."""
 
     result: object
@@ -91,7 +91,7 @@ class FlightCalibration:
 
 
 def flight_table(balls: pd.DataFrame, backspin, sidespin, sigma) -> pd.DataFrame:
-    """The measurement table of ``mcbat.stats.flight_model.FlightModel`` for
+    """The measurement table of ``mcbat.stats.models.flight.FlightModel`` for
     ``balls`` (a ``mcbat.papers.statcast.compare.select_balls`` frame) flown with
     ``backspin``, ``sidespin`` (rpm), with the scatter ``sigma`` (ft) per ball."""
     table = pd.DataFrame({c: balls[c].to_numpy(float) for c in
@@ -195,7 +195,7 @@ def calibrate(balls: pd.DataFrame, backspin, sidespin, *, spin_model="nathan",
     ball : mcbat.bodies.Ball, optional
         Default: the ``baseball`` preset.
     intervals : {"profile", "curvature"}
-        As ``mcbat.stats.fit.fit``.
+        As ``mcbat.stats.fit.estimate.fit``.
 
     Raises
     ------
@@ -314,7 +314,7 @@ def check_distances_follow_launch(distance, model, source=None) -> None:
 def predict(setup, table, scales=None) -> np.ndarray:
     """Predicted ``hit_distance_sc`` (ft) of every row at ``scales`` (default: the
     settings')."""
-    from mcbat.stats.flight_model import FlightModel
+    from mcbat.stats.models.flight import FlightModel
 
     model = FlightModel(setup, table, 2, 0, scales)
     values, status = model.solve()

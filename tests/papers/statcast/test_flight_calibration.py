@@ -20,8 +20,8 @@ from mcbat.papers.statcast.calibrate import (
 from mcbat.papers.statcast.compare import select_balls
 from mcbat.papers.statcast.reproduce import balls_in_their_air, read_statcast
 from mcbat.statcast.spin import nathan_average_spin
-from mcbat.stats.fit import Likelihood
-from mcbat.stats.flight_model import FlightFitSetup
+from mcbat.stats.fit.estimate import Likelihood
+from mcbat.stats.models.flight import FlightFitSetup
 from mcbat.study.flight import (
     FLIGHT_PRESETS,
     flight_seasons,

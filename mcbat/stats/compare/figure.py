@@ -8,8 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mcbat.stats.compare_units import column_values, convert
-from mcbat.stats.two_sample import format_p
+from mcbat.stats.compare.two_sample import format_p
+from mcbat.stats.compare.units import column_values, convert
 
 __all__ = ["fig_compare"]
 

@@ -2,13 +2,13 @@
 likelihood.
 
 A check on the fit's intervals that shares none of its machinery: a table made by
-``mcbat.testing.drop_tables.drop_table`` is fitted with its *true* impact parameters and
+``harness.drop_tables.drop_table`` is fitted with its *true* impact parameters and
 contact points (``table.attrs["truth"]``), so nothing is marginalised, drawn or estimated but
 ``e*`` and ``mu``: ``-ln L = sum chi^2 / 2`` over the rows' three observables with their
 stated errors, minimised with scipy, and ``mu``'s profile-likelihood interval (``-ln L``
 rises by 1/2 with ``e*`` re-optimised). If its intervals hold the truth less often than
 68 %, the cause lies in the problem (the likelihood is not quadratic on the scale of its
-errors), not in how ``mcbat.stats.fit.fit`` marginalises the inputs.
+errors), not in how ``mcbat.stats.fit.estimate.fit`` marginalises the inputs.
 
 ``mu_information_share`` says how much of the Fisher information on ``mu`` the few
 most informative rows carry: in the drop test it rests on the rows near the change from
@@ -17,8 +17,8 @@ sliding to rolling, where the observables turn steeply with ``mu``.
 ``marginal_fit`` is the textbook fit of a table whose impact parameters are known only
 as measured: each row's likelihood integrated over its true impact parameter by quadrature
 (the true distribution of the table's impact parameters as the prior), and, with
-``contact_nodes``, over its contact point too (``mcbat.stats.fit.fit`` does not know
-the contact points either): the exact marginal likelihood that ``mcbat.stats.fit.fit``
+``contact_nodes``, over its contact point too (``mcbat.stats.fit.estimate.fit`` does not know
+the contact points either): the exact marginal likelihood that ``mcbat.stats.fit.estimate.fit``
 estimates with draws.
 """
 
@@ -30,7 +30,7 @@ import numpy as np
 from scipy import optimize
 from scipy.special import roots_legendre
 
-from mcbat.testing.drop_tables import DROP_TEST, kernel_solver
+from harness.drop_tables import DROP_TEST, kernel_solver
 
 __all__ = ["marginal_fit", "marginal_neg_log_likelihood", "mu_information_share",
            "textbook_fit"]
@@ -52,7 +52,7 @@ def textbook_fit(table, mu_range=(0.01, 1.0), e_range=(0.3, 0.95)):
     Parameters
     ----------
     table : pandas.DataFrame
-        A table of ``mcbat.testing.drop_tables.drop_table`` (its ``attrs["truth"]``
+        A table of ``harness.drop_tables.drop_table`` (its ``attrs["truth"]``
         holds the true impact parameters, m, and contact points, m from the bat's CM).
     mu_range, e_range : (float, float)
         Where the maximum is searched.
@@ -144,13 +144,13 @@ def marginal_neg_log_likelihood(table, prior_range=(-0.0254, 0.0254), nodes=128,
     Parameters
     ----------
     table : pandas.DataFrame
-        A table of ``mcbat.testing.drop_tables.drop_table`` with an
+        A table of ``harness.drop_tables.drop_table`` with an
         ``impact_parameter_err`` column, its true impact parameters drawn uniformly over
         ``prior_range`` (not at the ``edges``).
     contact_nodes : int
         0: each row's contact point at its true value (``attrs["truth"]["axial"]``); else
         integrated over its true distribution, uniform over the drop test's contact range
-        (``mcbat.testing.drop_tables.DROP_TEST``), by Gauss-Legendre quadrature with
+        (``harness.drop_tables.DROP_TEST``), by Gauss-Legendre quadrature with
         this many nodes, as a fit that does not know the contact points must.
 
     Returns

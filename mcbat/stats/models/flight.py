@@ -1,5 +1,5 @@
 """The flight model's draw model: measured distances of batted balls against the flight
-kernel, for ``mcbat.stats.likelihood.Likelihood``.
+kernel, for ``mcbat.stats.fit.likelihood.Likelihood``.
 
 A row of the table is one batted ball: its launch (``launch_speed`` mph, ``launch_angle``,
 ``spray_angle`` deg), the spin it is flown with (``backspin``, ``sidespin`` rpm: a spin
@@ -24,7 +24,7 @@ import numpy as np
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.errors import InputError
-from mcbat.stats.models import DrawModel
+from mcbat.stats.models.draws import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
 
 __all__ = ["AIR_COLUMNS", "FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
@@ -55,7 +55,7 @@ AIR_COLUMNS = tuple(c for c, (_, role) in FLIGHT_TABLE_COLUMNS.items() if role =
 class FlightFitSetup:
     """What a flight fit holds fixed: the flight settings (atmosphere other than the
     elevation, model, launch point, spin decay) and the ball. Plays the part of a study
-    for ``mcbat.stats.likelihood.Likelihood``."""
+    for ``mcbat.stats.fit.likelihood.Likelihood``."""
 
     settings: FlightSettings = FlightSettings()
     mass: float = BALL_PRESETS[DEFAULT_BALL].mass

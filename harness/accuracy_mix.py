@@ -4,8 +4,8 @@ The kernel's accuracy is stated on a mix of at least 500 random impacts that inc
 bats from 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1, creeping slip and
 re-slip. This module is the measuring instrument for that statement:
 
-* ``mcbat.testing.impact_mix.draw_mix`` draws the mix, deterministically from a seed
-  (``mcbat.testing.impact_mix``; its names are importable from here too);
+* ``harness.impact_mix.draw_mix`` draws the mix, deterministically from a seed
+  (``harness.impact_mix``; its names are importable from here too);
 * ``reference_for`` solves one case with the independent scipy integrator
   ``mcbat.testing.cabo2012_reference.reference_impact`` and keeps what the errors need;
 * ``kernel_errors`` runs the batch kernel on the mix at a given tolerance and returns the
@@ -35,11 +35,7 @@ import time
 
 import numpy as np
 
-from mcbat.core import status as kernel_status
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS
-from mcbat.testing.cabo2012_reference import reference_impact
-from mcbat.testing.impact_mix import (
+from harness.impact_mix import (
     BASEBALL_BODIES,
     BASEBALL_MODES,
     CREEP_RATIO_OFFSET,
@@ -52,6 +48,10 @@ from mcbat.testing.impact_mix import (
     draw_mix,
     stick_rate,
 )
+from mcbat.core import status as kernel_status
+from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
+from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS
+from mcbat.testing.cabo2012_reference import reference_impact
 
 __all__ = ["BASEBALL_BODIES", "BASEBALL_MODES", "CREEP_RATIO_OFFSET", "DEFAULT_SEED",
            "ERROR_COLUMNS", "MAX_SPIN", "MODES", "MONOTONE_FACTOR", "MONOTONE_FLOOR",

@@ -1,6 +1,6 @@
 """Population fits: a game study's distributions fitted to a table of measured batted balls.
 
-A per-row fit (``mcbat.stats.fit``) asks, for each ball, how likely its observables are
+A per-row fit (``mcbat.stats.fit.estimate``) asks, for each ball, how likely its observables are
 given a Gaussian of the model's draws. A batting population is no Gaussian (one swing
 gives launch angles from -30 to 60 deg), and what a season measures is the *joint
 distribution* of the batted balls. This module fits the parameters of the study's
@@ -48,10 +48,10 @@ The method (``docs/population.md`` has the reasons and the checks):
   goodness of fit reported.
 * **Intervals.** MINOS profile-likelihood intervals (a rise of 1 in the chi2-like cost).
 
-Beside this module (the fit): ``mcbat.stats.population_table`` (the rows used),
-``mcbat.stats.population_parameters`` (the free parameters),
-``mcbat.stats.population_templates`` (the draws) and
-``mcbat.stats.population_likelihood`` (bins and cost); the names a caller needs are
+Beside this module (the fit): ``mcbat.stats.population.table`` (the rows used),
+``mcbat.stats.population.parameters`` (the free parameters),
+``mcbat.stats.population.templates`` (the draws) and
+``mcbat.stats.population.likelihood`` (bins and cost); the names a caller needs are
 importable from here.
 
 Where the template draws run: ``engine="memory"`` solves them in this process (numba
@@ -71,20 +71,20 @@ from scipy import stats
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.errors import InputError
-from mcbat.stats.population_likelihood import (
+from mcbat.stats.population.likelihood import (
     BinnedCost,
     bin_index,
     equal_count_edges,
     grid_corners,
 )
-from mcbat.stats.population_parameters import (
+from mcbat.stats.population.parameters import (
     PHYSICS,
     PHYSICS_RANGE,
     fittable_parameters,
     parse_free,
 )
-from mcbat.stats.population_table import FLIGHT_OBSERVABLES, OBSERVABLES, population_table
-from mcbat.stats.population_templates import ENGINES, TemplateSimulator, simulate_table
+from mcbat.stats.population.table import FLIGHT_OBSERVABLES, OBSERVABLES, population_table
+from mcbat.stats.population.templates import ENGINES, TemplateSimulator, simulate_table
 
 __all__ = ["BROADEN", "DEFAULT_DRAWS", "ENGINES", "NODES", "OBSERVABLES", "PHYSICS",
            "PopulationResult", "fit_population", "fittable_parameters", "grid_corners",

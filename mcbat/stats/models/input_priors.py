@@ -18,7 +18,7 @@ The range a measured input's true values are marginalised over depends on
 
 Truncating each row's true value to a range the data reach beyond would bias the fit
 without a word (rows measured 2-3 errors beyond the edge forced onto it). Every fit
-reports the range it used (``mcbat.stats.models._DrawModel.priors``).
+reports the range it used (``mcbat.stats.models.draws._DrawModel.priors``).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The binned likelihood of a population fit (``mcbat.stats.population``): equal-count
+"""The binned likelihood of a population fit (``mcbat.stats.population.fit``): equal-count
 bins of the data, and the cost of the reweighted, grid-interpolated templates in them."""
 
 from __future__ import annotations

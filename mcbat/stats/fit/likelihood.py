@@ -1,12 +1,12 @@
 """The likelihood of a measurement table under a study's model, marginalising nuisance
-scatter and the errors of the measured inputs (``mcbat.stats.fit.fit`` maximises it).
+scatter and the errors of the measured inputs (``mcbat.stats.fit.estimate.fit`` maximises it).
 Row ``i`` of the table has measured inputs (a drop test's impact parameter
 ``b_i`` and incoming spin; a game's bat speed, attack angle, undercut, ...) and measured
 observables ``y_i`` (exit speed, scattering angle, outgoing spin; or launch speed, launch
 angle, spin rate, ...) with 1-sigma errors ``s_i`` (the ``_err`` columns; an observable
 without one gets one error for all rows,
 ``mcbat.stats.measurements.default_errors``). For each row, ``M`` draws
-are solved with the fast kernel at parameters ``theta`` (``mcbat.stats.models`` builds
+are solved with the fast kernel at parameters ``theta`` (``mcbat.stats.models.draws`` builds
 them):
 
 * the study's nuisance scatter (the impact point, the spread of the incoming spin when
@@ -14,7 +14,7 @@ them):
 * a measured input with an ``_err`` column is drawn from its posterior given the
   measurement (a prior of the true values estimated from the table, times a normal of the
   stated width about the measured value, within the range the study allows for that
-  input: ``mcbat.stats.input_priors``), stratified over the ``M`` draws (one draw in each of
+  input: ``mcbat.stats.models.input_priors``), stratified over the ``M`` draws (one draw in each of
   ``M`` equal-probability slices) so that the smear is represented with little Monte Carlo
   noise; without an ``_err`` column the input is exact. With the mixture likelihood, half
   of a drop test's draws are then moved near each row's posterior given the observables
@@ -47,7 +47,7 @@ likelihood takes one of two forms (``likelihood``):
 
 The draws are held fixed (common random numbers), so ``L`` is smooth in ``theta``. An
 observable far outside what the model gives over the search grid (a wrong unit) is refused
-(``mcbat.stats.unit_guard``).
+(``mcbat.stats.fit.unit_guard``).
 """
 
 from __future__ import annotations
@@ -59,10 +59,10 @@ import numpy as np
 from mcbat.checks import check_count
 from mcbat.core.status import OK, STATUS_NAMES
 from mcbat.errors import InputError
-from mcbat.stats.flight_model import FlightModel
-from mcbat.stats.input_priors import INPUT_PRIORS, PRIOR_RIDGE, PriorFamily
 from mcbat.stats.measurements import default_errors
-from mcbat.stats.models import BatFrameModel, GameModel, rows_text
+from mcbat.stats.models.draws import BatFrameModel, GameModel, rows_text
+from mcbat.stats.models.flight import FlightModel
+from mcbat.stats.models.input_priors import INPUT_PRIORS, PRIOR_RIDGE, PriorFamily
 
 __all__ = ["FREE", "LIKELIHOODS", "Likelihood", "SEARCH", "check_free", "draw_model",
            "draw_moments"]
@@ -72,7 +72,7 @@ FREE = {"e": (1e-3, 1.0), "mu": (1e-3, 2.0), "ball_inertia_factor": (0.05, 1.0),
         "lift_scale": (0.0, 3.0)}
 """Parameters that can be fitted, with their allowed ranges (``e_x``: the tangential
 restitution of Cross & Nathan 2006, 0 = the rigid model; ``drag_scale``, ``lift_scale``:
-the flight model's, ``mcbat.stats.flight_model``)."""
+the flight model's, ``mcbat.stats.models.flight``)."""
 SEARCH = {"e": (0.05, 0.98), "mu": (0.01, 1.0), "ball_inertia_factor": (0.1, 0.8),
           "axial": (-0.05, 0.05), "e_x": (0.0, 0.6), "drag_scale": (0.5, 1.5),
           "lift_scale": (0.0, 2.0)}
@@ -112,21 +112,21 @@ class Likelihood:
         Fixed setup and nuisance scatter. A bat-frame study must place the contact by
         ``contact.impact_parameter`` (the ball's line offset from the bat axis).
     table : pandas.DataFrame
-        Measurement table (``mcbat.stats.models`` lists the columns of each kind of
+        Measurement table (``mcbat.stats.models.draws`` lists the columns of each kind of
         study, with their units): measured inputs, observables and ``_err`` columns
         (1 sigma, same units; an observable without one gets ``default_errors``).
     free : sequence of str
         Parameters to fit, from ``FREE`` (the game model has ``e``, ``mu``, ``e_x``).
     draws : int, optional
         Draws per row (at least 4; default 48 for a drop test, 128 for a game:
-        ``mcbat.stats.models.GameModel.DEFAULT_DRAWS`` says why).
+        ``mcbat.stats.models.draws.GameModel.DEFAULT_DRAWS`` says why).
     seed : int
         Seed of the draws.
     fixed : dict, optional
         Parameters held at given values (``{"e_x": 0.0}``: the rigid model).
     input_prior : {"cover", "widen", "study"}, optional
         The range the true values of an input with an ``_err`` column are marginalised
-        over (``mcbat.stats.models``): ``"cover"`` the study's range widened to cover
+        over (``mcbat.stats.models.draws``): ``"cover"`` the study's range widened to cover
         the data, with a fitted step in the prior at the study's ends (the mixture
         likelihood's default); ``"widen"`` the study's range, widened only when the
         measured values reject it (the normal likelihood's default); ``"study"`` the
@@ -184,7 +184,7 @@ class Likelihood:
         self._prior_basis = np.concatenate(blocks, axis=2) if blocks else None
         self.prior_coefficients = np.zeros(0 if not blocks else self._prior_basis.shape[2])
         """The prior's coefficients at the last evaluation (one block of
-        ``mcbat.stats.input_priors.PRIOR_DEGREE`` per measured input in
+        ``mcbat.stats.models.input_priors.PRIOR_DEGREE`` per measured input in
         ``prior_families``)."""
 
     def predict(self, theta):
@@ -316,7 +316,7 @@ class Likelihood:
 
     def _draw_log_density(self, sims, ok):
         """``ln N(y_i; sims_ik, diag(s2_i))`` up to a constant, plus the draws' own log
-        weights (``mcbat.stats.models._DrawModel.draw_log_weight``); -inf for a bad
+        weights (``mcbat.stats.models.draws._DrawModel.draw_log_weight``); -inf for a bad
         draw. Shape (rows, draws)."""
         log_density = -0.5 * ((self.y[:, None, :] - sims) ** 2 / self.s2[:, None, :]).sum(axis=2)
         if self.model.draw_log_weight is not None:
@@ -350,7 +350,7 @@ class Likelihood:
     def refine(self, theta):
         """With the mixture likelihood, place half of each row's draws of a smeared measured
         input near its posterior given the observables at ``theta`` (a point near the best
-        fit: ``mcbat.stats.models.BatFrameModel.refine_draws``), and rebuild the
+        fit: ``mcbat.stats.models.draws.BatFrameModel.refine_draws``), and rebuild the
         prior's basis at the new draws. Call before the local search: the draws stay fixed
         from then on."""
         refine = getattr(self.model, "refine_draws", None)
@@ -425,9 +425,9 @@ class Likelihood:
 
 
 def draw_model(study, table, draws, seed, fixed=None, input_prior=None, likelihood=None):
-    """The draw model of ``study`` (``mcbat.stats.models.GameModel``,
-    ``mcbat.stats.models.BatFrameModel`` or
-    ``mcbat.stats.flight_model.FlightModel``); ``draws`` None: the model's
+    """The draw model of ``study`` (``mcbat.stats.models.draws.GameModel``,
+    ``mcbat.stats.models.draws.BatFrameModel`` or
+    ``mcbat.stats.models.flight.FlightModel``); ``draws`` None: the model's
     ``DEFAULT_DRAWS``; ``input_prior`` None: ``"cover"`` for the mixture likelihood
     (``likelihood``, default the model's), which estimates the prior, else ``"widen"``."""
     if input_prior is not None and input_prior not in INPUT_PRIORS:
@@ -468,7 +468,7 @@ def draw_moments(sims, ok):
         pairing neighbouring draws ``(0, 1), (2, 3), ...`` (the collapsed-strata estimate
         ``sum (d d^T) / (2 n P)`` over the ``P`` pairs of good draws, ``d`` the pair's
         difference). Draws of a row are stratified in a smeared measured input
-        (``mcbat.stats.models``), so neighbours lie in neighbouring slices and ``V`` is
+        (``mcbat.stats.models.draws``), so neighbours lie in neighbouring slices and ``V`` is
         small where that input dominates; with independent draws ``E[V] = Sigma / n`` and
         ``E[C + 2 V] = Sigma (1 + 1/n)``, the textbook variance of ``y - mean``. In general
         ``E[C] = Sigma - V``: ``C + V`` estimates the spread and the second ``V`` the error

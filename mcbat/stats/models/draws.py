@@ -3,7 +3,7 @@
 A fit compares each measured row with ``M`` draws of the model for that row. A *draw
 model* builds those ``rows x M`` cases once (the study's nuisance scatter, the row's
 measured inputs, their errors) and solves them at any value of the free parameters, so that
-``mcbat.stats.likelihood.Likelihood`` never needs to know which kernel it is fitting:
+``mcbat.stats.fit.likelihood.Likelihood`` never needs to know which kernel it is fitting:
 
 * ``BatFrameModel``: a ball moving across a bat onto its axis, in the bat frame (a
   drop test: ``studies/cross_nathan_2006.toml``); the table gives each row's impact
@@ -19,17 +19,17 @@ measured inputs, their errors) and solves them at any value of the free paramete
 Measured inputs with an ``_err`` column are drawn from their posterior given the
 measurement: the prior of the true values times a normal of that width about the measured
 value, over a bounded range. The draws come from the posterior under a flat prior over that
-range; the mixture likelihood of ``mcbat.stats.likelihood`` reweights them to a prior it
-estimates with the parameters (``mcbat.stats.input_priors.PriorFamily``), so that a
+range; the mixture likelihood of ``mcbat.stats.fit.likelihood`` reweights them to a prior it
+estimates with the parameters (``mcbat.stats.models.input_priors.PriorFamily``), so that a
 table whose true values pile up somewhere (at the ends of the range, say) is not fitted as
 if they were spread evenly. The draws are *stratified*: draw ``k`` of a row lies in the
 ``k``-th of ``M`` equal-probability slices of that posterior for the first such input (the
 slices of any further one are shuffled, as in a Latin hypercube). The order matters:
-``mcbat.stats.likelihood.draw_moments`` pairs neighbouring slices to measure the Monte
+``mcbat.stats.fit.likelihood.draw_moments`` pairs neighbouring slices to measure the Monte
 Carlo error of the mean.
 
 The range and the prior of a measured input's true values are
-``mcbat.stats.input_priors``'s; every fit reports the range it used
+``mcbat.stats.models.input_priors``'s; every fit reports the range it used
 (``_DrawModel.priors``).
 """
 
@@ -53,7 +53,7 @@ from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
-from mcbat.stats.input_priors import (
+from mcbat.stats.models.input_priors import (
     WIDEN_P_VALUE,
     covering_range,
     prior_range,
@@ -98,10 +98,10 @@ class _DrawModel:
     """Draws per row unless the user asks for another number."""
     LIKELIHOOD = "gaussian"
     """The form of a row's likelihood unless the user asks for another
-    (``mcbat.stats.fit``): a normal of the draws' mean and covariance."""
+    (``mcbat.stats.fit.estimate``): a normal of the draws' mean and covariance."""
     SEARCH: dict = {}
     """Search ranges of the fit's coarse grid that differ from the default
-    (``mcbat.stats.likelihood.SEARCH``)."""
+    (``mcbat.stats.fit.likelihood.SEARCH``)."""
 
     def __init__(self, study, table, draws, seed, fixed, input_prior="cover"):
         self.source = table.attrs.get("source")
@@ -113,11 +113,11 @@ class _DrawModel:
         """Measured input -> the range its draws cover: ``study_range`` and ``range``
         (table units), ``widened`` (the two differ), and whether the measured values reject
         the study's range (``rejects_study_range``, with the ``p_value`` of
-        ``mcbat.stats.input_priors.beyond_range_test``)."""
+        ``mcbat.stats.models.input_priors.beyond_range_test``)."""
         self.prior_draws = {}
         """Measured input over a bounded range -> ``(draws (rows x M), lo, hi)`` in table
         units: its draws, taken from the posterior under a flat prior over ``[lo, hi]``,
-        which a likelihood may reweight to another prior (``mcbat.stats.fit``)."""
+        which a likelihood may reweight to another prior (``mcbat.stats.fit.estimate``)."""
         self._stratified = False
         self.smeared = {}
         """Measured input over a bounded range -> ``(value, sigma, lo, hi, scale)`` (SI)."""
@@ -230,7 +230,7 @@ class _DrawModel:
 
 DrawModel = _DrawModel
 """The base of a draw model, for models defined outside this module
-(``mcbat.stats.flight_model.FlightModel``)."""
+(``mcbat.stats.models.flight.FlightModel``)."""
 
 
 class BatFrameModel(_DrawModel):

@@ -1,5 +1,5 @@
 """Two-sample statistics on plain arrays: are two samples of one quantity drawn from one
-distribution? (``mcbat compare``, ``mcbat.stats.compare``, ``docs/compare.md``)
+distribution? (``mcbat compare``, ``mcbat.stats.compare.comparison``, ``docs/compare.md``)
 
 * ``ks_test``: the two-sample Kolmogorov-Smirnov distance ``D = max |F - G|`` of the
   two empirical distribution functions, with scipy's p-value (``scipy.stats.ks_2samp``,

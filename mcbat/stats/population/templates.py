@@ -1,4 +1,4 @@
-"""The simulated side of a population fit (``mcbat.stats.population``): the study
+"""The simulated side of a population fit (``mcbat.stats.population.fit``): the study
 rewritten to meet the table's own pitches, its draws solved (and, for ``hit_distance``,
 flown) in this process or on an engine, and simulated tables for injection tests."""
 
@@ -27,8 +27,9 @@ from mcbat.core.swing import (
 )
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
-from mcbat.stats.population_parameters import PHYSICS, parse_free
-from mcbat.stats.population_table import (
+from mcbat.stats.models.simulate import solve_game_inputs
+from mcbat.stats.population.parameters import PHYSICS, parse_free
+from mcbat.stats.population.table import (
     FLIGHT_OBSERVABLES,
     MEASURED_NAMES,
     OBSERVABLES,
@@ -36,7 +37,6 @@ from mcbat.stats.population_table import (
     SWING_COLUMNS,
     write_pitches,
 )
-from mcbat.stats.simulate import solve_game_inputs
 from mcbat.study import units as u
 from mcbat.study.game import KEYS
 from mcbat.study.spec import Study

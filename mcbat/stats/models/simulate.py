@@ -16,7 +16,7 @@ from mcbat.core.swing import (
 )
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.stats.columns import GAME_WRITTEN
-from mcbat.stats.models import GameModel
+from mcbat.stats.models.draws import GameModel
 
 __all__ = ["solve_game_inputs", "solve_study"]
 

@@ -23,9 +23,9 @@ from scipy.optimize import brentq
 
 from mcbat.errors import InputError
 from mcbat.stats.columns import table_columns
-from mcbat.stats.fit import FREE
-from mcbat.stats.models import GameModel
-from mcbat.stats.simulate import solve_study
+from mcbat.stats.fit.estimate import FREE
+from mcbat.stats.models.draws import GameModel
+from mcbat.stats.models.simulate import solve_study
 
 __all__ = ["CalibrationResult", "calibrate"]
 

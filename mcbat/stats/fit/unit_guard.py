@@ -15,7 +15,7 @@ import numpy as np
 
 from mcbat.errors import InputError
 from mcbat.stats.columns import UNITS_HINT
-from mcbat.stats.models import OUTLIER_SIGMA, rows_text
+from mcbat.stats.models.draws import OUTLIER_SIGMA, rows_text
 
 __all__ = ["MAGNITUDES", "MEDIAN_FACTOR", "MEDIAN_MAXIMUM", "SIGN_CONVENTION", "UNIT_SIGMA",
            "check_units"]
@@ -52,16 +52,16 @@ def check_units(like):
 
     Parameters
     ----------
-    like : mcbat.stats.likelihood.Likelihood
+    like : mcbat.stats.fit.likelihood.Likelihood
         Evaluated over the search grid with ``like.envelope`` set (the range of its
-        predictions, ``mcbat.stats.search.search``).
+        predictions, ``mcbat.stats.fit.search.search``).
 
     Raises
     ------
     InputError
         Naming the column: its median beyond the model's medians (a magnitude in another
         unit), half its rows far outside the predictions, or a row beyond
-        ``mcbat.stats.models.OUTLIER_SIGMA`` (a typo).
+        ``mcbat.stats.models.draws.OUTLIER_SIGMA`` (a typo).
     """
     lo, hi, sd, med_lo, med_hi = like.envelope
     for j, col in enumerate(like.observables):

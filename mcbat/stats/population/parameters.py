@@ -1,4 +1,4 @@
-"""The free parameters of a population fit (``mcbat.stats.population``): the study keys
+"""The free parameters of a population fit (``mcbat.stats.population.fit``): the study keys
 whose distribution's mean and width it fits, and the physics constants it sets."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from scipy import special
 
 from mcbat.errors import InputError
-from mcbat.stats.population_table import PITCH_COLUMNS
+from mcbat.stats.population.table import PITCH_COLUMNS
 from mcbat.study import units as u
 from mcbat.study.game import KEYS
 

@@ -10,8 +10,8 @@ import numpy as np
 from scipy import stats
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
-from mcbat.stats.fit import FitResult, finite, fit
-from mcbat.stats.likelihood import Likelihood
+from mcbat.stats.fit.estimate import FitResult, finite, fit
+from mcbat.stats.fit.likelihood import Likelihood
 
 __all__ = ["ModelComparison", "compare_models"]
 

@@ -1,7 +1,7 @@
 """One-sided limits that hold the truth in 95 % of the tables that report one.
 
 A fit reports a one-sided limit when its profile likelihood stays flat up to the end of a
-parameter's range on one side (``mcbat.stats.intervals``). Whether it does is decided
+parameter's range on one side (``mcbat.stats.fit.intervals``). Whether it does is decided
 by the data: at ``mu = 0.18`` a drop-test table is flat above only when its noise made the
 few rows that slide look stuck, and the same noise moves the likelihood-ratio limit (a rise
 of 1.353) towards the flat side. Among the tables that report a limit, that limit then
@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mcbat.stats.likelihood import FREE
+from mcbat.stats.fit.likelihood import FREE
 
 __all__ = ["MAX_TABLES", "MIN_SELECTED", "TABLES", "Surrogate", "conditional_limit",
            "conditional_p_value", "flat_side_mask", "selective_limit", "surrogate",
@@ -265,7 +265,7 @@ def surrogate(like, best, grid, point):
 
     Parameters
     ----------
-    like : mcbat.stats.likelihood.Likelihood
+    like : mcbat.stats.fit.likelihood.Likelihood
     best : ndarray
         The best fit.
     grid : ndarray

@@ -1,9 +1,9 @@
 """A hard random mix of impacts, drawn deterministically from a seed: the cases the
-kernel's accuracy is stated on (``mcbat.testing.accuracy_mix`` measures the kernel on
+kernel's accuracy is stated on (``harness.accuracy_mix`` measures the kernel on
 them against the reference).
 
 The mix includes bats from 5 g to 5000 kg, spins up to 3000 rad/s, ``mu`` from 0 to 1,
-creeping slip and re-slip (``MODES``). Like ``mcbat.testing.accuracy_mix``, this
+creeping slip and re-slip (``MODES``). Like ``harness.accuracy_mix``, this
 module imports the kernel's geometry: a case's contact frame and Delassus matrix are the
 kernel's own formulas, checked in the tests against numpy's.
 """

@@ -1,4 +1,4 @@
-"""The measured side of a population fit (``mcbat.stats.population``): the rows of a tidy
+"""The measured side of a population fit (``mcbat.stats.population.fit``): the rows of a tidy
 Statcast table it uses, and their pitches written as a study's ``[pitches]`` file."""
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ A profile-likelihood interval ends where ``-ln L``, minimised over the other par
 rises by ``ONE_SIGMA`` above its minimum; on a side where it stays flat up to the end
 of the parameter's range, a one-sided 95 % limit (a rise of ``LIMIT_95``) is given
 instead, and a side that ends at a physical edge (``PHYSICAL_EDGES``) ends the interval
-there. Each function takes the likelihood (``mcbat.stats.likelihood.Likelihood``) and
+there. Each function takes the likelihood (``mcbat.stats.fit.likelihood.Likelihood``) and
 the best fit.
 """
 
@@ -18,8 +18,8 @@ from typing import Any, Literal
 import numpy as np
 from scipy import optimize, stats
 
-from mcbat.stats.likelihood import FREE
-from mcbat.stats.selective import conditional_limit
+from mcbat.stats.fit.likelihood import FREE
+from mcbat.stats.fit.selective import conditional_limit
 
 __all__ = ["LIMIT_95", "ONE_SIGMA", "PHYSICAL_EDGES", "RISE_95", "Interval", "IntervalStatus",
            "bootstrap_errors", "curvature_errors", "flat_to_edge", "hessian",
@@ -62,7 +62,7 @@ class Interval(Mapping[str, Any]):
         reaches, or None.
     limit_kind : {"conditional", "likelihood_ratio"} or None
         How a one-sided ``limit`` was found: conditional on the profile being flat
-        (``mcbat.stats.selective``) or from the likelihood ratio alone; None for no limit.
+        (``mcbat.stats.fit.selective``) or from the likelihood ratio alone; None for no limit.
     open_at_95 : float or None
         For a measured parameter: the end of its range (not a physical edge) where the
         likelihood still lies within the 95 % level of its best value, else None.
@@ -139,7 +139,7 @@ def profile_intervals(like, best, nll_min, err, cov, seed=0):
     Returns the per-parameter summary (``FitResult.intervals``) and a better point if
     the profile found one (``-ln L`` lower than at ``best`` by more than 1e-3), else None.
     A one-sided limit is the one conditional on the profile being flat on the other side
-    (``mcbat.stats.selective``, its simulated tables seeded by ``seed``), or the
+    (``mcbat.stats.fit.selective``, its simulated tables seeded by ``seed``), or the
     likelihood-ratio limit where that cannot be computed (``limit_kind`` says which).
     """
     n = len(best)
@@ -222,7 +222,7 @@ def profile_intervals(like, best, nll_min, err, cov, seed=0):
 def _complete(entry, sides, like, best, i, rise, point, seed):
     """Add to parameter ``i``'s entry what its two sides alone do not give: the end of the
     range its 95 % region reaches (``open_at_95``), and a one-sided limit conditional on
-    the flat side (``mcbat.stats.selective``). ``rise(t)`` is the profile's rise at
+    the flat side (``mcbat.stats.fit.selective``). ``rise(t)`` is the profile's rise at
     ``t``, ``point(t)`` its point there. Returns the completed entry."""
     name = like.free[i]
     if entry.status == "measured":

@@ -1,6 +1,6 @@
 """The drop-test fit against tables it did not simulate: one table's fit, and the summary.
 
-Each table comes from ``mcbat.testing.drop_tables`` (its own geometry, draws and noise;
+Each table comes from ``harness.drop_tables`` (its own geometry, draws and noise;
 not the study machinery nor ``mcbat synth``) and is fitted as a user would fit it:
 ``fit(studies/cross_nathan_2006.toml, table, ("e", "mu"))`` with profile intervals. The
 summary gives, per setting and parameter, the share of two-sided 68 % intervals holding
@@ -37,7 +37,7 @@ study's range of the impact parameter is +-1 in):
 Table ``k`` of a setting uses the seed ``1000 + k``, its fit the seed ``k``. Each table
 states for the exit speed and the outgoing spin the very errors their noise was drawn with
 (relative to each row's true value), unless ``make_table`` is told otherwise
-(``stated_errors`` of ``mcbat.testing.drop_tables.drop_table``).
+(``stated_errors`` of ``harness.drop_tables.drop_table``).
 """
 
 import math
@@ -72,8 +72,8 @@ TRUTH = {"e": 0.6, "mu": 0.18}
 
 def make_table(setting, k, solver="kernel", stated_errors="truth"):
     """Table ``k`` of ``setting``, solved by ``"kernel"`` or ``"reference"``, its errors
-    stated as ``stated_errors`` says (``mcbat.testing.drop_tables.drop_table``)."""
-    from mcbat.testing.drop_tables import (
+    stated as ``stated_errors`` says (``harness.drop_tables.drop_table``)."""
+    from harness.drop_tables import (
         design_stick_onset,
         drop_table,
         kernel_solver,
@@ -93,7 +93,7 @@ def fit_table(setting, k, study, solver="kernel"):
     the fit's parameters, chi2, warnings, the inputs whose measured values reject the
     study's range and the fitted prior's share beyond it, or the refusal's message."""
     from mcbat.errors import InputError
-    from mcbat.stats.fit import fit
+    from mcbat.stats.fit.estimate import fit
 
     table = make_table(setting, k, solver)
     truth = {p: table.attrs["truth"][p] for p in TRUTH}
@@ -119,7 +119,7 @@ def limit_p_value(setting, k, study, parameter="mu", solver="kernel"):
     """The conditional p-value of the true ``parameter`` of table ``k`` of ``setting``,
     where its fit reports a one-sided limit; a JSON-ready record.
 
-    A conditional limit (``mcbat.stats.selective``) excludes the values whose p-value,
+    A conditional limit (``mcbat.stats.fit.selective``) excludes the values whose p-value,
     among simulated tables flat on the same side, is below 5 %. Here that test is applied to
     the truth itself: the surrogate is built along the profile (the other free parameters
     minimised, independently of the fit's own profile), over a grid through the truth, the
@@ -140,11 +140,11 @@ def limit_p_value(setting, k, study, parameter="mu", solver="kernel"):
     """
     from scipy import optimize
 
-    from mcbat.stats.fit import fit
-    from mcbat.stats.intervals import ONE_SIGMA
-    from mcbat.stats.likelihood import FREE, Likelihood
-    from mcbat.stats.search import search
-    from mcbat.stats.selective import (
+    from mcbat.stats.fit.estimate import fit
+    from mcbat.stats.fit.intervals import ONE_SIGMA
+    from mcbat.stats.fit.likelihood import FREE, Likelihood
+    from mcbat.stats.fit.search import search
+    from mcbat.stats.fit.selective import (
         conditional_p_value,
         flat_side_mask,
         surrogate,

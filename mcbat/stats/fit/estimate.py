@@ -1,9 +1,9 @@
 """Maximum-likelihood fit of model parameters to a measurement table.
 
-``mcbat.stats.likelihood.Likelihood`` gives ``-ln L`` of the table at any parameters,
+``mcbat.stats.fit.likelihood.Likelihood`` gives ``-ln L`` of the table at any parameters,
 marginalising the nuisance scatter and the errors of the measured inputs. ``fit``
 finds its maximum (a coarse grid, fine scans in ``mu`` and Nelder-Mead:
-``mcbat.stats.search``) and the intervals (``mcbat.stats.intervals``):
+``mcbat.stats.fit.search``) and the intervals (``mcbat.stats.fit.intervals``):
 profile-likelihood intervals, where ``-ln L`` rises by 1/2 when the other parameters are
 re-optimised (asymmetric in general); where the likelihood stays flat up to the end of a
 parameter's range on one side, a one-sided 95 % limit (a rise of 1.353) instead, and a
@@ -25,7 +25,7 @@ import numpy as np
 from scipy import stats
 
 from mcbat.errors import InputError
-from mcbat.stats.intervals import (
+from mcbat.stats.fit.intervals import (
     PHYSICAL_EDGES,
     Interval,
     bootstrap_errors,
@@ -33,9 +33,9 @@ from mcbat.stats.intervals import (
     flat_to_edge,
     profile_intervals,
 )
-from mcbat.stats.likelihood import FREE, SEARCH, Likelihood
+from mcbat.stats.fit.likelihood import FREE, SEARCH, Likelihood
+from mcbat.stats.fit.search import local_minimum, search, search_scale
 from mcbat.stats.measurements import measured_fraction
-from mcbat.stats.search import local_minimum, search, search_scale
 
 __all__ = ["FREE", "FitResult", "Likelihood", "SEARCH", "check_bootstrap", "fit"]
 
@@ -57,13 +57,13 @@ class FitResult:
 
     ``stderr`` holds the curvature errors (``inf`` for a parameter the data do not bound,
     NaN where the curvature is not positive); ``intervals`` the profile-likelihood result
-    per parameter (``mcbat.stats.intervals.Interval``): ``lower_error``, ``upper_error``
+    per parameter (``mcbat.stats.fit.intervals.Interval``): ``lower_error``, ``upper_error``
     (positive, or None on a side the data do not bound), ``status`` (``"measured"``,
     ``"lower_limit"``, ``"upper_limit"`` or ``"unidentified"``, or ``"profile_failed"``
     when the profile jumps at the best fit and no interval can be given: its ``stderr``
     is then still the curvature error, which describes the likelihood only near the best
     fit), ``limit`` (the one-sided 95 % limit, or None; ``limit_kind`` says how:
-    ``"conditional"`` on the profile being flat, ``mcbat.stats.selective``, or
+    ``"conditional"`` on the profile being flat, ``mcbat.stats.fit.selective``, or
     ``"likelihood_ratio"``) and ``at_bound`` (the physical edge the interval reaches, or
     None); a measured parameter whose likelihood at the end of its range (not a physical
     edge) rises less than the 95 % level above the best fit has that end as
@@ -84,7 +84,7 @@ class FitResult:
     intervals: dict[str, Interval] = field(default_factory=dict)
     priors: dict = field(default_factory=dict)
     """Measured input -> the flat prior its true values were marginalised over
-    (``mcbat.stats.models._DrawModel.priors``: ``study_range``, ``range``, ``widened``,
+    (``mcbat.stats.models.draws._DrawModel.priors``: ``study_range``, ``range``, ``widened``,
     ``p_value``; table units)."""
     warnings: list = field(default_factory=list)
     """What a user should check before trusting the fit (a value at a bound or far from the

@@ -1,4 +1,4 @@
-"""The units ``mcbat.stats.compare.compare`` knows, converts between, and suspects: a
+"""The units ``mcbat.stats.compare.comparison.compare`` knows, converts between, and suspects: a
 measured column that states no unit is read in the simulated column's, and refused when
 its values look like another unit of the same quantity."""
 
@@ -29,7 +29,7 @@ UNIT_FACTORS = {
     "J": ("energy", 1.0), "kg m/s": ("momentum", 1.0), "kg m^2": ("inertia", 1.0),
     "1": ("ratio", 1.0),
 }
-"""The units ``mcbat.stats.compare.compare`` knows, and converts between within one
+"""The units ``mcbat.stats.compare.comparison.compare`` knows, and converts between within one
 quantity. A column whose unit is not here (codes, identifiers) is not compared."""
 
 UNIT_SUSPICION = 1.5

@@ -1,6 +1,6 @@
 """Game measurement tables simulated without mcbat's game machinery.
 
-A game fit (``mcbat.stats.fit.fit`` with a game study) is only checked honestly against
+A game fit (``mcbat.stats.fit.estimate.fit`` with a game study) is only checked honestly against
 tables it did not simulate itself. These tables are made without the game kernel
 (``mcbat.core.swing``), the batch kernels, the study machinery or
 ``mcbat.stats.measurements.synthesize``: the true inputs of every row are drawn here

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcbat.stats.population import OBSERVABLES, grid_corners
+from mcbat.stats.population.fit import OBSERVABLES, grid_corners
 
 __all__ = ["fig_population", "model_histogram"]
 

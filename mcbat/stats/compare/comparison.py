@@ -1,13 +1,13 @@
 """A simulated dataset against a measured table: two-sample statistics per shared column
 and in the launch speed / launch angle plane (``mcbat compare``, ``docs/compare.md``).
 
-``compare`` runs the statistics of ``mcbat.stats.two_sample`` (Kolmogorov-Smirnov,
+``compare`` runs the statistics of ``mcbat.stats.compare.two_sample`` (Kolmogorov-Smirnov,
 Wasserstein, energy distance with permutation p-values; the energy distance of the
 standardized points in the plane) on two DataFrames (rows with NaN dropped per column and
-counted; units checked and converted, ``mcbat.stats.compare_units``).
+counted; units checked and converted, ``mcbat.stats.compare.units``).
 ``read_simulated`` and ``read_measured`` read the inputs
-(``mcbat.stats.compare_inputs``), ``fig_compare`` draws the figure
-(``mcbat.stats.compare_figure``); all are importable from here.
+(``mcbat.stats.compare.inputs``), ``fig_compare`` draws the figure
+(``mcbat.stats.compare.figure``); all are importable from here.
 """
 
 from __future__ import annotations
@@ -18,22 +18,22 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mcbat.errors import InputError
-from mcbat.stats.compare_figure import fig_compare
-from mcbat.stats.compare_inputs import read_measured, read_simulated
-from mcbat.stats.compare_units import (
-    UNIT_FACTORS,
-    column_values,
-    convert,
-    unit_contradiction,
-    unit_suspicion,
-)
-from mcbat.stats.two_sample import (
+from mcbat.stats.compare.figure import fig_compare
+from mcbat.stats.compare.inputs import read_measured, read_simulated
+from mcbat.stats.compare.two_sample import (
     PERMUTATIONS,
     energy_test,
     format_p,
     ks_test,
     plane_energy_test,
     wasserstein,
+)
+from mcbat.stats.compare.units import (
+    UNIT_FACTORS,
+    column_values,
+    convert,
+    unit_contradiction,
+    unit_suspicion,
 )
 
 __all__ = ["MAX_ROWS", "PERMUTATIONS", "PLANE", "PLANE_ROWS", "UNIT_FACTORS", "Comparison",
@@ -155,7 +155,7 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
         An empty table, a requested column missing on either side, units that differ and
         cannot be converted, a measured column that looks like another unit than the one
         it is read in (stating no unit), a stated unit the values contradict
-        (``mcbat.stats.compare_units.unit_contradiction``), no shared column.
+        (``mcbat.stats.compare.units.unit_contradiction``), no shared column.
     """
     check_settings(permutations, seed, max_rows, plane_rows, units)
     if len(measured) == 0:

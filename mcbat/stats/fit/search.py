@@ -13,8 +13,8 @@ import numpy as np
 from scipy import optimize
 
 from mcbat.errors import InputError
-from mcbat.stats.likelihood import BAD_NLL, FREE
-from mcbat.stats.unit_guard import check_units
+from mcbat.stats.fit.likelihood import BAD_NLL, FREE
+from mcbat.stats.fit.unit_guard import check_units
 
 __all__ = ["FINE_SIMPLEX", "GRID_EVALUATIONS", "SCAN_POINTS", "STARTS", "local_minimum",
            "search", "search_scale"]
@@ -106,7 +106,7 @@ def search(like, start=None):
 
     Parameters
     ----------
-    like : mcbat.stats.likelihood.Likelihood
+    like : mcbat.stats.fit.likelihood.Likelihood
         The likelihood; its draws are refined near the best point of the coarse grid (or
         at ``start``).
     start : sequence of float, optional
@@ -116,7 +116,7 @@ def search(like, start=None):
     ------
     InputError
         When no point of the grid can be evaluated, an observable lies far outside what the
-        model gives (``mcbat.stats.unit_guard.check_units``), or
+        model gives (``mcbat.stats.fit.unit_guard.check_units``), or
         ``start`` cannot be evaluated.
     """
     if start is None:
