@@ -4,30 +4,26 @@ table's and a game table's (Statcast's names and units)."""
 from __future__ import annotations
 
 __all__ = ["BAT_FRAME_COLUMNS", "GAME_TABLE_COLUMNS", "GAME_WRITTEN", "UNITS_HINT",
-           "table_columns"]
+           "column_roles", "table_columns"]
 
-BAT_FRAME_COLUMNS = {
-    # name: (unit, role); role "input" columns are measured inputs, "observable" are fitted
-    "impact_parameter": ("m", "input"),
-    "spin_in": ("rad/s", "input"),
-    "exit_speed": ("m/s", "observable"),
-    "scattering_angle": ("deg", "observable"),
-    "spin_out": ("rad/s", "observable"),
-}
+
+def column_roles(**roles: dict[str, str]) -> dict[str, tuple[str, str]]:
+    """A measurement table's columns as ``{name: (unit, role)}``, from ``{name: unit}`` per
+    role (``input``: a measured input; ``observable``: fitted; ``optional``), in the order
+    given."""
+    return {name: (unit, role) for role, units in roles.items()
+            for name, unit in units.items()}
+
+
+BAT_FRAME_COLUMNS = column_roles(
+    input={"impact_parameter": "m", "spin_in": "rad/s"},
+    observable={"exit_speed": "m/s", "scattering_angle": "deg", "spin_out": "rad/s"})
 """Columns of a bat-frame measurement table (a drop test), with their units."""
-GAME_TABLE_COLUMNS = {
-    "pitch_speed": ("mph", "input"),
-    "bat_speed": ("mph", "input"),
-    "attack_angle": ("deg", "input"),
-    "undercut": ("m", "input"),
-    "from_barrel_end": ("m", "input"),
-    "launch_speed": ("mph", "observable"),
-    "launch_angle": ("deg", "observable"),
-    "spray_angle": ("deg", "observable"),
-    "spin_rate": ("rpm", "observable"),
-    "backspin": ("rpm", "observable"),
-    "sidespin": ("rpm", "observable"),
-}
+GAME_TABLE_COLUMNS = column_roles(
+    input={"pitch_speed": "mph", "bat_speed": "mph", "attack_angle": "deg", "undercut": "m",
+           "from_barrel_end": "m"},
+    observable={"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
+                "spin_rate": "rpm", "backspin": "rpm", "sidespin": "rpm"})
 """Columns of a game measurement table (Statcast's names and units where it has them)."""
 UNITS_HINT = {
     "exit_speed": "wrong unit? exit_speed is in m/s (mph would be 2.24 times larger, km/h "

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.errors import InputError
+from mcbat.study.pitches import IDENTIFIERS, PITCH_KEYS, SWING_KEYS
 
 __all__ = ["FLIGHT_OBSERVABLES", "MEASURED_NAMES", "OBSERVABLES", "PITCH_COLUMNS",
            "REQUIRED_PITCH", "SWING_COLUMNS", "population_table", "write_pitches"]
@@ -19,18 +20,14 @@ FLIGHT_OBSERVABLES = ("hit_distance",)
 MEASURED_NAMES = {"hit_distance": "hit_distance_sc"}
 """Observable -> the tidy Statcast table's name of the measured quantity, where they differ
 (read when the table has no column of the observable's own name)."""
-PITCH_COLUMNS = {"pitch.speed": "pitch_speed",
-                 "pitch.vertical_approach_angle": "vertical_approach_angle",
-                 "pitch.horizontal_approach_angle": "horizontal_approach_angle",
-                 "pitch.spin_rate": "spin_rate", "pitch.spin_axis": "spin_axis"}
-"""Study key -> the table's measured pitch column (mcbat.statcast's tidy names)."""
-SWING_COLUMNS = {"swing.bat_speed": "bat_speed", "swing.attack_angle": "attack_angle",
-                 "swing.attack_direction": "attack_direction"}
+PITCH_COLUMNS = {f"pitch.{key}": column for key, column in PITCH_KEYS.items()}
+"""Study key -> the table's measured pitch column (mcbat.statcast's tidy names): the keys
+a study's ``[pitches]`` draws from the rows (``mcbat.study.pitches.PITCH_KEYS``)."""
+SWING_COLUMNS = {f"swing.{key}": column for key, column in SWING_KEYS.items()}
 """Study key -> the table's measured swing column (bat tracking), written for a study whose
-``[pitches]`` draws the swing too (``swing = true``)."""
+``[pitches]`` draws the swing too (``swing = true``; ``mcbat.study.pitches.SWING_KEYS``)."""
 REQUIRED_PITCH = ("pitch_speed", "vertical_approach_angle", "horizontal_approach_angle")
 """A row without these is left out (counted): its template could not be conditioned."""
-_IDENTIFIERS = ("game_pk", "at_bat_number", "pitch_number", "pitcher", "batter")
 
 
 def population_table(df, observables=("launch_speed", "launch_angle"), source=None,
@@ -109,7 +106,7 @@ def write_pitches(table, path):
     for name in (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values()):
         if name not in out.columns:
             out[name] = np.nan
-    for k, name in enumerate(_IDENTIFIERS):
+    for k, name in enumerate(IDENTIFIERS):
         # (identifiers only trace a draw to its pitch; a table without them gets the row)
         out[name] = table[name] if name in table.columns else np.arange(len(table)) + k
     out.to_csv(path, index=False)
