@@ -7,7 +7,11 @@ import each other. ``python -m benchmarks NAME [ARGS]`` and ``python -m validati
 ``all`` runs every module of the folder, one at a time. A run reports its figures with
 :func:`record`, which writes ``DIR/NAME.json`` when the run was given ``--results DIR``.
 :mod:`harness.population` holds the population fit's injected truth, which the injection
-check (validation) and the fit's timing (benchmarks) share.
+check (validation) and the fit's timing (benchmarks) share. The instruments of the checks
+at scale live here too, outside the package: the kernel's accuracy on a hard mix
+(:mod:`harness.impact_mix`, :mod:`harness.accuracy_mix`), measurement tables made without
+the fit's machinery (:mod:`harness.drop_tables`, :mod:`harness.game_tables`), their fits
+(:mod:`harness.fit_validation`) and the textbook fit (:mod:`harness.textbook_fit`).
 """
 
 from __future__ import annotations
