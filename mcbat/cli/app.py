@@ -1,5 +1,6 @@
-"""The ``mcbat`` parser, assembled from one module per command, and ``main``, which
-maps every error to its exit code (``mcbat.cli``)."""
+"""The ``mcbat`` parser, built from the ``COMMAND`` each command's module declares
+(``mcbat.cli.common.Command``), and ``main``, which maps every error to its exit code
+(``mcbat.cli``)."""
 
 from __future__ import annotations
 
@@ -29,13 +30,20 @@ from mcbat.cli.common import (
     EXIT_INTERNAL,
     EXIT_USER,
     ArgumentParser,
+    Command,
     UsageError,
     one_line,
     reading_progress,
 )
 from mcbat.errors import EnvironmentFailure, InputError
 
-__all__ = ["build_parser", "main"]
+__all__ = ["COMMANDS", "build_parser", "main"]
+
+#: Every command, in the order of `mcbat --help`: single impacts and flights, runs and
+#: their datasets, the papers, the statistics, Statcast.
+COMMANDS = (impact.COMMAND, flight.COMMAND, run.COMMAND, check.COMMAND, reproduce.COMMAND,
+            calibrate.COMMAND, synth.COMMAND, fit.COMMAND, statcast.COMMAND, infer.COMMAND,
+            replay.COMMAND, compare.COMMAND, warmup.COMMAND)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -48,22 +56,17 @@ def build_parser() -> argparse.ArgumentParser:
                         help="show Python tracebacks for errors")
     parser.add_argument("--version", action="version", version=f"mcbat {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=ArgumentParser)
-    # In the order of `mcbat --help`: single impacts and flights, runs and their datasets,
-    # the papers, the statistics, Statcast.
-    impact.add_parser(sub)
-    flight.add_parser(sub)
-    run.add_parser(sub)
-    check.add_parser(sub)
-    reproduce.add_parser(sub)
-    calibrate.add_parser(sub)
-    synth.add_parser(sub)
-    fit.add_parser(sub)
-    statcast.add_parser(sub)
-    infer.add_parser(sub)
-    replay.add_parser(sub)
-    compare.add_parser(sub)
-    warmup.add_parser(sub)
+    for command in COMMANDS:
+        _add_command(sub, command)
     return parser
+
+
+def _add_command(sub, command: Command) -> None:
+    """Add the parser of ``command`` to the subparsers ``sub``."""
+    parser = sub.add_parser(command.name, help=command.help, description=command.description)
+    for argument in command.arguments:
+        argument.add_to(parser)
+    parser.set_defaults(func=command.run, **command.defaults)
 
 
 def main(argv=None) -> int:

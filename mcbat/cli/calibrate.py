@@ -4,42 +4,10 @@ from __future__ import annotations
 
 import math
 
-from mcbat.cli.common import EXIT_OK, flags, print_json
+from mcbat.cli.common import EXIT_OK, Command, Group, arg, flags, print_json
 from mcbat.errors import InputError
 
-__all__ = ["add_parser", "cmd_calibrate", "text_lines"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat calibrate`` to the subparsers ``sub``."""
-    cal = sub.add_parser(
-        "calibrate", help="find the e* (or mu, e_x) at which a study's mean matches a "
-                          "measured number",
-        description="With --study: solve (scipy brentq, common random numbers) for the "
-                    "parameter at which the mean COLUMN of the study's first --samples rows "
-                    "equals TARGET (in the column's unit: a drop test's exit_speed m/s, "
-                    "scattering_angle deg, spin_out rad/s; a game's launch_speed mph, "
-                    "launch_angle, spray_angle deg, spin_rate rpm). Without --study: the "
-                    "paper's calibration (Cabo et al. Sec. V): e* such that the exit speed "
-                    "at theta = pi/400 with no spin equals TARGET (m/s), with e^2 = 1 - e*^2. "
-                    "Prints JSON (the default, also --json), or with --text one line of "
-                    "prose.")
-    cal.add_argument("--target", type=float, default=None, metavar="TARGET",
-                     help="the measured mean (without --study: the exit speed, m/s; default "
-                          "the paper's 1.44629)")
-    cal.add_argument("--study", metavar="STUDY.toml", help="the study to calibrate")
-    cal.add_argument("--column", default=None,
-                     help="the observable whose mean is matched (default: exit_speed, or "
-                          "launch_speed for a game study)")
-    cal.add_argument("--parameter", default="e", help="e (default), mu or e_x")
-    cal.add_argument("--samples", type=int, default=None,
-                     help="rows averaged (default: the study's samples, at most 20000)")
-    form = cal.add_mutually_exclusive_group()
-    form.add_argument("--json", action="store_const", const="json", dest="format",
-                      help="print the result as one JSON object (the default)")
-    form.add_argument("--text", action="store_const", const="text", dest="format",
-                      help="print the result as a line of prose")
-    cal.set_defaults(func=cmd_calibrate, format="json")
+__all__ = ["COMMAND", "cmd_calibrate", "text_lines"]
 
 
 def cmd_calibrate(args) -> int:
@@ -99,3 +67,33 @@ def text_lines(result: dict) -> list[str]:
         others = ", ".join(f"{v:.7g}" for v in result["other_roots"])
         lines.append(f"  other roots in the parameter's range: {others}")
     return lines
+
+
+COMMAND = Command(
+    "calibrate", help="find the e* (or mu, e_x) at which a study's mean matches a "
+                      "measured number",
+    description="With --study: solve (scipy brentq, common random numbers) for the "
+                "parameter at which the mean COLUMN of the study's first --samples rows "
+                "equals TARGET (in the column's unit: a drop test's exit_speed m/s, "
+                "scattering_angle deg, spin_out rad/s; a game's launch_speed mph, "
+                "launch_angle, spray_angle deg, spin_rate rpm). Without --study: the "
+                "paper's calibration (Cabo et al. Sec. V): e* such that the exit speed "
+                "at theta = pi/400 with no spin equals TARGET (m/s), with e^2 = 1 - e*^2. "
+                "Prints JSON (the default, also --json), or with --text one line of "
+                "prose.",
+    arguments=(
+        arg("--target", type=float, metavar="TARGET",
+            help="the measured mean (without --study: the exit speed, m/s; default the "
+                 "paper's 1.44629)"),
+        arg("--study", metavar="STUDY.toml", help="the study to calibrate"),
+        arg("--column", help="the observable whose mean is matched (default: exit_speed, or "
+                             "launch_speed for a game study)"),
+        arg("--parameter", default="e", help="e (default), mu or e_x"),
+        arg("--samples", type=int,
+            help="rows averaged (default: the study's samples, at most 20000)"),
+        Group((arg("--json", action="store_const", const="json", dest="format",
+                   help="print the result as one JSON object (the default)"),
+               arg("--text", action="store_const", const="text", dest="format",
+                   help="print the result as a line of prose")), exclusive=True),
+    ),
+    run=cmd_calibrate, defaults={"format": "json"})

@@ -1,5 +1,7 @@
-"""What every subcommand shares: exit codes, the parser class, flags for library
-parameters, JSON input and output, and output-path checks."""
+"""What every subcommand shares: exit codes, the parser class, a command declared as data
+(``Command``, its arguments ``arg``, ``switch``, ``int_option`` and the arguments several
+commands take, ``CASES``, ``EXPORT``, ``STRICT``, ``JSON``, ``QUIET``), flags for library
+parameters, JSON input and output, reading a Statcast export, and output-path checks."""
 
 from __future__ import annotations
 
@@ -9,14 +11,19 @@ import json
 import math
 import sys
 import unicodedata
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 
 from mcbat.errors import InputError, call_syntax
 
-__all__ = ["EXIT_BROKEN_PIPE", "EXIT_ENVIRONMENT", "EXIT_INTERNAL", "EXIT_OK", "EXIT_USER",
-           "FIGURE_FORMATS", "ArgumentParser", "UsageError", "as_flags", "check_output",
-           "check_input_file", "flag_of", "flags", "int_arg", "json_value", "located",
-           "note_left_out", "one_line", "print_json", "read_cases"]
+__all__ = ["CASES", "EXIT_BROKEN_PIPE", "EXIT_ENVIRONMENT", "EXIT_INTERNAL", "EXIT_OK",
+           "EXIT_USER", "EXPORT", "FIGURE_FORMATS", "JSON", "QUIET", "STRICT", "TABLE_FORMATS",
+           "Argument", "ArgumentParser", "Command", "Group", "UsageError", "arg", "as_flags",
+           "check_figure", "check_input_file", "check_output", "each_case", "flag_of", "flags",
+           "int_arg", "int_option", "json_value", "located", "note_left_out", "one_line",
+           "print_json", "progress", "read_cases", "read_export", "switch", "writing"]
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -26,6 +33,8 @@ EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a reader that 
 
 #: The file types a figure can be written as.
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
+#: The file types a table of Statcast's balls can be written as (``--out``).
+TABLE_FORMATS = (".parquet", ".pq", ".csv")
 
 
 class UsageError(Exception):
@@ -38,6 +47,83 @@ class ArgumentParser(argparse.ArgumentParser):
     def error(self, message):
         """Raise ``UsageError`` (argparse would print the usage and exit)."""
         raise UsageError(message)
+
+
+@dataclass(frozen=True)
+class Argument:
+    """One argument of a command: the names and keywords of ``add_argument``."""
+
+    names: tuple[str, ...]
+    options: Mapping[str, object]
+
+    def add_to(self, parser) -> None:
+        """Add the argument to ``parser`` (a parser or a group of one)."""
+        parser.add_argument(*self.names, **self.options)
+
+
+@dataclass(frozen=True)
+class Group:
+    """Arguments shown under a title of their own in the help (``title``), or of which a
+    command takes at most one (``exclusive``)."""
+
+    arguments: tuple[Argument, ...]
+    title: str | None = None
+    exclusive: bool = False
+
+    def add_to(self, parser) -> None:
+        """Add the group and its arguments to ``parser``."""
+        group = parser.add_mutually_exclusive_group() if self.exclusive else \
+            parser.add_argument_group(self.title)
+        for argument in self.arguments:
+            argument.add_to(group)
+
+
+@dataclass(frozen=True)
+class Command:
+    """A subcommand as data: its name, its line in ``mcbat --help`` (``help``), the text of
+    its own ``--help`` (``description``), its arguments in the order of its usage line,
+    the function that runs it (``run(args) -> exit code``) and the values of ``args`` that
+    no argument sets (``defaults``). ``mcbat.cli.app`` builds the parser from it."""
+
+    name: str
+    help: str
+    description: str
+    arguments: tuple[Argument | Group, ...]
+    run: Callable[[argparse.Namespace], int]
+    defaults: Mapping[str, object] = field(default_factory=lambda: MappingProxyType({}))
+
+
+def arg(*names: str, **options) -> Argument:
+    """An argument: ``add_argument(*names, **options)``."""
+    return Argument(names, MappingProxyType(options))
+
+
+def switch(flag: str, help: str) -> Argument:
+    """An on/off flag (``store_true``)."""
+    return arg(flag, action="store_true", help=help)
+
+
+def int_option(flag: str, **options) -> Argument:
+    """An integer option whose error names ``flag`` (``int_arg``)."""
+    return arg(flag, type=int_arg(flag), **options)
+
+
+#: A file of JSON cases, or stdin (``read_cases``).
+CASES = arg("file", nargs="?", default="-", metavar="FILE|-")
+#: A Statcast export (``read_export``).
+EXPORT = arg("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
+#: A Statcast export's pitch given twice refused (``read_export``).
+STRICT = switch("--strict", "refuse a pitch given twice (the same game_pk, at_bat_number "
+                "and pitch_number) instead of dropping the copy and counting it")
+JSON = switch("--json", "print one JSON object")
+#: No progress bar (``progress``), no compiling line (``mcbat.cli.compiling``).
+QUIET = switch("--quiet", "no progress bar (nor the line that a first run is compiling the "
+               "kernels)")
+
+
+def progress(args) -> bool:
+    """Whether the command shows its progress: not with ``--quiet``."""
+    return not getattr(args, "quiet", False)
 
 
 def one_line(text: str) -> str:
@@ -136,6 +222,18 @@ def read_cases(path):
     return source, cases, single
 
 
+def each_case(source, items, solve) -> list:
+    """``solve(item)`` for each item of ``source``; a bad one's error names its case
+    (``FILE: case 3``)."""
+    results = []
+    for index, item in enumerate(items):
+        try:
+            results.append(solve(item))
+        except InputError as err:
+            raise located(err, f"{source}: case {index}") from None
+    return results
+
+
 def json_value(value):
     """``value`` with non-finite floats (also inside lists and dicts) as None: strict JSON."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -173,10 +271,35 @@ def reading_progress(stream=None):
         yield
 
 
+def read_export(path, strict: bool, lines: bool = False):
+    """The tidy table of the Statcast export ``path`` (``mcbat.statcast.read``), a pitch
+    given twice refused with ``--strict``; with ``lines``, also the file line of each row
+    (``read_with_lines``)."""
+    from mcbat.statcast import reader
+
+    with flags("strict"):
+        if lines:
+            return reader.read_with_lines(path, strict=strict)
+        return reader.read(path, strict=strict)
+
+
+@contextlib.contextmanager
+def writing(path, flag="--out"):
+    """An ``OSError`` of writing ``path`` (the value of ``flag``) reported as the user's
+    error."""
+    try:
+        yield
+    except OSError as err:
+        raise InputError(flag, f"cannot write: {err.strerror or err}", path) from None
+
+
 def check_output(path, flag, suffixes):
-    """Refuse an output path that cannot be written, before any work is done."""
+    """Refuse an output path that cannot be written, before any work is done (nothing to
+    check when no path is given: ``None`` or empty)."""
     import os
 
+    if not path:
+        return
     target = Path(path)
     if target.suffix.lower() not in suffixes:
         raise InputError(flag, f"unsupported file type {target.suffix or '(none)'!r} for "
@@ -188,6 +311,11 @@ def check_output(path, flag, suffixes):
         raise InputError(flag, f"cannot write {path}: it is a directory")
     if not os.access(parent, os.W_OK):
         raise InputError(flag, f"cannot write {path}: the directory is not writable")
+
+
+def check_figure(path, flag) -> None:
+    """Refuse a figure path (if given) that cannot be written, before any work is done."""
+    check_output(path, flag, FIGURE_FORMATS)
 
 
 def note_left_out(source, left_out, what="row(s)") -> None:

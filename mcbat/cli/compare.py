@@ -6,58 +6,21 @@ from pathlib import Path
 
 from mcbat.cli.common import (
     EXIT_OK,
-    FIGURE_FORMATS,
+    JSON,
+    Command,
+    arg,
     as_flags,
+    check_figure,
     check_input_file,
-    check_output,
     flags,
-    int_arg,
+    int_option,
     note_left_out,
     print_json,
+    switch,
 )
 from mcbat.errors import InputError, Metavar
 
-__all__ = ["COMPARE_PARAMETERS", "add_parser", "cmd_compare"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat compare`` to the subparsers ``sub``."""
-    cmp = sub.add_parser(
-        "compare", help="a simulated dataset against measured rows: per-column and "
-                        "launch-plane two-sample statistics",
-        description="Compare DATASET (mcbat run) with MEASURED (a Baseball Savant export, its "
-                    "balls in play; a CSV or Parquet table in the dataset's column names; "
-                    "or another dataset; several are concatenated) on their shared columns: "
-                    "Kolmogorov-Smirnov distance and p-value, Wasserstein distance, energy "
-                    "distance with a permutation p-value, and the energy distance in the "
-                    "launch speed / launch angle plane (docs/compare.md).")
-    cmp.add_argument("dataset", metavar="DATASET", help="the simulated dataset directory")
-    cmp.add_argument("measured", metavar="MEASURED", nargs="+",
-                     help="measured table(s): .csv, .csv.gz, .parquet, or a dataset directory")
-    cmp.add_argument("--columns", metavar="A,B,...",
-                     help="compare only these columns (default: every shared column of a "
-                          "physical unit)")
-    cmp.add_argument("--units", action="append", default=[], metavar="COLUMN=UNIT",
-                     help="the unit of a measured column the table does not state (a CSV "
-                          "states none: its columns are read in the dataset's units); "
-                          "repeatable")
-    cmp.add_argument("--permutations", type=int_arg("--permutations"), default=1000,
-                     metavar="N", help="relabellings of each permutation test (default "
-                                       "1000: p-values to 1/1001)")
-    cmp.add_argument("--seed", type=int_arg("--seed"), default=0, metavar="S",
-                     help="seed of the permutations and subsamples (default 0)")
-    cmp.add_argument("--max-rows", type=int_arg("--max-rows"), default=20000, metavar="N",
-                     help="rows a side in a column's energy test, subsampled beyond "
-                          "(default 20000)")
-    cmp.add_argument("--plane-rows", type=int_arg("--plane-rows"), default=2000,
-                     metavar="N", help="rows a side in the plane's test (default 2000, at "
-                                       "most 5000)")
-    cmp.add_argument("--figure", metavar="FIG.png", help="write the figure (.png, .pdf or "
-                     ".svg)")
-    cmp.add_argument("--json", action="store_true", help="print one JSON object")
-    cmp.add_argument("--strict", action="store_true", help="refuse a Statcast export's pitch "
-                     "given twice instead of dropping the copy and counting it")
-    cmp.set_defaults(func=cmd_compare)
+__all__ = ["COMMAND", "COMPARE_PARAMETERS", "cmd_compare"]
 
 
 COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns", "units",
@@ -74,8 +37,7 @@ def cmd_compare(args) -> int:
         read_simulated,
     )
 
-    if args.figure:
-        check_output(args.figure, "--figure", FIGURE_FORMATS)
+    check_figure(args.figure, "--figure")
     for path in (args.dataset, *args.measured):  # before the readers' imports (seconds)
         if "://" not in path and not Path(path).exists():
             raise InputError(None, "no such file or directory", path)
@@ -146,3 +108,40 @@ def _units_as_flag_values(error: InputError) -> InputError:
     value = Metavar(" --units ".join(f"{column}={unit}" for column, unit in units.items()))
     return InputError(error.field, error.template, error.source,
                       mentions={**error.mentions, "units": value})
+
+
+COMMAND = Command(
+    "compare", help="a simulated dataset against measured rows: per-column and "
+                    "launch-plane two-sample statistics",
+    description="Compare DATASET (mcbat run) with MEASURED (a Baseball Savant export, its "
+                "balls in play; a CSV or Parquet table in the dataset's column names; "
+                "or another dataset; several are concatenated) on their shared columns: "
+                "Kolmogorov-Smirnov distance and p-value, Wasserstein distance, energy "
+                "distance with a permutation p-value, and the energy distance in the "
+                "launch speed / launch angle plane (docs/compare.md).",
+    arguments=(
+        arg("dataset", metavar="DATASET", help="the simulated dataset directory"),
+        arg("measured", metavar="MEASURED", nargs="+",
+            help="measured table(s): .csv, .csv.gz, .parquet, or a dataset directory"),
+        arg("--columns", metavar="A,B,...",
+            help="compare only these columns (default: every shared column of a physical "
+                 "unit)"),
+        arg("--units", action="append", default=[], metavar="COLUMN=UNIT",
+            help="the unit of a measured column the table does not state (a CSV states "
+                 "none: its columns are read in the dataset's units); repeatable"),
+        int_option("--permutations", default=1000, metavar="N",
+                   help="relabellings of each permutation test (default 1000: p-values to "
+                        "1/1001)"),
+        int_option("--seed", default=0, metavar="S",
+                   help="seed of the permutations and subsamples (default 0)"),
+        int_option("--max-rows", default=20000, metavar="N",
+                   help="rows a side in a column's energy test, subsampled beyond (default "
+                        "20000)"),
+        int_option("--plane-rows", default=2000, metavar="N",
+                   help="rows a side in the plane's test (default 2000, at most 5000)"),
+        arg("--figure", metavar="FIG.png", help="write the figure (.png, .pdf or .svg)"),
+        JSON,
+        switch("--strict", "refuse a Statcast export's pitch given twice instead of dropping "
+               "the copy and counting it"),
+    ),
+    run=cmd_compare)

@@ -22,6 +22,8 @@ import importlib
 import sys
 from dataclasses import dataclass
 
+from mcbat.cli.common import progress
+
 __all__ = ["COMMAND_GROUPS", "KERNEL_GROUPS", "SOLVER", "KernelGroup", "command_groups",
            "compiling_line", "group_of", "notice"]
 
@@ -179,7 +181,7 @@ def notice(args, stream=None):
     """Within the block, the first numba compile (a cache miss) prints the compiling line
     for the command of ``args`` to ``stream`` (default stderr); nothing for a command that
     compiles no kernel of its own, nor with ``--quiet``."""
-    if getattr(args, "quiet", False) or not command_groups(args):
+    if not progress(args) or not command_groups(args):
         yield
         return
     runner = sys.modules.get("mcbat.runner.compiling")

@@ -9,98 +9,21 @@ import re
 
 from mcbat.cli.common import (
     EXIT_OK,
-    FIGURE_FORMATS,
+    Command,
+    Group,
+    arg,
+    check_figure,
     check_input_file,
-    check_output,
     flags,
-    int_arg,
+    int_option,
     note_left_out,
     print_json,
+    read_export,
+    switch,
 )
 from mcbat.errors import InputError
 
-__all__ = ["add_parser", "cmd_fit"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat fit`` to the subparsers ``sub``."""
-    fit = sub.add_parser(
-        "fit", help="fit model parameters to a measurement table",
-        description="Maximum-likelihood fit of the free parameters (any of e, mu, "
-                    "ball_inertia_factor, axial, e_x) to a measurement table, with the "
-                    "study's nuisance scatter and the errors of measured inputs "
-                    "(impact_parameter_err, spin_in_err) marginalised by the kernel; "
-                    "profile-likelihood intervals (asymmetric; one-sided 95 % limits where "
-                    "the data bound a parameter on one side only), the curvature error, and "
-                    "--bootstrap N refits; chi2/dof and its p-value. "
-                    "Then a model comparison: the rigid model (e_x = 0) against tangential "
-                    "compliance (e_x free, Cross & Nathan 2006), by BIC, with AIC and the "
-                    "likelihood ratio.")
-    fit.add_argument("--study", default=None, metavar="S.toml",
-                     help="the study (required, but with --flight)")
-    fit.add_argument("--data", default=None, metavar="M.csv",
-                     help="the measurement table (required; with --flight a Baseball Savant "
-                          "CSV export, default the samples shipped in data/)")
-    fit.add_argument("--flight", action="store_true",
-                     help="fit the flight model's drag_scale and lift_scale to the measured "
-                          "distances of --data's outfield catches and home runs "
-                          "(docs/flight.md)")
-    fit.add_argument("--spin-model", default=None, metavar="NAME",
-                     help="with --flight: the spin the balls are flown with, nathan (his "
-                          "average model; default) or inferred (mcbat.inference)")
-    fit.add_argument("--weather", default=None, metavar="FILE",
-                     help="with --flight: a per-game weather table "
-                          "(docs/parks-and-weather.md; default each park's climate normal)")
-    fit.add_argument("--free", default=None,
-                     help="comma-separated (default: e,mu; with --flight "
-                          "drag_scale,lift_scale)")
-    fit.add_argument("--bootstrap", type=int_arg("--bootstrap"), default=0, metavar="N",
-                     help="parametric bootstrap refits (default 0)")
-    fit.add_argument("--intervals", choices=("profile", "curvature"), default="profile",
-                     help="profile: profile-likelihood intervals and one-sided limits "
-                          "(default); curvature: Hessian errors only (faster)")
-    fit.add_argument("--draws", type=int_arg("--draws"), default=None, metavar="M",
-                     help="model draws per row for the nuisance scatter and the input errors "
-                          "(default 48; 128 for a game study; --population: template draws "
-                          "per row, default 100)")
-    fit.add_argument("--seed", type=int_arg("--seed"), default=0, metavar="S",
-                     help="seed of the draws (default 0)")
-    fit.add_argument("--input-prior", choices=("cover", "widen", "study"), default=None,
-                     help="the range the true values of a measured input (a column with "
-                          "_err) are marginalised over: cover: the study's range widened to "
-                          "cover the data, with a fitted step in the prior at the study's "
-                          "ends (default with the mixture likelihood); widen: the study's "
-                          "range, widened only when the data reject it (default with the "
-                          "gaussian one); study: refuse a table whose data reject it")
-    fit.add_argument("--likelihood", choices=("mixture", "gaussian"), default=None,
-                     help="each row's likelihood: mixture: the draws' average of the "
-                          "measurement's density (default for a drop test); gaussian: a "
-                          "normal of the draws' mean and covariance (default for a game)")
-    fit.add_argument("--residuals", metavar="FIG.png", help="write a residual figure "
-                     "(.png, .pdf or .svg)")
-    fit.add_argument("--json", action="store_true", help="print the result as JSON")
-    fit.add_argument("--no-compare", action="store_true",
-                     help="skip the rigid-versus-compliant model comparison")
-    fit.add_argument("--strict", action="store_true",
-                     help="refuse a Statcast export's pitch given twice (the same game_pk, "
-                          "at_bat_number and pitch_number) instead of dropping the copy and "
-                          "counting it")
-    pop = fit.add_argument_group("population fits (--population, docs/population.md)")
-    pop.add_argument("--population", action="store_true",
-                     help="fit the study's distributions (--free swing.bat_speed.mean,... "
-                          "and e, mu, e_x) to the distribution of --data's batted balls")
-    pop.add_argument("--bins", type=int_arg("--bins"), default=None, metavar="N",
-                     help="bins per observable (default: ~8 rows per bin, at least 5)")
-    pop.add_argument("--observables", default="launch_speed,launch_angle",
-                     help="binned observables (default launch_speed,launch_angle; "
-                          "spray_angle too, and hit_distance (Statcast's hit_distance_sc) "
-                          "for a study with [flight])")
-    pop.add_argument("--engine", choices=("memory", "local", "dask"), default="memory",
-                     help="where the template draws are solved (default memory)")
-    pop.add_argument("--figure", metavar="FIG.png",
-                     help="data against the fitted model: projections and the launch "
-                          "speed / angle plane")
-    fit.set_defaults(func=cmd_fit)
+__all__ = ["COMMAND", "cmd_fit"]
 
 
 def _fit_flight(args) -> int:
@@ -195,8 +118,7 @@ def _cmd_fit(args) -> int:
         return _fit_population(args)
     _check_required(args)
     free = _fit_options(args, check_free, check_bootstrap)
-    if args.residuals:
-        check_output(args.residuals, "--residuals", FIGURE_FORMATS)
+    check_figure(args.residuals, "--residuals")
     study = load_study(args.study)
     table, left_out = _measurement_table(args)
     with flags("free", "bootstrap", "draws", "seed", "intervals"), \
@@ -309,19 +231,16 @@ def _fit_population(args) -> int:
     """``mcbat fit --population``: a game study's distributions against batted balls
     (docs/population.md)."""
     from mcbat import load_study
-    from mcbat.statcast import read
     from mcbat.stats.population.fit import fit_population
 
     for flag, value in (("--study", args.study), ("--data", args.data),
                         ("--free", args.free)):
         if value is None:
             raise InputError(flag, "required with --population")
-    if args.figure:
-        check_output(args.figure, "--figure", FIGURE_FORMATS)
+    check_figure(args.figure, "--figure")
     check_input_file(args.data, "--data")
     study = load_study(args.study)
-    with flags("strict"):
-        table = read(args.data, strict=args.strict)
+    table = read_export(args.data, args.strict)
     with flags("free", "draws", "seed", "bins", "observables", "engine"):
         result = fit_population(study, table, [f for f in args.free.split(",") if f],
                                 draws=args.draws, bins=args.bins, seed=args.seed,
@@ -358,3 +277,78 @@ def _fit_options(args, check_free, check_bootstrap):
         if args.seed > 2**63 - 1:
             raise InputError("seed", f"must be <= 2**63 - 1, got {args.seed}")
     return free
+
+
+COMMAND = Command(
+    "fit", help="fit model parameters to a measurement table",
+    description="Maximum-likelihood fit of the free parameters (any of e, mu, "
+                "ball_inertia_factor, axial, e_x) to a measurement table, with the "
+                "study's nuisance scatter and the errors of measured inputs "
+                "(impact_parameter_err, spin_in_err) marginalised by the kernel; "
+                "profile-likelihood intervals (asymmetric; one-sided 95 % limits where "
+                "the data bound a parameter on one side only), the curvature error, and "
+                "--bootstrap N refits; chi2/dof and its p-value. "
+                "Then a model comparison: the rigid model (e_x = 0) against tangential "
+                "compliance (e_x free, Cross & Nathan 2006), by BIC, with AIC and the "
+                "likelihood ratio.",
+    arguments=(
+        arg("--study", metavar="S.toml", help="the study (required, but with --flight)"),
+        arg("--data", metavar="M.csv",
+            help="the measurement table (required; with --flight a Baseball Savant CSV "
+                 "export, default the samples shipped in data/)"),
+        switch("--flight", "fit the flight model's drag_scale and lift_scale to the measured "
+               "distances of --data's outfield catches and home runs (docs/flight.md)"),
+        arg("--spin-model", metavar="NAME",
+            help="with --flight: the spin the balls are flown with, nathan (his average "
+                 "model; default) or inferred (mcbat.inference)"),
+        arg("--weather", metavar="FILE",
+            help="with --flight: a per-game weather table (docs/parks-and-weather.md; "
+                 "default each park's climate normal)"),
+        arg("--free", help="comma-separated (default: e,mu; with --flight "
+                           "drag_scale,lift_scale)"),
+        int_option("--bootstrap", default=0, metavar="N",
+                   help="parametric bootstrap refits (default 0)"),
+        arg("--intervals", choices=("profile", "curvature"), default="profile",
+            help="profile: profile-likelihood intervals and one-sided limits (default); "
+                 "curvature: Hessian errors only (faster)"),
+        int_option("--draws", metavar="M",
+                   help="model draws per row for the nuisance scatter and the input errors "
+                        "(default 48; 128 for a game study; --population: template draws "
+                        "per row, default 100)"),
+        int_option("--seed", default=0, metavar="S", help="seed of the draws (default 0)"),
+        arg("--input-prior", choices=("cover", "widen", "study"),
+            help="the range the true values of a measured input (a column with _err) are "
+                 "marginalised over: cover: the study's range widened to cover the data, "
+                 "with a fitted step in the prior at the study's ends (default with the "
+                 "mixture likelihood); widen: the study's range, widened only when the data "
+                 "reject it (default with the gaussian one); study: refuse a table whose "
+                 "data reject it"),
+        arg("--likelihood", choices=("mixture", "gaussian"),
+            help="each row's likelihood: mixture: the draws' average of the measurement's "
+                 "density (default for a drop test); gaussian: a normal of the draws' mean "
+                 "and covariance (default for a game)"),
+        arg("--residuals", metavar="FIG.png",
+            help="write a residual figure (.png, .pdf or .svg)"),
+        switch("--json", "print the result as JSON"),
+        switch("--no-compare", "skip the rigid-versus-compliant model comparison"),
+        switch("--strict", "refuse a Statcast export's pitch given twice (the same game_pk, "
+               "at_bat_number and pitch_number) instead of dropping the copy and counting "
+               "it"),
+        Group((
+            switch("--population", "fit the study's distributions (--free "
+                   "swing.bat_speed.mean,... and e, mu, e_x) to the distribution of --data's "
+                   "batted balls"),
+            int_option("--bins", metavar="N",
+                       help="bins per observable (default: ~8 rows per bin, at least 5)"),
+            arg("--observables", default="launch_speed,launch_angle",
+                help="binned observables (default launch_speed,launch_angle; spray_angle "
+                     "too, and hit_distance (Statcast's hit_distance_sc) for a study with "
+                     "[flight])"),
+            arg("--engine", choices=("memory", "local", "dask"), default="memory",
+                help="where the template draws are solved (default memory)"),
+            arg("--figure", metavar="FIG.png",
+                help="data against the fitted model: projections and the launch speed / "
+                     "angle plane"),
+        ), title="population fits (--population, docs/population.md)"),
+    ),
+    run=cmd_fit)

@@ -4,27 +4,22 @@ from __future__ import annotations
 
 import re
 
-from mcbat.cli.common import EXIT_OK, check_input_file, check_output, flags, note_left_out
+from mcbat.cli.common import (
+    EXIT_OK,
+    EXPORT,
+    STRICT,
+    TABLE_FORMATS,
+    Command,
+    arg,
+    check_input_file,
+    check_output,
+    note_left_out,
+    read_export,
+    writing,
+)
 from mcbat.errors import InputError
 
-__all__ = ["add_parser", "cmd_infer"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat infer`` to the subparsers ``sub``."""
-    inf = sub.add_parser(
-        "infer", help="infer the spin of a Statcast export's balls in play",
-        description="Read a Savant export (or mcbat's tidy table), infer each ball in "
-                    "play's contact and spin through the game model under the default "
-                    "assumptions (docs/spin_inference.md), print the counts.")
-    inf.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
-    inf.add_argument("--out", metavar="TABLE.parquet|TABLE.csv",
-                     help="write the balls and their inferred contact and spin (Parquet; or "
-                     "CSV, units in the column header)")
-    inf.add_argument("--strict", action="store_true", help="refuse a pitch given twice (the "
-                     "same game_pk, at_bat_number and pitch_number) instead of dropping the "
-                     "copy and counting it")
-    inf.set_defaults(func=cmd_infer)
+__all__ = ["COMMAND", "cmd_infer"]
 
 
 def cmd_infer(args) -> int:
@@ -32,13 +27,10 @@ def cmd_infer(args) -> int:
     from mcbat.inference import infer_spin, write
     from mcbat.inference.columns import INPUT_COLUMNS
     from mcbat.statcast import balls_in_play
-    from mcbat.statcast.reader import read_with_lines
 
-    if args.out:
-        check_output(args.out, "--out", (".parquet", ".pq", ".csv"))
+    check_output(args.out, "--out", TABLE_FORMATS)
     check_input_file(args.file)
-    with flags("strict"):
-        pitches, lines = read_with_lines(args.file, strict=args.strict)
+    pitches, lines = read_export(args.file, args.strict, lines=True)
     bip = balls_in_play(pitches)
     balls = pitches[bip]
     try:
@@ -49,11 +41,8 @@ def cmd_infer(args) -> int:
     if len(balls) and counts.get("missing_input", 0) == len(balls):
         raise _nothing_to_infer(balls, args.file, INPUT_COLUMNS)
     if args.out:
-        try:
+        with writing(args.out):
             write(balls, spin, args.out)
-        except OSError as err:
-            raise InputError("--out", f"cannot write: {err.strerror or err}",
-                             args.out) from None
     counts = ", ".join(f"{k} {v:,}" for k, v in counts.items() if v)
     ok = spin["inference_status"] == "converged"
     print(f"{args.file}: {len(balls):,} balls in play: {counts or 'none'}")
@@ -106,3 +95,18 @@ def _nothing_to_infer(balls, path, required):
                          if plate else [])]) or "a required column"
     return InputError(None, f"none of the {len(balls):,} balls in play can be inferred: "
                       f"{named} missing in every one", path)
+
+
+COMMAND = Command(
+    "infer", help="infer the spin of a Statcast export's balls in play",
+    description="Read a Savant export (or mcbat's tidy table), infer each ball in "
+                "play's contact and spin through the game model under the default "
+                "assumptions (docs/spin_inference.md), print the counts.",
+    arguments=(
+        EXPORT,
+        arg("--out", metavar="TABLE.parquet|TABLE.csv",
+            help="write the balls and their inferred contact and spin (Parquet; or CSV, "
+                 "units in the column header)"),
+        STRICT,
+    ),
+    run=cmd_infer)

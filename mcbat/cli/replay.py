@@ -5,39 +5,19 @@ from __future__ import annotations
 
 import math
 
-from mcbat.cli.common import EXIT_OK, check_output, flags, print_json
-from mcbat.errors import InputError
+from mcbat.cli.common import (
+    EXIT_OK,
+    EXPORT,
+    Command,
+    arg,
+    check_output,
+    flags,
+    print_json,
+    switch,
+    writing,
+)
 
-__all__ = ["add_parser", "cmd_replay"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat replay`` to the subparsers ``sub``."""
-    rp = sub.add_parser(
-        "replay", help="what if: a Savant export's batted balls flown again at another park, "
-                       "temperature, wind or drag, with home runs called at the fences",
-        description="Fly every ball in play of a Baseball Savant export (with its measured "
-                    "launch speed, launch angle and spray angle; Nathan's average spin; the "
-                    "regulation ball) as it was (its park, season's ball and air) and under "
-                    "the conditions given, call home runs against the fences of the park "
-                    "flown at, and print the median change of the 20-50 deg fly balls and "
-                    "the home runs gained and lost (docs/flight.md).")
-    rp.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
-    rp.add_argument("--park", metavar="CODE",
-                    help="fly at this team's park (Statcast's home_team code: COL, MIA, ...)")
-    rp.add_argument("--temperature", type=float, metavar="F", help="game temperature, degF")
-    rp.add_argument("--wind", type=float, metavar="MPH", help="wind speed, mph (with "
-                    "--wind-dir)")
-    rp.add_argument("--wind-dir", metavar="DIR", help="wind direction, Retrosheet's codes: "
-                    "tocf, fromcf, ltor, rtol, tolf, torf, fromlf, fromrf")
-    rp.add_argument("--drag-scale", type=float, metavar="S", help="Nathan's spin-free drag "
-                    "times S, instead of each season's")
-    rp.add_argument("--weather", metavar="W.csv", help="a per-game weather table "
-                    "(docs/parks-and-weather.md) for the balls as they were")
-    rp.add_argument("--out", metavar="OUT.csv|OUT.parquet", help="write one row per ball "
-                    "(units in the CSV header or the Parquet metadata)")
-    rp.add_argument("--json", action="store_true", help="print the summary as JSON")
-    rp.set_defaults(func=cmd_replay)
+__all__ = ["COMMAND", "cmd_replay"]
 
 
 def cmd_replay(args) -> int:
@@ -47,8 +27,7 @@ def cmd_replay(args) -> int:
     from mcbat.statcast.replay import Conditions, replay, replay_summary
     from mcbat.statcast.weather import read_weather
 
-    if args.out:
-        check_output(args.out, "--out", (".csv", ".parquet"))
+    check_output(args.out, "--out", (".csv", ".parquet"))
     with flags("park", "temperature", "wind_speed", "wind_direction", "drag_scale"):
         conditions = Conditions(park=args.park, temperature=args.temperature,
                                 wind_speed=args.wind, wind_direction=args.wind_dir,
@@ -59,11 +38,8 @@ def cmd_replay(args) -> int:
     summary = {"source": args.file, "conditions": conditions.describe(),
                **replay_summary(out)}
     if args.out:
-        try:
+        with writing(args.out):
             write_table(out, args.out, field="--out")
-        except OSError as err:
-            raise InputError("--out", f"cannot write: {err.strerror or err}",
-                             args.out) from None
         summary["out"] = args.out
     if args.json:
         print_json({k: (None if isinstance(v, float) and not math.isfinite(v) else v)
@@ -87,3 +63,32 @@ def cmd_replay(args) -> int:
     if args.out:
         print(f"  written: {args.out}")
     return EXIT_OK
+
+
+COMMAND = Command(
+    "replay", help="what if: a Savant export's batted balls flown again at another park, "
+                   "temperature, wind or drag, with home runs called at the fences",
+    description="Fly every ball in play of a Baseball Savant export (with its measured "
+                "launch speed, launch angle and spray angle; Nathan's average spin; the "
+                "regulation ball) as it was (its park, season's ball and air) and under "
+                "the conditions given, call home runs against the fences of the park "
+                "flown at, and print the median change of the 20-50 deg fly balls and "
+                "the home runs gained and lost (docs/flight.md).",
+    arguments=(
+        EXPORT,
+        arg("--park", metavar="CODE",
+            help="fly at this team's park (Statcast's home_team code: COL, MIA, ...)"),
+        arg("--temperature", type=float, metavar="F", help="game temperature, degF"),
+        arg("--wind", type=float, metavar="MPH", help="wind speed, mph (with --wind-dir)"),
+        arg("--wind-dir", metavar="DIR", help="wind direction, Retrosheet's codes: tocf, "
+                                              "fromcf, ltor, rtol, tolf, torf, fromlf, fromrf"),
+        arg("--drag-scale", type=float, metavar="S",
+            help="Nathan's spin-free drag times S, instead of each season's"),
+        arg("--weather", metavar="W.csv", help="a per-game weather table "
+                                               "(docs/parks-and-weather.md) for the balls as "
+                                               "they were"),
+        arg("--out", metavar="OUT.csv|OUT.parquet",
+            help="write one row per ball (units in the CSV header or the Parquet metadata)"),
+        switch("--json", "print the summary as JSON"),
+    ),
+    run=cmd_replay)

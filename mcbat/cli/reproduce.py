@@ -4,51 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from mcbat.cli.common import EXIT_OK, flags, int_arg
+from mcbat.cli.common import EXIT_OK, QUIET, Command, arg, flags, int_option, progress, switch
 from mcbat.errors import InputError
 
-__all__ = ["add_parser", "cmd_reproduce"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat reproduce`` to the subparsers ``sub``."""
-    rep = sub.add_parser(
-        "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter "
-                          "(or another paper's results)",
-        description="cabo2012 (the default): run studies/cross_nathan_2006.toml, calibrate "
-                    "e* on the paper's target exit speed, draw Figs. 2-8 and write a "
-                    "summary, all into one results directory. sawicki2003: the optimal "
-                    "swing against a fastball and a curveball (undercut x attack-angle "
-                    "scan with Monte Carlo scatter, flight to the landing point, rigid and "
-                    "compliant impact models) into DIR/sawicki2003. statcast: the flight "
-                    "model's distances against Statcast's hit_distance_sc for a Savant "
-                    "export's fly balls, line drives and home runs (--data; default the "
-                    "samples in data/) into DIR (default results/statcast).")
-    rep.add_argument("paper", nargs="?", default="cabo2012",
-                     choices=("cabo2012", "sawicki2003", "statcast"),
-                     help="which reproduction (default: cabo2012); statcast: the flight "
-                          "model's distances against measured Statcast distances "
-                          "(docs/flight.md)")
-    rep.add_argument("--out", default=None, metavar="DIR",
-                     help="results directory (default: results; statcast: results/statcast)")
-    rep.add_argument("--data", default=None, metavar="FILE",
-                     help="statcast: a Baseball Savant CSV export (default: the samples "
-                          "shipped in data/)")
-    rep.add_argument("--weather", default=None, metavar="FILE",
-                     help="statcast: a per-game weather table (docs/parks-and-weather.md; "
-                          "default: each park's climate normal for the month)")
-    rep.add_argument("--samples", type=int_arg("--samples"), metavar="N",
-                     help="Monte Carlo samples (default: the study's)")
-    rep.add_argument("--threads", type=int_arg("--threads"), metavar="K",
-                     help="kernel threads (default: all cores)")
-    rep.add_argument("--overwrite", action="store_true",
-                     help="replace a Monte Carlo dataset in DIR written with another sample "
-                          "count or by an older mcbat, and files named like the outputs "
-                          "(summary.json, figures/...) that mcbat did not write")
-    rep.add_argument("--quiet", action="store_true",
-                     help="no progress bar (nor the line that a first run is compiling the "
-                          "kernels)")
-    rep.set_defaults(func=cmd_reproduce)
+__all__ = ["COMMAND", "cmd_reproduce"]
 
 
 def cmd_reproduce(args) -> int:
@@ -81,7 +40,7 @@ def cmd_reproduce(args) -> int:
 
     with flags("out", "samples", "threads", "overwrite"):
         reproduce(args.out, samples=args.samples, threads=args.threads,
-                  progress=not args.quiet, overwrite=args.overwrite)
+                  progress=progress(args), overwrite=args.overwrite)
     return EXIT_OK
 
 
@@ -96,3 +55,37 @@ def _reproduce_statcast(args) -> int:
                            weather_path=args.weather, threads=args.threads,
                            overwrite=args.overwrite)
     return EXIT_OK
+
+
+COMMAND = Command(
+    "reproduce", help="the main job: the paper's Sec. V with Monte Carlo scatter "
+                      "(or another paper's results)",
+    description="cabo2012 (the default): run studies/cross_nathan_2006.toml, calibrate "
+                "e* on the paper's target exit speed, draw Figs. 2-8 and write a "
+                "summary, all into one results directory. sawicki2003: the optimal "
+                "swing against a fastball and a curveball (undercut x attack-angle "
+                "scan with Monte Carlo scatter, flight to the landing point, rigid and "
+                "compliant impact models) into DIR/sawicki2003. statcast: the flight "
+                "model's distances against Statcast's hit_distance_sc for a Savant "
+                "export's fly balls, line drives and home runs (--data; default the "
+                "samples in data/) into DIR (default results/statcast).",
+    arguments=(
+        arg("paper", nargs="?", default="cabo2012",
+            choices=("cabo2012", "sawicki2003", "statcast"),
+            help="which reproduction (default: cabo2012); statcast: the flight model's "
+                 "distances against measured Statcast distances (docs/flight.md)"),
+        arg("--out", metavar="DIR",
+            help="results directory (default: results; statcast: results/statcast)"),
+        arg("--data", metavar="FILE", help="statcast: a Baseball Savant CSV export (default: "
+                                           "the samples shipped in data/)"),
+        arg("--weather", metavar="FILE",
+            help="statcast: a per-game weather table (docs/parks-and-weather.md; default: "
+                 "each park's climate normal for the month)"),
+        int_option("--samples", metavar="N", help="Monte Carlo samples (default: the study's)"),
+        int_option("--threads", metavar="K", help="kernel threads (default: all cores)"),
+        switch("--overwrite", "replace a Monte Carlo dataset in DIR written with another "
+               "sample count or by an older mcbat, and files named like the outputs "
+               "(summary.json, figures/...) that mcbat did not write"),
+        QUIET,
+    ),
+    run=cmd_reproduce)

@@ -10,10 +10,10 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from mcbat.cli.common import EXIT_OK, flags, int_arg
+from mcbat.cli.common import EXIT_OK, QUIET, Command, arg, flags, int_option, progress, switch
 from mcbat.errors import InputError
 
-__all__ = ["RUN_PARAMETERS", "add_parser", "cmd_run", "shipped_studies"]
+__all__ = ["COMMAND", "RUN_PARAMETERS", "cmd_run", "shipped_studies"]
 
 #: The parameters of ``mcbat.runner.run_study`` that are flags of ``mcbat run``.
 RUN_PARAMETERS = ("out", "samples", "seed", "threads", "chunk_size", "engine", "scheduler",
@@ -71,58 +71,6 @@ def _study_file(given):
     return resources.as_file(resources.files("mcbat.studies").joinpath(f"{name}.toml"))
 
 
-def add_parser(sub) -> None:
-    """Add ``mcbat run`` to the subparsers ``sub``."""
-    run = sub.add_parser(
-        "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
-        description="Sample the study's inputs, solve every impact with the parallel kernel "
-                    "and write a Parquet dataset (one file per chunk). An interrupted run "
-                    "resumes: complete chunk files are kept. STUDY is a TOML file, or the "
-                    "name of a study shipped with mcbat (mcbat run game_fastball, from any "
-                    "directory; --list names them).")
-    run.add_argument("study", metavar="STUDY.toml|NAME", nargs="?", default=None)
-    run.add_argument("--list", action="store_true",
-                     help="list the studies shipped with mcbat, and exit")
-    run.add_argument("--out", metavar="DIR", help="dataset directory, or a URL that pyarrow "
-                     "or fsspec can write (default: results/<study name>)")
-    run.add_argument("--samples", type=int_arg("--samples"), metavar="N",
-                     help="number of impacts (default: the study's)")
-    run.add_argument("--seed", type=int_arg("--seed"), metavar="S",
-                     help="random seed (default: the study's)")
-    run.add_argument("--threads", type=int_arg("--threads"), metavar="K",
-                     help="kernel threads (default: all cores); with --engine dask, numba "
-                          "threads per worker (default: cores / workers, or 1 with "
-                          "--scheduler)")
-    run.add_argument("--chunk-size", type=int_arg("--chunk-size"), metavar="C",
-                     action=_ChunkSize, help="rows per Parquet file")
-    run.add_argument("--engine", choices=("local", "dask"), default="local",
-                     help="local: numba threads in this process (default); dask: one task "
-                          "per chunk on a Dask cluster (docs/cluster.md)")
-    run.add_argument("--scheduler", metavar="ADDRESS",
-                     help="--engine dask: join the running Dask scheduler at ADDRESS "
-                          "(tcp://host:8786); --out must be storage every worker shares")
-    run.add_argument("--workers", type=int_arg("--workers"), metavar="N",
-                     help="--engine dask: start a local cluster of N worker processes "
-                          "(default: one per core)")
-    run.add_argument("--columns", metavar="A,B,...",
-                     help="store only these columns (and sample_id); overrides the study's "
-                          "[output] columns")
-    run.add_argument("--summary-only", action="store_true",
-                     help="compute the study's [summary] (binned statistics, "
-                          "_summary.parquet) without storing the rows")
-    run.add_argument("--overwrite", action="store_true",
-                     help="replace an existing dataset written with another config")
-    run.add_argument("--tolerance", type=float, default=None, metavar="T",
-                     help="the kernel's tolerance: the local error allowed per slip step, "
-                          "relative to the impact's scales, 0 < T < 1 (default: the "
-                          "study's [solver] tolerance, else 5e-9); part of the dataset's "
-                          "config")
-    run.add_argument("--quiet", action="store_true",
-                     help="no progress bar (nor the line that a first run is compiling "
-                          "the kernels)")
-    run.set_defaults(func=cmd_run)
-
-
 def cmd_run(args) -> int:
     """Run the study ``args.study`` into a dataset and print the run's report."""
     if args.list:
@@ -151,10 +99,54 @@ def cmd_run(args) -> int:
     with flags(*RUN_PARAMETERS):
         summary = run_study(study, out, samples=args.samples, seed=args.seed,
                             threads=args.threads, chunk_size=args.chunk_size,
-                            overwrite=args.overwrite, progress=not args.quiet,
+                            overwrite=args.overwrite, progress=progress(args),
                             engine=args.engine, scheduler=args.scheduler,
                             workers=args.workers, summary_only=args.summary_only,
                             tolerance=args.tolerance)
     for line in summary.lines():
         print(line)
     return EXIT_OK
+
+
+COMMAND = Command(
+    "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
+    description="Sample the study's inputs, solve every impact with the parallel kernel "
+                "and write a Parquet dataset (one file per chunk). An interrupted run "
+                "resumes: complete chunk files are kept. STUDY is a TOML file, or the "
+                "name of a study shipped with mcbat (mcbat run game_fastball, from any "
+                "directory; --list names them).",
+    arguments=(
+        arg("study", metavar="STUDY.toml|NAME", nargs="?", default=None),
+        switch("--list", "list the studies shipped with mcbat, and exit"),
+        arg("--out", metavar="DIR", help="dataset directory, or a URL that pyarrow or fsspec "
+                                         "can write (default: results/<study name>)"),
+        int_option("--samples", metavar="N", help="number of impacts (default: the study's)"),
+        int_option("--seed", metavar="S", help="random seed (default: the study's)"),
+        int_option("--threads", metavar="K",
+                   help="kernel threads (default: all cores); with --engine dask, numba "
+                        "threads per worker (default: cores / workers, or 1 with "
+                        "--scheduler)"),
+        int_option("--chunk-size", metavar="C", action=_ChunkSize,
+                   help="rows per Parquet file"),
+        arg("--engine", choices=("local", "dask"), default="local",
+            help="local: numba threads in this process (default); dask: one task per chunk "
+                 "on a Dask cluster (docs/cluster.md)"),
+        arg("--scheduler", metavar="ADDRESS",
+            help="--engine dask: join the running Dask scheduler at ADDRESS "
+                 "(tcp://host:8786); --out must be storage every worker shares"),
+        int_option("--workers", metavar="N",
+                   help="--engine dask: start a local cluster of N worker processes "
+                        "(default: one per core)"),
+        arg("--columns", metavar="A,B,...",
+            help="store only these columns (and sample_id); overrides the study's [output] "
+                 "columns"),
+        switch("--summary-only", "compute the study's [summary] (binned statistics, "
+               "_summary.parquet) without storing the rows"),
+        switch("--overwrite", "replace an existing dataset written with another config"),
+        arg("--tolerance", type=float, metavar="T",
+            help="the kernel's tolerance: the local error allowed per slip step, relative "
+                 "to the impact's scales, 0 < T < 1 (default: the study's [solver] "
+                 "tolerance, else 5e-9); part of the dataset's config"),
+        QUIET,
+    ),
+    run=cmd_run)

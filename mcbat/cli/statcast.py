@@ -5,52 +5,38 @@ from __future__ import annotations
 
 import re
 
-from mcbat.cli.common import EXIT_OK, check_output, flags, note_left_out, print_json
-from mcbat.errors import InputError
+from mcbat.cli.common import (
+    EXIT_OK,
+    EXPORT,
+    JSON,
+    STRICT,
+    TABLE_FORMATS,
+    Command,
+    arg,
+    check_output,
+    note_left_out,
+    print_json,
+    read_export,
+    writing,
+)
 
-__all__ = ["add_parser", "cmd_statcast", "statcast_lines"]
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat statcast`` to the subparsers ``sub``."""
-    sc = sub.add_parser(
-        "statcast", help="read a Baseball Savant (Statcast) export: counts, plate speeds, "
-                         "and the tidy table in mcbat's frame and units",
-        description="Read a Savant pitch-level CSV export (any season; or a pybaseball "
-                    "table saved as CSV/Parquet) into mcbat's tidy table (docs/statcast.md): "
-                    "print the rows, seasons, pitches by type, balls in play, rows with a "
-                    "distance and with bat tracking, and the plate speed and approach angles "
-                    "per pitch type.")
-    sc.add_argument("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet)")
-    sc.add_argument("--json", action="store_true", help="print one JSON object")
-    sc.add_argument("--out", metavar="TABLE.parquet|TABLE.csv",
-                    help="write the tidy table (Parquet, units in the schema metadata; or CSV, "
-                    "units in the column header: launch_speed [mph])")
-    sc.add_argument("--strict", action="store_true", help="refuse a pitch given twice "
-                    "(the same game_pk, at_bat_number and pitch_number) instead of dropping "
-                    "the copy and counting it")
-    sc.set_defaults(func=cmd_statcast)
+__all__ = ["COMMAND", "cmd_statcast", "statcast_lines"]
 
 
 def cmd_statcast(args) -> int:
     """Read the export; print its summary (or JSON), write the tidy table with --out."""
     from mcbat.dataset.tables import write_table
-    from mcbat.statcast import read, summarize, write
+    from mcbat.statcast import summarize, write
 
-    if args.out:
-        check_output(args.out, "--out", (".parquet", ".pq", ".csv"))
-    with flags("strict"):
-        table = read(args.file, strict=args.strict)
+    check_output(args.out, "--out", TABLE_FORMATS)
+    table = read_export(args.file, args.strict)
     summary = summarize(table)
     if args.out:
-        try:
+        with writing(args.out):
             if str(args.out).lower().endswith(".csv"):
                 write_table(table, args.out, field="--out")
             else:
                 write(table, args.out)
-        except OSError as err:
-            raise InputError("--out", f"cannot write: {err.strerror or err}",
-                             args.out) from None
         summary["out"] = args.out
     if args.json:
         print_json(summary)
@@ -113,3 +99,22 @@ def _code(kind):
     """A pitch type as printed: Savant's codes (FF, SL, ...: capital letters) as they
     are, anything else the file holds quoted (a cell of text that is no code)."""
     return kind if re.fullmatch(r"[A-Z]{1,3}|\(none\)", kind) else repr(kind)
+
+
+COMMAND = Command(
+    "statcast", help="read a Baseball Savant (Statcast) export: counts, plate speeds, "
+                     "and the tidy table in mcbat's frame and units",
+    description="Read a Savant pitch-level CSV export (any season; or a pybaseball "
+                "table saved as CSV/Parquet) into mcbat's tidy table (docs/statcast.md): "
+                "print the rows, seasons, pitches by type, balls in play, rows with a "
+                "distance and with bat tracking, and the plate speed and approach angles "
+                "per pitch type.",
+    arguments=(
+        EXPORT,
+        JSON,
+        arg("--out", metavar="TABLE.parquet|TABLE.csv",
+            help="write the tidy table (Parquet, units in the schema metadata; or CSV, "
+                 "units in the column header: launch_speed [mph])"),
+        STRICT,
+    ),
+    run=cmd_statcast)

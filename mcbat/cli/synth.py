@@ -4,52 +4,14 @@ from __future__ import annotations
 
 import sys
 
-from mcbat.cli.common import EXIT_OK, check_output, flags, int_arg
+from mcbat.cli.common import EXIT_OK, Command, arg, check_output, flags, int_option
 from mcbat.errors import InputError
 
-__all__ = ["SYNTH_PARAMETERS", "add_parser", "cmd_synth"]
+__all__ = ["COMMAND", "SYNTH_PARAMETERS", "cmd_synth"]
 
 #: The parameters of ``mcbat.stats.measurements.synthesize`` that are flags.
 SYNTH_PARAMETERS = ("rows", "seed", "e", "mu", "e_x", "speed_noise", "angle_noise",
                     "spin_noise", "impact_parameter_noise", "spin_in_noise", "input_noise")
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat synth`` to the subparsers ``sub``."""
-    syn = sub.add_parser(
-        "synth", help="draw a noisy synthetic measurement table from the model",
-        description="Sample the study's setup and nuisance scatter, solve with the given e* "
-                    "and mu, and add measurement noise: the kind of table an experiment "
-                    "produces (format: mcbat/stats/measurements.py).")
-    syn.add_argument("--study", required=True, metavar="S.toml")
-    syn.add_argument("--rows", type=int_arg("--rows"), default=60, metavar="N")
-    syn.add_argument("--seed", type=int_arg("--seed"), default=0, metavar="S")
-    syn.add_argument("--e", type=float, default=None, help="energetic restitution e*")
-    syn.add_argument("--mu", type=float, default=None, help="friction coefficient")
-    syn.add_argument("--e-x", type=float, default=None, dest="e_x",
-                     help="tangential restitution e_x (Cross & Nathan 2006; default: the "
-                          "study's, 0 if unset = rigid)")
-    syn.add_argument("--speed-noise", type=float, default=None,
-                     help="relative 1-sigma error of the exit (launch) speed (default 0.05; "
-                          "a game study: 0.01)")
-    syn.add_argument("--angle-noise", type=float, default=None,
-                     help="1-sigma error of the scattering angle (a game's launch and spray "
-                          "angles), deg (default 3; a game study: 1)")
-    syn.add_argument("--spin-noise", type=float, default=0.10,
-                     help="relative 1-sigma error of the outgoing spin (default 0.10)")
-    syn.add_argument("--impact-parameter-noise", type=float, default=0.0, metavar="M",
-                     help="1-sigma error of the written impact parameter, m (default 0: "
-                          "exact); adds an impact_parameter_err column")
-    syn.add_argument("--spin-in-noise", type=float, default=0.0, metavar="RAD_S",
-                     help="1-sigma error of the written incoming spin, rad/s (default 0); "
-                          "adds a spin_in_err column")
-    syn.add_argument("--input-noise", action="append", default=[], metavar="NAME=SIGMA",
-                     help="1-sigma error of a written measured input, in the table's unit "
-                          "(a game: pitch_speed, bat_speed in mph, attack_angle in deg, "
-                          "undercut in m); adds a NAME_err column; repeatable")
-    syn.add_argument("--out", metavar="M.csv", help="output file, .csv or .parquet "
-                     "(default: stdout)")
-    syn.set_defaults(func=cmd_synth)
 
 
 def cmd_synth(args) -> int:
@@ -57,8 +19,7 @@ def cmd_synth(args) -> int:
     from mcbat import load_study  # (a game study's [pitches] file is read too)
     from mcbat.stats.measurements import synthesize, write_table_atomic
 
-    if args.out:
-        check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
+    check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
     study = load_study(args.study)
     input_noise = {}
     for item in args.input_noise:
@@ -81,3 +42,40 @@ def cmd_synth(args) -> int:
     else:
         table.to_csv(sys.stdout, index=False, float_format="%.10g")
     return EXIT_OK
+
+
+COMMAND = Command(
+    "synth", help="draw a noisy synthetic measurement table from the model",
+    description="Sample the study's setup and nuisance scatter, solve with the given e* "
+                "and mu, and add measurement noise: the kind of table an experiment "
+                "produces (format: mcbat/stats/measurements.py).",
+    arguments=(
+        arg("--study", required=True, metavar="S.toml"),
+        int_option("--rows", default=60, metavar="N"),
+        int_option("--seed", default=0, metavar="S"),
+        arg("--e", type=float, help="energetic restitution e*"),
+        arg("--mu", type=float, help="friction coefficient"),
+        arg("--e-x", type=float, dest="e_x",
+            help="tangential restitution e_x (Cross & Nathan 2006; default: the study's, 0 "
+                 "if unset = rigid)"),
+        arg("--speed-noise", type=float,
+            help="relative 1-sigma error of the exit (launch) speed (default 0.05; a game "
+                 "study: 0.01)"),
+        arg("--angle-noise", type=float,
+            help="1-sigma error of the scattering angle (a game's launch and spray angles), "
+                 "deg (default 3; a game study: 1)"),
+        arg("--spin-noise", type=float, default=0.10,
+            help="relative 1-sigma error of the outgoing spin (default 0.10)"),
+        arg("--impact-parameter-noise", type=float, default=0.0, metavar="M",
+            help="1-sigma error of the written impact parameter, m (default 0: exact); adds "
+                 "an impact_parameter_err column"),
+        arg("--spin-in-noise", type=float, default=0.0, metavar="RAD_S",
+            help="1-sigma error of the written incoming spin, rad/s (default 0); adds a "
+                 "spin_in_err column"),
+        arg("--input-noise", action="append", default=[], metavar="NAME=SIGMA",
+            help="1-sigma error of a written measured input, in the table's unit (a game: "
+                 "pitch_speed, bat_speed in mph, attack_angle in deg, undercut in m); adds a "
+                 "NAME_err column; repeatable"),
+        arg("--out", metavar="M.csv", help="output file, .csv or .parquet (default: stdout)"),
+    ),
+    run=cmd_synth)

@@ -11,9 +11,9 @@ import time
 from importlib import resources
 from pathlib import Path
 
-from mcbat.cli.common import EXIT_INTERNAL, EXIT_OK
+from mcbat.cli.common import EXIT_INTERNAL, EXIT_OK, Command
 
-__all__ = ["WARMUPS", "add_parser", "cmd_warmup"]
+__all__ = ["COMMAND", "WARMUPS", "cmd_warmup"]
 
 #: A game case (``examples/game_fastball.json``), a bat-frame case (Cabo et al.'s Sec. V
 #: bodies) and a batted ball: the inputs of the commands each group is compiled by.
@@ -48,20 +48,6 @@ WARMUPS = {
                  ["run", "game_fastball", "--samples", "64", "--out", "{dir}/game", "--quiet"]],
     "inference": [["infer", "{statcast}"]],
 }
-
-
-def add_parser(sub) -> None:
-    """Add ``mcbat warmup`` to the subparsers ``sub``."""
-    wu = sub.add_parser(
-        "warmup", help="compile every kernel once (after installing: later commands start "
-                       "at once)",
-        description="Compile every numba kernel mcbat has (the game, flight, bat-frame, "
-                    "sampling and inference kernels) by running each command that uses "
-                    "them on a small input, and cache the machine code (numba's cache, "
-                    "beside the package or in NUMBA_CACHE_DIR), so that no later command "
-                    "compiles. Prints a line per kernel group and the total time; a group "
-                    "already compiled loads in a second.")
-    wu.set_defaults(func=cmd_warmup)
 
 
 def _run(argv) -> tuple[int, str]:
@@ -104,3 +90,16 @@ def cmd_warmup(args) -> int:
     print(f"mcbat: warmup done in {time.perf_counter() - t_all:.1f} s; later commands load "
           "the kernels from numba's cache", file=sys.stdout, flush=True)
     return status
+
+
+COMMAND = Command(
+    "warmup", help="compile every kernel once (after installing: later commands start "
+                   "at once)",
+    description="Compile every numba kernel mcbat has (the game, flight, bat-frame, "
+                "sampling and inference kernels) by running each command that uses "
+                "them on a small input, and cache the machine code (numba's cache, "
+                "beside the package or in NUMBA_CACHE_DIR), so that no later command "
+                "compiles. Prints a line per kernel group and the total time; a group "
+                "already compiled loads in a second.",
+    arguments=(),
+    run=cmd_warmup)
