@@ -1,6 +1,7 @@
-"""The ``mcbat`` command: one module per subcommand (its parser block and its ``cmd_*``
-function), what they share in ``mcbat.cli.common``, the parser's assembly and
-``main`` in ``mcbat.cli.app``.
+"""The ``mcbat`` command: one module per subcommand (its ``cmd_*`` function and its
+``COMMAND``, the subcommand declared as data: ``mcbat.cli.common.Command``), what they share
+in ``mcbat.cli.common``, the parser built from the declarations and ``main`` in
+``mcbat.cli.app``.
 
 Exit codes: 0 success, 2 user error (one line on stderr, no traceback; also ``mcbat
 check`` on a dataset incomplete or inconsistent), 1 internal error, 4 the environment

@@ -115,6 +115,7 @@ EXPORT = arg("file", metavar="FILE", help="the export (.csv, .csv.gz or .parquet
 #: A Statcast export's pitch given twice refused (``read_export``).
 STRICT = switch("--strict", "refuse a pitch given twice (the same game_pk, at_bat_number "
                 "and pitch_number) instead of dropping the copy and counting it")
+#: The result printed as one JSON object.
 JSON = switch("--json", "print one JSON object")
 #: No progress bar (``progress``), no compiling line (``mcbat.cli.compiling``).
 QUIET = switch("--quiet", "no progress bar (nor the line that a first run is compiling the "

@@ -23,7 +23,7 @@ def cmd_flight(args) -> int:
     """Fly the balls of ``args.file`` and print their landing points as JSON."""
     from mcbat.api import flight_case_from_dict, solve_flight
 
-    def read(raw):
+    def to_case(raw):
         case = flight_case_from_dict(raw)
         if args.scheme is None:
             return case
@@ -36,7 +36,7 @@ def cmd_flight(args) -> int:
         return {k: json_value(v) for k, v in result.items()}
 
     source, raw_cases, single = read_cases(args.file)
-    results = each_case(source, each_case(source, raw_cases, read), fly)
+    results = each_case(source, each_case(source, raw_cases, to_case), fly)
     print_json(results[0] if single else results)
     return EXIT_OK
 
