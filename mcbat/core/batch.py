@@ -15,7 +15,7 @@ from mcbat.core.cabo2012.impact import INPUT_FIELDS as IMPACT_INPUT_FIELDS
 from mcbat.core.cabo2012.impact import ImpactInputs, solve_impact
 from mcbat.core.jit import njit
 
-__all__ = ["INPUT_FIELDS", "OUTPUT_FIELDS", "allocate_outputs", "solve_batch"]
+__all__ = ["INPUT_FIELDS", "OUTPUT_FIELDS", "allocate_outputs", "solve_batch", "store_impact"]
 
 INPUT_FIELDS = IMPACT_INPUT_FIELDS
 """Solver inputs: the fields of ``mcbat.core.cabo2012.impact.ImpactInputs`` (SI units)."""
@@ -33,6 +33,39 @@ OUTPUT_FIELDS = (
 
 _N_IN = len(INPUT_FIELDS)
 _N_OUT = len(OUTPUT_FIELDS)
+
+
+@njit(inline="always")
+def store_impact(r, col, out, status, end_state):
+    """Write the result ``r`` of ``solve_impact`` into column ``col`` of the batch
+    outputs: ``status`` and ``end_state`` its codes, ``out`` its ``OUTPUT_FIELDS``.
+    Inlined into the loops of ``solve_batch`` and the game kernel."""
+    status[col] = r[0]
+    end_state[col] = r[1]
+    out[0, col] = r[2]
+    out[1, col] = r[3]
+    out[2, col] = r[4]
+    out[3, col] = r[5]
+    out[4, col] = r[6]
+    out[5, col] = r[7]
+    out[6, col] = r[8]
+    out[7, col] = r[9]
+    out[8, col] = r[10]
+    out[9, col] = r[11]
+    out[10, col] = r[12]
+    out[11, col] = r[13]
+    out[12, col] = r[14]
+    out[13, col] = r[15]
+    out[14, col] = r[16]
+    out[15, col] = r[17]
+    out[16, col] = r[18]
+    out[17, col] = r[19]
+    out[18, col] = r[20]
+    out[19, col] = r[21]
+    out[20, col] = r[22]
+    out[21, col] = r[23]
+    out[22, col] = r[24]
+    out[23, col] = r[25]
 
 
 @njit(parallel=True)
@@ -60,32 +93,7 @@ def solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state):
             inputs[15, i], inputs[16, i], inputs[17, i], inputs[18, i], inputs[19, i],
             inputs[20, i], inputs[21, i], inputs[22, i], inputs[23, i], inputs[24, i]),
             accuracy)
-        status[i] = r[0]
-        end_state[i] = r[1]
-        out[0, i] = r[2]
-        out[1, i] = r[3]
-        out[2, i] = r[4]
-        out[3, i] = r[5]
-        out[4, i] = r[6]
-        out[5, i] = r[7]
-        out[6, i] = r[8]
-        out[7, i] = r[9]
-        out[8, i] = r[10]
-        out[9, i] = r[11]
-        out[10, i] = r[12]
-        out[11, i] = r[13]
-        out[12, i] = r[14]
-        out[13, i] = r[15]
-        out[14, i] = r[16]
-        out[15, i] = r[17]
-        out[16, i] = r[18]
-        out[17, i] = r[19]
-        out[18, i] = r[20]
-        out[19, i] = r[21]
-        out[20, i] = r[22]
-        out[21, i] = r[23]
-        out[22, i] = r[24]
-        out[23, i] = r[25]
+        store_impact(r, i, out, status, end_state)
 
 
 def allocate_outputs(n):

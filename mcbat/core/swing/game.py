@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from mcbat.core import status as st
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
+from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, store_impact
 from mcbat.core.cabo2012.contact import Accuracy
 from mcbat.core.cabo2012.impact import ImpactInputs, solve_impact
 from mcbat.core.geometry import ball_centre_radial_distance
@@ -190,32 +190,7 @@ def solve_game_row(g, col, steps, tolerance, max_steps, frame, out, game_out, st
         bat_v[0], bat_v[1], bat_v[2], bat_w[0], bat_w[1], bat_w[2], g[_G.mu, col], e,
         g[_G.e_x, col]),
         Accuracy(steps, tolerance, max_steps))
-    status[col] = r[0]
-    end_state[col] = r[1]
-    out[0, col] = r[2]
-    out[1, col] = r[3]
-    out[2, col] = r[4]
-    out[3, col] = r[5]
-    out[4, col] = r[6]
-    out[5, col] = r[7]
-    out[6, col] = r[8]
-    out[7, col] = r[9]
-    out[8, col] = r[10]
-    out[9, col] = r[11]
-    out[10, col] = r[12]
-    out[11, col] = r[13]
-    out[12, col] = r[14]
-    out[13, col] = r[15]
-    out[14, col] = r[16]
-    out[15, col] = r[17]
-    out[16, col] = r[18]
-    out[17, col] = r[19]
-    out[18, col] = r[20]
-    out[19, col] = r[21]
-    out[20, col] = r[22]
-    out[21, col] = r[23]
-    out[22, col] = r[24]
-    out[23, col] = r[25]
+    store_impact(r, col, out, status, end_state)
 
     game_out[0, col] = b
     ball_v1 = from_frame(i, j, k, (r[2], r[3], r[4]))
