@@ -194,6 +194,46 @@ def _dp_step(p, axis, spin, t, x, v, a1, h):
     return x_new, v_new, a7, ratio
 
 
+@njit(inline="always")
+def _launch(x, v, w):
+    """Whether a launch can be flown (every component finite, not below the ground), and
+    the spin's rate (rad/s) and axis (a unit vector; zeros without spin)."""
+    spin = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+    axis = (w[0] / spin, w[1] / spin, w[2] / spin) if spin > 0.0 else (0.0, 0.0, 0.0)
+    ok = True
+    for i in range(3):
+        ok = ok and math.isfinite(x[i]) and math.isfinite(v[i]) and math.isfinite(w[i])
+    return ok and x[2] >= 0.0, spin, axis
+
+
+@njit(inline="always")
+def _initial_state(p, axis, spin, t, v):
+    """The integrator's state at the launch: the acceleration, the first step to try
+    (s, by the tolerance) and the tries so far (none)."""
+    return rates(p, axis, spin, t, v), 0.2 * (p.tolerance / 1e-7) ** 0.2, 0
+
+
+@njit(inline="always")
+def _accepted_step(p, axis, spin, t, x, v, a, h, steps, max_steps):
+    """The next step within tolerance from ``(t, x, v, a)``: ``_dp_step`` with ``h``,
+    shrunk after each rejected try, while ``steps`` (the tries so far) is under
+    ``max_steps``. Returns ``(accepted, x1, v1, a1, ratio, h, steps)``: ``h`` the step
+    taken, ``steps`` counting every try; ``accepted`` False once ``max_steps`` is spent."""
+    while steps < max_steps:
+        x1, v1, a1, ratio = _dp_step(p, axis, spin, t, x, v, a, h)
+        steps += 1
+        if ratio <= 1.0:
+            return True, x1, v1, a1, ratio, h, steps
+        h *= max(0.2, 0.9 * ratio ** -0.2) if math.isfinite(ratio) else 0.2
+    return False, x, v, a, 0.0, h, steps
+
+
+@njit(inline="always")
+def _next_step(h, ratio):
+    """The step to try after an accepted step ``h`` of error ratio ``ratio``."""
+    return h * (min(5.0, 0.9 * ratio ** -0.2) if ratio > 0.0 else 5.0)
+
+
 @njit
 def _landing(h, t, x, v, a, x1, v1, a1, height, start):
     """Time, position where the step, from ``start`` (a fraction of it) on, descends
@@ -234,12 +274,8 @@ def _record(samples, count, dt, t, h, x, v, a, x1, v1, a1, t_end):
 def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
     """``fly``, also writing the position every ``dt`` s (> 0) into ``samples``
     (``float64[4, m]``: t, x, y, z; up to the landing). Returns ``(Flight, count)``."""
-    spin = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    axis = (w[0] / spin, w[1] / spin, w[2] / spin) if spin > 0.0 else (0.0, 0.0, 0.0)
-    ok = True
-    for i in range(3):
-        ok = ok and math.isfinite(x[i]) and math.isfinite(v[i]) and math.isfinite(w[i])
-    if not (ok and x[2] >= 0.0):
+    ok, spin, axis = _launch(x, v, w)
+    if not ok:
         return Flight(INVALID, math.nan, math.nan, math.nan, math.nan, math.nan, 0), 0
     if p.tolerance == 0.0:
         return fly_sheet(p, axis, spin, x, v, max_steps), 0
@@ -254,15 +290,12 @@ def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
             samples[0, 0], samples[1, 0], samples[2, 0], samples[3, 0] = 0.0, x[0], x[1], x[2]
             count = 1
         return Flight(OK, math.hypot(x[0], x[1]), x[0], x[1], 0.0, apex, 0), count
-    a = rates(p, axis, spin, t, v)
-    h = 0.2 * (p.tolerance / 1e-7) ** 0.2
-    steps = 0
-    while steps < max_steps:
-        x1, v1, a1, ratio = _dp_step(p, axis, spin, t, x, v, a, h)
-        steps += 1
-        if not ratio <= 1.0:
-            h *= max(0.2, 0.9 * ratio ** -0.2) if math.isfinite(ratio) else 0.2
-            continue
+    a, h, steps = _initial_state(p, axis, spin, t, v)
+    while True:
+        accepted, x1, v1, a1, ratio, h, steps = _accepted_step(p, axis, spin, t, x, v, a, h,
+                                                               steps, max_steps)
+        if not accepted:
+            break
         start = 0.0
         if v[2] > 0.0 and v1[2] <= 0.0:
             top, s_top = _apex(h, x, v, a, x1, v1, a1)
@@ -282,7 +315,7 @@ def integrate(p, x, v, w, samples, dt=0.0, max_steps=MAX_STEPS):
             count = _record(samples, count, dt, t, h, x, v, a, x1, v1, a1, t + h)
         t += h
         x, v, a = x1, v1, a1
-        h *= min(5.0, 0.9 * ratio ** -0.2) if ratio > 0.0 else 5.0
+        h = _next_step(h, ratio)
     return (Flight(MAX_STEPS_REACHED, math.nan, math.nan, math.nan, math.nan, math.nan, steps),
             count)
 
@@ -416,25 +449,18 @@ def height_at_distance(p, x, v, w, distance, max_steps=MAX_STEPS):
     distance from home plate first reaches ``distance`` (m): where it meets a fence
     standing there. NaN, NaN when it comes down (``z = 0``) before; the flight's
     parameters as ``fly`` (the landing height is not used)."""
-    spin = math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-    axis = (w[0] / spin, w[1] / spin, w[2] / spin) if spin > 0.0 else (0.0, 0.0, 0.0)
-    ok = math.isfinite(distance) and distance > 0.0
-    for i in range(3):
-        ok = ok and math.isfinite(x[i]) and math.isfinite(v[i]) and math.isfinite(w[i])
-    if not (ok and x[2] >= 0.0) or p.tolerance == 0.0:
+    ok, spin, axis = _launch(x, v, w)
+    if not (ok and math.isfinite(distance) and distance > 0.0) or p.tolerance == 0.0:
         return math.nan, math.nan
     if x[0] * x[0] + x[1] * x[1] >= distance * distance:
         return x[2], math.atan2(x[0], x[1])
     t = 0.0
-    a = rates(p, axis, spin, t, v)
-    h = 0.2 * (p.tolerance / 1e-7) ** 0.2
-    steps = 0
-    while steps < max_steps:
-        x1, v1, a1, ratio = _dp_step(p, axis, spin, t, x, v, a, h)
-        steps += 1
-        if not ratio <= 1.0:
-            h *= max(0.2, 0.9 * ratio ** -0.2) if math.isfinite(ratio) else 0.2
-            continue
+    a, h, steps = _initial_state(p, axis, spin, t, v)
+    while True:
+        accepted, x1, v1, a1, ratio, h, steps = _accepted_step(p, axis, spin, t, x, v, a, h,
+                                                               steps, max_steps)
+        if not accepted:
+            return math.nan, math.nan
         if x1[0] * x1[0] + x1[1] * x1[1] >= distance * distance:
             s = _radius_crossing(h, x, v, a, x1, v1, a1, distance)
             z = _hermite(s, h, x[2], v[2], a[2], x1[2], v1[2], a1[2])[0]
@@ -447,8 +473,7 @@ def height_at_distance(p, x, v, w, distance, max_steps=MAX_STEPS):
             return math.nan, math.nan
         t += h
         x, v, a = x1, v1, a1
-        h *= min(5.0, 0.9 * ratio ** -0.2) if ratio > 0.0 else 5.0
-    return math.nan, math.nan
+        h = _next_step(h, ratio)
 
 
 @njit(parallel=True)
