@@ -25,11 +25,8 @@ def write(table, spin, path) -> None:
     for a path ending in ``.csv``, to a CSV file with the units in its header
     (:func:`mcbat.dataset.tables.write_table`)."""
     import json
-    import os
-    from pathlib import Path
 
-    import pyarrow as pa
-    import pyarrow.parquet as pq
+    from mcbat.statcast.files import write_parquet
 
     carried = [c for c in CARRIED_COLUMNS if c in table.columns]
     df = pd.concat([table[carried], spin], axis=1)
@@ -42,14 +39,4 @@ def write(table, spin, path) -> None:
         return
     info = {"units": units, "assumptions": spin.attrs["assumptions"],
             "status_counts": spin.attrs["status_counts"]}
-    arrow = pa.Table.from_pandas(df, preserve_index=False)
-    arrow = arrow.replace_schema_metadata({**(arrow.schema.metadata or {}),
-                                           METADATA_KEY: json.dumps(info).encode()})
-    path = Path(os.fspath(path))
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        pq.write_table(arrow, tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_parquet(df, path, {METADATA_KEY: json.dumps(info).encode()})

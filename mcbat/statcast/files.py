@@ -12,18 +12,25 @@ A gzip file is read as it is decompressed; the text it expands to may be at most
 and at least ``MIN_EXPANDED_BYTES``: a file that expands beyond that (a "gzip bomb", a
 few MB of zeros that would become gigabytes) is refused when the cap is reached, naming the
 cap.
+
+The tables read from them are written back by ``write_parquet``: atomically, with their
+metadata in the Parquet schema.
 """
 
 from __future__ import annotations
 
 import os
 import stat
-from typing import Protocol
+from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
 
 from mcbat.errors import InputError
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 __all__ = ["MAX_EXPANSION", "MAX_LINE_BYTES", "MIN_EXPANDED_BYTES", "CappedReader",
-           "check_expansion", "check_regular_file", "file_kind"]
+           "check_expansion", "check_regular_file", "file_kind", "write_parquet"]
 
 MAX_EXPANSION = 50
 """A compressed input may expand to at most this many times its size on disk."""
@@ -153,3 +160,26 @@ def check_expansion(path: str | os.PathLike[str], label: str | None = None,
                 pass
     except (OSError, EOFError, zlib.error) as err:
         raise InputError(field, f"cannot read the compressed file: {err}", label) from None
+
+
+def write_parquet(df: pd.DataFrame, path: str | os.PathLike[str],
+                  metadata: dict[bytes, bytes]) -> None:
+    """Write ``df`` (without its index) to the Parquet file ``path``, with ``metadata``
+    added to its schema's (key: value bytes).
+
+    The file appears complete or not at all: it is written under a temporary name in the
+    same directory and renamed; the temporary file is removed if the write fails.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.Table.from_pandas(df, preserve_index=False)
+    table = table.replace_schema_metadata({**(table.schema.metadata or {}), **metadata})
+    path = Path(os.fspath(path))
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        pq.write_table(table, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise

@@ -62,7 +62,12 @@ from numpy.typing import NDArray
 from mcbat.errors import InputError
 from mcbat.statcast import kinematics, parks
 from mcbat.statcast.collision import COLLISION_UNITS, collision_columns
-from mcbat.statcast.files import MAX_LINE_BYTES, CappedReader, check_regular_file
+from mcbat.statcast.files import (
+    MAX_LINE_BYTES,
+    CappedReader,
+    check_regular_file,
+    write_parquet,
+)
 from mcbat.statcast.plays import balls_in_play
 
 if TYPE_CHECKING:
@@ -729,22 +734,9 @@ def write(df, path):
     The file appears complete or not at all: it is written under a temporary name in the
     same directory and renamed.
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    path = Path(os.fspath(path))
-    table = pa.Table.from_pandas(df[list(COLUMNS)], preserve_index=False)
     info = {"units": dict(UNITS), "statcast": df.attrs.get("statcast", {})}
-    table = table.replace_schema_metadata(
-        {**(table.schema.metadata or {}),
-         METADATA_KEY: json.dumps(info, sort_keys=True).encode()})
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        pq.write_table(table, tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_parquet(df[list(COLUMNS)], path,
+                  {METADATA_KEY: json.dumps(info, sort_keys=True).encode()})
 
 
 def summarize(df):
