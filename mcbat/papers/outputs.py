@@ -18,7 +18,7 @@ from pathlib import Path
 from mcbat.dataset import storage
 from mcbat.errors import InputError
 
-__all__ = ["MARKER", "ResultsDirectory"]
+__all__ = ["MARKER", "ResultsDirectory", "echo_results"]
 
 #: The marker of a reproduction's results directory: which paper wrote which names.
 MARKER = "_mcbat_results.json"
@@ -95,3 +95,14 @@ class ResultsDirectory:
         path = self.root / name
         path.mkdir(exist_ok=True)
         return path
+
+
+def echo_results(echo, root, seconds: float, files, figures, width: int) -> None:
+    """Tell where a reproduction's results went, through ``echo``: the directory ``root``
+    and the time taken, then one line per file of ``files`` (``(label, path)`` pairs)
+    and per figure, the labels padded to ``width`` characters."""
+    echo(f"results in {root}/ ({seconds:.1f} s):")
+    for label, path in files:
+        echo(f"  {label:<{width}}{path}")
+    for path in figures:
+        echo(f"  {'figure':<{width}}{path}")

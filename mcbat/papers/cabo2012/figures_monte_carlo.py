@@ -158,6 +158,23 @@ def _legend_below(fig, model_handles, mc_handles):
                fontsize=LEGEND_FONT, framealpha=0.95, columnspacing=1.5, handlelength=3.0)
 
 
+def _spin_figure(size, df, model, spins, xcol, ycol, *, model_x, model_y, xscale=1.0,
+                 bins=24):
+    """A new figure of ``size`` with the layers of ``_layered_plot`` for ``spins`` (the
+    rows of ``df`` at each), framed by ``_window``.
+
+    Returns ``(figure, axes, data dict, model legend handles, Monte Carlo legend
+    handles)``.
+    """
+    fig = new_figure(size)
+    ax = fig.add_subplot()
+    data, handles, mc_handles = _layered_plot(ax, _spin_rows(df, spins), model, xcol, ycol,
+                                              model_x=model_x, model_y=model_y,
+                                              xscale=xscale, bins=bins)
+    _window(ax, data, model_x, model_y)
+    return fig, ax, data, handles, mc_handles
+
+
 def _window(ax, data, model_x, model_y, pad=0.06):
     """Axis limits: the Monte Carlo range in x (the whole model without rows), then y
     over everything visible."""
@@ -212,13 +229,9 @@ def fig_speed_vs_angle(outdir, df: pd.DataFrame | None, model: pd.DataFrame,
         and ``alpha0`` (per spin: the model's exit speed at ``alpha = 0``).
     """
     w0_values = tuple(float(w) for w in w0_values)
-    fig = new_figure((7.6, 6.3))
-    ax = fig.add_subplot()
-    rows = _spin_rows(df, w0_values)
-    data, handles, mc_handles = _layered_plot(ax, rows, model, "scattering_angle",
-                                              "exit_speed", model_x="scattering_angle",
-                                              model_y="exit_speed", bins=bins)
-    _window(ax, data, "scattering_angle", "exit_speed")
+    fig, ax, data, handles, mc_handles = _spin_figure(
+        (7.6, 6.3), df, model, w0_values, "scattering_angle", "exit_speed",
+        model_x="scattering_angle", model_y="exit_speed", bins=bins)
     alpha0 = {}
     for w0 in w0_values:
         curve = model[model["w0"] == w0]
@@ -267,14 +280,9 @@ def fig_spin_vs_impact_parameter(outdir, df: pd.DataFrame | None, model: pd.Data
         ``binned`` edges and centres in inches too) and y the spin ``w_z`` in rad/s.
     """
     spins = tuple(float(w) for w in spins)
-    fig = new_figure((7.6, 6.7))
-    ax = fig.add_subplot()
-    rows = _spin_rows(df, spins)
-    data, handles, mc_handles = _layered_plot(ax, rows, model, "impact_parameter",
-                                              "spin_axial", model_x="impact_parameter_in",
-                                              model_y="spin_axial", xscale=1.0 / INCH,
-                                              bins=bins)
-    _window(ax, data, "impact_parameter_in", "spin_axial")
+    fig, ax, data, handles, mc_handles = _spin_figure(
+        (7.6, 6.7), df, model, spins, "impact_parameter", "spin_axial",
+        model_x="impact_parameter_in", model_y="spin_axial", xscale=1.0 / INCH, bins=bins)
     # The same model with Cross & Nathan's tangential restitution, for comparison.
     e_x = sec5.CROSS_NATHAN_E_X
     compliant = model_curves(model.attrs.get("e_star", sec5.e_star_paper()), spins,

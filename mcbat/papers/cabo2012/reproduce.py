@@ -23,7 +23,7 @@ from pathlib import Path
 from mcbat.dataset import load
 from mcbat.papers.cabo2012 import figures, sec5, summary
 from mcbat.papers.cabo2012.calibration import calibrate_restitution
-from mcbat.papers.outputs import ResultsDirectory
+from mcbat.papers.outputs import ResultsDirectory, echo_results
 from mcbat.runner import run_study
 from mcbat.study import load_study
 
@@ -84,11 +84,8 @@ def _results(results, dataset_dir, echo, t0) -> dict:
     echo("")
     echo(summary.format_table(headline))
     echo("")
-    echo(f"results in {out}/ ({time.perf_counter() - t0:.1f} s):")
-    echo(f"  dataset      {dataset_dir}/  (mcbat.load)")
-    echo(f"  calibration  {calibration_path}")
-    echo(f"  summary      {summary_path}")
-    for path in paths:
-        echo(f"  figure       {path}")
+    echo_results(echo, out, time.perf_counter() - t0,
+                 [("dataset", f"{dataset_dir}/  (mcbat.load)"),
+                  ("calibration", calibration_path), ("summary", summary_path)], paths, 13)
     return {"dataset": dataset_dir, "calibration": calibration_path, "summary": summary_path,
             "figures": [Path(p) for p in paths]}

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mcbat.papers.outputs import ResultsDirectory
+from mcbat.papers.outputs import ResultsDirectory, echo_results
 from mcbat.papers.sawicki2003 import figures
 from mcbat.papers.sawicki2003.carry import FLIGHT_SETTINGS, fly
 from mcbat.papers.sawicki2003.scan import MODELS, PER_CELL, PITCHES, run_scan, scan_study
@@ -195,11 +195,8 @@ def _write(results, scans, optima, comparison, per_cell, echo, t0) -> dict:
     echo("")
     echo(table)
     echo("")
-    echo(f"results in {root}/ ({time.perf_counter() - t0:.1f} s):")
-    echo(f"  summary  {summary_path}")
-    echo(f"  table    {table_path}")
-    echo(f"  markdown {markdown_path}")
-    for path in paths:
-        echo(f"  figure   {path}")
+    echo_results(echo, root, time.perf_counter() - t0,
+                 [("summary", summary_path), ("table", table_path),
+                  ("markdown", markdown_path)], paths, 9)
     return {"summary": summary_path, "table": table_path, "markdown": markdown_path,
             "figures": paths}

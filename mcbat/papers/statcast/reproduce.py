@@ -55,7 +55,7 @@ from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.dataset import storage
-from mcbat.papers.outputs import ResultsDirectory
+from mcbat.papers.outputs import ResultsDirectory, echo_results
 from mcbat.papers.statcast.compare import (
     CATCH_HEIGHT_FT,
     COMPARED,
@@ -381,11 +381,8 @@ def reproduce(out="results", *, data=None, weather_path=None, threads=None, echo
     echo(f"{summary['balls']} balls of {source} ({len(table)} rows read)")
     echo(text)
     echo("")
-    echo(f"results in {root}/ ({time.perf_counter() - t0:.1f} s):")
-    echo(f"  balls    {root / 'balls.parquet'}")
-    echo(f"  summary  {summary_path}")
-    for path in paths:
-        echo(f"  figure   {path}")
+    echo_results(echo, root, time.perf_counter() - t0,
+                 [("balls", root / "balls.parquet"), ("summary", summary_path)], paths, 9)
     return {"balls": root / "balls.parquet", "summary": summary_path, "figures": paths,
             "residuals": residuals}
 
