@@ -72,6 +72,12 @@ class Dist(abc.ABC):
         """``point`` as written, with its SI value (for error messages)."""
         return u.format_value(point.si, point.raw, self.unit, self.quantity)
 
+    def _written(self, *keys: str) -> list[Point]:
+        """The points of the parameters ``keys``, at ``<field>.<key>``: their SI values
+        and, from the subclass's ``raw`` (a dict by key), the values as written."""
+        return [Point(subfield(self.field, key), getattr(self, key), self.raw[key])
+                for key in keys]
+
 
 @dataclass(frozen=True, eq=False)
 class Fixed(Dist):
@@ -109,8 +115,7 @@ class Uniform(RandomDist):
 
     def points(self):
         """``low`` and ``high``, at the keys they were written at."""
-        return [Point(subfield(self.field, "low"), self.low, self.raw["low"]),
-                Point(subfield(self.field, "high"), self.high, self.raw["high"])]
+        return self._written("low", "high")
 
     def config(self):
         """Canonical JSON-ready description, SI values."""
@@ -129,7 +134,7 @@ class Normal(RandomDist):
 
     def points(self):
         """The mean, at ``<field>.mean`` (the support is unbounded: ``bounded`` is False)."""
-        return [Point(subfield(self.field, "mean"), self.mean, self.raw["mean"])]
+        return self._written("mean")
 
     def config(self):
         """Canonical JSON-ready description, SI values."""
@@ -161,8 +166,7 @@ class TruncNormal(RandomDist):
 
     def points(self):
         """``low`` and ``high``, at the keys they were written at."""
-        return [Point(subfield(self.field, "low"), self.low, self.raw["low"]),
-                Point(subfield(self.field, "high"), self.high, self.raw["high"])]
+        return self._written("low", "high")
 
     def config(self):
         """Canonical JSON-ready description, SI values."""
@@ -263,10 +267,7 @@ class Grid(Dist):
 
     def points(self):
         """``start``, and ``stop`` when ``num > 1``, at the keys they were written at."""
-        pts = [Point(subfield(self.field, "start"), self.start, self.raw["start"])]
-        if self.num > 1:
-            pts.append(Point(subfield(self.field, "stop"), self.stop, self.raw["stop"]))
-        return pts
+        return self._written("start", "stop") if self.num > 1 else self._written("start")
 
     def values(self):
         """The grid points, SI."""
@@ -287,8 +288,7 @@ class _UnitCube(Dist):
 
     def points(self):
         """``low`` and ``high``, at the keys they were written at."""
-        return [Point(subfield(self.field, "low"), self.low, self.raw["low"]),
-                Point(subfield(self.field, "high"), self.high, self.raw["high"])]
+        return self._written("low", "high")
 
     def config(self):
         """Canonical JSON-ready description, SI values."""

@@ -235,12 +235,18 @@ def _build_truncnormal(spec, field, f, raw, common):
     return dist
 
 
+def _nonempty_array(spec, field, key, what):
+    """``spec[key]``, which must be a non-empty array (of ``what``), and its field name."""
+    items = spec[key]
+    name = subfield(field, key)
+    if not isinstance(items, list) or not items:
+        raise InputError(name, f"must be a non-empty array of {what}, got "
+                               f"{type_name(items)} {items!r}")
+    return items, name
+
+
 def _build_choice(spec, field, f, raw, common):
-    values_raw = spec["values"]
-    name = subfield(field, "values")
-    if not isinstance(values_raw, list) or not values_raw:
-        raise InputError(name, f"must be a non-empty array of numbers, got "
-                               f"{type_name(values_raw)} {values_raw!r}")
+    values_raw, name = _nonempty_array(spec, field, "values", "numbers")
     values = tuple(f(number(v, f"{name}[{i}]")) for i, v in enumerate(values_raw))
     weights = _weights(spec, field, len(values), "value")
     return Choice(**common, values=values, weights=weights, raw=raw)
@@ -254,11 +260,7 @@ def _build_grid(spec, field, f, raw, common):
 
 
 def _build_mixture(spec, field, f, raw, common):
-    comps_raw = spec["components"]
-    name = subfield(field, "components")
-    if not isinstance(comps_raw, list) or not comps_raw:
-        raise InputError(name, f"must be a non-empty array of distributions, got "
-                               f"{type_name(comps_raw)} {comps_raw!r}")
+    comps_raw, name = _nonempty_array(spec, field, "components", "distributions")
     components = []
     for i, c in enumerate(comps_raw):
         sub = f"{name}[{i}]"
