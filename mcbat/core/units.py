@@ -9,7 +9,7 @@ Nathan's calculator) or, for angles and spins, the double nearest the exact valu
 
 import math
 from fractions import Fraction
-from typing import overload
+from typing import TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -51,21 +51,15 @@ RAD_S_PER_RPM = 2.0 * math.pi / 60.0
 RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
 
-@overload
-def kelvin_from_fahrenheit(temperature: float) -> float: ...
-@overload
-def kelvin_from_fahrenheit(temperature: NDArray[np.float64]) -> NDArray[np.float64]: ...
-def kelvin_from_fahrenheit(
-        temperature: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
-    """K from degF (scalars or arrays)."""
-    return (temperature - 32.0) * 5.0 / 9.0 + 273.15
+#: A temperature: a float or an array of them (each conversion gives what it takes).
+_Temperature = TypeVar("_Temperature", float, NDArray[np.float64])
 
 
-@overload
-def celsius_from_fahrenheit(temperature: float) -> float: ...
-@overload
-def celsius_from_fahrenheit(temperature: NDArray[np.float64]) -> NDArray[np.float64]: ...
-def celsius_from_fahrenheit(
-        temperature: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
+def celsius_from_fahrenheit(temperature: _Temperature) -> _Temperature:
     """DegC from degF (scalars or arrays)."""
     return (temperature - 32.0) * 5.0 / 9.0
+
+
+def kelvin_from_fahrenheit(temperature: _Temperature) -> _Temperature:
+    """K from degF (scalars or arrays)."""
+    return celsius_from_fahrenheit(temperature) + 273.15
