@@ -40,12 +40,9 @@ from mcbat.api.contract import (
 )
 from mcbat.api.game import GameResult
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
-from mcbat.core.flight import FlightStatus
-from mcbat.core.flight import fly as flight_kernel
-from mcbat.core.flight.trajectory import MAX_STEPS
-from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
+from mcbat.solving import FlightStatus, fly_one, fly_sampled
 from mcbat.study import units as u
 from mcbat.study.flight import FLIGHT_KEYS, FlightSettings, launch_vectors, parse_flight
 from mcbat.study.spec import parse_ball
@@ -328,7 +325,7 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
     x = tuple(float(c) for c in case.settings.start)
     sampled: dict[str, list[float]] | None = None
     if trajectory is None:
-        f, count, samples = flight_kernel(params, x, v, w), 0, None
+        f, count, samples = fly_one(params, x, v, w), 0, None
     else:
         dt = _real(trajectory, "trajectory")
         if not dt > 0.0:
@@ -336,7 +333,7 @@ def solve_flight(case: FlightCase, trajectory: float | None = None) -> FlightRes
         if case.settings.scheme == "sheet":
             raise InputError("trajectory", "not available with scheme = \"sheet\"")
         samples = np.empty((4, int(min(120.0 / dt, MAX_TRAJECTORY_POINTS)) + 2))
-        f, count = integrate_flight(params, x, v, w, samples, dt, MAX_STEPS)
+        f, count = fly_sampled(params, x, v, w, samples, dt)
     if f.status == FlightStatus.NOT_RISEN:
         raise InputError("landing_height", "the ball never rises to the landing height: it "
                          "reaches the ground first")

@@ -44,20 +44,21 @@ from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball, Bat
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.core import status as st
-from mcbat.core.batch import OUTPUT_FIELDS
-from mcbat.core.cabo2012.impact import MAX_MU, MAX_SPEED, MAX_SPIN
-from mcbat.core.swing import (
-    GAME_INPUT_FIELDS,
-    GAME_OUTPUT_FIELDS,
-    SWEET_SPOT_FROM_BARREL_END,
-    allocate_game_outputs,
-    bat_frame_columns,
-    incoming_state,
-    solve_game_batch,
-)
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
+from mcbat.solving import solve_games
+from mcbat.solving.names import (
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    MAX_MU,
+    MAX_SPEED,
+    MAX_SPIN,
+    OUTPUT_FIELDS,
+    SWEET_SPOT_FROM_BARREL_END,
+    bat_frame_columns,
+    incoming_state,
+)
 from mcbat.study.game import KEYS as GAME_KEYS
 from mcbat.study.game import check_swing_angles, parse_handedness
 from mcbat.study.units import LENGTH, SPEED
@@ -308,9 +309,7 @@ def solve_game(case: GameCase,
         Also if the kernel reports another failure status, naming it.
     """
     g = case.kernel_inputs()
-    frame, out, game_out, status, end_state = allocate_game_outputs(1)
-    solve_game_batch(g, settings.steps, settings.tolerance, settings.max_steps, frame, out,
-                     game_out, status, end_state)
+    frame, out, game_out, status, end_state = solve_games(g, settings)
     code = int(status[0])
     if code == st.NOT_APPROACHING:
         raise InputError("pitch_speed", "the ball does not approach the bat at the contact "

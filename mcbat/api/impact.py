@@ -34,26 +34,7 @@ from mcbat.api.contract import (
     located,
 )
 from mcbat.bodies import Ball, Bat
-from mcbat.checks import check_tolerance
 from mcbat.core import status as st
-from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
-from mcbat.core.cabo2012.contact import (
-    DEFAULT_MAX_STEPS,
-    DEFAULT_STEPS,
-    DEFAULT_TOLERANCE,
-    Accuracy,
-)
-from mcbat.core.cabo2012.impact import (
-    INERTIA_RANGE,
-    LENGTH_RANGE,
-    MASS_RANGE,
-    MAX_AXIAL,
-    MAX_MU,
-    MAX_SPEED,
-    MAX_SPIN,
-    ImpactInputs,
-)
-from mcbat.core.cabo2012.trajectory import contact_history
 from mcbat.core.geometry import (
     angle_from_impact_parameter,
     contact_frame,
@@ -64,6 +45,18 @@ from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.errors import check_vector as _vector
+
+# SolverSettings is frozen: one default instance shared by every call is safe.
+from mcbat.solving import SolverSettings, impact_history, solve_one_impact
+from mcbat.solving.names import (
+    INERTIA_RANGE,
+    LENGTH_RANGE,
+    MASS_RANGE,
+    MAX_AXIAL,
+    MAX_MU,
+    MAX_SPEED,
+    MAX_SPIN,
+)
 
 __all__ = ["MAX_AZIMUTH", "Contact", "ImpactCase", "ImpactResult", "SolverSettings",
            "Vector", "contact_problem", "history", "impact_case_from_dict", "solve"]
@@ -116,34 +109,6 @@ class Contact:
                              f"|b| must be <= {reach:.6g} m (the ball misses), "
                              f"got {impact_parameter!r}")
         return cls(axial=axial, angle=angle)
-
-
-@dataclass(frozen=True)
-class SolverSettings:
-    """Accuracy settings of the kernel (see ``mcbat.core.cabo2012.contact``).
-
-    ``tolerance`` is the local error allowed per slip step, relative to ``|v0|`` in the slip
-    velocity and to ``I_scale`` in the impulse (default 5e-9; ``solve_contact``); it must
-    be finite with ``0 < tolerance < 1``: the one rule of a study's ``[solver] tolerance``,
-    ``mcbat impact --tolerance`` and ``mcbat.solve_frame``
-    (``mcbat.checks.check_tolerance``); ``mcbat.errors.InputError`` names
-    ``tolerance`` otherwise.
-
-    >>> SolverSettings(tolerance=1e-10).tolerance
-    1e-10
-    >>> SolverSettings(tolerance=2.0)
-    Traceback (most recent call last):
-    ...
-    mcbat.errors.InputError: tolerance: must be > 0 and < 1, got 2.0
-    """
-
-    steps: int = DEFAULT_STEPS
-    tolerance: float = DEFAULT_TOLERANCE
-    max_steps: int = DEFAULT_MAX_STEPS
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "tolerance",
-                           check_tolerance(_real(self.tolerance, "tolerance"), "tolerance"))
 
 
 @dataclass(frozen=True)
@@ -317,7 +282,8 @@ class ImpactResult:
         return impact_result_to_dict(self)
 
 
-def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> ImpactResult:
+def solve(case: ImpactCase,
+          settings: SolverSettings = SolverSettings()) -> ImpactResult:  # noqa: B008
     """Solve one impact with the jitted kernel.
 
     Raises
@@ -338,8 +304,7 @@ def solve(case: ImpactCase, settings: SolverSettings = SolverSettings()) -> Impa
         case.contact.axial, case.contact.angle, radius, slope,
         *case.ball_velocity, *case.ball_spin, *case.bat_velocity, *case.bat_spin,
         case.mu, case.e, case.e_x))
-    out = dict(zip(IMPACT_FIELDS, solve_impact(ImpactInputs(*physics), Accuracy(
-        int(settings.steps), float(settings.tolerance), int(settings.max_steps)))))
+    out = solve_one_impact(physics, settings)
     code = int(out["status"])
     if code != st.OK:
         raise InputError(None, f"the solver cannot solve this impact (status "
@@ -395,7 +360,7 @@ def contact_problem(case: ImpactCase) -> dict[str, Any]:
 
 
 def history(case: ImpactCase, impulses: ArrayLike,
-            settings: SolverSettings = SolverSettings()) -> dict[str, Any]:
+            settings: SolverSettings = SolverSettings()) -> dict[str, Any]:  # noqa: B008
     """The impact as a function of the normal impulse (for plots and checks).
 
     Parameters
@@ -418,8 +383,7 @@ def history(case: ImpactCase, impulses: ArrayLike,
     case.validate_approach()
     prob = contact_problem(case)
     K, v0 = prob["K"], prob["v0"]
-    out, i_s = contact_history(K[0, 0], K[0, 1], K[0, 2], K[1, 1], K[1, 2], K[2, 2],
-                               v0[0], v0[1], v0[2], case.mu, impulses, settings.tolerance)
+    out, i_s = impact_history(K, v0, case.mu, impulses, settings)
     e_in = kinetic_energy(case.ball.mass, case.ball.radius, case.ball.inertia_factor,
                           case.bat.mass, case.bat.transverse_inertia, case.bat.axial_inertia,
                           case.ball_velocity, case.ball_spin, case.bat_velocity,

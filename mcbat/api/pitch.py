@@ -32,12 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
-from mcbat.core.flight import FlightParams
-from mcbat.core.flight.trajectory import MAX_STEPS
-from mcbat.core.flight.trajectory import integrate as integrate_flight
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
+from mcbat.solving import FlightParams, fly_sampled
 from mcbat.study.flight import FlightSettings, launch_vectors
 
 __all__ = ["DEFAULT_EXTENSION", "DEFAULT_PLATE_HEIGHT", "DEFAULT_RELEASE_HEIGHT",
@@ -73,8 +71,8 @@ def _crossing(params: FlightParams, height: float, speed: float, elevation: floa
     height)`` towards ``+y`` crosses ``y = distance``; None if it does not get there."""
     v, w = launch_vectors(speed, elevation, 0.0, *spin)
     samples = np.empty((4, int(_MAX_TIME / _DT) + 2))
-    _, count = integrate_flight(params, (0.0, 0.0, height), tuple(float(c) for c in v),
-                                tuple(float(c) for c in w), samples, _DT, MAX_STEPS)
+    _, count = fly_sampled(params, (0.0, 0.0, height), tuple(float(c) for c in v),
+                           tuple(float(c) for c in w), samples, _DT)
     t, y = samples[0, :count], samples[2, :count]
     after = np.flatnonzero(y >= distance)
     if after.size == 0 or after[0] == 0:

@@ -31,9 +31,6 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-from mcbat.core.flight import FLIGHT_FIELDS
-from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, bat_frame_columns
 from mcbat.core.units import M_PER_FT
 from mcbat.dataset import storage
 from mcbat.dataset.schema import (
@@ -48,6 +45,14 @@ from mcbat.dataset.schema import (
     derive_game,
     statcast_units,
 )
+from mcbat.solving import (
+    FLIGHT_FIELDS,
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    INPUT_FIELDS,
+    OUTPUT_FIELDS,
+)
+from mcbat.solving.names import bat_frame_columns
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
            "chunk_files", "chunk_index", "chunk_is_complete", "chunk_name", "foreign_entries",

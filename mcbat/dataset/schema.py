@@ -43,9 +43,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS
-from mcbat.core.swing import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS
 from mcbat.core.units import M_S_PER_MPH, RPM_PER_RAD_S
+from mcbat.solving import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.study import units as study_units
 from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
 

@@ -12,11 +12,11 @@ from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.checks import check_real as _real
 from mcbat.checks import check_tolerance
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
-from mcbat.core.contact_inference import InferenceSettings
-from mcbat.core.swing import SWEET_SPOT_FROM_BARREL_END
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
 from mcbat.errors import InputError
+from mcbat.solving import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE, SolverSettings
+from mcbat.solving.inference import InferenceSettings
+from mcbat.solving.names import SWEET_SPOT_FROM_BARREL_END
 
 __all__ = ["InferenceOptions", "SpinAssumptions"]
 
@@ -185,6 +185,12 @@ class InferenceOptions:
                 and 1 <= self.attack_angle_nodes <= 21):
             raise InputError("attack_angle_nodes", f"must be an integer in [1, 21], got "
                              f"{self.attack_angle_nodes!r}")
+
+    @property
+    def solver(self) -> SolverSettings:
+        """The impact kernel's accuracy (``steps``, ``impact_tolerance``,
+        ``max_steps``)."""
+        return SolverSettings(self.steps, self.impact_tolerance, self.max_steps)
 
     def kernel_settings(self, contact_side: str) -> InferenceSettings:
         """As the jitted kernel's named tuple (SI)."""

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcbat.core.contact_inference import INFERENCE_STATUS_NAMES
 from mcbat.errors import InputError
+from mcbat.solving.inference import INFERENCE_STATUS_NAMES
 
 __all__ = ["INPUT_COLUMNS", "OPTIONAL_COLUMNS", "OUTPUT_UNITS", "RANGES", "STATUS_NAMES",
            "SWING_COLUMNS", "SWING_RANGES", "TEXT_COLUMNS", "bunt_rows", "check_range",

@@ -12,18 +12,7 @@ import pandas as pd
 
 from mcbat.bodies import Bat
 from mcbat.bodies.restitution import location_table
-from mcbat.core.contact_inference import (
-    INFER_BAT_SPEED,
-    INFER_FROM_BARREL_END,
-    INFER_NEAREST_BAT_SPEED,
-    INFERENCE_STATUS_NAMES,
-    SOLUTION_FIELDS,
-    InferenceStatus,
-    allocate_inference_outputs,
-    infer_contact_batch,
-)
 from mcbat.core.geometry import profile_table
-from mcbat.core.swing import GAME_INPUT_FIELDS
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RPM_PER_RAD_S
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
@@ -41,6 +30,16 @@ from mcbat.inference.columns import (
     read_column,
     swing_column,
     unusable_swing_rows,
+)
+from mcbat.solving import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, solve_games
+from mcbat.solving.inference import (
+    INFER_BAT_SPEED,
+    INFER_FROM_BARREL_END,
+    INFER_NEAREST_BAT_SPEED,
+    INFERENCE_STATUS_NAMES,
+    SOLUTION_FIELDS,
+    InferenceStatus,
+    infer_contacts,
 )
 
 __all__ = ["infer_spin", "predict_batted_balls"]
@@ -204,8 +203,6 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
         ``table``.
     """
     from mcbat.core import status as st
-    from mcbat.core.swing import allocate_game_outputs, solve_game_batch
-    from mcbat.core.swing.game import GAME_OUTPUT_FIELDS
 
     assumptions = SpinAssumptions() if assumptions is None else assumptions
     options = InferenceOptions() if options is None else options
@@ -238,9 +235,7 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
     game[rows["undercut"]] = np.broadcast_to(np.asarray(undercut, np.float64), (n,))
     game[rows["attack_direction"]] = np.broadcast_to(
         np.asarray(attack_direction, np.float64), (n,)) * RAD_PER_DEG
-    frame, out, game_out, status, end_state = allocate_game_outputs(n)
-    solve_game_batch(game, options.steps, options.impact_tolerance, options.max_steps, frame,
-                     out, game_out, status, end_state)
+    _, _, game_out, status, _ = solve_games(game, options.solver)
     go = dict(zip(GAME_OUTPUT_FIELDS, game_out))
     ball = derive_game((go["field_ball_vx"], go["field_ball_vy"], go["field_ball_vz"]),
                        (go["field_ball_wx"], go["field_ball_wy"], go["field_ball_wz"]))
@@ -255,7 +250,6 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
     solution, status, iterations, evaluations, bat-speed adjustment (mph),
     bat_speed_inconsistent)``; the weight is the node's prior weight times the density of
     its contact (``_posterior_weight``) where there are several nodes."""
-    n = game.shape[1]
     settings = options.kernel_settings(assumptions.contact_side)
     table_ = _bat_table(assumptions.bat)
     loc_z = np.ascontiguousarray(loc_z, dtype=np.float64)
@@ -264,10 +258,8 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
     runs = []
     for attack_node, prior in nodes:
         game[row] = attack_node
-        solution, residual, status, iterations, evaluations = allocate_inference_outputs(n)
-        if n:
-            infer_contact_batch(game, observed, mode, table_, loc_z, loc_f, settings,
-                                solution, residual, status, iterations, evaluations)
+        solution, _, status, iterations, evaluations = infer_contacts(
+            game, observed, mode, table_, loc_z, loc_f, settings)
         adjustment = np.where(mode == INFER_BAT_SPEED, np.nan,
                               solution[SOLUTION_FIELDS.index("bat_speed")] / M_S_PER_MPH
                               - measured_bat_speed)
@@ -303,12 +295,7 @@ def _attack_angle_nodes(measured, a: SpinAssumptions, count):
 
 def _launch(game, options):
     """Launch speed (m/s), angle and spray (rad) of the game inputs ``game``."""
-    from mcbat.core.swing import allocate_game_outputs, solve_game_batch
-    from mcbat.core.swing.game import GAME_OUTPUT_FIELDS
-
-    frame, out, game_out, status, end_state = allocate_game_outputs(game.shape[1])
-    solve_game_batch(game, options.steps, options.impact_tolerance, options.max_steps, frame,
-                     out, game_out, status, end_state)
+    game_out = solve_games(game, options.solver).game_out
     i = GAME_OUTPUT_FIELDS.index("field_ball_vx")
     vx, vy, vz = game_out[i], game_out[i + 1], game_out[i + 2]
     return np.stack((np.sqrt(vx * vx + vy * vy + vz * vz), np.arctan2(vz, np.hypot(vx, vy)),

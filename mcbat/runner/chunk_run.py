@@ -16,14 +16,17 @@ import numpy as np
 
 from mcbat.bodies.presets import ball_preset, bat_preset
 from mcbat.core import status as st
-from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
-from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
-from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset import chunks
 from mcbat.dataset.summary import summarise
 from mcbat.errors import InputError
 from mcbat.runner.job import ChunkJob, ChunkSummary
+from mcbat.solving import (
+    INPUT_FIELDS,
+    SolverSettings,
+    solve_and_fly,
+    solve_games,
+    solve_impacts,
+)
 
 __all__ = ["run_chunk", "study_inputs", "warm_kernel", "write_columns", "write_error"]
 
@@ -92,12 +95,9 @@ def _derived_needed(job: ChunkJob):
 def _solve_chunk(study, start, stop, seed, derived=None):
     """Sample and solve an impact chunk; ``(names, cols)`` of
     ``mcbat.dataset.chunks.impact_columns`` (``derived``: as there)."""
-    solver = study.solver
     columns = study.sample(start, stop, seed)
     inputs = study_inputs(columns)
-    out_arr, status, end_state = allocate_outputs(stop - start)
-    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out_arr,
-                status, end_state)
+    out_arr, status, end_state = solve_impacts(inputs, study.solver_settings)
     barrel = study.bat.cm_from_barrel_end
     extra = {"impact_parameter": columns["impact_parameter"],
              "from_barrel_end": (np.full(stop - start, np.nan) if barrel is None
@@ -123,28 +123,17 @@ def study_inputs(columns) -> np.ndarray:
 def _solve_game_chunk(study, start, stop, seed, derived=None):
     """Sample and solve a game chunk (and fly it, with ``[flight]``); ``(names, cols)`` of
     ``mcbat.dataset.chunks.game_columns`` (``derived``: as there)."""
-    solver = study.solver
     game_inputs = study.sample_inputs(start, stop, seed)  # rows: GAME_INPUT_FIELDS
-    frame, out_arr, game_out, status, end_state = allocate_game_outputs(stop - start)
-    solve_game_batch(game_inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
-                     frame, out_arr, game_out, status, end_state)
-    flight = None if study.flight is None else _fly(study, game_out)
+    if study.flight is None:
+        solved, flight = solve_games(game_inputs, study.solver_settings), None
+    else:  # the batted balls fly too, each in the study's one air
+        flown = solve_and_fly(game_inputs, study.solver_settings,
+                              study.flight.params(study.ball.mass, study.ball.radius),
+                              study.flight.start)
+        solved, flight = flown.game, flown.flight
+    frame, out_arr, game_out, status, end_state = solved
     return chunks.game_columns(game_inputs, frame, out_arr, game_out, status, end_state,
                                flight, derived, study.pitch_identifiers(start, stop, seed))
-
-
-def _fly(study, game_out):
-    """The flight of a game chunk's batted balls (``[flight]``): ``(out, status)`` of
-    ``mcbat.core.flight.fly_batch``."""
-    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
-    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
-    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
-    n = v.shape[1]
-    start = np.repeat(np.asarray(study.flight.start, np.float64)[:, None], n, axis=1)
-    out, status = allocate_flight_outputs(n)
-    fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
-              w, out, status)
-    return out, status
 
 
 def _write_now(function, *args):
@@ -162,9 +151,7 @@ def warm_kernel() -> None:
                bat_axial_inertia=bat.axial_inertia, axial=0.1, angle=0.01,
                bat_radius=bat.radius, ball_vx_in=-4.0, mu=0.5, e=0.8)
     inputs = np.array([[row[name]] for name in INPUT_FIELDS], np.float64)
-    out_arr, status, end_state = allocate_outputs(1)
-    solve_batch(inputs, DEFAULT_STEPS, DEFAULT_TOLERANCE, DEFAULT_MAX_STEPS, out_arr, status,
-                end_state)
+    solve_impacts(inputs, SolverSettings())
 
 
 def write_error(err: OSError, out) -> InputError:

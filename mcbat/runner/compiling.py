@@ -29,17 +29,10 @@ announced: str | None = None
 def kernels_for(study) -> list:
     """The batch kernels a run of ``study`` calls: the game's (and the flight's, with
     ``[flight]``) or the bat frame's."""
-    if getattr(study, "kind", "impact") != "game":
-        from mcbat.core.batch import solve_batch
+    from mcbat.solving import batch_kernels
 
-        return [solve_batch]
-    from mcbat.core.swing import solve_game_batch
-
-    if getattr(study, "flight", None) is None:
-        return [solve_game_batch]
-    from mcbat.core.flight import fly_batch
-
-    return [solve_game_batch, fly_batch]
+    return batch_kernels(getattr(study, "kind", "impact") == "game",
+                         getattr(study, "flight", None) is not None)
 
 
 def announce_compiling(kernels, stream=None) -> str | None:

@@ -5,14 +5,19 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from mcbat.checks import check_tolerance
-from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.core.geometry import impact_parameters_from_angles
 from mcbat.dataset.chunks import build_table
 from mcbat.dataset.load import units_of
-from mcbat.errors import InputError, check_real
+from mcbat.errors import InputError
 from mcbat.runner.plan import positive_int
+from mcbat.solving import (
+    DEFAULT_MAX_STEPS,
+    DEFAULT_STEPS,
+    DEFAULT_TOLERANCE,
+    INPUT_FIELDS,
+    SolverSettings,
+    solve_impacts,
+)
 
 __all__ = ["solve_frame"]
 
@@ -28,7 +33,7 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
     ----------
     frame : pandas.DataFrame
         One impact per row, with a column for every kernel input of
-        ``mcbat.core.batch.INPUT_FIELDS`` (SI units, the names of the dataset schema;
+        ``mcbat.solving.INPUT_FIELDS`` (SI units, the names of the dataset schema;
         a dataset loaded with ``mcbat.load`` has them). ``impact_parameter`` is
         computed from ``angle`` (approach azimuth 0) when absent; ``from_barrel_end`` and
         ``sample_id`` are kept when present (else NaN, and numbered from 0). Other columns
@@ -58,7 +63,7 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
     steps = positive_int(steps, "steps")
     max_steps = positive_int(max_steps, "max_steps")
     # The one rule of every tolerance (studies, SolverSettings, mcbat impact --tolerance).
-    tolerance = check_tolerance(check_real(tolerance, "tolerance"), "tolerance")
+    settings = SolverSettings(steps, tolerance, max_steps)
     n = len(frame)
     inputs = np.stack([np.asarray(frame[name], np.float64) for name in INPUT_FIELDS]) \
         if n else np.empty((len(INPUT_FIELDS), 0))
@@ -69,12 +74,11 @@ def solve_frame(frame, *, steps=DEFAULT_STEPS, tolerance=DEFAULT_TOLERANCE,
         impact_parameter = np.empty(n)
         impact_parameters_from_angles(row["angle"], row["ball_radius"], row["bat_radius"],
                                       row["bat_slope"], np.zeros(n), impact_parameter)
-    out, status, end_state = allocate_outputs(n)
     previous = numba.get_num_threads()
     if threads is not None:
         numba.set_num_threads(positive_int(threads, "threads"))
     try:
-        solve_batch(inputs, steps, tolerance, max_steps, out, status, end_state)
+        out, status, end_state = solve_impacts(inputs, settings)
     finally:
         numba.set_num_threads(previous)
     extra = {"impact_parameter": impact_parameter}

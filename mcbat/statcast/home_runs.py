@@ -21,8 +21,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
-from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
+from mcbat.solving import FlightStatus
 from mcbat.statcast import parks
 from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
 

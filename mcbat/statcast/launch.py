@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
-from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
+from mcbat.solving import FlightStatus
 from mcbat.statcast.spin import nathan_average_spin
 from mcbat.study.flight import FlightSettings, fly_launches
 

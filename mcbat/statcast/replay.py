@@ -30,9 +30,9 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
-from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.errors import InputError
+from mcbat.solving import FlightStatus
 from mcbat.statcast import parks, weather
 from mcbat.statcast.home_runs import home_run_call
 from mcbat.statcast.launch import launch_spray

@@ -34,20 +34,19 @@ from importlib import resources
 import numpy as np
 
 from mcbat.checks import check_keys, number
-from mcbat.core.flight import (
-    DEFAULT_TOLERANCE,
+from mcbat.errors import InputError
+from mcbat.solving import fly_balls_each
+from mcbat.solving import heights_at_distance as heights_at_distance_each
+from mcbat.solving.names import (
     FLIGHT_FIELDS,
     GRAVITY,
     MODELS,
     Aero,
     FlightParams,
     air_density,
-    allocate_flight_outputs,
-    fly_batch_each,
-    height_at_distance_batch,
     pack_params,
 )
-from mcbat.errors import InputError
+from mcbat.solving.names import FLIGHT_TOLERANCE as DEFAULT_TOLERANCE
 from mcbat.study import units as u
 from mcbat.study.distributions import parse
 
@@ -375,9 +374,8 @@ def fly_launches(settings: FlightSettings, mass, radius, launch_speed, launch_an
     velocity, spin, start = _launch_arrays(settings, speed, launch_angle, spray_angle,
                                            backspin, sidespin, gyrospin)
     per_ball = _with_shorthands(per_ball, elevation, landing_height)
-    out, status = allocate_flight_outputs(n)
-    fly_batch_each(params_each(settings, mass, radius, n, per_ball), start, velocity, spin,
-                   out, status)
+    out, status = fly_balls_each(params_each(settings, mass, radius, n, per_ball), start,
+                                 velocity, spin)
     return {name: out[i] for i, name in enumerate(FLIGHT_FIELDS)}, status
 
 
@@ -391,11 +389,10 @@ def heights_at_distance(settings: FlightSettings, mass, radius, distance, launch
     n = speed.size
     velocity, spin, start = _launch_arrays(settings, speed, launch_angle, spray_angle,
                                            backspin, sidespin, gyrospin)
-    out = np.full((2, n), np.nan)
-    height_at_distance_batch(params_each(settings, mass, radius, n, per_ball), start,
-                             velocity, spin,
-                             np.ascontiguousarray(np.broadcast_to(
-                                 np.asarray(distance, float), (n,))), out)
+    out = heights_at_distance_each(params_each(settings, mass, radius, n, per_ball), start,
+                                   velocity, spin,
+                                   np.ascontiguousarray(np.broadcast_to(
+                                       np.asarray(distance, float), (n,))))
     return out[0], out[1]
 
 

@@ -56,8 +56,8 @@ import numpy as np
 from mcbat.bodies.restitution import GAME_RESTITUTION, LOCATION_TABLES, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.checks import check_keys, check_string
-from mcbat.core.swing import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.errors import InputError
+from mcbat.solving.names import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.study import units as u
 from mcbat.study.dist_types import Normal
 from mcbat.study.distributions import check_range, parse

@@ -21,9 +21,9 @@ from types import MappingProxyType
 import numpy as np
 
 from mcbat.checks import check_keys, check_string, check_tolerance, integer
-from mcbat.core.batch import INPUT_FIELDS
 from mcbat.core.geometry import angles_from_impact_parameters, impact_parameters_from_angles
 from mcbat.errors import InputError
+from mcbat.solving import INPUT_FIELDS, SolverSettings
 from mcbat.study import units as u
 from mcbat.study.distributions import Choice, Normal, check_range
 from mcbat.study.drawing import (
@@ -276,6 +276,11 @@ class Study:
     def solver(self) -> dict:
         """``{"steps", "tolerance", "max_steps"}`` (a copy) for the kernel."""
         return dict(self._solver)
+
+    @property
+    def solver_settings(self) -> SolverSettings:
+        """The ``[solver]`` table as the kernels take it (``mcbat.solving``)."""
+        return SolverSettings.from_config(self._solver)
 
     # ------------------------------------------------------------ overrides and config
 

@@ -10,8 +10,8 @@ import unicodedata
 
 from mcbat.bodies import BALL_PRESETS, BAT_PRESETS, Ball, Bat, bat_preset
 from mcbat.checks import check_keys, check_string, check_tolerance, integer
-from mcbat.core.cabo2012.contact import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.errors import InputError
+from mcbat.solving import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE
 from mcbat.study import units as u
 from mcbat.study.distributions import check_range, parse
 

@@ -1,18 +1,12 @@
-"""The flight of the scan's batted balls: ``mcbat.core.flight`` with the calculator's
+"""The flight of the scan's batted balls: ``mcbat.solving.fly_balls`` with the calculator's
 standard conditions (70 degF, 29.92 inHg, 50 % RH, sea level), Nathan's aerodynamics and
 spin decay, from the calculator's launch point (0, 2, 3) ft, for the game studies' ball."""
 
 import numpy as np
 
 from mcbat.bodies import ball_preset
-from mcbat.core.flight import (
-    FLIGHT_FIELDS,
-    FlightStatus,
-    allocate_flight_outputs,
-    fly_batch,
-    pack_params,
-)
 from mcbat.core.units import M_PER_FT
+from mcbat.solving import FLIGHT_FIELDS, FlightStatus, fly_balls
 from mcbat.study.flight import FlightSettings
 
 __all__ = ["BALL", "FLIGHT_SETTINGS", "SETTINGS", "fly"]
@@ -34,10 +28,13 @@ def fly(v, w, settings=SETTINGS):
     ``apex`` (ft) and ``hang_time`` (s), NaN where a flight failed."""
     v = np.ascontiguousarray(v, np.float64)
     w = np.ascontiguousarray(w, np.float64)
-    start = np.repeat(np.asarray(settings.start, np.float64)[:, None], v.shape[1], axis=1)
-    out, status = allocate_flight_outputs(v.shape[1])
-    fly_batch(pack_params(settings.params(BALL.mass, BALL.radius)), start, v, w, out,
-              status)
+    return _carry(*fly_balls(settings.params(BALL.mass, BALL.radius), settings.start, v, w))
+
+
+def _carry(out, status):
+    """The landing of balls flown (``mcbat.solving.FlightSolution``: ``out``, SI, and
+    ``status``): ``hit_distance``, ``landing_x``, ``landing_y``, ``apex`` (ft) and
+    ``hang_time`` (s), NaN where a flight failed."""
     row = {name: i for i, name in enumerate(FLIGHT_FIELDS)}
     bad = status != FlightStatus.OK
     result = {name: np.where(bad, np.nan, out[row[name]] / M_PER_FT)

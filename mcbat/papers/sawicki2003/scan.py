@@ -24,8 +24,8 @@ import numpy as np
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.core import status as st
-from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
 from mcbat.dataset.schema import derive_game
+from mcbat.solving import launch_vectors, solve_games
 from mcbat.study import Study
 from mcbat.study.game import COLUMNS as GAME_COLUMNS
 
@@ -149,16 +149,11 @@ def run_scan(pitch: str, model: str, fly, per_cell: int = PER_CELL, *, study=Non
         if not keep.any():
             raise ValueError(f"no cell at attack angle {cell[0]} deg, undercut {cell[1]} in")
         inputs = np.ascontiguousarray(inputs[:, keep])
-    frame, out, game_out, status, end_state = allocate_game_outputs(inputs.shape[1])
-    solver = study.solver
-    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
-                     frame, out, game_out, status, end_state)
-    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
-    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
-    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
+    solved = solve_games(inputs, study.solver_settings)
+    v, w = launch_vectors(solved)
     col = {name: i for i, name in enumerate(GAME_COLUMNS)}
     return Scan(pitch=pitch, model=model,
                 attack_angle=np.round(np.degrees(inputs[col["attack_angle"]]), 9),
                 undercut=np.round(inputs[col["undercut"]] / 0.0254, 9),
                 batted=derive_game(tuple(v), tuple(w)), flight=fly(v, w),
-                ok=status == st.OK)
+                ok=solved.status == st.OK)

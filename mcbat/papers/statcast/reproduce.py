@@ -52,7 +52,6 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
-from mcbat.core.flight import FlightStatus
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.dataset import storage
 from mcbat.papers.outputs import ResultsDirectory, echo_results
@@ -65,6 +64,7 @@ from mcbat.papers.statcast.compare import (
     select_balls,
 )
 from mcbat.runner.plan import set_threads
+from mcbat.solving import FlightStatus
 from mcbat.statcast import read, weather
 from mcbat.statcast.launch import launch_spray
 from mcbat.statcast.spin import nathan_average_spin

@@ -40,18 +40,21 @@ import math
 import numpy as np
 from scipy import stats
 
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
 from mcbat.core.status import OK
-from mcbat.core.swing import (
-    GAME_INPUT_FIELDS,
-    GAME_OUTPUT_FIELDS,
-    allocate_game_outputs,
-    solve_game_batch,
-)
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
 from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
+from mcbat.solving import (
+    GAME_INPUT_FIELDS,
+    GAME_OUTPUT_FIELDS,
+    INPUT_FIELDS,
+    OUTPUT_FIELDS,
+    allocate_games,
+    allocate_impacts,
+    solve_games,
+    solve_impacts,
+)
 from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
 from mcbat.stats.models.input_priors import (
     WIDEN_P_VALUE,
@@ -234,7 +237,7 @@ DrawModel = _DrawModel
 
 
 class BatFrameModel(_DrawModel):
-    """The bat-frame kernel (``mcbat.core.batch.solve_batch``) on a drop-test table.
+    """The bat-frame kernel (``mcbat.solving.solve_impacts``) on a drop-test table.
 
     The study must place the contact by ``contact.impact_parameter``; each row's measured
     impact parameter sets the contact angle of its draws (about the study's approach
@@ -296,7 +299,7 @@ class BatFrameModel(_DrawModel):
         self.record_study_values()
         self.set_parameters(fixed or {})  # e.g. e_x = 0: the rigid model
         self._axial = inputs[index["axial"]].copy()
-        self._out = allocate_outputs(n)
+        self._out = allocate_impacts(n)
 
     def set_parameters(self, values):
         """As the base class; ``axial`` shifts the study's impact points (keeping their
@@ -341,7 +344,7 @@ class BatFrameModel(_DrawModel):
         ball_r, radius, slope, azimuth = (np.repeat(g[first], points) for g in self._geometry)
         angles_from_impact_parameters(b_grid.ravel(), ball_r, radius, slope, azimuth,
                                       pilot[index["angle"]])
-        values, status = self._solve(pilot, allocate_outputs(rows * points))
+        values, status = self._solve(pilot, allocate_impacts(rows * points))
         f = np.stack([values[c].reshape(rows, points) for c in observables], axis=2)
         log_post = (-0.5 * ((y[:, None, :] - f) ** 2 / s2[:, None, :]).sum(axis=2)
                     - 0.5 * ((b_grid - value[:, None]) / sigma[:, None]) ** 2)
@@ -378,10 +381,7 @@ class BatFrameModel(_DrawModel):
         return self._solve(self.inputs, self._out)
 
     def _solve(self, inputs, buffers):
-        solver = self.study.solver
-        out, status, end = buffers
-        solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"],
-                    out, status, end)
+        out, status, _ = solve_impacts(inputs, self.study.solver_settings, into=buffers)
         o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
         derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
         values = {"exit_speed": derived["exit_speed"],
@@ -391,7 +391,7 @@ class BatFrameModel(_DrawModel):
 
 
 class GameModel(_DrawModel):
-    """The game kernel (``mcbat.core.swing.solve_game_batch``) on a tracking table.
+    """The game kernel (``mcbat.solving.solve_games``) on a tracking table.
 
     Each row's measured pitch and swing (any of ``pitch_speed``, ``bat_speed``,
     ``attack_angle``, ``undercut``, ``from_barrel_end``) replace the study's draws of
@@ -442,15 +442,13 @@ class GameModel(_DrawModel):
         self.inputs = inputs
         self.record_study_values()
         self.set_parameters(fixed or {})
-        self._out = allocate_game_outputs(self.rows * draws)
+        self._out = allocate_games(self.rows * draws)
 
     def solve(self):
         """Solve every draw: ``{observable: float64[rows * draws]}`` (table units) and the
         status."""
-        solver = self.study.solver
-        frame, out, game_out, status, end = self._out
-        solve_game_batch(self.inputs, solver["steps"], solver["tolerance"],
-                         solver["max_steps"], frame, out, game_out, status, end)
+        _, _, game_out, status, _ = solve_games(self.inputs, self.study.solver_settings,
+                                                into=self._out)
         g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
         batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
                              [g[f"field_ball_w{c}"] for c in "xyz"])

@@ -6,15 +6,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcbat.core.batch import INPUT_FIELDS, OUTPUT_FIELDS, allocate_outputs, solve_batch
 from mcbat.core.status import ImpactStatus
-from mcbat.core.swing import (
+from mcbat.dataset.schema import derive, derive_game
+from mcbat.solving import (
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
-    allocate_game_outputs,
-    solve_game_batch,
+    INPUT_FIELDS,
+    OUTPUT_FIELDS,
+    solve_games,
+    solve_impacts,
 )
-from mcbat.dataset.schema import derive, derive_game
 from mcbat.stats.columns import GAME_WRITTEN
 from mcbat.stats.models.draws import GameModel
 
@@ -44,10 +45,7 @@ def _solve_drop_test(study, rows, seed, params):
         if value is not None:
             cols[name] = np.full(rows, float(value))
     inputs = np.stack([np.asarray(cols[name], np.float64) for name in INPUT_FIELDS])
-    out, status, end = allocate_outputs(rows)
-    solver = study.solver
-    solve_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], out, status,
-                end)
+    out, status, _ = solve_impacts(inputs, study.solver_settings)
     o = {name: out[i] for i, name in enumerate(OUTPUT_FIELDS)}
     derived = derive([o[f"ball_v{c}"] for c in "xyz"], [o[f"ball_w{c}"] for c in "xyz"])
     measured = {"impact_parameter": cols["impact_parameter"], "spin_in": cols["ball_wz_in"]}
@@ -72,14 +70,10 @@ def _solve_game(study, rows, seed, params):
 
 
 def solve_game_inputs(study, inputs):
-    """Solve a game kernel's input rows (``mcbat.core.swing.GAME_INPUT_FIELDS`` x n)
+    """Solve a game kernel's input rows (``mcbat.solving.GAME_INPUT_FIELDS`` x n)
     with the study's solver settings: the batted balls' Statcast outputs
     (``mcbat.dataset.schema.derive_game``) and which rows were solved."""
-    n = inputs.shape[1]
-    frame, out, game_out, status, end = allocate_game_outputs(n)
-    solver = study.solver
-    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
-                     out, game_out, status, end)
+    _, _, game_out, status, _ = solve_games(inputs, study.solver_settings)
     g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
     batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],
                          [g[f"field_ball_w{c}"] for c in "xyz"])

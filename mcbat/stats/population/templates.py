@@ -11,22 +11,10 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
-from mcbat.core.flight import (
-    FLIGHT_FIELDS,
-    FlightStatus,
-    allocate_flight_outputs,
-    fly_batch,
-    pack_params,
-)
 from mcbat.core.status import ImpactStatus
-from mcbat.core.swing import (
-    GAME_INPUT_FIELDS,
-    GAME_OUTPUT_FIELDS,
-    allocate_game_outputs,
-    solve_game_batch,
-)
 from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
+from mcbat.solving import FLIGHT_FIELDS, GAME_INPUT_FIELDS, FlightStatus, solve_and_fly
 from mcbat.stats.models.simulate import solve_game_inputs
 from mcbat.stats.population.parameters import PHYSICS, parse_free
 from mcbat.stats.population.table import (
@@ -172,21 +160,14 @@ def _solve_and_fly(study, inputs):
     """The batted balls of a game kernel's input rows and their flight (the study's
     ``[flight]``), as an engine's chunk solves and flies them: the Statcast outputs with
     ``hit_distance`` (ft), and the rows both solved and flown."""
-    n = inputs.shape[1]
-    frame, out, game_out, status, end = allocate_game_outputs(n)
-    solver = study.solver
-    solve_game_batch(inputs, solver["steps"], solver["tolerance"], solver["max_steps"], frame,
-                     out, game_out, status, end)
-    row = {name: i for i, name in enumerate(GAME_OUTPUT_FIELDS)}
-    v = np.stack([game_out[row[f"field_ball_v{c}"]] for c in "xyz"])
-    w = np.stack([game_out[row[f"field_ball_w{c}"]] for c in "xyz"])
-    batted = derive_game(list(v), list(w))
-    start = np.repeat(np.asarray(study.flight.start, np.float64)[:, None], n, axis=1)
-    flown, flight_status = allocate_flight_outputs(n)
-    fly_batch(pack_params(study.flight.params(study.ball.mass, study.ball.radius)), start, v,
-              w, flown, flight_status)
-    batted["hit_distance"] = flown[FLIGHT_FIELDS.index("hit_distance")] / u.UNITS["length"]["ft"]
-    return batted, (status == ImpactStatus.OK) & (flight_status == FlightStatus.OK)
+    solved = solve_and_fly(inputs, study.solver_settings,
+                           study.flight.params(study.ball.mass, study.ball.radius),
+                           study.flight.start)
+    batted = derive_game(list(solved.velocity), list(solved.spin))
+    distance = solved.flight.out[FLIGHT_FIELDS.index("hit_distance")]
+    batted["hit_distance"] = distance / u.UNITS["length"]["ft"]
+    return batted, ((solved.game.status == ImpactStatus.OK)
+                    & (solved.flight.status == FlightStatus.OK))
 
 
 def simulate_table(study, pitches, rows, seed, values=None):

@@ -1,0 +1,82 @@
+"""The contact inference's batch kernel (``mcbat.core.contact_inference``): its call,
+its settings, modes and status codes. Apart from the rest of ``mcbat.solving`` so that
+whoever does not infer does not load it.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from mcbat.core.contact_inference import (
+    INFER_BAT_SPEED,
+    INFER_FROM_BARREL_END,
+    INFER_NEAREST_BAT_SPEED,
+    INFERENCE_STATUS_NAMES,
+    OBSERVED_FIELDS,
+    SOLUTION_FIELDS,
+    InferenceSettings,
+    InferenceStatus,
+    allocate_inference_outputs,
+    infer_contact_batch,
+)
+from mcbat.core.geometry import ProfileTable
+
+__all__ = ["INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
+           "INFER_NEAREST_BAT_SPEED", "OBSERVED_FIELDS", "SOLUTION_FIELDS",
+           "InferenceSettings", "InferenceSolution", "InferenceStatus", "infer_contacts"]
+
+Floats = NDArray[np.float64]
+Codes = NDArray[np.int8]
+
+
+class InferenceSolution(NamedTuple):
+    """Contacts inferred from measured batted balls (``n`` rows)."""
+
+    #: ``float64[len(SOLUTION_FIELDS), n]`` (SI).
+    solution: Floats
+    #: ``float64[3, n]``: launch speed (relative) and angles (rad) missed.
+    residual: Floats
+    #: ``int8[n]``: a code of ``InferenceStatus``.
+    status: Codes
+    #: ``int32[n]``: Newton iterations.
+    iterations: NDArray[np.int32]
+    #: ``int32[n]``: game kernel evaluations.
+    evaluations: NDArray[np.int32]
+
+
+
+def infer_contacts(game_inputs: Floats, observed: Floats, mode: NDArray[np.int8],
+                   table: ProfileTable, loc_z: Floats, loc_f: Floats,
+                   settings: InferenceSettings) -> InferenceSolution:
+    """Infer the contacts behind measured batted balls in parallel
+    (``mcbat.core.contact_inference.infer_contact_batch``).
+
+    Parameters
+    ----------
+    game_inputs : ndarray of float64, shape (len(GAME_INPUT_FIELDS), n)
+        The game situations (SI), the unknowns' rows holding their starting values.
+    observed : ndarray of float64, shape (3, n)
+        Launch speed (m/s), launch and spray angle (rad).
+    mode : ndarray of int8, shape (n,)
+        What is inferred per ball (``INFER_BAT_SPEED``, ``INFER_FROM_BARREL_END``,
+        ``INFER_NEAREST_BAT_SPEED``).
+    table : ProfileTable
+        The bat's profile (``mcbat.core.geometry.profile_table``).
+    loc_z, loc_f : ndarray of float64
+        The restitution's location factor: positions (m) and factors.
+    settings : InferenceSettings
+        The Newton iteration's and the impact solver's settings.
+
+    Returns
+    -------
+    InferenceSolution
+        With no ball the kernel is not called (its outputs are empty).
+    """
+    result = InferenceSolution(*allocate_inference_outputs(game_inputs.shape[1]))
+    if game_inputs.shape[1]:
+        infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings,
+                            *result)
+    return result
