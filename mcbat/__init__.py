@@ -40,6 +40,7 @@ Layers, data flowing one way (study -> samples -> kernel -> dataset -> statistic
 
 ``mcbat.core``     pure jitted physics, one folder per model; no I/O
 ``mcbat.bodies``   the ball, the bat, profiles and presets
+``mcbat.solving``  the one caller of the kernels: impacts, games, flights; SolverSettings
 ``mcbat.study``    TOML studies -> validated Study -> samples
 ``mcbat.runner``   the run plan, the engines (local, Dask), run_study, solve_frame
 ``mcbat.dataset``  the column schema, storage, chunk files, load
