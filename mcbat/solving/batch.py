@@ -16,16 +16,10 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from mcbat.core.batch import allocate_outputs, solve_batch
-from mcbat.core.flight import (
-    FlightParams,
-    allocate_flight_outputs,
-    fly_batch,
-    fly_batch_each,
-    height_at_distance_batch,
-    pack_params,
-)
-from mcbat.core.swing import GAME_OUTPUT_FIELDS, allocate_game_outputs, solve_game_batch
+from mcbat.core import batch as impact_kernel
+from mcbat.core.flight import trajectory as flight_kernel
+from mcbat.core.swing import game as game_kernel
+from mcbat.solving.names import GAME_OUTPUT_FIELDS, FlightParams
 from mcbat.solving.settings import SolverSettings
 
 __all__ = ["FlightSolution", "GameFlight", "GameSolution", "ImpactSolution",
@@ -92,17 +86,17 @@ class GameFlight(NamedTuple):
 
 def allocate_impacts(n: int) -> ImpactSolution:
     """Empty outputs of ``solve_impacts`` for ``n`` rows."""
-    return ImpactSolution(*allocate_outputs(n))
+    return ImpactSolution(*impact_kernel.allocate_outputs(n))
 
 
 def allocate_games(n: int) -> GameSolution:
     """Empty outputs of ``solve_games`` for ``n`` rows."""
-    return GameSolution(*allocate_game_outputs(n))
+    return GameSolution(*game_kernel.allocate_game_outputs(n))
 
 
 def allocate_flights(n: int) -> FlightSolution:
     """Empty outputs of ``fly_balls`` for ``n`` balls."""
-    return FlightSolution(*allocate_flight_outputs(n))
+    return FlightSolution(*flight_kernel.allocate_flight_outputs(n))
 
 
 def solve_impacts(inputs: Floats, settings: SolverSettings,
@@ -125,8 +119,8 @@ def solve_impacts(inputs: Floats, settings: SolverSettings,
         ``out`` (SI), ``status`` and ``end_state`` per impact.
     """
     result = allocate_impacts(inputs.shape[1]) if into is None else into
-    solve_batch(inputs, settings.steps, settings.tolerance, settings.max_steps, result.out,
-                result.status, result.end_state)
+    impact_kernel.solve_batch(inputs, settings.steps, settings.tolerance, settings.max_steps,
+                              result.out, result.status, result.end_state)
     return result
 
 
@@ -150,9 +144,9 @@ def solve_games(inputs: Floats, settings: SolverSettings,
         The bat-frame inputs and outputs, the batted ball (field frame, SI) and the status.
     """
     result = allocate_games(inputs.shape[1]) if into is None else into
-    solve_game_batch(inputs, settings.steps, settings.tolerance, settings.max_steps,
-                     result.frame, result.out, result.game_out, result.status,
-                     result.end_state)
+    game_kernel.solve_game_batch(inputs, settings.steps, settings.tolerance,
+                                 settings.max_steps, result.frame, result.out,
+                                 result.game_out, result.status, result.end_state)
     return result
 
 
@@ -191,7 +185,8 @@ def fly_balls(params: FlightParams, start: tuple[float, float, float] | Floats,
     n = velocity.shape[1]
     starts = _starts(start, n)
     result = allocate_flights(n)
-    fly_batch(pack_params(params), starts, velocity, spin, result.out, result.status)
+    flight_kernel.fly_batch(flight_kernel.pack_params(params), starts, velocity, spin,
+                            result.out, result.status)
     return result
 
 
@@ -213,7 +208,7 @@ def fly_balls_each(params: Floats, start: Floats, velocity: Floats,
         ``FLIGHT_FIELDS`` (SI) and the flight's status per ball.
     """
     result = allocate_flights(velocity.shape[1])
-    fly_batch_each(params, start, velocity, spin, result.out, result.status)
+    flight_kernel.fly_batch_each(params, start, velocity, spin, result.out, result.status)
     return result
 
 
@@ -226,7 +221,7 @@ def heights_at_distance(params: Floats, start: Floats, velocity: Floats, spin: F
     spray angle (rad) there; NaN where the ball comes down before.
     """
     out: Floats = np.full((2, velocity.shape[1]), np.nan)
-    height_at_distance_batch(params, start, velocity, spin, distance, out)
+    flight_kernel.height_at_distance_batch(params, start, velocity, spin, distance, out)
     return out
 
 
@@ -261,5 +256,6 @@ def batch_kernels(game: bool, flight: bool) -> list[Any]:
     machine code is cached (``mcbat.core.jit.is_cold``): the bat frame's, or the game's
     (and the flight's, with ``flight``)."""
     if not game:
-        return [solve_batch]
-    return [solve_game_batch, fly_batch] if flight else [solve_game_batch]
+        return [impact_kernel.solve_batch]
+    games = game_kernel.solve_game_batch
+    return [games, flight_kernel.fly_batch] if flight else [games]

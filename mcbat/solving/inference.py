@@ -10,18 +10,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from mcbat.core.contact_inference import (
-    INFER_BAT_SPEED,
-    INFER_FROM_BARREL_END,
-    INFER_NEAREST_BAT_SPEED,
-    INFERENCE_STATUS_NAMES,
-    OBSERVED_FIELDS,
-    SOLUTION_FIELDS,
-    InferenceSettings,
-    InferenceStatus,
-    allocate_inference_outputs,
-    infer_contact_batch,
-)
+from mcbat.core.contact_inference import solver
 from mcbat.core.geometry import ProfileTable
 
 __all__ = ["INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
@@ -30,6 +19,18 @@ __all__ = ["INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
 
 Floats = NDArray[np.float64]
 Codes = NDArray[np.int8]
+
+# What is inferred per ball (a mode), the rows of the solution and of the observed launch
+# (m/s, rad), the status codes and their names, and the settings of the Newton iteration
+# and of the impact solver inside it.
+INFER_BAT_SPEED = solver.INFER_BAT_SPEED
+INFER_FROM_BARREL_END = solver.INFER_FROM_BARREL_END
+INFER_NEAREST_BAT_SPEED = solver.INFER_NEAREST_BAT_SPEED
+SOLUTION_FIELDS = solver.SOLUTION_FIELDS
+OBSERVED_FIELDS = solver.OBSERVED_FIELDS
+InferenceStatus = solver.InferenceStatus
+INFERENCE_STATUS_NAMES = solver.INFERENCE_STATUS_NAMES
+InferenceSettings = solver.InferenceSettings
 
 
 class InferenceSolution(NamedTuple):
@@ -75,8 +76,8 @@ def infer_contacts(game_inputs: Floats, observed: Floats, mode: NDArray[np.int8]
     InferenceSolution
         With no ball the kernel is not called (its outputs are empty).
     """
-    result = InferenceSolution(*allocate_inference_outputs(game_inputs.shape[1]))
+    result = InferenceSolution(*solver.allocate_inference_outputs(game_inputs.shape[1]))
     if game_inputs.shape[1]:
-        infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings,
+        solver.infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings,
                             *result)
     return result
