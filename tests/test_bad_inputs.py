@@ -201,7 +201,7 @@ def test_a_failed_first_run_does_not_block_the_corrected_rerun(tmp_path, monkeyp
     def broken(*args, **kwargs):
         raise MemoryError("injected")
 
-    monkeypatch.setattr(chunk_run, "solve_batch", broken)
+    monkeypatch.setattr(chunk_run, "solve_impacts", broken)
     study = load_study(EXAMPLE)
     with pytest.raises(MemoryError):
         run_study(study, tmp_path / "ds", samples=100, progress=False)
