@@ -45,8 +45,6 @@ from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.errors import check_vector as _vector
-
-# SolverSettings is frozen: one default instance shared by every call is safe.
 from mcbat.solving import SolverSettings, impact_history, solve_one_impact
 from mcbat.solving.names import (
     INERTIA_RANGE,
@@ -60,6 +58,9 @@ from mcbat.solving.names import (
 
 __all__ = ["MAX_AZIMUTH", "Contact", "ImpactCase", "ImpactResult", "SolverSettings",
            "Vector", "contact_problem", "history", "impact_case_from_dict", "solve"]
+
+# SolverSettings is frozen: one default instance shared by every call is safe.
+_DEFAULT_SETTINGS = SolverSettings()
 
 Vector = tuple[float, float, float]
 """Three components ``(x, y, z)`` of a velocity (m/s) or a spin (rad/s)."""
@@ -282,8 +283,7 @@ class ImpactResult:
         return impact_result_to_dict(self)
 
 
-def solve(case: ImpactCase,
-          settings: SolverSettings = SolverSettings()) -> ImpactResult:  # noqa: B008
+def solve(case: ImpactCase, settings: SolverSettings = _DEFAULT_SETTINGS) -> ImpactResult:
     """Solve one impact with the jitted kernel.
 
     Raises
@@ -360,7 +360,7 @@ def contact_problem(case: ImpactCase) -> dict[str, Any]:
 
 
 def history(case: ImpactCase, impulses: ArrayLike,
-            settings: SolverSettings = SolverSettings()) -> dict[str, Any]:  # noqa: B008
+            settings: SolverSettings = _DEFAULT_SETTINGS) -> dict[str, Any]:
     """The impact as a function of the normal impulse (for plots and checks).
 
     Parameters

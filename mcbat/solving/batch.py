@@ -23,9 +23,9 @@ from mcbat.solving.names import GAME_OUTPUT_FIELDS, FlightParams
 from mcbat.solving.settings import SolverSettings
 
 __all__ = ["FlightSolution", "GameFlight", "GameSolution", "ImpactSolution",
-           "allocate_flights", "batch_kernels", "allocate_games", "allocate_impacts", "fly_balls",
-           "fly_balls_each", "heights_at_distance", "launch_vectors", "solve_and_fly",
-           "solve_games", "solve_impacts"]
+           "allocate_flights", "allocate_games", "allocate_impacts", "batch_kernels",
+           "fly_balls", "fly_balls_each", "heights_at_distance", "launch_vectors",
+           "solve_and_fly", "solve_games", "solve_impacts"]
 
 Floats = NDArray[np.float64]
 Codes = NDArray[np.int8]
