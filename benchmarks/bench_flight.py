@@ -25,7 +25,7 @@ import numba
 import numpy as np
 
 import harness
-from mcbat.core.flight import allocate_flight_outputs, fly_batch, pack_params
+from mcbat.core.flight.trajectory import allocate_flight_outputs, fly_batch, pack_params
 from mcbat.study.flight import FlightSettings, launch_vectors
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -27,7 +27,7 @@ import numpy as np
 
 import harness
 from mcbat.core.batch import INPUT_FIELDS, allocate_outputs, solve_batch
-from mcbat.core.swing import (
+from mcbat.core.swing.game import (
     GAME_INPUT_FIELDS,
     allocate_game_outputs,
     bat_frame_columns,

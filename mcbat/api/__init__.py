@@ -25,14 +25,13 @@ deg, rpm, ft: ``mcbat.api.contract.FIELD_KEYS``); ``case_from_dict`` and
 
 Example
 -------
->>> from mcbat.api import Ball, Bat, Contact, ImpactCase, solve
->>> case = ImpactCase(
-...     ball=Ball(mass=0.145, radius=0.036),
-...     bat=Bat(mass=0.989, radius=0.03335, transverse_inertia=0.046, axial_inertia=4.39e-4),
-...     contact=Contact(axial=0.115, angle=0.0),
-...     ball_velocity=(-4.0, 0.0, 0.0), mu=0.5, e=0.618)
->>> solve(case).end_state
-'stuck'
+A batted ball read as ``mcbat flight`` reads it (bare numbers in mph, deg and rpm), then
+flown (an impact built field by field: ``mcbat.api.impact``; a game: ``mcbat.api.game``):
+
+>>> from mcbat.api import any_case_from_dict, solve_flight
+>>> ball = any_case_from_dict({"launch_speed": 103, "launch_angle": 27, "backspin": 2000})
+>>> type(ball).__name__, 330 < solve_flight(ball).hit_distance < 480
+('FlightCase', True)
 """
 
 from typing import Any

@@ -13,8 +13,7 @@ from mcbat.core.cabo2012 import IMPACT_FIELDS, solve_impact
 from mcbat.core.cabo2012.contact import Accuracy
 from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.cabo2012.trajectory import contact_history
-from mcbat.core.flight import Flight, FlightParams, fly
-from mcbat.core.flight.trajectory import MAX_STEPS, integrate
+from mcbat.core.flight.trajectory import MAX_STEPS, Flight, FlightParams, fly, integrate
 from mcbat.solving.settings import SolverSettings
 
 __all__ = ["fly_one", "fly_sampled", "impact_history", "solve_one_impact"]

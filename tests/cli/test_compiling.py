@@ -109,8 +109,8 @@ def test_the_groups_of_each_command(tmp_path):
 
 
 def test_every_group_names_cached_numba_kernels_and_the_line_adds_their_times(monkeypatch):
-    from mcbat.core.flight import fly_batch
-    from mcbat.core.swing import solve_game_batch
+    from mcbat.core.flight.trajectory import fly_batch
+    from mcbat.core.swing.game import solve_game_batch
 
     for name, group in compiling.KERNEL_GROUPS.items():
         for dispatcher in group.dispatchers():

@@ -181,8 +181,8 @@ def test_the_run_says_it_is_compiling_before_its_progress_bar(tmp_path, capsys, 
 
 def test_the_kernels_of_a_run_are_those_of_its_study():
     from mcbat.core.batch import solve_batch
-    from mcbat.core.flight import fly_batch
-    from mcbat.core.swing import solve_game_batch
+    from mcbat.core.flight.trajectory import fly_batch
+    from mcbat.core.swing.game import solve_game_batch
     from mcbat.runner.compiling import kernels_for
     from mcbat.study import load_study
 

@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from mcbat.core.flight import (
+from mcbat.core.flight.aero import Aero
+from mcbat.core.flight.trajectory import (
     GRAVITY,
-    Aero,
     FlightParams,
     allocate_flight_outputs,
     fly,

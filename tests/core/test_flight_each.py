@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from mcbat.core.flight import fly
+from mcbat.core.flight.trajectory import fly
 from mcbat.errors import InputError
 from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance, launch_vectors
 from mcbat.testing.flight_reference import reference_height_at_distance

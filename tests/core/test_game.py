@@ -228,7 +228,7 @@ def test_game_study_end_to_end(tmp_path):
 def test_each_game_input_row_is_named_by_its_field():
     # The kernel reads its inputs by name (GAME_INPUT.mu): each name is its field's row in
     # GAME_INPUT_FIELDS, the order the samplers, the inference and the API write.
-    from mcbat.core.swing import GAME_INPUT, GAME_INPUT_FIELDS
+    from mcbat.core.swing.game import GAME_INPUT, GAME_INPUT_FIELDS
 
     assert GAME_INPUT._fields == GAME_INPUT_FIELDS
     for position, name in enumerate(GAME_INPUT_FIELDS):

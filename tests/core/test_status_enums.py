@@ -2,7 +2,8 @@ import numpy as np
 
 from mcbat.core import status
 from mcbat.core.contact_inference import solver
-from mcbat.core.flight import FlightStatus, trajectory
+from mcbat.core.flight import trajectory
+from mcbat.core.flight.trajectory import FlightStatus
 
 
 def test_the_named_codes_hold_the_kernels_values():

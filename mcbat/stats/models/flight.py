@@ -24,27 +24,19 @@ import numpy as np
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH, RAD_PER_DEG, RAD_S_PER_RPM
 from mcbat.errors import InputError
+from mcbat.stats.columns import column_roles
 from mcbat.stats.models.draws import DrawModel
 from mcbat.study.flight import FlightSettings, fly_launches
 
 __all__ = ["AIR_COLUMNS", "FLIGHT_TABLE_COLUMNS", "FlightFitSetup", "FlightModel"]
 
 
-FLIGHT_TABLE_COLUMNS = {
-    "launch_speed": ("mph", "input"),
-    "launch_angle": ("deg", "input"),
-    "spray_angle": ("deg", "input"),
-    "backspin": ("rpm", "input"),
-    "sidespin": ("rpm", "input"),
-    "elevation": ("ft", "input"),
-    "landing_height": ("ft", "input"),
-    "hit_distance_sc": ("ft", "observable"),
-    "temperature": ("degF", "optional"),
-    "pressure": ("inHg", "optional"),
-    "relative_humidity": ("%", "optional"),
-    "wind_x": ("m/s", "optional"),
-    "wind_y": ("m/s", "optional"),
-}
+FLIGHT_TABLE_COLUMNS = column_roles(
+    input={"launch_speed": "mph", "launch_angle": "deg", "spray_angle": "deg",
+           "backspin": "rpm", "sidespin": "rpm", "elevation": "ft", "landing_height": "ft"},
+    observable={"hit_distance_sc": "ft"},
+    optional={"temperature": "degF", "pressure": "inHg", "relative_humidity": "%",
+              "wind_x": "m/s", "wind_y": "m/s"})
 """Columns of a flight measurement table (Statcast's names and units). The optional ones
 are each ball's air (game-time temperature, barometric pressure corrected to sea level,
 relative humidity, wind in the field frame); where absent, the settings'."""
