@@ -26,7 +26,8 @@ import numpy as np
 
 import harness
 from mcbat.core.flight.trajectory import allocate_flight_outputs, fly_batch, pack_params
-from mcbat.study.flight import FlightSettings, launch_vectors
+from mcbat.solving.derived import launch_vectors
+from mcbat.study.flight import FlightSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 MPH, DEG, RPM = 0.44704, math.pi / 180, 2 * math.pi / 60

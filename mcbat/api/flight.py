@@ -43,8 +43,9 @@ from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.solving import FlightStatus, fly_one, fly_sampled
+from mcbat.solving.derived import launch_vectors
 from mcbat.study import units as u
-from mcbat.study.flight import FLIGHT_KEYS, FlightSettings, launch_vectors, parse_flight
+from mcbat.study.flight import FLIGHT_KEYS, FlightSettings, parse_flight
 from mcbat.study.spec import parse_ball
 
 __all__ = ["MAX_TRAJECTORY_POINTS", "FlightCase", "FlightResult", "flight_case_from_dict",

@@ -44,10 +44,10 @@ from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball, Bat
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.core import status as st
-from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.solving import solve_games
+from mcbat.solving.derived import derive_game
 from mcbat.solving.names import (
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,

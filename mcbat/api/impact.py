@@ -41,11 +41,11 @@ from mcbat.core.geometry import (
     impact_parameter_from_angle,
 )
 from mcbat.core.rigid_bodies import delassus_matrix, kinetic_energy, relative_contact_velocity
-from mcbat.dataset.schema import derive
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.errors import check_vector as _vector
 from mcbat.solving import SolverSettings, impact_history, solve_one_impact
+from mcbat.solving.derived import derive
 from mcbat.solving.names import (
     INERTIA_RANGE,
     LENGTH_RANGE,

@@ -36,7 +36,8 @@ from mcbat.core.units import M_PER_FT, M_S_PER_MPH
 from mcbat.errors import InputError
 from mcbat.errors import check_real as _real
 from mcbat.solving import FlightParams, fly_sampled
-from mcbat.study.flight import FlightSettings, launch_vectors
+from mcbat.solving.derived import launch_vectors
+from mcbat.study.flight import FlightSettings
 
 __all__ = ["DEFAULT_EXTENSION", "DEFAULT_PLATE_HEIGHT", "DEFAULT_RELEASE_HEIGHT",
            "MAX_RELEASE_SPEED", "PLATE_FRONT", "RUBBER", "plate_speed"]

@@ -1,7 +1,7 @@
 """Parquet datasets of impacts.
 
 ``schema``
-    The column contract: names, units, order, and ``mcbat.dataset.schema.derive``,
+    The column contract: names, units, order, and ``mcbat.solving.derived.derive``,
     the one function that computes the derived columns.
 ``storage``
     Locations (local paths, URLs) and atomic writes.

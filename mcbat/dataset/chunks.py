@@ -41,8 +41,6 @@ from mcbat.dataset.schema import (
     INPUT_COLUMNS,
     MEASURED_SUFFIX,
     PITCH_SOURCE_COLUMNS,
-    derive,
-    derive_game,
     statcast_units,
 )
 from mcbat.solving import (
@@ -52,6 +50,7 @@ from mcbat.solving import (
     INPUT_FIELDS,
     OUTPUT_FIELDS,
 )
+from mcbat.solving.derived import derive, derive_game
 from mcbat.solving.names import bat_frame_columns
 
 __all__ = ["MANIFEST", "METADATA_KEY", "build_game_table", "build_table", "checksum",
@@ -165,7 +164,7 @@ def impact_columns(inputs, out, status, end_state, extra_inputs, noise=None, der
         Simulated measurement errors: column ``<name>_measured`` = ``<name>`` + error,
         after the contract columns (the model value stays untouched).
     derived : collection of str, optional
-        Compute only these derived columns (``mcbat.dataset.schema.derive``; a
+        Compute only these derived columns (``mcbat.solving.derived.derive``; a
         summary-only run, which writes no file, needs only the ones it summarises).
 
     Returns

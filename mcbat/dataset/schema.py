@@ -1,9 +1,9 @@
-"""The column contract of mcbat datasets: names, units, order, and the derived quantities.
+"""The column contract of mcbat datasets: names, units and order.
 
 Every solver input is a column, so each row is a self-contained case; every output of the
-kernel is a column; a few quantities are derived from the outgoing ball (``derive``,
-the one place they are computed: datasets, ``mcbat.solve_frame``, the single-impact
-API, the fits and the synthetic measurements all call it).
+kernel is a column; a few quantities are derived from the outgoing ball (``mcbat.solving.derived``,
+the one place they are computed: datasets, ``mcbat.solve_frame``, the single-case API,
+the fits and the synthetic measurements all call it).
 
 Columns (SI units, see ``UNITS``; the lab frame of ``docs/physics.md``):
 
@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcbat.core.units import M_S_PER_MPH, RPM_PER_RAD_S
 from mcbat.solving import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, INPUT_FIELDS, OUTPUT_FIELDS
 from mcbat.study import units as study_units
 from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
@@ -51,7 +50,7 @@ from mcbat.study.pitches import PITCH_SOURCE_COLUMNS
 __all__ = ["COLUMNS", "DERIVED_COLUMNS", "FLIGHT_COLUMNS", "GAME_COLUMNS",
            "GAME_DERIVED_COLUMNS", "GAME_INPUT_COLUMNS", "GAME_OUTPUT_COLUMNS",
            "INPUT_COLUMNS", "MEASURED_SUFFIX", "OUTPUT_COLUMNS", "PITCH_SOURCE_COLUMNS",
-           "SCHEMA_VERSION", "STATCAST_UNIT_INPUTS", "UNITS", "derive", "derive_game",
+           "SCHEMA_VERSION", "STATCAST_UNIT_INPUTS", "UNITS",
            "si_units", "statcast_units"]
 
 #: Version of the column contract; stored in every manifest and chunk file.
@@ -143,79 +142,6 @@ FLIGHT_COLUMNS = ("hit_distance", "hang_time", "apex", "landing_x", "landing_y",
 """The flight columns of a game dataset with a ``[flight]`` section (after
 ``GAME_COLUMNS``): Statcast's ft and s, then SI."""
 
-
-
-def derive(ball_velocity, ball_spin, names=None) -> dict:
-    """The derived columns from the outgoing ball's velocity and spin (lab frame).
-
-    Parameters
-    ----------
-    ball_velocity, ball_spin : sequence of 3 floats or 3 arrays
-        ``(v_x, v_y, v_z)`` in m/s and ``(w_x, w_y, w_z)`` in rad/s.
-    names : collection of str, optional
-        Compute only these of ``DERIVED_COLUMNS`` (a summary-only run needs only the
-        columns it summarises); default all.
-
-    Returns
-    -------
-    dict
-        ``exit_speed`` (m/s), ``scattering_angle`` (deg, ``atan2(v_y, v_x)``: 0 is
-        straight back along ``+x``), ``spin_axial`` (rad/s, about the bat axis ``z``) and
-        ``spin`` (rad/s, the magnitude); floats for float inputs, else arrays.
-    """
-    names = DERIVED_COLUMNS if names is None else names
-    vx, vy, vz = (np.asarray(c, np.float64) for c in ball_velocity)
-    wx, wy, wz = (np.asarray(c, np.float64) for c in ball_spin)
-    formulas = {
-        "exit_speed": lambda: np.sqrt(vx * vx + vy * vy + vz * vz),
-        "scattering_angle": lambda: np.degrees(np.arctan2(vy, vx)),
-        "spin_axial": lambda: wz,
-        "spin": lambda: np.sqrt(wx * wx + wy * wy + wz * wz),
-    }
-    out = {name: formula() for name, formula in formulas.items() if name in names}
-    if np.ndim(vx) == 0:
-        return {name: float(value) for name, value in out.items()}
-    return out
-
-
-def derive_game(ball_velocity, ball_spin) -> dict:
-    """The batted ball in the field's conventions, from its field-frame velocity and spin.
-
-    Parameters
-    ----------
-    ball_velocity, ball_spin : sequence of 3 floats or 3 arrays
-        Field frame (``x`` to first base, ``y`` to the pitcher, ``z`` up), m/s and rad/s.
-
-    Returns
-    -------
-    dict
-        ``launch_speed`` (mph), ``launch_angle`` (deg, elevation), ``spray_angle`` (deg,
-        ``atan2(v_x, v_y)``, positive towards right field), ``spin_rate`` (rpm),
-        ``backspin`` (``w . b``, ``b = unit(v x z)``), ``sidespin`` (``w . s``,
-        ``s = b x unit(v)``; positive curves towards left field), ``gyrospin``
-        (``w . unit(v)``), all rpm (docs/batting.md).
-    """
-    vx, vy, vz = (np.asarray(c, np.float64) for c in ball_velocity)
-    wx, wy, wz = (np.asarray(c, np.float64) for c in ball_spin)
-    speed = np.sqrt(vx * vx + vy * vy + vz * vz)
-    horizontal = np.hypot(vx, vy)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        # b = unit(v x z) = (v_y, -v_x, 0)/|v_h|; s = b x unit(v); unit(v) = v/|v|
-        bx, by = vy / horizontal, -vx / horizontal
-        ux, uy, uz = vx / speed, vy / speed, vz / speed
-        sx, sy, sz = by * uz, -bx * uz, bx * uy - by * ux
-        out = {
-            "launch_speed": speed / M_S_PER_MPH,
-            "launch_angle": np.degrees(np.arctan2(vz, horizontal)),
-            "spray_angle": np.degrees(np.arctan2(vx, vy)),
-            "spin_rate": np.sqrt(wx * wx + wy * wy + wz * wz) * RPM_PER_RAD_S,
-            "backspin": (wx * bx + wy * by) * RPM_PER_RAD_S,
-            "sidespin": (wx * sx + wy * sy + wz * sz) * RPM_PER_RAD_S,
-            "gyrospin": (wx * ux + wy * uy + wz * uz) * RPM_PER_RAD_S,
-        }
-    if np.ndim(vx) == 0:
-        return {name: float(value) for name, value in out.items()}
-    return out
 
 
 def _statcast_factor(unit):

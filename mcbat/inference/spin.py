@@ -14,7 +14,6 @@ from mcbat.bodies import Bat
 from mcbat.bodies.restitution import location_table
 from mcbat.core.geometry import profile_table
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG, RPM_PER_RAD_S
-from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.inference.assumptions import InferenceOptions, SpinAssumptions
 from mcbat.inference.columns import (
@@ -32,6 +31,7 @@ from mcbat.inference.columns import (
     unusable_swing_rows,
 )
 from mcbat.solving import GAME_INPUT_FIELDS, GAME_OUTPUT_FIELDS, solve_games
+from mcbat.solving.derived import derive_game
 from mcbat.solving.inference import (
     INFER_BAT_SPEED,
     INFER_FROM_BARREL_END,

@@ -26,10 +26,10 @@ from mcbat.solving.batch import (
     allocate_games,
     allocate_impacts,
     batch_kernels,
+    batted_ball_vectors,
     fly_balls,
     fly_balls_each,
     heights_at_distance,
-    launch_vectors,
     solve_and_fly,
     solve_games,
     solve_impacts,
@@ -57,5 +57,5 @@ __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE", "FLIGHT_FI
            "ImpactSolution", "SolverSettings", "allocate_flights", "allocate_games",
            "allocate_impacts", "batch_kernels", "fly_balls", "fly_balls_each", "fly_one",
            "fly_sampled", "heights_at_distance", "impact_history",
-           "launch_vectors", "solve_and_fly", "solve_games", "solve_impacts",
+           "batted_ball_vectors", "solve_and_fly", "solve_games", "solve_impacts",
            "solve_one_impact"]

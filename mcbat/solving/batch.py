@@ -24,7 +24,7 @@ from mcbat.solving.settings import SolverSettings
 
 __all__ = ["FlightSolution", "GameFlight", "GameSolution", "ImpactSolution",
            "allocate_flights", "allocate_games", "allocate_impacts", "batch_kernels",
-           "fly_balls", "fly_balls_each", "heights_at_distance", "launch_vectors",
+           "fly_balls", "fly_balls_each", "heights_at_distance", "batted_ball_vectors",
            "solve_and_fly", "solve_games", "solve_impacts"]
 
 Floats = NDArray[np.float64]
@@ -150,7 +150,7 @@ def solve_games(inputs: Floats, settings: SolverSettings,
     return result
 
 
-def launch_vectors(game: GameSolution) -> tuple[Floats, Floats]:
+def batted_ball_vectors(game: GameSolution) -> tuple[Floats, Floats]:
     """The batted balls' launch velocity (m/s) and spin (rad/s) of solved game
     situations: two new ``float64[3, n]`` arrays (field frame)."""
     out = game.game_out
@@ -247,7 +247,7 @@ def solve_and_fly(inputs: Floats, settings: SolverSettings, params: FlightParams
         A row that the game could not solve flies NaN (its flight status says so).
     """
     game = solve_games(inputs, settings)
-    velocity, spin = launch_vectors(game)
+    velocity, spin = batted_ball_vectors(game)
     return GameFlight(game, velocity, spin, fly_balls(params, start, velocity, spin))
 
 

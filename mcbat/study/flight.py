@@ -37,6 +37,7 @@ from mcbat.checks import check_keys, number
 from mcbat.errors import InputError
 from mcbat.solving import fly_balls_each
 from mcbat.solving import heights_at_distance as heights_at_distance_each
+from mcbat.solving.derived import launch_vectors
 from mcbat.solving.names import (
     FLIGHT_FIELDS,
     GRAVITY,
@@ -295,21 +296,6 @@ def parse_flight(table, field="flight") -> FlightSettings:
         out["tolerance"] = _fixed(table["tolerance"], key("tolerance"), u.DIMENSIONLESS,
                                   1e-12, 1e-3)
     return FlightSettings(**out)
-
-
-def launch_vectors(launch_speed, launch_angle, spray_angle, backspin, sidespin, gyrospin):
-    """Field-frame velocity (m/s) and spin (rad/s) from Statcast-style launch numbers (SI:
-    m/s, rad, rad/s; scalars or arrays): the inverse of
-    ``mcbat.dataset.schema.derive_game`` (``b = unit(v x z)``, ``s = b x unit(v)``)."""
-    la, sp = np.asarray(launch_angle, float), np.asarray(spray_angle, float)
-    ux, uy, uz = np.cos(la) * np.sin(sp), np.cos(la) * np.cos(sp), np.sin(la)
-    bx, by = np.cos(sp), -np.sin(sp)  # unit(u x z) = (u_y, -u_x, 0) / cos(la)
-    sx, sy, sz = by * uz, -bx * uz, bx * uy - by * ux
-    v = tuple(np.asarray(launch_speed, float) * c for c in (ux, uy, uz))
-    w = (backspin * bx + sidespin * sx + gyrospin * ux,
-         backspin * by + sidespin * sy + gyrospin * uy,
-         sidespin * sz + gyrospin * uz)
-    return v, w
 
 
 #: Per-ball settings ``fly_launches`` takes (SI, as ``FlightSettings``).

@@ -15,7 +15,8 @@ from mcbat.core.flight.trajectory import (
     fly_batch,
     pack_params,
 )
-from mcbat.study.flight import FlightSettings, launch_vectors
+from mcbat.solving.derived import launch_vectors
+from mcbat.study.flight import FlightSettings
 from mcbat.testing.flight_reference import reference_flight
 
 FT, MPH, RPM, DEG = 0.3048, 0.44704, 2 * math.pi / 60, math.pi / 180

@@ -9,7 +9,8 @@ import pytest
 
 from mcbat.core.flight.trajectory import fly
 from mcbat.errors import InputError
-from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance, launch_vectors
+from mcbat.solving.derived import launch_vectors
+from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
 from mcbat.testing.flight_reference import reference_height_at_distance
 
 FT, MPH, RPM, DEG = 0.3048, 0.44704, 2 * math.pi / 60, math.pi / 180

@@ -24,8 +24,8 @@ import numpy as np
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.core import status as st
-from mcbat.dataset.schema import derive_game
-from mcbat.solving import launch_vectors, solve_games
+from mcbat.solving import batted_ball_vectors, solve_games
+from mcbat.solving.derived import derive_game
 from mcbat.study import Study
 from mcbat.study.game import COLUMNS as GAME_COLUMNS
 
@@ -150,7 +150,7 @@ def run_scan(pitch: str, model: str, fly, per_cell: int = PER_CELL, *, study=Non
             raise ValueError(f"no cell at attack angle {cell[0]} deg, undercut {cell[1]} in")
         inputs = np.ascontiguousarray(inputs[:, keep])
     solved = solve_games(inputs, study.solver_settings)
-    v, w = launch_vectors(solved)
+    v, w = batted_ball_vectors(solved)
     col = {name: i for i, name in enumerate(GAME_COLUMNS)}
     return Scan(pitch=pitch, model=model,
                 attack_angle=np.round(np.degrees(inputs[col["attack_angle"]]), 9),

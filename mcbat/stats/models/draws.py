@@ -43,7 +43,6 @@ from scipy import stats
 from mcbat.core.geometry import angles_from_impact_parameters, ball_centre_radial_distance
 from mcbat.core.status import OK
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
-from mcbat.dataset.schema import derive, derive_game
 from mcbat.errors import InputError
 from mcbat.solving import (
     GAME_INPUT_FIELDS,
@@ -55,6 +54,7 @@ from mcbat.solving import (
     solve_games,
     solve_impacts,
 )
+from mcbat.solving.derived import derive, derive_game
 from mcbat.stats.columns import BAT_FRAME_COLUMNS, GAME_TABLE_COLUMNS
 from mcbat.stats.models.input_priors import (
     WIDEN_P_VALUE,

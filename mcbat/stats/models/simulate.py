@@ -7,7 +7,6 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.core.status import ImpactStatus
-from mcbat.dataset.schema import derive, derive_game
 from mcbat.solving import (
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
@@ -16,6 +15,7 @@ from mcbat.solving import (
     solve_games,
     solve_impacts,
 )
+from mcbat.solving.derived import derive, derive_game
 from mcbat.stats.columns import GAME_WRITTEN
 from mcbat.stats.models.draws import GameModel
 
@@ -72,7 +72,7 @@ def _solve_game(study, rows, seed, params):
 def solve_game_inputs(study, inputs):
     """Solve a game kernel's input rows (``mcbat.solving.GAME_INPUT_FIELDS`` x n)
     with the study's solver settings: the batted balls' Statcast outputs
-    (``mcbat.dataset.schema.derive_game``) and which rows were solved."""
+    (``mcbat.solving.derived.derive_game``) and which rows were solved."""
     _, _, game_out, status, _ = solve_games(inputs, study.solver_settings)
     g = {name: game_out[i] for i, name in enumerate(GAME_OUTPUT_FIELDS)}
     batted = derive_game([g[f"field_ball_v{c}"] for c in "xyz"],

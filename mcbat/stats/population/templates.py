@@ -12,9 +12,9 @@ import numpy as np
 
 from mcbat.bodies.restitution import GAME_RESTITUTION
 from mcbat.core.status import ImpactStatus
-from mcbat.dataset.schema import derive_game
 from mcbat.errors import InputError
 from mcbat.solving import FLIGHT_FIELDS, GAME_INPUT_FIELDS, FlightStatus, solve_and_fly
+from mcbat.solving.derived import derive_game
 from mcbat.stats.models.simulate import solve_game_inputs
 from mcbat.stats.population.parameters import PHYSICS, parse_free
 from mcbat.stats.population.table import (
