@@ -15,11 +15,16 @@ The front door (``import mcbat`` stays light: everything loads on first use)::
     mcbat.load_summary(out)        a run's [summary] -> a DataFrame, one row per bin
     mcbat.load_study(path)         a TOML study file -> a validated Study
     mcbat.check(out)               a dataset directory checked against its manifest
+    mcbat.fit(study, table, free)  a measurement table -> a FitResult (maximum likelihood:
+                                   ``mcbat.stats.fit.estimate.fit``)
 
 The case and result types (``mcbat.ImpactCase``, ``mcbat.GameResult``...,
-``mcbat.SolverSettings``) are those of ``mcbat.api``. Units: an impact is SI; a game
-case is SI, its batted ball in Statcast's mph, deg and rpm; a flight case is SI, its
-distances in ft (and m). Every JSON answer (``result.to_dict()``) carries a ``units`` block.
+``mcbat.SolverSettings``) are those of ``mcbat.api``; ``mcbat.RunSummary`` is what
+``mcbat.run`` returns, ``mcbat.FitResult`` what ``mcbat.fit`` returns. Every subpackage is
+reachable as an attribute (``mcbat.statcast.read``), imported on first use. Units: an
+impact is SI; a game case is SI, its batted ball in Statcast's mph, deg and rpm; a flight
+case is SI, its distances in ft (and m). Every JSON answer (``result.to_dict()``) carries
+a ``units`` block.
 
 >>> import mcbat
 >>> result = mcbat.solve({"ball": {"mass": 0.145, "radius": 0.036},
@@ -79,15 +84,18 @@ if TYPE_CHECKING:  # the types only: ``import mcbat`` loads none of these module
 __version__ = "0.1.0"
 
 
-# The case and result types, loaded on first use from the module that defines them.
+# The case and result types, the fit and a run's summary, loaded on first use from the
+# module that defines them.
 _LAZY = {"Ball": "mcbat.bodies", "Bat": "mcbat.bodies", "Contact": "mcbat.api",
          "ImpactCase": "mcbat.api", "ImpactResult": "mcbat.api", "GameCase": "mcbat.api",
          "GameResult": "mcbat.api", "FlightCase": "mcbat.api", "FlightResult": "mcbat.api",
-         "SolverSettings": "mcbat.api"}
+         "SolverSettings": "mcbat.api", "fit": "mcbat.stats.fit.estimate",
+         "FitResult": "mcbat.stats.fit.estimate", "RunSummary": "mcbat.runner.study_run"}
 
-__all__ = ["Ball", "Bat", "Contact", "FlightCase", "FlightResult", "GameCase", "GameResult",
-           "ImpactCase", "ImpactResult", "SolverSettings", "__version__", "check", "load",
-           "load_study", "load_summary", "run", "solve", "solve_frame"]
+__all__ = ["Ball", "Bat", "Contact", "FitResult", "FlightCase", "FlightResult", "GameCase",
+           "GameResult", "ImpactCase", "ImpactResult", "RunSummary", "SolverSettings",
+           "__version__", "check", "fit", "load", "load_study", "load_summary", "run", "solve",
+           "solve_frame"]
 
 
 def solve(case: ImpactCase | GameCase | FlightCase | dict[str, Any] | str
@@ -296,8 +304,8 @@ def load_study(path: str | Path) -> Study:
     return with_pitches
 
 
-_SUBPACKAGES = ("api", "bodies", "core", "dataset", "errors", "inference", "papers", "runner",
-                "statcast", "stats", "study", "testing")
+_SUBPACKAGES = ("api", "bodies", "checks", "core", "dataset", "errors", "inference", "papers",
+                "runner", "solving", "statcast", "stats", "study", "testing")
 
 
 def __getattr__(name: str) -> Any:
@@ -309,8 +317,6 @@ def __getattr__(name: str) -> Any:
         return getattr(importlib.import_module(_LAZY[name]), name)
     if name in _SUBPACKAGES:
         return importlib.import_module(f"mcbat.{name}")
-    if name == "analysis":  # the name of mcbat <= 0.1's module; now mcbat.stats.analysis
-        return importlib.import_module("mcbat.stats.analysis")
     raise AttributeError(f"module 'mcbat' has no attribute {name!r}")
 
 

@@ -6,6 +6,7 @@ import inspect
 import math
 import pydoc
 import re
+from pathlib import Path
 
 import pytest
 
@@ -78,6 +79,21 @@ def test_every_subpackage_is_reachable_from_import_mcbat():
 
     assert callable(mcbat.statcast.read) and callable(mcbat.inference.infer_spin)
     assert {"statcast", "inference", "papers"} <= set(dir(mcbat))
+    root = Path(mcbat.__file__).parent
+    packages = {p.parent.name for p in root.glob("*/__init__.py")} - {"cli", "data", "studies"}
+    for name in packages:
+        assert getattr(mcbat, name).__name__ == f"mcbat.{name}"
+
+
+def test_the_fit_and_the_run_summary_are_at_the_front_door():
+    import mcbat
+    from mcbat.runner.study_run import RunSummary
+    from mcbat.stats.fit.estimate import FitResult, fit
+
+    assert (mcbat.fit, mcbat.FitResult, mcbat.RunSummary) == (fit, FitResult, RunSummary)
+    assert {"fit", "FitResult", "RunSummary"} <= set(mcbat.__all__)
+    with pytest.raises(AttributeError):
+        mcbat.analysis  # noqa: B018 (the old name of mcbat.stats.analysis is gone)
 
 
 def test_a_flight_result_has_every_attribute_its_docstring_names():
