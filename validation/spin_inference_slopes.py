@@ -1,7 +1,8 @@
 """Inferred backspin against launch angle on real Statcast exports, per file: the slope
 of backspin on launch angle over 10-40 deg (least squares, converged balls in play)
 against Nathan's average spin model (120 rpm per degree, and the model on the same balls,
-whose spray angles rise with the launch angle), and the convergence of the balls with a
+whose spray angles rise with the launch angle), the launch angle's coefficient with the
+spray angle held (regressed on both, as Nathan's 120 is), and the convergence of the balls with a
 measured swing, with the spin averaged over the open attack angles (the default) and
 with one assumed attack angle (``attack_angle_nodes = 1``); the figure.
 
@@ -42,6 +43,24 @@ def slope(la, spin, ok):
     return np.polyfit(la[sel], spin[sel], 1), int(sel.sum())
 
 
+def partial_slope(balls, spin, ok, resamples=300):
+    """The launch angle's coefficient of backspin regressed on launch angle *and* the
+    batter-frame spray angle over 10-40 deg (rpm/deg), as Nathan's 120 is in his model
+    (``nathan_backspin``), and its bootstrap standard deviation over the balls."""
+    la = balls["launch_angle"].to_numpy()
+    spray = balls["spray_angle"].to_numpy() * np.where(balls["handedness"] == "L", -1.0, 1.0)
+    rows = np.flatnonzero(ok & (la >= 10) & (la <= 40) & np.isfinite(spin)
+                          & np.isfinite(spray))
+
+    def coefficient(i):
+        design = np.column_stack([np.ones(i.size), la[i], spray[i]])
+        return np.linalg.lstsq(design, spin[i], rcond=None)[0][1]
+
+    rng = np.random.default_rng(0)
+    spread = np.std([coefficient(rng.choice(rows, rows.size)) for _ in range(resamples)])
+    return coefficient(rows), spread
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--figure", help="write the figure (PNG)")
@@ -49,12 +68,13 @@ def main(argv=None):
     point = InferenceOptions(attack_angle_nodes=1)
     results = []
     print("| file | balls in play | converged | slope, 10-40° (rpm/°) | intercept (rpm) | "
-          "Nathan on the same balls (rpm/°) | one assumed attack angle: slope | "
-          "tracked: converged (one attack angle) | tracked: statuses |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "Nathan on the same balls (rpm/°) | with the spray angle held (rpm/°; Nathan: "
+          "120) | one assumed attack angle: slope | tracked: converged (one attack angle) "
+          "| tracked: statuses |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for label, path in FILES:
         if not path.is_file():
-            print(f"| {label} | absent | | | | | | | |")
+            print(f"| {label} | absent | | | | | | | | |")
             continue
         pitches = statcast.read(path)
         balls = pitches[statcast.balls_in_play(pitches)]
@@ -66,6 +86,7 @@ def main(argv=None):
         (s, c), n = slope(la, out["backspin"].to_numpy(), ok)
         (s1, _), _ = slope(la, one["backspin"].to_numpy(), ok1)
         (sn, _), _ = slope(la, nathan_backspin(balls), ok)
+        held, held_err = partial_slope(balls, out["backspin"].to_numpy(), ok)
         tracked = (balls["bat_speed"].notna().to_numpy() if "bat_speed" in balls
                    else np.zeros(len(balls), bool))
         if tracked.any():
@@ -77,7 +98,7 @@ def main(argv=None):
         else:
             conv, statuses = "–", "–"
         print(f"| {label} | {len(balls)} | {ok.sum()} | **{s:.0f}** (n = {n}) | {c:.0f} | "
-              f"{sn:.0f} | {s1:.0f} | {conv} | {statuses} |")
+              f"{sn:.0f} | {held:.0f} ± {held_err:.0f} | {s1:.0f} | {conv} | {statuses} |")
         results.append((label, la[ok], out["backspin"].to_numpy()[ok]))
     if args.figure:
         import matplotlib
