@@ -22,10 +22,7 @@ import math
 
 import numpy as np
 
-# check_real and check_vector are defined with the error types (mcbat.errors imports
-# nothing of mcbat, so it cannot take them from here without an import cycle); this module
-# is where callers get them.
-from mcbat.errors import InputError, check_real, check_vector
+from mcbat.errors import InputError
 
 __all__ = ["check_count", "check_keys", "check_real", "check_string", "check_tolerance",
            "check_vector", "int_from_text", "integer", "number", "positive_int",
@@ -139,3 +136,44 @@ def int_from_text(text: str, name: str) -> int:
         return int(text)
     except (TypeError, ValueError):
         raise InputError(name, f"must be an integer, got {text!r}") from None
+
+
+# ---------------------------------------------------------------- Python arguments
+
+def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
+    """``value`` as a finite float, or ``InputError`` naming ``name``.
+
+    Parameters
+    ----------
+    value : object
+        A real number (bool is refused).
+    name : str
+        The parameter or key to name in the error.
+    positive : bool
+        Require ``value > 0``.
+    minimum, maximum : float, optional
+        Inclusive bounds.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise InputError(name, f"must be a number, got {value!r}")
+    try:
+        value = float(value)
+    except OverflowError:  # an integer beyond the largest float
+        raise InputError(name, f"must be finite, got an integer of "
+                         f"{int(value).bit_length()} bits") from None
+    if not math.isfinite(value):
+        raise InputError(name, f"must be finite, got {value!r}")
+    if positive and not value > 0.0:
+        raise InputError(name, f"must be > 0, got {value!r}")
+    if minimum is not None and value < minimum:
+        raise InputError(name, f"must be >= {minimum}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise InputError(name, f"must be <= {maximum}, got {value!r}")
+    return value
+
+
+def check_vector(value, name) -> tuple[float, float, float]:
+    """``value`` as a tuple of 3 finite floats, or ``InputError`` naming ``name``."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
+        raise InputError(name, f"must be a list of 3 numbers [x, y, z], got {value!r}")
+    return tuple(check_real(v, f"{name}[{i}]") for i, v in enumerate(value))

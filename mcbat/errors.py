@@ -7,12 +7,7 @@ holds a ``{name}`` placeholder for each, written in call syntax by ``str(error)`
 (``mcbat.cli``: ``--overwrite``, ``--scheduler ADDRESS``).
 """
 
-import math
-
-import numpy as np
-
-__all__ = ["EnvironmentFailure", "InputError", "Metavar", "call_syntax", "check_real",
-           "check_vector"]
+__all__ = ["EnvironmentFailure", "InputError", "Metavar", "call_syntax"]
 
 
 class InputError(ValueError):
@@ -109,45 +104,3 @@ def _one_line(text: str) -> str:
     if text.isprintable():
         return text
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-
-
-# The other input checks are in mcbat.checks, which re-exports these two. They stay here,
-# beside the error they raise, because mcbat.checks builds on this module: defining them
-# there and re-exporting them here would make the two modules import each other.
-def check_real(value, name, *, positive=False, minimum=None, maximum=None) -> float:
-    """``value`` as a finite float, or ``InputError`` naming ``name``.
-
-    Parameters
-    ----------
-    value : object
-        A real number (bool is refused).
-    name : str
-        The parameter or key to name in the error.
-    positive : bool
-        Require ``value > 0``.
-    minimum, maximum : float, optional
-        Inclusive bounds.
-    """
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise InputError(name, f"must be a number, got {value!r}")
-    try:
-        value = float(value)
-    except OverflowError:  # an integer beyond the largest float
-        raise InputError(name, f"must be finite, got an integer of "
-                         f"{int(value).bit_length()} bits") from None
-    if not math.isfinite(value):
-        raise InputError(name, f"must be finite, got {value!r}")
-    if positive and not value > 0.0:
-        raise InputError(name, f"must be > 0, got {value!r}")
-    if minimum is not None and value < minimum:
-        raise InputError(name, f"must be >= {minimum}, got {value!r}")
-    if maximum is not None and value > maximum:
-        raise InputError(name, f"must be <= {maximum}, got {value!r}")
-    return value
-
-
-def check_vector(value, name) -> tuple[float, float, float]:
-    """``value`` as a tuple of 3 finite floats, or ``InputError`` naming ``name``."""
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
-        raise InputError(name, f"must be a list of 3 numbers [x, y, z], got {value!r}")
-    return tuple(check_real(v, f"{name}[{i}]") for i, v in enumerate(value))

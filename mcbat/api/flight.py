@@ -40,8 +40,8 @@ from mcbat.api.contract import (
 )
 from mcbat.api.game import GameResult
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
+from mcbat.checks import check_real as _real
 from mcbat.errors import InputError
-from mcbat.errors import check_real as _real
 from mcbat.solving import FlightStatus, fly_one, fly_sampled
 from mcbat.solving.derived import launch_vectors
 from mcbat.study import units as u

@@ -43,9 +43,9 @@ from mcbat.api.pitch import DEFAULT_EXTENSION, plate_speed
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball, Bat
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
+from mcbat.checks import check_real as _real
 from mcbat.core import status as st
 from mcbat.errors import InputError
-from mcbat.errors import check_real as _real
 from mcbat.solving import solve_games
 from mcbat.solving.derived import derive_game
 from mcbat.solving.names import (

@@ -34,6 +34,8 @@ from mcbat.api.contract import (
     located,
 )
 from mcbat.bodies import Ball, Bat
+from mcbat.checks import check_real as _real
+from mcbat.checks import check_vector as _vector
 from mcbat.core import status as st
 from mcbat.core.geometry import (
     angle_from_impact_parameter,
@@ -42,8 +44,6 @@ from mcbat.core.geometry import (
 )
 from mcbat.core.rigid_bodies import delassus_matrix, kinetic_energy, relative_contact_velocity
 from mcbat.errors import InputError
-from mcbat.errors import check_real as _real
-from mcbat.errors import check_vector as _vector
 from mcbat.solving import SolverSettings, impact_history, solve_one_impact
 from mcbat.solving.derived import derive
 from mcbat.solving.names import (

@@ -32,9 +32,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from mcbat.bodies import BALL_PRESETS, DEFAULT_BALL, Ball
+from mcbat.checks import check_real as _real
 from mcbat.core.units import M_PER_FT, M_S_PER_MPH
 from mcbat.errors import InputError
-from mcbat.errors import check_real as _real
 from mcbat.solving import FlightParams, fly_sampled
 from mcbat.solving.derived import launch_vectors
 from mcbat.study.flight import FlightSettings
