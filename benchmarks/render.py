@@ -410,9 +410,19 @@ def _error(x) -> str:
     return "0" if x == 0 else sci(x)
 
 
+#: Where the development data sit beside the repository; the docs name it ``DEV/``.
+DEVELOPMENT_DATA = "../shared/data/"
+
+
 def _command_line(r) -> str:
-    return (f"`{r['command']}` ({r['date']}; {harness.machine_line(r['machine'])}; load "
-            f"average {r['machine']['load_average_1min']:g})")
+    command = r["command"]
+    where = ""
+    if DEVELOPMENT_DATA in command:
+        command = command.replace(DEVELOPMENT_DATA, "DEV/")
+        where = ("; DEV: the folder of development data, its files listed with their "
+                 "sources in data/README.md")
+    return (f"`{command}` ({r['date']}; {harness.machine_line(r['machine'])}; load "
+            f"average {r['machine']['load_average_1min']:g}{where})")
 
 
 def accuracy_table(results: dict) -> str:
