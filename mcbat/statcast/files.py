@@ -167,19 +167,16 @@ def write_parquet(df: pd.DataFrame, path: str | os.PathLike[str],
     """Write ``df`` (without its index) to the Parquet file ``path``, with ``metadata``
     added to its schema's (key: value bytes).
 
-    The file appears complete or not at all: it is written under a temporary name in the
-    same directory and renamed; the temporary file is removed if the write fails.
+    The file appears complete or not at all: the one atomic writer of mcbat writes it
+    (``mcbat.dataset.storage.write_atomic``: a temporary name in the same directory,
+    renamed; the temporary file removed if the write fails).
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
 
+    from mcbat.dataset.storage import write_atomic
+
     table = pa.Table.from_pandas(df, preserve_index=False)
     table = table.replace_schema_metadata({**(table.schema.metadata or {}), **metadata})
-    path = Path(os.fspath(path))
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        pq.write_table(table, tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_atomic(Path(os.fspath(path)),
+                 lambda fs, tmp: pq.write_table(table, tmp, filesystem=fs))
