@@ -55,7 +55,7 @@ __all__ = ["DEFAULT_MAX_STEPS", "DEFAULT_STEPS", "DEFAULT_TOLERANCE", "FLIGHT_FI
            "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS", "INPUT_FIELDS", "OUTPUT_FIELDS",
            "FlightParams", "FlightSolution", "FlightStatus", "GameFlight", "GameSolution",
            "ImpactSolution", "SolverSettings", "allocate_flights", "allocate_games",
-           "allocate_impacts", "batch_kernels", "fly_balls", "fly_balls_each", "fly_one",
-           "fly_sampled", "heights_at_distance", "impact_history",
-           "batted_ball_vectors", "solve_and_fly", "solve_games", "solve_impacts",
+           "allocate_impacts", "batch_kernels", "batted_ball_vectors", "fly_balls",
+           "fly_balls_each", "fly_one", "fly_sampled", "heights_at_distance",
+           "impact_history", "solve_and_fly", "solve_games", "solve_impacts",
            "solve_one_impact"]

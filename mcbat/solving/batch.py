@@ -24,7 +24,7 @@ from mcbat.solving.settings import SolverSettings
 
 __all__ = ["FlightSolution", "GameFlight", "GameSolution", "ImpactSolution",
            "allocate_flights", "allocate_games", "allocate_impacts", "batch_kernels",
-           "fly_balls", "fly_balls_each", "heights_at_distance", "batted_ball_vectors",
+           "batted_ball_vectors", "fly_balls", "fly_balls_each", "heights_at_distance",
            "solve_and_fly", "solve_games", "solve_impacts"]
 
 Floats = NDArray[np.float64]
