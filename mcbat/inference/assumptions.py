@@ -11,10 +11,9 @@ from mcbat.bodies import BALL_PRESETS, Ball, Bat, bat_preset
 from mcbat.bodies.restitution import GAME_RESTITUTION, Restitution
 from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.checks import check_real as _real
-from mcbat.checks import check_tolerance
 from mcbat.core.units import M_S_PER_MPH, RAD_PER_DEG
 from mcbat.errors import InputError
-from mcbat.solving import DEFAULT_MAX_STEPS, DEFAULT_STEPS, DEFAULT_TOLERANCE, SolverSettings
+from mcbat.solving import SolverSettings
 from mcbat.solving.inference import InferenceSettings
 from mcbat.solving.names import SWEET_SPOT_FROM_BARREL_END
 
@@ -129,8 +128,8 @@ class SpinAssumptions:
 class InferenceOptions:
     """The Newton iteration (``mcbat/core/contact_inference/README.md``): at most
     ``max_iterations``; converged when the launch speed is matched to ``tolerance``
-    (relative) and the angles to ``tolerance`` rad; the impact kernel's accuracy
-    (``steps``, ``impact_tolerance``, ``max_steps``: as ``mcbat.api.SolverSettings``);
+    (relative) and the angles to ``tolerance`` rad; the impact kernel's accuracy,
+    ``solver`` (``mcbat.SolverSettings``, the one type every caller of the kernels uses);
     the unknowns' bounds: bat speed (mph), attack direction (deg), contact position (m
     from the barrel end), and the contact azimuth ``|theta|`` (deg; the undercut is
     ``reach sin(theta)``).
@@ -149,9 +148,7 @@ class InferenceOptions:
 
     max_iterations: int = 30
     tolerance: float = 1e-9
-    steps: int = DEFAULT_STEPS
-    impact_tolerance: float = DEFAULT_TOLERANCE
-    max_steps: int = DEFAULT_MAX_STEPS
+    solver: SolverSettings = SolverSettings()
     bat_speed_range: tuple[float, float] = (25.0, 110.0)
     attack_direction_max: float = 80.0
     from_barrel_end_range: tuple[float, float] = (0.0, 0.55)
@@ -161,7 +158,9 @@ class InferenceOptions:
     attack_angle_nodes: int = 5
 
     def __post_init__(self):
-        check_tolerance(_real(self.impact_tolerance, "impact_tolerance"), "impact_tolerance")
+        if not isinstance(self.solver, SolverSettings):
+            raise InputError("solver", f"must be a SolverSettings, got "
+                             f"{type(self.solver).__name__}")
         if not (isinstance(self.max_iterations, int) and 1 <= self.max_iterations <= 1000):
             raise InputError("max_iterations", f"must be an integer in [1, 1000], got "
                              f"{self.max_iterations!r}")
@@ -186,17 +185,11 @@ class InferenceOptions:
             raise InputError("attack_angle_nodes", f"must be an integer in [1, 21], got "
                              f"{self.attack_angle_nodes!r}")
 
-    @property
-    def solver(self) -> SolverSettings:
-        """The impact kernel's accuracy (``steps``, ``impact_tolerance``,
-        ``max_steps``)."""
-        return SolverSettings(self.steps, self.impact_tolerance, self.max_steps)
-
     def kernel_settings(self, contact_side: str) -> InferenceSettings:
         """As the jitted kernel's named tuple (SI)."""
         return InferenceSettings(
-            int(self.max_iterations), float(self.tolerance), int(self.steps),
-            float(self.impact_tolerance), int(self.max_steps),
+            int(self.max_iterations), float(self.tolerance), int(self.solver.steps),
+            float(self.solver.tolerance), int(self.solver.max_steps),
             1.0 if contact_side == "handle" else -1.0,
             float(self.bat_speed_range[0]) * M_S_PER_MPH,
             float(self.bat_speed_range[1]) * M_S_PER_MPH,

@@ -130,3 +130,14 @@ def test_real_balls_in_play():
     np.testing.assert_allclose(again["launch_speed"], sub["launch_speed"], rtol=1e-8)
     np.testing.assert_allclose(again["launch_angle"], sub["launch_angle"], atol=1e-6)
     np.testing.assert_allclose(again["backspin"], spin, rtol=1e-12)
+
+
+def test_the_inference_takes_the_impact_accuracy_as_one_solver_settings():
+    from mcbat import SolverSettings
+    from mcbat.errors import InputError
+
+    tight = InferenceOptions(solver=SolverSettings(steps=12, tolerance=1e-10, max_steps=900))
+    settings = tight.kernel_settings("handle")
+    assert (settings.steps, settings.impact_tolerance, settings.max_steps) == (12, 1e-10, 900)
+    with pytest.raises(InputError, match="^solver: must be a SolverSettings"):
+        InferenceOptions(solver={"tolerance": 1e-10})
