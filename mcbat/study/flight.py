@@ -13,7 +13,7 @@ Keys (all optional)::
     position = [0, 2, 3]        # launch point (field frame, m or {value, unit}); (0, 2, 3) ft
     wind = [0, 0, 0]            # m/s (field frame), or {value = [...], unit = "mph"}
     scheme = "adaptive"         # or "sheet": the spreadsheet's Euler steps of 0.01 s
-    tolerance = 1e-6            # the adaptive integrator's local error tolerance
+    tolerance = 1e-6            # the adaptive integrator's local error tolerance (default 1e-5)
     [atmosphere]
     temperature = { value = 70, unit = "degF" }   # default 70 degF
     pressure = { value = 29.92, unit = "inHg" }   # barometric, corrected to sea level
@@ -47,7 +47,7 @@ from mcbat.solving.names import (
     air_density,
     pack_params,
 )
-from mcbat.solving.names import FLIGHT_TOLERANCE as DEFAULT_TOLERANCE
+from mcbat.solving.settings import FLIGHT_TOLERANCE_RANGE, SolverSettings
 from mcbat.study import units as u
 from mcbat.study.distributions import parse
 
@@ -73,7 +73,9 @@ _ATMOSPHERE = {  # key -> (quantity, default SI, (low, high) SI)
 
 @dataclass(frozen=True)
 class FlightSettings:
-    """Validated flight settings (SI: K, Pa, percent, m, s, m/s)."""
+    """Validated flight settings (SI: K, Pa, percent, m, s, m/s). The integrator's
+    accuracy is ``solver`` (a ``mcbat.solving.SolverSettings``: its ``flight_tolerance``),
+    the one type that carries every kernel's accuracy."""
 
     temperature: float = _ATMOSPHERE["temperature"][1]
     pressure: float = _ATMOSPHERE["pressure"][1]
@@ -90,7 +92,13 @@ class FlightSettings:
     start: tuple = DEFAULT_START
     wind: tuple = (0.0, 0.0, 0.0)
     scheme: str = "adaptive"
-    tolerance: float = DEFAULT_TOLERANCE
+    solver: SolverSettings = SolverSettings()
+
+    @property
+    def tolerance(self) -> float:
+        """The adaptive integrator's local error tolerance (``solver.flight_tolerance``;
+        the key ``tolerance`` of a flight section)."""
+        return self.solver.flight_tolerance
 
     @property
     def density(self) -> float:
@@ -293,8 +301,8 @@ def parse_flight(table, field="flight") -> FlightSettings:
     out["scheme"] = _choice(table.get("scheme", "adaptive"), key("scheme"),
                             ("adaptive", "sheet"))
     if "tolerance" in table:
-        out["tolerance"] = _fixed(table["tolerance"], key("tolerance"), u.DIMENSIONLESS,
-                                  1e-12, 1e-3)
+        out["solver"] = SolverSettings(flight_tolerance=_fixed(
+            table["tolerance"], key("tolerance"), u.DIMENSIONLESS, *FLIGHT_TOLERANCE_RANGE))
     return FlightSettings(**out)
 
 

@@ -49,6 +49,7 @@ swing.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from types import MappingProxyType
 
 import numpy as np
@@ -58,6 +59,7 @@ from mcbat.bodies.swing import DEFAULT_PIVOT
 from mcbat.checks import check_keys, check_string
 from mcbat.errors import InputError
 from mcbat.solving.names import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
+from mcbat.solving.settings import SolverSettings
 from mcbat.study import units as u
 from mcbat.study.dist_types import Normal
 from mcbat.study.distributions import check_range, parse
@@ -486,6 +488,14 @@ class GameStudy(Study):
             self._apply_trend(cols)
         self.fill_contact(cols)
         return table
+
+    @property
+    def solver_settings(self) -> SolverSettings:
+        """The ``[solver]`` table as the kernels take it, with the flight integrator's
+        tolerance (``[flight] tolerance``) where the study flies its balls."""
+        settings = super().solver_settings
+        return settings if self.flight is None else replace(
+            settings, flight_tolerance=self.flight.tolerance)
 
     def _apply_trend(self, cols) -> None:
         """Move each sample's contact with its bat speed (``[contact.bat_speed_trend]``)."""

@@ -2,6 +2,7 @@
 
 import json
 import math
+from pathlib import Path
 
 import pytest
 
@@ -9,7 +10,10 @@ import mcbat
 from mcbat.api import FlightCase, FlightResult, GameCase, flight_case_from_dict, solve_flight
 from mcbat.bodies import BALL_PRESETS, Ball, bat_preset
 from mcbat.errors import InputError
+from mcbat.study import load_study
 from mcbat.study.flight import FlightSettings
+
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
 
 MPH, DEG, RPM = 0.44704, math.pi / 180.0, 2.0 * math.pi / 60.0
 # The launch of docs/flight.md's sensitivities: 103 mph, 27 deg, 2000 rpm of backspin.
@@ -104,3 +108,28 @@ def test_a_flight_case_takes_a_ball_and_flight_settings():
         FlightCase(launch_speed=40.0, launch_angle=0.4, ball="baseball")
     assert info.value.field == "ball"
     assert FlightCase(launch_speed=40.0, launch_angle=0.4).ball == BALL_PRESETS["regulation"]
+
+
+def test_the_flight_tolerance_travels_in_the_one_solver_settings(tmp_path):
+    # A flight case's and a game study's [flight] tolerance is the flight_tolerance of a
+    # SolverSettings, which is what reaches the integrator; a tighter one moves the answer.
+    loose = flight_case_from_dict({"launch_speed": 103, "launch_angle": 27,
+                                   "backspin": 2000, "tolerance": 1e-3})
+    tight = flight_case_from_dict({"launch_speed": 103, "launch_angle": 27,
+                                   "backspin": 2000, "tolerance": 1e-9})
+    assert isinstance(tight.settings.solver, mcbat.SolverSettings)
+    assert tight.settings.solver.flight_tolerance == 1e-9
+    assert tight.settings.params(0.145, 0.036).tolerance == 1e-9
+    assert solve_flight(loose).hit_distance != solve_flight(tight).hit_distance
+    with pytest.raises(InputError) as info:
+        flight_case_from_dict({"launch_speed": 103, "launch_angle": 27, "tolerance": 0.5})
+    assert info.value.field == "tolerance"
+    text = (STUDIES / "game_fastball.toml").read_text()
+    assert "\n[flight]\n" in text
+    study = tmp_path / "s.toml"
+    study.write_text(text.replace("\n[flight]\n", "\n[flight]\ntolerance = 1e-7\n"))
+    settings = load_study(study).solver_settings
+    assert settings.flight_tolerance == 1e-7
+    shipped = load_study(STUDIES / "game_fastball.toml").solver_settings
+    assert settings.tolerance == shipped.tolerance
+    assert shipped.flight_tolerance == FlightSettings().tolerance

@@ -2,6 +2,7 @@
 invariants."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ from mcbat.core.flight.trajectory import (
     pack_params,
 )
 from mcbat.solving.derived import launch_vectors
+from mcbat.solving.settings import SolverSettings
 from mcbat.study.flight import FlightSettings
 from mcbat.testing.flight_reference import reference_flight
 
@@ -75,7 +77,7 @@ def test_tightening_the_tolerance_converges():
     start = FlightSettings().start
     settings = FlightSettings()
     ref = reference_flight(start, v, w, density=settings.density, mass=0.145, radius=0.036)
-    errors = [abs(fly(settings.__class__(**{**settings.__dict__, "tolerance": tol})
+    errors = [abs(fly(replace(settings, solver=SolverSettings(flight_tolerance=tol))
                       .params(0.145, 0.036), start, v, w).distance - ref["hit_distance"])
               for tol in (1e-4, 1e-6, 1e-8)]
     assert errors[2] < errors[1] < errors[0]

@@ -10,6 +10,7 @@ import pytest
 from mcbat.core.flight.trajectory import fly
 from mcbat.errors import InputError
 from mcbat.solving.derived import launch_vectors
+from mcbat.solving.settings import SolverSettings
 from mcbat.study.flight import FlightSettings, fly_launches, heights_at_distance
 from mcbat.testing.flight_reference import reference_height_at_distance
 
@@ -72,7 +73,8 @@ def test_height_at_a_fence_against_the_reference(tolerance):
     n = 30
     speed, angle, spray, back, side = _launches(n, seed=5)
     distance = np.random.default_rng(2).uniform(80, 125, n)  # m
-    settings = FlightSettings(tolerance=tolerance, wind=(1.0, -2.0, 0.0))
+    settings = FlightSettings(solver=SolverSettings(flight_tolerance=tolerance),
+                              wind=(1.0, -2.0, 0.0))
     height, phi = heights_at_distance(settings, MASS, RADIUS, distance, speed, angle, spray,
                                       back, side)
     compared = 0
