@@ -381,6 +381,47 @@ def _choose_direction(table, errors, trend, samples, seed, workdir):
     return best[1]
 
 
+BATTER_ROWS = 4
+"""Rows a batter needs in a file for :func:`batter_slopes` to use them."""
+
+
+def batter_slopes(table, row=None, ls=None, boots=0, seed=0):
+    """The launch speed's slope on the bat speed split in two (least squares of launch
+    speed on ``bat speed - the batter's mean`` and ``the batter's mean``, over the rows of
+    batters with at least :data:`BATTER_ROWS` rows; the batter's mean is over his rows of
+    ``table``): ``(within a batter, between batters)`` in mph per mph, of the rows or of
+    the draws ``ls`` meeting rows ``row``; with ``boots``, also their bootstrap standard
+    errors (batters resampled). NaN without two such batters."""
+    batter = table["batter"].to_numpy()
+    bat = table["bat_speed"].to_numpy(float)
+    grouped = table.groupby("batter")["bat_speed"]
+    count = grouped.transform("size").to_numpy()
+    mean = grouped.transform("mean").to_numpy(float)
+    if row is None:
+        row, ls = np.arange(len(table)), table["launch_speed"].to_numpy(float)
+    keep = count[row] >= BATTER_ROWS
+    if len(np.unique(batter[row][keep])) < 2:
+        return (float("nan"),) * (4 if boots else 2)
+
+    def fit_rows(sel):
+        r = row[sel]
+        x = np.column_stack([np.ones(r.size), bat[r] - mean[r], mean[r]])
+        return np.linalg.lstsq(x, ls[sel], rcond=None)[0][1:]
+
+    within, between = (float(v) for v in fit_rows(keep))
+    if not boots:
+        return within, between
+    rng = np.random.default_rng(seed)
+    kept = np.flatnonzero(keep)
+    by_batter = {b: kept[batter[row][kept] == b] for b in np.unique(batter[row][kept])}
+    names = list(by_batter)
+    reps = [fit_rows(np.concatenate([by_batter[names[i]]
+                                     for i in rng.integers(0, len(names), len(names))]))
+            for _ in range(boots)]
+    err = np.std(np.array(reps), axis=0)
+    return within, between, float(err[0]), float(err[1])
+
+
 def collision_efficiency(table, row, ls):
     """Statcast's ``q`` of the rows (``row``: which row each launch speed ``ls`` belongs
     to): ``(launch speed - bat speed)/(pitch speed + bat speed)`` with the row's measured
@@ -438,6 +479,9 @@ def evaluate(table, sim) -> dict:
                                            "model": float(la[sims].mean())})
     bat = table["bat_speed"].to_numpy(float)
     out["slopes_model"] = slopes(bat[row], ls, attack[row], la)
+    if "batter" in table:
+        out["batter_slopes_data"] = batter_slopes(table, boots=300)
+        out["batter_slopes_model"] = batter_slopes(table, row, ls)
     out["slopes_data"] = slopes(bat, m_ls, attack, m_la)
     out["spray_slope_model"] = spray_slope(table, row, sim["spray_angle"])
     out["spray_slope_data"] = spray_slope(table)
@@ -487,6 +531,12 @@ def report(label, r) -> list[str]:
              f"{r['spray_slope_data']:.2f}",
              f"  launch angle > 50 deg: model {r['above_50_model']:.1%}, data "
              f"{r['above_50_data']:.1%}"]
+    if "batter_slopes_data" in r:
+        w, b, ew, eb = r["batter_slopes_data"]
+        mw, mb = r["batter_slopes_model"]
+        lines.append(f"  launch speed on bat speed, within a batter: model {mw:.2f}, data "
+                     f"{w:.2f} +- {ew:.2f}; between batters: model {mb:.2f}, data {b:.2f} "
+                     f"+- {eb:.2f} mph/mph (batters with >= {BATTER_ROWS} rows)")
     for b in r["bat_speed_bins"]:
         lines.append(f"  bat speed {b['bin']:>6} mph: {b['rows']:4d} rows, measured "
                      f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph")
