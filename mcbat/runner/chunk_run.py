@@ -140,9 +140,16 @@ def _write_now(function, *args):
     return function(*args)
 
 
-def warm_kernel() -> None:
-    """Load (or compile) the batch kernel by solving one impact: a worker does it once,
-    before its first chunk."""
+def warm_kernel(study=None, seed: int = 0) -> None:
+    """Load (or compile) the kernels a chunk calls: with a ``study``, by drawing and
+    solving (and flying) its first sample as a chunk does, nothing written (the sampler,
+    and the game or the bat-frame kernel, whichever the study uses); without, the
+    bat-frame kernel, by solving one impact (a Dask worker, before its first chunk)."""
+    if study is not None:
+        solve = (_solve_game_chunk if getattr(study, "kind", "impact") == "game"
+                 else _solve_chunk)
+        solve(study, 0, 1, seed)
+        return
     ball, bat = ball_preset("baseball"), bat_preset("cross_nathan_2006")
     row = {name: 0.0 for name in INPUT_FIELDS}
     row.update(ball_mass=ball.mass, ball_radius=ball.radius,

@@ -168,7 +168,7 @@ class DaskEngine:
             if cluster is not None:
                 cluster.close()
 
-    def ready(self):
+    def ready(self, study, seed):
         """Nothing to do: the workers were warmed when they joined (``WarmUp``)."""
 
     def _local_cluster(self, LocalCluster):
