@@ -168,9 +168,31 @@ _BELOW_PEAK = 0.1
 
 @njit
 def _location_factor(z, loc_z, loc_f):
-    if loc_z.shape[0] == 0:
+    """The restitution table's factor at ``z`` (m from the barrel end): ``np.interp``'s
+    value, written out for one point (the same operations in the same order, so the same
+    bits; compiling numba's ``np.interp`` cost ~0.8 s of a first ``mcbat infer``). 1
+    without a table."""
+    n = loc_z.shape[0]
+    if n == 0:
         return 1.0
-    return np.interp(z, loc_z, loc_f)
+    if n == 1 or z < loc_z[0]:
+        return loc_f[0]
+    if z != z:
+        return z
+    if z >= loc_z[n - 1]:
+        return loc_f[n - 1]
+    j = 0
+    while z >= loc_z[j + 1]:
+        j += 1
+    if loc_z[j] == z:
+        return loc_f[j]
+    slope = (loc_f[j + 1] - loc_f[j]) / (loc_z[j + 1] - loc_z[j])
+    value = slope * (z - loc_z[j]) + loc_f[j]
+    if value != value:  # (np.interp's fallback for an infinite slope)
+        value = slope * (z - loc_z[j + 1]) + loc_f[j + 1]
+        if value != value and loc_f[j] == loc_f[j + 1]:
+            value = loc_f[j]
+    return value
 
 
 @njit
