@@ -546,18 +546,19 @@ def first_call_table(results: dict) -> str:
         return "No results."
     r = results["first_call"]
     lines = ["| command | first call: wall, CPU | then (cached): wall, CPU | said it compiles "
-             "(first call, then) | ≤ 20 s on 2 cores (the CPU time: the compile runs on "
-             "one core): verdict |", "|---|---|---|---|---|"]
+             "(first call, then) | first call ≤ 20 s of wall time on 2 cores: verdict |",
+             "|---|---|---|---|---|"]
     for m in r["metrics"]["commands"].values():
         said = ("yes" if m["cold_announced"] else "no") + ", " + (
             "yes" if m["warm_announced"] else "no")
         lines.append(f"| `{m['argv']}` | {m['cold_wall_s']:.1f} s, {m['cold_cpu_s']:.1f} s | "
                      f"{m['warm_wall_s']:.1f} s, {m['warm_cpu_s']:.1f} s | {said} | "
-                     f"{verdict('≤ 20 s', m['cold_cpu_s'] <= 20.0)} |")
+                     f"{verdict('≤ 20 s', m['cold_wall_s'] <= 20.0)} |")
     lines += ["", f"Measured with `{r['command']}` on {r['date']}: "
               f"{harness.machine_line(r['machine'])}; load average "
-              f"{r['machine']['load_average_1min']:g} (a shared machine: its wall times are "
-              "longer than a quiet one's)."]
+              f"{r['machine']['load_average_1min']:g} before the run (on a shared machine "
+              "wall times are longer than on a quiet one). The CPU time counts the helper "
+              "process's too."]
     return "\n".join(lines)
 
 

@@ -138,56 +138,135 @@ def _cold(name) -> bool:
         return True
 
 
-def compiling_line(names) -> str:
-    """The line for compiling the groups ``names`` (with the shared solver if it is still
-    to compile)."""
+def _seconds(names) -> float:
+    """The seconds compiling the groups ``names`` in one process takes (with the shared
+    solver if one of them calls it and it is still to compile)."""
     from mcbat.core.jit import is_cold
 
     groups = [KERNEL_GROUPS[n] for n in names]
-    if not groups:
-        return "mcbat: compiling the kernels (first run only)"
     seconds = sum(g.seconds for g in groups)
     if any(g.uses_solver for g in groups):
         module, function = SOLVER[0].split(":")
         if is_cold(getattr(importlib.import_module(module), function)) is not False:
             seconds += SOLVER[1]
+    return seconds
+
+
+def compiling_line(names, helped=()) -> str:
+    """The line for compiling the groups ``names`` here while a helper process compiles
+    the groups ``helped`` (``mcbat.cli.precompile``; the time is the longer of the two)."""
+    groups = [KERNEL_GROUPS[n] for n in (*names, *helped)]
+    if not groups:
+        return "mcbat: compiling the kernels (first run only)"
+    seconds = max(_seconds(names), _seconds(helped) + HELPER_START) if helped \
+        else _seconds(names)
     labels = [g.label for g in groups]
     what = labels[0] if len(labels) == 1 else ", ".join(labels[:-1]) + " and " + labels[-1]
-    return f"mcbat: compiling {what} (first run only, about {5 * round(seconds / 5):.0f} s)"
+    where = " on two cores" if helped else ""
+    return (f"mcbat: compiling {what}{where} (first run only, about "
+            f"{5 * max(1, round(seconds / 5)):.0f} s)")
+
+
+#: Seconds a helper process takes to start (importing mcbat, numba and numpy).
+HELPER_START = 1.5
+#: The most seconds a command waits for its helper before compiling on its own.
+HELPER_PATIENCE = 600.0
 
 
 class _FirstCompile:
-    """numba listener: on the first compile event, print the line once."""
+    """numba listener: on the first compile event, start the helper (``mcbat.cli.
+    precompile``) on the other cold groups of the command and print the line, once."""
 
-    def __init__(self, args, stream):
-        self.args, self.stream, self.said = args, stream, False
+    def __init__(self, args, stream, say):
+        self.args, self.stream, self.say, self.said = args, stream, say, False
+        self.helper, self.split = None, False
 
     def on_start(self, dispatcher) -> None:
+        own = group_of(dispatcher)
+        if self.split or (self.said and own is None):
+            return
+        names = [n for n in command_groups(self.args) if _cold(n)]
+        if own is not None and own not in names:
+            names = [own]  # (a bat-frame case of impact, a bat-frame study)
+        if own is not None:
+            # This process compiles the group it has started on; a helper the others, in
+            # the order the command needs them. (A kernel outside every group, compiled
+            # first, does not tell which group comes first: the split waits for one.)
+            self.split = True
+            helped = [n for n in names if n != own]
+            if helped and _start_helper(self, helped):
+                names = [own]
+            else:
+                helped = []
+        else:  # (the likely split, for the line)
+            names = sorted(names, key=lambda n: -_seconds([n]))
+            helped, names = (names[1:], names[:1]) if len(names) > 1 and \
+                _parallel() else ([], names)
         if self.said:
             return
         self.said = True
-        runner = sys.modules.get("mcbat.runner.compiling")
-        if runner is not None and getattr(runner, "announced", None):
-            return  # a study run said it before its progress bar
-        names = [n for n in command_groups(self.args) if _cold(n)]
-        own = group_of(dispatcher)
-        if own is not None and own not in names:
-            names = [own]  # (a bat-frame case of impact, a bat-frame study)
-        print(compiling_line(names), file=self.stream or sys.stderr, flush=True)
+        import mcbat.runner.compiling as runner
+
+        if self.say and not runner.announced:  # (a study run may have said it already)
+            line = compiling_line(names, helped)
+            print(line, file=self.stream or sys.stderr, flush=True)
+            runner.announced = line
+
+    def close(self) -> None:
+        """Stop a helper still running (the command ended first) and forget it."""
+        from mcbat.core.jit import compiled_elsewhere
+
+        compiled_elsewhere((), None)
+        helper, self.helper = self.helper, None
+        if helper is not None and helper.poll() is None:
+            helper.terminate()
+            with contextlib.suppress(Exception):
+                helper.wait(timeout=5)
+
+
+def _parallel() -> bool:
+    from mcbat.cli import precompile
+
+    return precompile.parallel()
+
+
+def _start_helper(first: _FirstCompile, groups) -> bool:
+    """Start a helper compiling ``groups`` and tell the solving layer to wait for it;
+    False if none may (``mcbat.cli.precompile.parallel``) or it did not start."""
+    from mcbat.cli import precompile
+    from mcbat.core.jit import compiled_elsewhere
+
+    if not _parallel():
+        return False
+    helper = precompile.start(groups)
+    if helper is None:
+        return False
+    first.helper = helper
+
+    def wait() -> None:
+        try:
+            helper.wait(timeout=HELPER_PATIENCE)
+        except Exception:  # noqa: BLE001 - a stuck helper: compile here instead
+            helper.kill()
+
+    compiled_elsewhere(groups, wait)
+    return True
 
 
 @contextlib.contextmanager
 def notice(args, stream=None):
-    """Within the block, the first numba compile (a cache miss) prints the compiling line
-    for the command of ``args`` to ``stream`` (default stderr); nothing for a command that
-    compiles no kernel of its own, nor with ``--quiet``."""
-    if not progress(args) or not command_groups(args):
+    """Within the block, the first numba compile (a cache miss) starts a helper process on
+    the command's other cold kernel groups (``mcbat.cli.precompile``) and prints the
+    compiling line for the command of ``args`` to ``stream`` (default stderr); no line
+    for a command that compiles no kernel of its own, nor with ``--quiet``. A helper
+    still running when the block ends is stopped."""
+    if not command_groups(args):
         yield
         return
-    runner = sys.modules.get("mcbat.runner.compiling")
-    if runner is not None:
-        runner.announced = None
-    first = _FirstCompile(args, stream)
+    import mcbat.runner.compiling as runner
+
+    runner.announced = None
+    first = _FirstCompile(args, stream, progress(args))
     try:
         from numba.core import event
     except ImportError:  # no numba event API: no line, the command runs as before
@@ -201,5 +280,8 @@ def notice(args, stream=None):
         def on_end(self, ev):
             pass
 
-    with event.install_listener("numba:compile", Listener()):
-        yield
+    try:
+        with event.install_listener("numba:compile", Listener()):
+            yield
+    finally:
+        first.close()

@@ -20,9 +20,11 @@
     kernels can run in threads (the Dask engine, thread pools) concurrently.
 """
 
+import threading
+
 import numba
 
-__all__ = ["JIT_OPTIONS", "is_cold", "njit"]
+__all__ = ["JIT_OPTIONS", "await_group", "compiled_elsewhere", "is_cold", "njit"]
 
 JIT_OPTIONS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
 
@@ -53,3 +55,30 @@ def is_cold(dispatcher):
     except Exception:  # noqa: BLE001 - an unknown state, never a failed run
         return None
     return not any(tuple(key[1:]) == wanted for key in index)
+
+
+# Kernel groups (``mcbat.cli.compiling.KERNEL_GROUPS``) that another process is compiling
+# into the on-disk cache for this one (``mcbat.cli.precompile``), and how to wait for it.
+_elsewhere: dict = {"groups": frozenset(), "wait": None}
+_elsewhere_lock = threading.Lock()
+
+
+def compiled_elsewhere(groups, wait) -> None:
+    """Record that another process is compiling the kernel ``groups`` (names) into the
+    cache; ``wait()`` returns once it is done (or gone). ``await_group`` calls it before
+    this process's first call of one of those groups, so that the call loads the machine
+    code instead of compiling it a second time. ``compiled_elsewhere((), None)`` forgets."""
+    with _elsewhere_lock:
+        _elsewhere["groups"], _elsewhere["wait"] = frozenset(groups), wait
+
+
+def await_group(group: str) -> None:
+    """Before calling a kernel of ``group``: if another process is compiling that group
+    for this one, wait for it (once; a no-op otherwise)."""
+    if group not in _elsewhere["groups"]:
+        return
+    with _elsewhere_lock:
+        wait = _elsewhere["wait"] if group in _elsewhere["groups"] else None
+        _elsewhere["groups"], _elsewhere["wait"] = frozenset(), None
+    if wait is not None:
+        wait()

@@ -21,6 +21,7 @@ from mcbat.dataset.summary import summarise
 from mcbat.errors import InputError
 from mcbat.runner.job import ChunkJob, ChunkSummary
 from mcbat.solving import (
+    GAME_INPUT_FIELDS,
     INPUT_FIELDS,
     SolverSettings,
     solve_and_fly,
@@ -146,9 +147,16 @@ def warm_kernel(study=None, seed: int = 0) -> None:
     and the game or the bat-frame kernel, whichever the study uses); without, the
     bat-frame kernel, by solving one impact (a Dask worker, before its first chunk)."""
     if study is not None:
-        solve = (_solve_game_chunk if getattr(study, "kind", "impact") == "game"
-                 else _solve_chunk)
-        solve(study, 0, 1, seed)
+        game = getattr(study, "kind", "impact") == "game"
+        # The solver first, on a row of zeros (a status code, no answer), then the first
+        # sample as a chunk computes it: on a fresh install the largest kernel group is
+        # compiled first, while a helper process compiles the sampler and the flight
+        # (mcbat.cli.precompile).
+        if game:
+            solve_games(np.zeros((len(GAME_INPUT_FIELDS), 1)), study.solver_settings)
+        else:
+            solve_impacts(np.zeros((len(INPUT_FIELDS), 1)), study.solver_settings)
+        (_solve_game_chunk if game else _solve_chunk)(study, 0, 1, seed)
         return
     ball, bat = ball_preset("baseball"), bat_preset("cross_nathan_2006")
     row = {name: 0.0 for name in INPUT_FIELDS}

@@ -37,7 +37,11 @@ def kernels_for(study) -> list:
 
 def announce_compiling(kernels, stream=None) -> str | None:
     """Write one line to ``stream`` (default stderr) when a first call of one of
-    ``kernels`` will compile it (or may: the cache could not be read); returns the line."""
+    ``kernels`` will compile it (or may: the cache could not be read), unless this command
+    said it already (``announced``); returns the line."""
+    global announced
+    if announced:
+        return None
     states = [is_cold(kernel) for kernel in kernels]
     if any(states):
         line = COMPILING
@@ -45,7 +49,6 @@ def announce_compiling(kernels, stream=None) -> str | None:
         line = MAYBE_COMPILING
     else:
         return None
-    global announced
     print(line, file=sys.stderr if stream is None else stream, flush=True)
     announced = line
     return line

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from mcbat.core import batch as impact_kernel
 from mcbat.core.flight import trajectory as flight_kernel
+from mcbat.core.jit import await_group
 from mcbat.core.swing import game as game_kernel
 from mcbat.solving.names import GAME_OUTPUT_FIELDS, FlightParams
 from mcbat.solving.settings import SolverSettings
@@ -119,6 +120,7 @@ def solve_impacts(inputs: Floats, settings: SolverSettings,
         ``out`` (SI), ``status`` and ``end_state`` per impact.
     """
     result = allocate_impacts(inputs.shape[1]) if into is None else into
+    await_group("bat_frame")
     impact_kernel.solve_batch(inputs, settings.steps, settings.tolerance, settings.max_steps,
                               result.out, result.status, result.end_state)
     return result
@@ -144,6 +146,7 @@ def solve_games(inputs: Floats, settings: SolverSettings,
         The bat-frame inputs and outputs, the batted ball (field frame, SI) and the status.
     """
     result = allocate_games(inputs.shape[1]) if into is None else into
+    await_group("game")
     game_kernel.solve_game_batch(inputs, settings.steps, settings.tolerance,
                                  settings.max_steps, result.frame, result.out,
                                  result.game_out, result.status, result.end_state)
@@ -185,6 +188,7 @@ def fly_balls(params: FlightParams, start: tuple[float, float, float] | Floats,
     n = velocity.shape[1]
     starts = _starts(start, n)
     result = allocate_flights(n)
+    await_group("flight")
     flight_kernel.fly_batch(flight_kernel.pack_params(params), starts, velocity, spin,
                             result.out, result.status)
     return result
@@ -208,6 +212,7 @@ def fly_balls_each(params: Floats, start: Floats, velocity: Floats,
         ``FLIGHT_FIELDS`` (SI) and the flight's status per ball.
     """
     result = allocate_flights(velocity.shape[1])
+    await_group("flight")
     flight_kernel.fly_batch_each(params, start, velocity, spin, result.out, result.status)
     return result
 
@@ -221,6 +226,9 @@ def heights_at_distance(params: Floats, start: Floats, velocity: Floats, spin: F
     spray angle (rad) there; NaN where the ball comes down before.
     """
     out: Floats = np.full((2, velocity.shape[1]), np.nan)
+    # (a writable copy of a read-only distance: one compiled kernel, not one per flag)
+    distance = np.require(distance, np.float64, ["C", "W"])
+    await_group("flight")
     flight_kernel.height_at_distance_batch(params, start, velocity, spin, distance, out)
     return out
 

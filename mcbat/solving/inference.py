@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from mcbat.core.contact_inference import solver
 from mcbat.core.geometry import ProfileTable
+from mcbat.core.jit import await_group
 
 __all__ = ["INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
            "INFER_NEAREST_BAT_SPEED", "OBSERVED_FIELDS", "SOLUTION_FIELDS",
@@ -78,6 +79,7 @@ def infer_contacts(game_inputs: Floats, observed: Floats, mode: NDArray[np.int8]
     """
     result = InferenceSolution(*solver.allocate_inference_outputs(game_inputs.shape[1]))
     if game_inputs.shape[1]:
+        await_group("inference")
         solver.infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings,
                             *result)
     return result

@@ -14,9 +14,13 @@ from mcbat.core.cabo2012.contact import Accuracy
 from mcbat.core.cabo2012.impact import ImpactInputs
 from mcbat.core.cabo2012.trajectory import contact_history
 from mcbat.core.flight.trajectory import MAX_STEPS, Flight, FlightParams, fly, integrate
+from mcbat.core.jit import await_group
 from mcbat.solving.settings import SolverSettings
 
-__all__ = ["fly_one", "fly_sampled", "impact_history", "solve_one_impact"]
+#: How many numbers ``solve_one_impact``'s ``physics`` holds.
+IMPACT_INPUT_COUNT = len(ImpactInputs._fields)
+
+__all__ = ["IMPACT_INPUT_COUNT", "fly_one", "fly_sampled", "impact_history", "solve_one_impact"]
 
 Vector3 = tuple[float, ...]
 
@@ -38,6 +42,7 @@ def solve_one_impact(physics: tuple[float, ...], settings: SolverSettings) -> di
     dict
         ``IMPACT_FIELDS`` -> value (SI), ``status`` among them (0 ok).
     """
+    await_group("bat_frame")
     return dict(zip(IMPACT_FIELDS, solve_impact(ImpactInputs(*physics), Accuracy(
         int(settings.steps), float(settings.tolerance), int(settings.max_steps)))))
 
@@ -77,6 +82,7 @@ def impact_history(k: NDArray[np.float64], v0: NDArray[np.float64], mu: float,
 def fly_one(params: FlightParams, start: Vector3, velocity: Vector3, spin: Vector3) -> Flight:
     """One flight to the landing (``mcbat.core.flight.fly``): position ``start`` (m),
     velocity (m/s), spin (rad/s), field frame; returns a ``Flight`` (SI)."""
+    await_group("flight")
     flight: Flight = fly(params, start, velocity, spin)
     return flight
 
@@ -86,5 +92,6 @@ def fly_sampled(params: FlightParams, start: Vector3, velocity: Vector3, spin: V
     """``fly_one``, also writing the position every ``dt`` s (> 0) into ``samples``
     (``float64[4, m]``: t (s), x, y, z (m)) up to the landing or ``m`` samples
     (``mcbat.core.flight.integrate``). Returns the ``Flight`` and the samples written."""
+    await_group("flight")
     flight, count = integrate(params, start, velocity, spin, samples, dt, MAX_STEPS)
     return flight, int(count)

@@ -11,6 +11,7 @@ import zlib
 
 import numpy as np
 
+from mcbat.core.jit import await_group
 from mcbat.core.sampling import (
     CHOICE,
     FIXED,
@@ -116,4 +117,5 @@ def draw(program: DrawProgram, seed: int, start: int, out: np.ndarray) -> None:
     """Draw ``program``'s inputs for samples ``start .. start + out.shape[1] - 1`` into
     their rows of ``out`` (float64, C-contiguous rows)."""
     if program.row.size and out.shape[1]:
+        await_group("sampling")
         draw_random_inputs(program, np.uint64(seed), np.int64(start), out)
