@@ -83,7 +83,7 @@ def _study_groups(path, flies) -> tuple[str, ...]:
 
     try:
         data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError, TypeError):
+    except (OSError, ValueError, TypeError, RecursionError):  # (the command reports it)
         return _GAME if flies else ("game",)
     if not is_game(data):
         return ("bat_frame",)
