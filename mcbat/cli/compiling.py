@@ -205,12 +205,12 @@ class _FirstCompile:
         if self.said:
             return
         self.said = True
-        import mcbat.runner.compiling as runner
+        from mcbat.core.jit import said_compiling
 
-        if self.say and not runner.announced:  # (a study run may have said it already)
+        if self.say and not said_compiling["line"]:  # (a study run may have said it)
             line = compiling_line(names, helped)
             print(line, file=self.stream or sys.stderr, flush=True)
-            runner.announced = line
+            said_compiling["line"] = line
 
     def close(self) -> None:
         """Stop a helper still running (the command ended first) and forget it."""
@@ -263,9 +263,9 @@ def notice(args, stream=None):
     if not command_groups(args):
         yield
         return
-    import mcbat.runner.compiling as runner
+    from mcbat.core.jit import said_compiling
 
-    runner.announced = None
+    said_compiling["line"] = None
     first = _FirstCompile(args, stream, progress(args))
     try:
         from numba.core import event

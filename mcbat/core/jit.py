@@ -24,7 +24,8 @@ import threading
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "await_group", "compiled_elsewhere", "is_cold", "njit"]
+__all__ = ["JIT_OPTIONS", "await_group", "compiled_elsewhere", "is_cold", "njit",
+           "said_compiling"]
 
 JIT_OPTIONS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
 
@@ -82,3 +83,8 @@ def await_group(group: str) -> None:
         _elsewhere["groups"], _elsewhere["wait"] = frozenset(), None
     if wait is not None:
         wait()
+
+
+#: The line this command printed to say that it compiles (``mcbat.cli.compiling``,
+#: ``mcbat.runner.compiling``), None before: each says it once, whichever comes first.
+said_compiling: dict = {"line": None}

@@ -12,19 +12,13 @@ from __future__ import annotations
 
 import sys
 
-from mcbat.core.jit import is_cold
+from mcbat.core.jit import is_cold, said_compiling
 
-__all__ = ["COMPILING", "MAYBE_COMPILING", "announce_compiling", "announced", "is_cold",
+__all__ = ["COMPILING", "MAYBE_COMPILING", "announce_compiling", "is_cold",
            "kernels_for"]
 
 COMPILING = "mcbat: compiling the kernels (first run only, about 25 s)"
 MAYBE_COMPILING = "mcbat: the kernels may need compiling (first run only, about 25 s)"
-
-#: The line ``announce_compiling`` printed in this command, None before (the CLI resets
-#: it per command): the CLI's own notice at the first compile (``mcbat.cli.compiling``)
-#: stays silent once a run has said it.
-announced: str | None = None
-
 
 def kernels_for(study) -> list:
     """The batch kernels a run of ``study`` calls: the game's (and the flight's, with
@@ -38,9 +32,9 @@ def kernels_for(study) -> list:
 def announce_compiling(kernels, stream=None) -> str | None:
     """Write one line to ``stream`` (default stderr) when a first call of one of
     ``kernels`` will compile it (or may: the cache could not be read), unless this command
-    said it already (``announced``); returns the line."""
-    global announced
-    if announced:
+    said it already (``mcbat.core.jit.said_compiling``: the command line's notice, at
+    its first compile, or this); returns the line."""
+    if said_compiling["line"]:
         return None
     states = [is_cold(kernel) for kernel in kernels]
     if any(states):
@@ -50,5 +44,5 @@ def announce_compiling(kernels, stream=None) -> str | None:
     else:
         return None
     print(line, file=sys.stderr if stream is None else stream, flush=True)
-    announced = line
+    said_compiling["line"] = line
     return line

@@ -79,11 +79,12 @@ def test_no_line_without_a_compile_with_quiet_or_for_a_command_without_kernels(m
 
 def test_a_run_that_said_it_before_its_bar_is_not_told_twice(monkeypatch):
     import mcbat.runner.compiling as runner
+    from mcbat.core.jit import said_compiling
 
     monkeypatch.setattr(compiling, "_cold", lambda name: True)
     out = io.StringIO()
     with compiling.notice(_args("run", "example"), out):
-        monkeypatch.setattr(runner, "announced", runner.COMPILING)
+        monkeypatch.setitem(said_compiling, "line", runner.COMPILING)
         _fresh_kernel()(1.0)
     assert out.getvalue() == ""
 
