@@ -26,6 +26,7 @@ def cmd_infer(args) -> int:
     """Infer the spin of the export's balls in play; print the counts."""
     from mcbat.inference import infer_spin, write
     from mcbat.inference.columns import INPUT_COLUMNS
+    from mcbat.inference.compare import LAUNCH_ANGLES, NATHAN_SLOPE, backspin_slopes
     from mcbat.statcast import balls_in_play
 
     check_output(args.out, "--out", TABLE_FORMATS)
@@ -59,6 +60,13 @@ def cmd_infer(args) -> int:
         print(f"  median backspin {spin.loc[ok, 'backspin'].median():.0f} rpm, spin rate "
               f"{spin.loc[ok, 'spin_rate'].median():.0f} rpm (assumptions: "
               "docs/spin_inference.md)")
+    slopes = backspin_slopes(balls, spin)
+    if slopes is not None:
+        low, high = LAUNCH_ANGLES
+        print(f"  backspin rises {slopes.inferred:.0f} rpm per degree of launch angle over "
+              f"{low:.0f}-{high:.0f} deg ({slopes.balls:,} balls; Nathan's average model on "
+              f"the same balls: {slopes.nathan_same_balls:.0f}); with the spray angle held "
+              f"{slopes.inferred_spray_held:.0f} (Nathan's: {NATHAN_SLOPE:.0f})")
     if args.out:
         print(f"  written: {args.out}")
     note_left_out(args.file, {**pitches.attrs["statcast"].get("left_out", {}),
