@@ -655,8 +655,10 @@ def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, lo
     if nearest:
         mode = INFER_FROM_BARREL_END
     g, observed = np.empty((_NG, 1)), np.empty(3)
+    # (np.int64: one compiled _fail for every call, not one per constant)
+    none, one, invalid = np.int64(0), np.int64(1), np.int64(INVALID_INPUT)
     if not _load(game_inputs, observed_all, mode, col, g, observed):
-        _fail(col, INVALID_INPUT, solution, residual, status, iterations, evaluations, 0, 0)
+        _fail(col, invalid, solution, residual, status, iterations, evaluations, none, none)
         return
     scratch = (np.empty((_NF, 1)), np.empty((_NO, 1)), np.empty((_NGO, 1)),
                np.empty(1, np.int8), np.empty(1, np.int8))
@@ -664,7 +666,7 @@ def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, lo
     best = np.empty(8)
     _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper)
     if not _evaluate(x, mode, g, table, loc_z, loc_f, settings, observed, scratch, r):
-        _fail(col, INVALID_INPUT, solution, residual, status, iterations, evaluations, 0, 1)
+        _fail(col, invalid, solution, residual, status, iterations, evaluations, none, one)
         return
     _keep(scratch, g, best)
     code, it, nev = _newton(x, r, lower, upper, mode, g, table, loc_z, loc_f, settings,
