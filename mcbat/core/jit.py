@@ -23,9 +23,11 @@
 import threading
 
 import numba
+import numba.experimental.function_type  # noqa: F401 - registers FunctionAddress's type
+from numba.core.types import WrapperAddressProtocol
 
-__all__ = ["JIT_OPTIONS", "await_group", "compiled_elsewhere", "is_cold", "njit",
-           "said_compiling"]
+__all__ = ["JIT_OPTIONS", "FunctionAddress", "await_group", "compiled_elsewhere", "is_cold",
+           "njit", "said_compiling"]
 
 JIT_OPTIONS = {"cache": True, "fastmath": False, "error_model": "numpy", "nogil": True}
 
@@ -83,6 +85,49 @@ def await_group(group: str) -> None:
         _elsewhere["groups"], _elsewhere["wait"] = frozenset(), None
     if wait is not None:
         wait()
+
+
+class FunctionAddress(WrapperAddressProtocol):
+    """A jitted function handed to a kernel as an argument, called by its address.
+
+    A kernel that calls a jitted function directly carries the callee's whole call tree
+    in its own compile: typing it, and generating its machine code again. Handed over as
+    a ``FunctionAddress``, the callee is typed by ``signature`` alone, so the kernel
+    compiles without it (meanwhile another process may compile the callee: ``group``),
+    and the callee is compiled, or loaded from the cache, once, when the kernel is first
+    called. Used where the call costs little beside the callee's own work: an impact per
+    call.
+
+    Parameters
+    ----------
+    dispatcher : numba dispatcher
+        The function (``mcbat.core.jit.njit``).
+    signature : numba signature
+        Its one signature: argument types exactly as the callers pass them.
+    group : str, optional
+        The kernel group the function belongs to: before compiling it, wait for another
+        process compiling that group (``await_group``).
+    """
+
+    def __init__(self, dispatcher, signature, group=None):
+        self.dispatcher, self._signature, self.group = dispatcher, signature, group
+
+    def signature(self):
+        """The function's numba signature (the kernel's argument type)."""
+        return self._signature
+
+    def __wrapper_address__(self):
+        """The address of the function's C wrapper (numba calls it at each kernel call,
+        with the arguments unboxed; the first one compiles or loads the function)."""
+        args = tuple(self._signature.args)
+        if args not in self.dispatcher.overloads:
+            if self.group is not None:
+                await_group(self.group)
+            # (by its argument types, as a call compiles it: the cache's key; the whole
+            # signature would be a key of its own)
+            self.dispatcher.compile(args)
+        result = self.dispatcher.overloads[args]
+        return result.library.get_pointer_to_function(result.fndesc.llvm_cfunc_wrapper_name)
 
 
 #: The line this command printed to say that it compiles (``mcbat.cli.compiling``,

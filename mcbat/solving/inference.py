@@ -12,7 +12,8 @@ from numpy.typing import NDArray
 
 from mcbat.core.contact_inference import solver
 from mcbat.core.geometry import ProfileTable
-from mcbat.core.jit import await_group
+from mcbat.core.jit import FunctionAddress, await_group
+from mcbat.core.swing.game import GAME_ROW_SIGNATURE, solve_game_row
 
 __all__ = ["INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
            "INFER_NEAREST_BAT_SPEED", "OBSERVED_FIELDS", "SOLUTION_FIELDS",
@@ -49,6 +50,10 @@ class InferenceSolution(NamedTuple):
     evaluations: NDArray[np.int32]
 
 
+#: The game kernel's row function, which the inference kernel calls by address: compiled
+#: (or loaded) once, with the game kernel's group, not inside the inference kernel.
+_GAME_ROW = FunctionAddress(solve_game_row, GAME_ROW_SIGNATURE, group="game")
+
 
 def infer_contacts(game_inputs: Floats, observed: Floats, mode: NDArray[np.int8],
                    table: ProfileTable, loc_z: Floats, loc_f: Floats,
@@ -81,5 +86,5 @@ def infer_contacts(game_inputs: Floats, observed: Floats, mode: NDArray[np.int8]
     if game_inputs.shape[1]:
         await_group("inference")
         solver.infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings,
-                            *result)
+                                   _GAME_ROW, *result)
     return result

@@ -10,6 +10,7 @@ import threading
 import time
 
 import numba
+import numpy as np
 import pytest
 
 from mcbat.cli import compiling, precompile
@@ -155,3 +156,55 @@ def test_the_compilers_compile_what_the_commands_call(tmp_path):
         assert out.returncode == 0, (command, out.stderr)
         report = json.loads(out.stdout.strip().splitlines()[-1])
         assert report == {"code": 0, "groups": []}, (command, report)
+
+
+def test_a_function_passed_by_address_gives_the_direct_call_and_waits_for_its_group():
+    @numba.njit
+    def row(values, col, out):
+        out[col] = values[col] * values[col] + 1.0
+
+    signature = numba.types.none(numba.float64[::1], numba.int64, numba.float64[::1])
+
+    @numba.njit
+    def kernel(values, function, out):
+        for col in range(values.shape[0]):
+            function(values, np.int64(col), out)
+
+    values = np.linspace(-2.0, 3.0, 7)
+    by_address, direct = np.empty(7), np.empty(7)
+    waits = []
+    jit.compiled_elsewhere(["game"], lambda: waits.append(True))
+    try:
+        kernel(values, jit.FunctionAddress(row, signature, group="game"), by_address)
+    finally:
+        jit.compiled_elsewhere((), None)
+    for col in range(7):
+        row(values, col, direct)
+    assert waits == [True]  # waited for the helper before compiling the function
+    assert row.signatures == [tuple(signature.args)]  # one compile, of that signature
+    np.testing.assert_array_equal(by_address, direct)
+    np.testing.assert_array_equal(direct, values * values + 1.0)
+
+
+PROBE_FUNCTIONS = PROBE.replace("group_of(ev.data[\"dispatcher\"])",
+                                "ev.data[\"dispatcher\"].py_func.__name__").replace(
+    "{g for g in compiled if g}", "set(compiled)")
+
+
+@pytest.mark.slow
+def test_the_inference_kernel_compiles_without_the_game_row_it_calls(tmp_path):
+    """With the game group in the cache, a cold ``infer`` compiles the inference kernel
+    alone: the game's row function and the impact solver are loaded, not compiled again
+    (which is what lets a helper compile them at the same time)."""
+    cache = tmp_path / "cache"
+    done = subprocess.run([sys.executable, "-m", "mcbat.cli.precompile", "game"], cwd=ROOT,
+                          env=_env(cache))
+    assert done.returncode == 0
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE_FUNCTIONS, "infer", "data/statcast_2020-09-03.csv",
+         "--out", str(tmp_path / "i.parquet")],
+        capture_output=True, text=True, cwd=ROOT, env=_env(cache, MCBAT_PARALLEL_COMPILE="0"))
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert "infer_contact_batch" in report["groups"], report
+    assert not {"solve_game_row", "solve_impact"} & set(report["groups"]), report["groups"]

@@ -36,7 +36,6 @@ from mcbat.core.swing.game import (
     FRAME_FIELDS,
     GAME_INPUT_FIELDS,
     GAME_OUTPUT_FIELDS,
-    solve_game_row,
 )
 
 __all__ = ["CONVERGED", "INFERENCE_STATUS_NAMES", "INFER_BAT_SPEED", "INFER_FROM_BARREL_END",
@@ -209,7 +208,7 @@ def _surface(g, table, z):
 def _evaluate(x, mode, g, table, loc_z, loc_f, settings, observed, scratch, r):
     """Run the game kernel at the unknowns ``x = (theta, speed or position, direction)``;
     write the scaled residual into ``r``. False if the kernel cannot solve it."""
-    frame, out, game_out, status, end_state = scratch
+    frame, out, game_out, status, end_state, game_row = scratch
     if mode == INFER_BAT_SPEED:
         g[_BAT_SPEED, 0] = x[1]
     else:
@@ -221,9 +220,9 @@ def _evaluate(x, mode, g, table, loc_z, loc_f, settings, observed, scratch, r):
     g[_UNDERCUT, 0] = (ball_centre_radial_distance(g[_BALL_RADIUS, 0], radius, slope)
                        * math.sin(x[0]))
     g[_ATTACK_DIRECTION, 0] = x[2]
-    # (np.int64(0): the batch kernel's compiled solve_game_row, not one for a constant)
-    solve_game_row(g, np.int64(0), settings.steps, settings.impact_tolerance,
-                   settings.max_steps, frame, out, game_out, status, end_state)
+    # (np.int64(0): the argument types of GAME_ROW_SIGNATURE)
+    game_row(g, np.int64(0), settings.steps, settings.impact_tolerance, settings.max_steps,
+             frame, out, game_out, status, end_state)
     if status[0] != st.OK:
         return False
     vx, vy, vz = game_out[_FIELD_V, 0], game_out[_FIELD_V + 1, 0], game_out[_FIELD_V + 2, 0]
@@ -648,7 +647,7 @@ def _nearest_bat_speed(g, table, loc_z, loc_f, settings, observed, scratch, x, l
 
 @njit
 def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, loc_f, settings,
-                      solution, residual, status, iterations, evaluations):
+                      game_row, solution, residual, status, iterations, evaluations):
     """Infer ball ``col`` (see ``infer_contact_batch``)."""
     mode = mode_all[col]
     nearest = mode == INFER_NEAREST_BAT_SPEED
@@ -661,7 +660,7 @@ def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, lo
         _fail(col, invalid, solution, residual, status, iterations, evaluations, none, none)
         return
     scratch = (np.empty((_NF, 1)), np.empty((_NO, 1)), np.empty((_NGO, 1)),
-               np.empty(1, np.int8), np.empty(1, np.int8))
+               np.empty(1, np.int8), np.empty(1, np.int8), game_row)
     x, lower, upper, r = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     best = np.empty(8)
     _warm_start(mode, g, loc_z, loc_f, settings, observed, x, lower, upper)
@@ -700,8 +699,8 @@ def infer_contact_row(game_inputs, observed_all, mode_all, col, table, loc_z, lo
 
 
 @njit(parallel=True)
-def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings, solution,
-                        residual, status, iterations, evaluations):
+def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settings, game_row,
+                        solution, residual, status, iterations, evaluations):
     """Infer the contact of ``game_inputs.shape[1]`` batted balls in parallel.
 
     Parameters
@@ -722,6 +721,10 @@ def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settin
     loc_z, loc_f : float64[m]
         The restitution location table (m from the barrel end, factor); empty: none.
     settings : InferenceSettings
+    game_row : first-class function of ``GAME_ROW_SIGNATURE``
+        The game kernel's row function, ``mcbat.core.swing.game.solve_game_row``, by
+        address (``mcbat.core.jit.FunctionAddress``): this kernel compiles without its
+        call tree, which is compiled once, on its own.
     solution : float64[len(SOLUTION_FIELDS), n]
         Written: ``SOLUTION_FIELDS`` (NaN unless converged).
     residual : float64[3, n]
@@ -735,7 +738,8 @@ def infer_contact_batch(game_inputs, observed, mode, table, loc_z, loc_f, settin
     for col in numba.prange(n):
         # (np.int64: one compiled row function for the loop index's int64 and uint64)
         infer_contact_row(game_inputs, observed, mode, np.int64(col), table, loc_z, loc_f,
-                          settings, solution, residual, status, iterations, evaluations)
+                          settings, game_row, solution, residual, status, iterations,
+                          evaluations)
 
 
 def allocate_inference_outputs(n):

@@ -37,8 +37,8 @@ from mcbat.core.swing.frames import (
 from mcbat.core.vec3 import dot, norm, scale
 
 __all__ = ["FRAME_FIELDS", "GAME_INPUT", "GAME_INPUT_FIELDS", "GAME_OUTPUT_FIELDS",
-           "GameInputRows", "allocate_game_outputs", "bat_frame_columns", "incoming_state",
-           "solve_game_batch", "solve_game_row"]
+           "GAME_ROW_SIGNATURE", "GameInputRows", "allocate_game_outputs", "bat_frame_columns",
+           "incoming_state", "solve_game_batch", "solve_game_row"]
 
 GAME_INPUT_FIELDS = (
     "ball_mass", "ball_radius", "ball_inertia_factor",
@@ -146,6 +146,16 @@ def incoming_state(game_inputs, col):
     _, pv, pw = pitch_state(pitch)
     _, _, v_cm, omega = swing_state(swing, bat)
     return pv, pw, v_cm, omega
+
+
+#: ``solve_game_row``'s argument types as ``solve_game_batch`` passes them (C-contiguous
+#: arrays, int64 row and step counts): the signature a kernel calling it by address
+#: (``mcbat.core.jit.FunctionAddress``) is typed with, and the one the game kernel's
+#: compile caches.
+GAME_ROW_SIGNATURE = numba.types.none(
+    numba.float64[:, ::1], numba.int64, numba.int64, numba.float64, numba.int64,
+    numba.float64[:, ::1], numba.float64[:, ::1], numba.float64[:, ::1], numba.int8[::1],
+    numba.int8[::1])
 
 
 @njit
