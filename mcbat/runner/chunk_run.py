@@ -14,7 +14,6 @@ import socket
 import numba
 import numpy as np
 
-from mcbat.bodies.presets import ball_preset, bat_preset
 from mcbat.core import status as st
 from mcbat.dataset import chunks
 from mcbat.dataset.summary import summarise
@@ -23,7 +22,6 @@ from mcbat.runner.job import ChunkJob, ChunkSummary
 from mcbat.solving import (
     GAME_INPUT_FIELDS,
     INPUT_FIELDS,
-    SolverSettings,
     solve_and_fly,
     solve_games,
     solve_impacts,
@@ -141,32 +139,20 @@ def _write_now(function, *args):
     return function(*args)
 
 
-def warm_kernel(study=None, seed: int = 0) -> None:
-    """Load (or compile) the kernels a chunk calls: with a ``study``, by drawing and
-    solving (and flying) its first sample as a chunk does, nothing written (the sampler,
-    and the game or the bat-frame kernel, whichever the study uses); without, the
-    bat-frame kernel, by solving one impact (a Dask worker, before its first chunk)."""
-    if study is not None:
-        game = getattr(study, "kind", "impact") == "game"
-        # The solver first, on a row of zeros (a status code, no answer), then the first
-        # sample as a chunk computes it: on a fresh install the largest kernel group is
-        # compiled first, while a helper process compiles the sampler and the flight
-        # (mcbat.cli.precompile).
-        if game:
-            solve_games(np.zeros((len(GAME_INPUT_FIELDS), 1)), study.solver_settings)
-        else:
-            solve_impacts(np.zeros((len(INPUT_FIELDS), 1)), study.solver_settings)
-        (_solve_game_chunk if game else _solve_chunk)(study, 0, 1, seed)
-        return
-    ball, bat = ball_preset("baseball"), bat_preset("cross_nathan_2006")
-    row = {name: 0.0 for name in INPUT_FIELDS}
-    row.update(ball_mass=ball.mass, ball_radius=ball.radius,
-               ball_inertia_factor=ball.inertia_factor, bat_mass=bat.mass,
-               bat_transverse_inertia=bat.transverse_inertia,
-               bat_axial_inertia=bat.axial_inertia, axial=0.1, angle=0.01,
-               bat_radius=bat.radius, ball_vx_in=-4.0, mu=0.5, e=0.8)
-    inputs = np.array([[row[name]] for name in INPUT_FIELDS], np.float64)
-    solve_impacts(inputs, SolverSettings())
+def warm_kernel(study, seed: int = 0) -> None:
+    """Load (or compile) the kernels a chunk of ``study`` calls, by drawing and solving
+    (and flying) its first sample as a chunk does, nothing written: the sampler, and the
+    game or the bat-frame kernel, whichever the study uses."""
+    game = getattr(study, "kind", "impact") == "game"
+    # The solver first, on a row of zeros (a status code, no answer), then the first
+    # sample as a chunk computes it: on a fresh install the largest kernel group is
+    # compiled first, while a helper process compiles the sampler and the flight
+    # (mcbat.cli.precompile).
+    if game:
+        solve_games(np.zeros((len(GAME_INPUT_FIELDS), 1)), study.solver_settings)
+    else:
+        solve_impacts(np.zeros((len(INPUT_FIELDS), 1)), study.solver_settings)
+    (_solve_game_chunk if game else _solve_chunk)(study, 0, 1, seed)
 
 
 def write_error(err: OSError, out) -> InputError:

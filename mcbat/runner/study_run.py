@@ -304,7 +304,7 @@ def _compute(study, job, display, on_disk, runner, progress):
     counts = np.zeros(len(st.STATUS_NAMES), np.int64)
     summaries = []
     if todo:
-        runner.ready(study, job.seed)
+        runner.ready(study, job, display)
     recorder = _Recorder(display, on_disk, state)
     t0 = time.perf_counter()
     try:

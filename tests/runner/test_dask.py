@@ -540,3 +540,30 @@ def test_a_worker_that_cannot_read_the_pitches_file_says_so(dask_installed, tmp_
                                                r"read .*No such file"):
         chunk_task(0, definition, job, 1)
     assert sorted(p.name for p in out.iterdir()) == [ds.MANIFEST, ds.chunk_name(1)]
+
+
+def _kernels_loaded():
+    from mcbat.core.batch import solve_batch
+    from mcbat.core.swing.game import solve_game_batch
+
+    return {"bat_frame": bool(solve_batch.signatures),
+            "game": bool(solve_game_batch.signatures)}
+
+
+def test_workers_load_the_kernels_of_the_study_and_only_those(dask_installed, tmp_path):
+    # Before a run's clock starts every worker loads its study's kernels: a game study's
+    # workers load the game kernel and never the bat-frame kernel.
+    from mcbat.runner.engines.dask import DaskEngine
+
+    study = load_study(ROOT / "studies" / "game_fastball.toml")
+    out = tmp_path / "ds"
+    job, manifest = plan_run(study, out, 600, 5, 300)
+    prepare_directory(out, manifest, 300, False)
+    engine = DaskEngine(workers=2, threads=1)
+    with engine.connect():
+        before = engine.client.run(_kernels_loaded)
+        engine.ready(study, job, out)
+        after = engine.client.run(_kernels_loaded)
+    assert len(after) == 2
+    assert all(k == {"bat_frame": False, "game": False} for k in before.values()), before
+    assert all(k == {"bat_frame": False, "game": True} for k in after.values()), after

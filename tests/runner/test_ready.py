@@ -13,6 +13,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 PROBE = """
 import json, sys
+from types import SimpleNamespace
 from mcbat.core.batch import solve_batch
 from mcbat.core.flight.trajectory import fly_batch
 from mcbat.core.sampling import draw_random_inputs
@@ -24,7 +25,7 @@ from mcbat.study import load_study
 study = load_study(sys.argv[1])
 if getattr(study, "pitches", None) is not None:
     study = load_pitches(study)
-LocalEngine(threads=1).ready(study, study.seed)
+LocalEngine(threads=1).ready(study, SimpleNamespace(seed=study.seed))
 print(json.dumps({name: bool(d.signatures) for name, d in (
     ("bat_frame", solve_batch), ("game", solve_game_batch), ("flight", fly_batch),
     ("sampler", draw_random_inputs))}))

@@ -29,9 +29,9 @@ class Engine(Protocol):
     def connect(self) -> AbstractContextManager:
         """Start or join whatever computes the chunks, for the duration of the run."""
 
-    def ready(self, study, seed: int) -> None:
-        """Load the study's kernels before the run's clock starts (rows/s measure the same
-        thing for every engine)."""
+    def ready(self, study, job: ChunkJob, display) -> None:
+        """Load the study's kernels where the chunks will be computed, before the run's
+        clock starts (rows/s measure the same thing for every engine)."""
 
     def run(self, study, job: ChunkJob, todo: list, display) -> Iterator[ChunkSummary]:
         """Compute and write the chunks ``todo``; yield a summary as each completes."""

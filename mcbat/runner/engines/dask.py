@@ -168,8 +168,26 @@ class DaskEngine:
             if cluster is not None:
                 cluster.close()
 
-    def ready(self, study, seed):
-        """Nothing to do: the workers were warmed when they joined (``WarmUp``)."""
+    def ready(self, study, job, display):
+        """Load (or compile) the study's kernels on every worker before the clock starts,
+        one task per worker, as the local engine does in its process: the game kernel for
+        a game study, the bat-frame kernel for a drop-test study, never both. (A worker
+        that joins later loads them in its first chunk.) A worker that cannot compute
+        the run's chunks says so here, as its first chunk would."""
+        from mcbat.runner.engines.dask_tasks import warm_study
+
+        definition = study.definition()
+        futures = [self.client.submit(warm_study, definition, job, self.threads,
+                                      workers=[worker], allow_other_workers=False,
+                                      pure=False, key=f"mcbat-ready-{uuid.uuid4().hex[:8]}")
+                   for worker in self.client.scheduler_info()["workers"]]
+        for future in futures:
+            try:
+                self._result(future, display)
+            except Exception:
+                if self._scheduler_lost():
+                    raise self._lost_scheduler() from None
+                raise
 
     def _local_cluster(self, LocalCluster):
         return LocalCluster(

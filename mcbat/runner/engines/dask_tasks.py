@@ -28,7 +28,7 @@ from mcbat.runner.plan import ChunkJob, ChunkSummary, dataset_hash, run_chunk, w
 from mcbat.study import Study
 
 __all__ = ["WarmUp", "WorkerSetupError", "check_worker", "chunk_task", "set_numba_threads",
-           "warm_up"]
+           "warm_study", "warm_up"]
 
 # Per worker process: the studies rebuilt so far (config hash -> Study) and the runs
 # (config hash, output location) whose environment and output location were checked.
@@ -133,22 +133,31 @@ def chunk_task(index: int, definition: dict, job: ChunkJob, threads: int) -> Chu
     return run_chunk(_study(definition, job), job, index, solve_lock=_KERNEL_LOCK)
 
 
+def warm_study(definition: dict, job: ChunkJob, threads: int) -> None:
+    """Load (or compile) the kernels of the run's study in this worker, by drawing and
+    solving its first sample as a chunk does, nothing written (``DaskEngine.ready``).
+    Checks the worker first, as a chunk task does."""
+    check_worker(job)
+    set_numba_threads(threads)
+    study = _study(definition, job)
+    with _KERNEL_LOCK:
+        warm_kernel(study, job.seed)
+
+
 def warm_up(threads: int) -> dict:
-    """Load the kernel (the numba cache) and the libraries a chunk needs (the study's
-    samplers, pandas for the version check, Parquet) in this worker: ~1 s once, instead
-    of in its first chunk."""
+    """Load the libraries a chunk needs (pandas for the version check, Parquet) in this
+    worker, once, instead of in its first chunk. The kernels depend on the study: the
+    engine loads them when a run starts (``warm_study``)."""
     budget = set_numba_threads(threads)
     set_run_allocation()  # a worker runs chunk after chunk: keep their buffers
-    with _KERNEL_LOCK:
-        warm_kernel()
     chunks.package_versions()
     return {"threads": budget, "numba_num_threads": numba.config.NUMBA_NUM_THREADS,
             "threading_layer": numba.threading_layer()}
 
 
 class WarmUp(WorkerPlugin):
-    """Worker plugin: warm the numba kernel once per worker (also on a worker that joins or
-    is restarted later), in the worker's own task thread, before it gets a chunk."""
+    """Worker plugin: set up every worker once (also one that joins or is restarted
+    later), in the worker's own task thread, before it gets a chunk (``warm_up``)."""
 
     name = "mcbat-warm-up"
 
@@ -156,9 +165,9 @@ class WarmUp(WorkerPlugin):
         self.threads = threads
 
     async def setup(self, worker):
-        """Warm the kernel on ``worker`` (called by Dask when the worker joins)."""
-        # In the worker's task executor, not the event loop: loading or compiling the
-        # kernel may take seconds, and the worker must keep answering the scheduler.
+        """Set up ``worker`` (called by Dask when the worker joins)."""
+        # In the worker's task executor, not the event loop: importing the libraries may
+        # take seconds, and the worker must keep answering the scheduler.
         executor = worker.executors.get("default")
         loop = asyncio.get_running_loop()
         await loop.run_in_executor(executor, warm_up, self.threads)

@@ -36,11 +36,11 @@ class LocalEngine:
         """Nothing to start: a null context."""
         return contextlib.nullcontext()
 
-    def ready(self, study, seed):
+    def ready(self, study, job: ChunkJob, display=None):
         """Load (or compile) the study's kernels before the clock starts, as the Dask
         engine's workers do: the run's rows/s then measure the same thing for both
         engines."""
-        warm_kernel(study, seed)
+        warm_kernel(study, job.seed)
 
     def run(self, study, job: ChunkJob, todo, display):
         """Compute the chunks ``todo`` in order; yield each one's summary, with its file's
