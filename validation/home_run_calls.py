@@ -102,6 +102,7 @@ def classify(out: pd.DataFrame, min_distance: float = 300.0) -> pd.DataFrame:
     return pd.DataFrame({
         "park": out["actual_park"].to_numpy(object), "measured": measured,
         "called": called.fillna(False).to_numpy(bool),
+        "probability": out["actual_home_run_probability"].to_numpy(float),
         "call_known": (~called.isna()).to_numpy(bool),
         "caught": caught, "judged": judged, "geometry_ok": ok & has,
         "hit_distance_sc": dist, "fence_at_spray": fence})
@@ -118,6 +119,7 @@ def summarize(c: pd.DataFrame, home_runs_only: bool) -> dict:
     return {
         "balls": int(len(c)), "measured": int(c["measured"].sum()),
         "called": None if home_runs_only else int(k.sum()),
+        "expected": None if home_runs_only else float(c.loc[known, "probability"].sum()),
         "both": int((k & m).sum()),
         "false_calls": None if home_runs_only else int(false_call.sum()),
         "false_geometry": None if home_runs_only else int((false_call & c["caught"] & beyond
@@ -132,8 +134,9 @@ def summarize(c: pd.DataFrame, home_runs_only: bool) -> dict:
 
 
 def evaluate(paths, min_distance=300.0):
-    """``(per_file, per_park)`` DataFrames of :func:`summarize` over the files; per park,
-    the calls count the files with all balls in play and the geometry every file."""
+    """``(per_file, per_park, balls)``: DataFrames of :func:`summarize` over the files (per
+    park, the calls count the files with all balls in play and the geometry every file),
+    and the balls of the files with all balls in play (:func:`classify`)."""
     files, frames = [], []
     for path in files_of(paths):
         table = reader.read(path)
@@ -142,6 +145,7 @@ def evaluate(paths, min_distance=300.0):
         files.append({"file": path.name, "home_runs_only": only, **summarize(c, only)})
         frames.append(c.assign(home_runs_only=only))
     balls = pd.concat(frames, ignore_index=True)
+    mixed = balls[~balls["home_runs_only"]]
     rows = []
     for park, g in balls.groupby("park"):
         calls = summarize(g[~g["home_runs_only"]], False)
@@ -150,7 +154,7 @@ def evaluate(paths, min_distance=300.0):
             calls[key] = geometry[key]
         calls["measured_mixed"] = int(g.loc[~g["home_runs_only"], "measured"].sum())
         rows.append({"park": park, **calls})
-    return pd.DataFrame(files), pd.DataFrame(rows)
+    return pd.DataFrame(files), pd.DataFrame(rows), mixed
 
 
 def _table(df):
@@ -158,15 +162,37 @@ def _table(df):
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for row in df.itertuples(index=False):
         lines.append("| " + " | ".join("" if v is None or (isinstance(v, float) and np.isnan(v))
-                                       else str(int(v)) if isinstance(v, (float, np.floating))
+                                       else (str(int(v)) if float(v).is_integer()
+                                             else f"{v:.1f}")
+                                       if isinstance(v, (float, np.floating))
                                        else str(v) for v in row) + " |")
     return "\n".join(lines)
 
 
-def report(per_file, per_park, by_park, label):
+#: Bins of the home-run probability for ``reliability``.
+PROBABILITY_BINS = (0.0, 0.02, 0.1, 0.3, 0.7, 0.9, 1.0)
+
+
+def reliability(balls: pd.DataFrame) -> str:
+    """A Markdown table: per bin of the called probability, the balls, the home runs
+    expected (the sum of their probabilities) and measured."""
+    known = balls[balls["call_known"]]
+    bins = pd.cut(known["probability"], PROBABILITY_BINS, include_lowest=True)
+    g = known.groupby(bins, observed=True).agg(balls=("probability", "size"),
+                                               expected=("probability", "sum"),
+                                               measured=("measured", "sum"))
+    lines = ["| probability | balls | expected | measured |", "|---|---|---|---|"]
+    for interval, row in g.iterrows():
+        lines.append(f"| {max(interval.left, 0.0):.2f}-{interval.right:.2f} | {int(row.balls)} | "
+                     f"{row.expected:.1f} | {int(row.measured)} |")
+    return "\n".join(lines)
+
+
+def report(per_file, per_park, balls_of_mixed, by_park, label):
     print(f"\n### {label}\n")
-    shown = ["file", "measured", "called", "both", "false_calls", "false_geometry", "missed",
-             "missed_geometry", "no_call", "judged", "home_runs_short", "caught_beyond"]
+    shown = ["file", "measured", "expected", "called", "both", "false_calls", "false_geometry",
+             "missed", "missed_geometry", "no_call", "judged", "home_runs_short",
+             "caught_beyond"]
     print(_table(per_file[shown]))
     judged = per_file["judged"].sum()
     bad = per_file["home_runs_short"].sum() + per_file["caught_beyond"].sum()
@@ -175,10 +201,13 @@ def report(per_file, per_park, by_park, label):
           f"({100 * (1 - bad / judged):.2f} %): {per_file['home_runs_short'].sum()} home runs "
           f"short of it, {per_file['caught_beyond'].sum()} caught balls beyond it.")
     print(f"Calls (files with all balls in play): {int(mixed['called'].sum())} called, "
-          f"{int(mixed['measured'].sum())} measured; false calls "
+          f"{float(mixed['expected'].sum()):.1f} expected (the sum of the balls' "
+          f"probabilities), {int(mixed['measured'].sum())} measured; false calls "
           f"{int(mixed['false_calls'].sum())} ({int(mixed['false_geometry'].sum())} geometry), "
           f"missed {int(mixed['missed'].sum())} ({int(mixed['missed_geometry'].sum())} "
           f"geometry); the rest are the flight's.")
+    print("\nThe probabilities against what happened (files with all balls in play):\n")
+    print(reliability(balls_of_mixed))
     if by_park:
         print("\nPer park: calls over the files with all balls in play (`measured_mixed`), "
               "geometry over every file (`measured` counts the home-run-only files too).\n")
@@ -199,6 +228,6 @@ def main(argv=None):
         runs.append((args.compare, f"fences of {args.compare}"))
     for table, label in runs:
         with fence_table(table):
-            per_file, per_park = evaluate(args.paths, args.min_distance)
-        report(per_file, per_park, args.by_park, label)
+            per_file, per_park, balls = evaluate(args.paths, args.min_distance)
+        report(per_file, per_park, balls, args.by_park, label)
     return 0

@@ -5,10 +5,12 @@ plate reaches the fence's distance along the direction in which it is travelling
 it is a home run when it passes that point higher than the fence
 (``mcbat.study.flight.heights_at_distance``). A ball that meets the wall while still
 rising, a line drive, is no home run even if it would have carried farther. The fence's
-distance depends on the spray angle at the crossing, which the ball's curve moves a little
-from its launch spray, so the crossing is found twice: at the fence of the launch spray,
-then at the fence of the spray where the ball crossed. Fences: ``parks.fence`` (one
-configuration per park; ``docs/parks-and-weather.md``).
+distance depends on the spray angle at the crossing, which the ball's curve moves from its
+launch spray (a pulled or sliced fly ball by 10-15 deg), so the crossing is found by
+iteration: at the fence of the direction the ball comes down in, then at the fence of the
+spray where the ball crossed (three times; a fence the ball does not reach sends the
+next guess back to where it comes down). Fences: ``parks.fence`` (one configuration per
+park; ``docs/parks-and-weather.md``).
 """
 
 from __future__ import annotations
@@ -82,12 +84,17 @@ def home_run_call(launch_speed: ArrayLike, launch_angle: ArrayLike, spray_angle:
 
     launch = (speed * M_S_PER_MPH, each(launch_angle) * RAD_PER_DEG, spray * RAD_PER_DEG,
               each(backspin) * RAD_S_PER_RPM, each(sidespin) * RAD_S_PER_RPM)
-    crossing = spray
-    for _ in range(2):
+    # A home run meets the fence near the end of its flight, so the first guess of where
+    # is where it comes down: its curve can take it 10-15 deg from its launch direction,
+    # and from the launch direction's fence (the deep alley instead of the line) it would
+    # seem to come down short. A guess the ball does not reach falls back on it too.
+    landing = _landing_spray(settings, ball, launch, per_ball, spray)
+    crossing = landing
+    for _ in range(3):
         distance, height = parks.fence(ids, crossing, dates)
         z, phi = heights_at_distance(settings, ball.mass, ball.radius, distance * M_PER_FT,
                                      *launch, per_ball=per_ball)
-        crossing = np.where(np.isfinite(phi), np.degrees(phi), crossing)
+        crossing = np.where(np.isfinite(phi), np.degrees(phi), landing)
     distance, height = parks.fence(ids, crossing, dates)
     z, _ = heights_at_distance(settings, ball.mass, ball.radius, distance * M_PER_FT, *launch,
                                per_ball=per_ball)
@@ -110,6 +117,17 @@ def home_run_call(launch_speed: ArrayLike, launch_angle: ArrayLike, spray_angle:
             np.nan)
         out.attrs["units"].update(margin="ft", home_run_probability="1")
     return out
+
+
+def _landing_spray(settings: FlightSettings, ball: Ball,
+                   launch: tuple[_Floats, _Floats, _Floats, _Floats, _Floats],
+                   per_ball: Mapping[str, ArrayLike] | None, spray: _Floats) -> _Floats:
+    """The direction (deg, as ``spray``) in which each ball comes down; its launch
+    ``spray`` where it does not land."""
+    out, status = fly_launches(settings, ball.mass, ball.radius, *launch, per_ball=per_ball)
+    landed = status == FlightStatus.OK
+    return np.where(landed, np.degrees(np.arctan2(out["landing_x"], out["landing_y"])),
+                    spray)
 
 
 def _margin(settings: FlightSettings, ball: Ball,
