@@ -21,12 +21,11 @@ from mcbat.statcast.reader import (
     OPTIONAL,
     REQUIRED,
     UNITS,
-    attack_direction_check,
     balls_in_play,
     read,
-    summarize,
     write,
 )
+from mcbat.statcast.summary import attack_direction_check, summarize
 
 __all__ = ["COLUMNS", "OPTIONAL", "REQUIRED", "UNITS", "attack_direction_check",
            "balls_in_play", "collision_columns", "collision_summary", "is_bunt",

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 import stat
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
@@ -29,8 +30,9 @@ from mcbat.errors import InputError
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["MAX_EXPANSION", "MAX_LINE_BYTES", "MIN_EXPANDED_BYTES", "CappedReader",
-           "check_expansion", "check_regular_file", "file_kind", "write_parquet"]
+__all__ = ["BLOCK_BYTES", "MAX_EXPANSION", "MAX_LINE_BYTES", "MIN_EXPANDED_BYTES",
+           "CappedReader", "check_expansion", "check_regular_file", "file_kind", "text_lines",
+           "write_parquet"]
 
 MAX_EXPANSION = 50
 """A compressed input may expand to at most this many times its size on disk."""
@@ -180,3 +182,60 @@ def write_parquet(df: pd.DataFrame, path: str | os.PathLike[str],
     table = table.replace_schema_metadata({**(table.schema.metadata or {}), **metadata})
     write_atomic(Path(os.fspath(path)),
                  lambda fs, tmp: pq.write_table(table, tmp, filesystem=fs))
+
+
+#: Bytes read (and decompressed) at a time by ``text_lines``.
+BLOCK_BYTES = 1 << 23
+
+
+def text_lines(path: Path, label: str) -> Iterator[str]:
+    """The file's lines (``.gz`` decompressed as it is read, with the cap of
+    ``mcbat.statcast.files``; UTF-8 with or without a BOM; each line with its newline),
+    or ``InputError`` naming the file, and the line and byte of a decoding error."""
+    import codecs
+    import gzip
+    import zlib
+
+    status = check_regular_file(path, label)
+    try:
+        raw = path.open("rb")
+    except OSError as err:
+        raise InputError(None, f"cannot read the file: {err.strerror or err}", label) from None
+    with raw:
+        gz = path.suffix.lower() == ".gz" or raw.peek(2)[:2] == b"\x1f\x8b"
+        stream = CappedReader.for_file(gzip.GzipFile(fileobj=raw), status.st_size,
+                                       label) if gz else raw
+        decoder = codecs.getincrementaldecoder("utf-8-sig")()
+        consumed, line, pending, pending_size = 0, 1, [], 0
+        while True:
+            try:
+                block = stream.read(BLOCK_BYTES)
+            except (OSError, EOFError, zlib.error) as err:
+                raise InputError(None, f"cannot read the file: {err}", label) from None
+            try:
+                text = decoder.decode(block, final=not block)
+            except UnicodeDecodeError as err:
+                at = line + block.count(b"\n", 0, max(err.start, 0))
+                raise InputError(None, f"line {at}: not UTF-8 text (byte "
+                                 f"{consumed + err.start}); a Savant export is a UTF-8 CSV "
+                                 "file", label) from None
+            consumed += len(block)
+            pieces = text.split("\n")
+            if len(pieces) > 1:
+                pending.append(pieces[0])
+                yield "".join(pending) + "\n"
+                line += 1
+                for piece in pieces[1:-1]:
+                    yield piece + "\n"
+                    line += 1
+                pending, pending_size = [], 0
+            pending.append(pieces[-1])
+            pending_size += len(pieces[-1])
+            if pending_size > MAX_LINE_BYTES:
+                raise InputError(None, f"line {line}: longer than {MAX_LINE_BYTES:,} "
+                                 "characters without a line break: not a CSV table", label)
+            if not block:
+                break
+        tail = "".join(pending)
+        if tail:
+            yield tail

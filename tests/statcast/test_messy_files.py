@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.statcast import files, read, reader
+from mcbat.statcast import files, read
 from mcbat.statcast.reader import read_with_lines
 from tests.statcast.messy import DATA, export_text, line_of, rows, with_cell, write
 
@@ -132,8 +132,8 @@ def test_a_real_gzip_export_is_read_whole(tmp_path):
 
 
 def test_a_line_without_end_is_refused(tmp_path, monkeypatch):
-    monkeypatch.setattr(reader, "MAX_LINE_BYTES", 4000)
-    monkeypatch.setattr(reader, "_BLOCK_BYTES", 256)
+    monkeypatch.setattr(files, "MAX_LINE_BYTES", 4000)
+    monkeypatch.setattr(files, "BLOCK_BYTES", 256)
     path = tmp_path / "long.csv"
     path.write_text(export_text().split("\n", 1)[0] + "\n" + "x" * 20000)
     with pytest.raises(InputError, match=r"long\.csv: line 2: longer than"):

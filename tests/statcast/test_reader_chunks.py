@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from mcbat.errors import InputError
-from mcbat.statcast import reader
+from mcbat.statcast import files, reader
 
 
 @pytest.fixture()
@@ -56,7 +56,7 @@ def test_a_short_row_in_a_later_piece_names_its_line(export, tmp_path, monkeypat
 
 
 def test_bad_bytes_name_their_offset_in_the_file(export, tmp_path, monkeypatch):
-    monkeypatch.setattr(reader, "_BLOCK_BYTES", 4096)
+    monkeypatch.setattr(files, "BLOCK_BYTES", 4096)
     data = bytearray(export.read_bytes())
     data[100_000] = 0xFF
     broken = tmp_path / "broken.csv"
