@@ -59,7 +59,7 @@ from mcbat.api.impact import (
 from mcbat.bodies import Ball, Bat
 from mcbat.bodies.restitution import Restitution
 from mcbat.errors import InputError
-from mcbat.study.game import is_game
+from mcbat.study.game_keys import is_game
 
 __all__ = ["MAX_AZIMUTH", "MAX_TRAJECTORY_POINTS", "Ball", "Bat", "Contact", "FlightCase",
            "FlightResult", "GameCase", "GameResult", "ImpactCase", "ImpactResult",

@@ -59,8 +59,8 @@ from mcbat.solving.names import (
     bat_frame_columns,
     incoming_state,
 )
-from mcbat.study.game import KEYS as GAME_KEYS
-from mcbat.study.game import check_swing_angles, parse_handedness
+from mcbat.study.game_keys import KEYS as GAME_KEYS
+from mcbat.study.game_keys import check_swing_angles, parse_handedness
 from mcbat.study.units import LENGTH, SPEED
 
 __all__ = ["GAME_JSON_KEYS", "GameCase", "GameResult", "game_case_from_dict", "solve_game"]

@@ -81,7 +81,7 @@ def _study_groups(path, flies) -> tuple[str, ...]:
     import tomllib
     from pathlib import Path
 
-    from mcbat.study.game import is_game
+    from mcbat.study.game_keys import is_game
 
     try:
         data = tomllib.loads(Path(path).read_text(encoding="utf-8"))

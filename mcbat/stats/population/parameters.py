@@ -11,7 +11,7 @@ from scipy import special
 from mcbat.errors import InputError
 from mcbat.stats.population.table import PITCH_COLUMNS
 from mcbat.study import units as u
-from mcbat.study.game import KEYS
+from mcbat.study.game_keys import KEYS
 
 __all__ = ["PHYSICS", "PHYSICS_RANGE", "FreeKey", "fittable_parameters", "parse_free"]
 

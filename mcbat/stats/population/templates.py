@@ -26,7 +26,7 @@ from mcbat.stats.population.table import (
     write_pitches,
 )
 from mcbat.study import units as u
-from mcbat.study.game import KEYS
+from mcbat.study.game_keys import KEYS
 from mcbat.study.spec import Study
 
 __all__ = ["ENGINES", "TemplateSimulator", "simulate_table"]
