@@ -357,6 +357,9 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
             raise InputError(f"pitches.{key}", f"selects no row of {where}: no {key} "
                              f"= {shown!r}{context}; {which} {key} {present}")
     selected = int(mask.sum())
+    # (a file of the seasons before bat tracking: no selected row has a bat speed)
+    untracked = source.swing and "bat_speed" in cols and not np.isfinite(
+        np.asarray(cols["bat_speed"], np.float64)[mask]).any()
     excluded = {}
 
     def leave_out(bad, reason):
@@ -390,10 +393,9 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
         si[key] = values
     if not mask.any():
         reasons = ", ".join(f"{n:,} {r}" for r, n in excluded.items())
-        fix = next((f"; give pitches.fallback.{k.split('.')[1]} for rows without it"
-                    for k in keys if f"without {source.keys[k]}" in excluded), "")
         raise InputError("pitches", f"no row of {where} is left to draw from: of the "
-                         f"{selected:,} rows the filters select, {reasons}{fix}")
+                         f"{selected:,} rows the filters select, {reasons}"
+                         f"{_what_would_help(source, keys, excluded, untracked)}")
     index = np.flatnonzero(mask).astype(np.int64)
     if fixed_handedness is None:
         handedness = np.where(cols["handedness"][index] == "R", 1.0, -1.0)
@@ -402,6 +404,21 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
     summary = {"rows_in_file": table.rows, "selected": selected, "excluded": excluded,
                "drawn_from": int(index.size)}
     return PitchRows(index, values, keys, handedness, identifiers, summary)
+
+
+def _what_would_help(source, keys, excluded, untracked) -> str:
+    """The hint of the "no row left" error: that the file has no bat tracking
+    (``untracked``), else the fallback for the value most rows lack."""
+    lacking = sorted(((excluded[f"without {source.keys[k]}"], k) for k in keys
+                      if f"without {source.keys[k]}" in excluded), reverse=True)
+    if not lacking:
+        return ""
+    name = lacking[0][1].split(".")[1]
+    if untracked:
+        return ("; the file has no bat tracking (Statcast measures the swing from 2024 "
+                "on): set pitches.swing = false to draw the swing from [swing], or give "
+                "pitches.fallback.bat_speed")
+    return f"; give pitches.fallback.{name} for rows without it"
 
 
 def _present(column) -> str:

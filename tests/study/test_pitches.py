@@ -266,6 +266,24 @@ def test_no_row_left_says_which_fallback_would_help(tmp_path):
     assert "pitches.fallback.spin_axis" in err.value.message
 
 
+def test_a_file_without_bat_tracking_drawn_with_its_swing_says_so(tmp_path):
+    # A season before bat tracking, drawn with swing = true: the hint names the missing
+    # bat tracking and the two ways out, not the fallback of a value a few rows lack.
+    df = tidy_table()
+    df[["bat_speed", "attack_angle", "attack_direction"]] = np.nan
+    path = tmp_path / "t.parquet"
+    df.to_parquet(path)
+    data = study_dict({"file": str(path), "swing": True},
+                      swing={"vertical_bat_angle": -30.0 * DEG})
+    with pytest.raises(InputError) as err:
+        load_pitches(Study.from_dict(data))
+    assert err.value.field == "pitches"
+    assert "56 without bat_speed" in err.value.message
+    assert "no bat tracking" in err.value.message
+    assert "pitches.swing = false" in err.value.message
+    assert "pitches.fallback.spin_axis" not in err.value.message
+
+
 def test_out_of_range_rows_are_left_out_and_counted(tmp_path):
     df = tidy_table()
     df.loc[10, "pitch_speed"] = -3.0
