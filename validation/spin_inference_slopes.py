@@ -9,17 +9,22 @@ with one assumed attack angle (``attack_angle_nodes = 1``); the figure.
     .venv/bin/python -m validation spin_inference_slopes \\
         --figure docs/figures/spin_vs_launch_angle_real.png
 
+``--vertical-bat-angle DEG`` and ``--spin-efficiency X`` change those assumptions (the
+defaults: ``mcbat.inference.SpinAssumptions``), to see what the slopes owe to them.
+
 Reads ``../shared/data/statcast/`` (relative to the repository; skipped where absent)
 and the shipped ``data/`` exports.
 """
 
 import argparse
+import dataclasses
+import math
 from pathlib import Path
 
 import numpy as np
 
 from mcbat import statcast
-from mcbat.inference import InferenceOptions, infer_spin
+from mcbat.inference import InferenceOptions, SpinAssumptions, infer_spin
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT / ".." / "shared" / "data" / "statcast"
@@ -64,8 +69,22 @@ def partial_slope(balls, spin, ok, resamples=300):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--figure", help="write the figure (PNG)")
+    parser.add_argument("--vertical-bat-angle", type=float, default=None,
+                        help="the assumed vertical bat angle, deg (default: -30)")
+    parser.add_argument("--spin-efficiency", type=float, default=None,
+                        help="the pitch's assumed spin efficiency (default: 1)")
     args = parser.parse_args(argv)
     point = InferenceOptions(attack_angle_nodes=1)
+    changed = {}
+    if args.vertical_bat_angle is not None:
+        changed["vertical_bat_angle"] = math.radians(args.vertical_bat_angle)
+    if args.spin_efficiency is not None:
+        changed["spin_efficiency"] = args.spin_efficiency
+    assumptions = dataclasses.replace(SpinAssumptions(), **changed)
+    if changed:
+        print("assumptions changed: " + ", ".join(
+            f"{k} = {args.vertical_bat_angle if k == 'vertical_bat_angle' else v}"
+            + (" deg" if k == "vertical_bat_angle" else "") for k, v in changed.items()))
     results = []
     print("| file | balls in play | converged | slope, 10-40° (rpm/°) | intercept (rpm) | "
           "Nathan on the same balls (rpm/°) | with the spray angle held (rpm/°; Nathan: "
@@ -78,8 +97,8 @@ def main(argv=None):
             continue
         pitches = statcast.read(path)
         balls = pitches[statcast.balls_in_play(pitches)]
-        out = infer_spin(balls)
-        one = infer_spin(balls, options=point)
+        out = infer_spin(balls, assumptions=assumptions)
+        one = infer_spin(balls, assumptions=assumptions, options=point)
         ok = (out["inference_status"] == "converged").to_numpy()
         ok1 = (one["inference_status"] == "converged").to_numpy()
         la = balls["launch_angle"].to_numpy()
