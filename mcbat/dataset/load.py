@@ -84,7 +84,18 @@ def load(directory, columns=None, labels=False, allow_partial=False):
             data = storage.read_bytes(path)
             if name in records and checksum(data) != records[name].get("crc32"):
                 raise ValueError("checksum mismatch (the file was changed or corrupted)")
-            tables.append(pq.read_table(pa.BufferReader(data), columns=columns))
+            # One file already in memory: Parquet's file reader, not read_table's dataset
+            # scanner (whose background tasks have been seen to abort a process at exit:
+            # "terminate called without an active exception", apache/arrow#34314).
+            parquet = pq.ParquetFile(pa.BufferReader(data))
+            absent = [c for c in columns or () if c not in parquet.schema_arrow.names]
+            if absent:
+                raise InputError("columns", f"{absent[0]!r} is not stored in this dataset "
+                                 "(its study's [output] columns leave it out)",
+                                 str(directory))
+            tables.append(parquet.read(columns=columns))
+        except InputError:
+            raise
         except (OSError, ValueError, pa.ArrowException) as err:
             if not allow_partial:
                 raise InputError(None, f"{name}: {err}; rerun `mcbat run` to recompute it "

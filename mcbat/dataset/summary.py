@@ -301,7 +301,7 @@ def load_summary(directory):
     if len(data) != record.get("bytes") or checksum(data) != record.get("crc32"):
         raise InputError(None, f"{SUMMARY} does not match the manifest (changed or "
                          "corrupted); rerun `mcbat run` to rewrite it", str(directory))
-    table = pq.read_table(pa.BufferReader(data))
+    table = pq.ParquetFile(pa.BufferReader(data)).read()  # (no dataset scanner: load)
     meta = json.loads(table.schema.metadata[b"mcbat"])
     df = table.to_pandas()
     if "share_above" in meta:

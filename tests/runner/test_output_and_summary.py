@@ -241,6 +241,9 @@ def test_output_columns_and_float32(tmp_path):
     assert (rows["mu"] == ref["mu"]).all() and (rows["status"] == ref["status"]).all()
     np.testing.assert_array_equal(rows["exit_speed"], ref["exit_speed"].astype(np.float32))
     assert rows.attrs["units"]["exit_speed"] == "m/s"
+    with pytest.raises(InputError) as err:  # a column the study did not store
+        mcbat.load(out, columns=["exit_speed", "spin"])
+    assert err.value.field == "columns" and "'spin' is not stored" in err.value.message
     other = tmp_path / "other"  # another chunking and thread count: the same rows
     run_study(study, other, samples=10_000, seed=2, chunk_size=3_000, threads=1,
               progress=False)
