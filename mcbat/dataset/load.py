@@ -81,19 +81,7 @@ def load(directory, columns=None, labels=False, allow_partial=False):
     for k, path in sorted(check.good.items()):
         name = chunk_name(k)
         try:
-            data = storage.read_bytes(path)
-            if name in records and checksum(data) != records[name].get("crc32"):
-                raise ValueError("checksum mismatch (the file was changed or corrupted)")
-            # One file already in memory: Parquet's file reader, not read_table's dataset
-            # scanner (whose background tasks have been seen to abort a process at exit:
-            # "terminate called without an active exception", apache/arrow#34314).
-            parquet = pq.ParquetFile(pa.BufferReader(data))
-            absent = [c for c in columns or () if c not in parquet.schema_arrow.names]
-            if absent:
-                raise InputError("columns", f"{absent[0]!r} is not stored in this dataset "
-                                 "(its study's [output] columns leave it out)",
-                                 str(directory))
-            tables.append(parquet.read(columns=columns))
+            tables.append(_read_chunk(path, records.get(name), columns, directory))
         except InputError:
             raise
         except (OSError, ValueError, pa.ArrowException) as err:
@@ -123,3 +111,20 @@ def load(directory, columns=None, labels=False, allow_partial=False):
     df.attrs["mcbat"] = manifest
     df.attrs["directory"] = str(directory)
     return df
+
+
+def _read_chunk(path, record, columns, directory):
+    """One chunk file's table (``columns``), its bytes checked against the CRC-32 of its
+    manifest ``record`` (None: unverified); ValueError if they do not match."""
+    data = storage.read_bytes(path)
+    if record is not None and checksum(data) != record.get("crc32"):
+        raise ValueError("checksum mismatch (the file was changed or corrupted)")
+    # One file already in memory: Parquet's file reader, not read_table's dataset scanner
+    # (whose background tasks have been seen to abort a process at exit: "terminate
+    # called without an active exception", apache/arrow#34314).
+    parquet = pq.ParquetFile(pa.BufferReader(data))
+    absent = [c for c in columns or () if c not in parquet.schema_arrow.names]
+    if absent:
+        raise InputError("columns", f"{absent[0]!r} is not stored in this dataset (its "
+                         "study's [output] columns leave it out)", str(directory))
+    return parquet.read(columns=columns)
