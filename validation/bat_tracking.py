@@ -431,6 +431,11 @@ def collision_efficiency(table, row, ls):
     return (ls - bat) / (pitch + bat)
 
 
+def _median(values) -> float:
+    """The median, NaN for no values."""
+    return float(np.median(values)) if values.size else float("nan")
+
+
 def judge(data, table, samples, seed, workdir) -> dict:
     """The acceptance numbers of the study ``data`` on ``table``'s rows, and what the
     figures draw."""
@@ -461,9 +466,14 @@ def evaluate(table, sim) -> dict:
         out[f"{name}_above_p90"] = above / used
         out[f"{name}_below_p10"] = below / used
     model_bins = bin_means(table, row, ls)
+    bat = table["bat_speed"].to_numpy(float)
+    q_data = collision_efficiency(table, np.arange(len(table)), m_ls)
+    q_model = collision_efficiency(table, row, ls)
     out["bat_speed_bins"] = [
         {"bin": f"{lo:.0f}-{hi:.0f}" if hi < 200 else f"{lo:.0f}+", "rows": b[0],
-         "measured": b[1], "se": b[2], "model": m[1]}
+         "measured": b[1], "se": b[2], "model": m[1],
+         "q_median": _median(q_data[(bat >= lo) & (bat < hi)]),
+         "q_median_model": _median(q_model[(bat[row] >= lo) & (bat[row] < hi)])}
         for lo, hi, b, m in zip(BINS[:-1], BINS[1:], bin_means(table), model_bins)]
     attack = _column(table, "attack_angle")
     out["attack_bins"] = []
@@ -477,7 +487,6 @@ def evaluate(table, sim) -> dict:
                                            "se": float(m_la[rows].std()
                                                        / np.sqrt(rows.sum())),
                                            "model": float(la[sims].mean())})
-    bat = table["bat_speed"].to_numpy(float)
     out["slopes_model"] = slopes(bat[row], ls, attack[row], la)
     if "batter" in table:
         out["batter_slopes_data"] = batter_slopes(table, boots=300)
@@ -487,8 +496,6 @@ def evaluate(table, sim) -> dict:
     out["spray_slope_data"] = spray_slope(table)
     out["above_50_model"] = float(np.mean(la > 50.0))
     out["above_50_data"] = float(np.mean(m_la > 50.0))
-    q_data = collision_efficiency(table, np.arange(len(table)), m_ls)
-    q_model = collision_efficiency(table, row, ls)
     out["q"] = {"data": q_data, "model": q_model,
                 "p90_by_bin": [
                     (float(np.quantile(q_data[(bat >= lo) & (bat < hi)], 0.9))
@@ -539,7 +546,8 @@ def report(label, r) -> list[str]:
                      f"+- {eb:.2f} mph/mph (batters with >= {BATTER_ROWS} rows)")
     for b in r["bat_speed_bins"]:
         lines.append(f"  bat speed {b['bin']:>6} mph: {b['rows']:4d} rows, measured "
-                     f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph")
+                     f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph; "
+                     f"median q {b['q_median']:.3f}, model {b['q_median_model']:.3f}")
     lines += ["  " + v for v in verdict(r)]
     return lines
 

@@ -1,0 +1,123 @@
+"""Launch speed on bat speed, within a batter and between batters, with each batter's mean
+bat speed taken over all his tracked swings in the file (whiffs and fouls too), the row
+itself left out.
+
+``validation bat_tracking`` splits the slope with each batter's mean over his balls in
+play, which in a day's file is two or three rows and includes the row itself: the mean
+then carries part of the row's own bat speed. Here the mean is over his other tracked
+swings (batters with at least ``--min-swings`` of them), and the two slopes are found by
+moments (:func:`slopes`) with the variances of the bat speed between and within batters
+(one-way analysis of variance of the tracked swings), so that the left-out mean's noise
+flattens neither. Errors: bootstrap over the batters (the variances held). Last, per bat-speed
+bin of the balls in play, the mean of the batter's (left-out) mean less the file's: how
+far a batter term could move that bin.
+
+    .venv/bin/python -m validation batter_swing_means \\
+        statcast_2025-05-01.csv statcast_2024_skubal.csv
+
+Files are names in ``../shared/data/statcast/`` or ``data/``, or paths.
+"""
+
+import argparse
+
+import numpy as np
+import pandas as pd
+
+from mcbat import statcast as sc
+from validation.bat_tracking import BINS, resolve
+
+IN_ALL = False
+QUICK_ARGS = ["statcast_2024_skubal.csv"]
+
+
+def swing_means(table: pd.DataFrame, min_swings: int) -> pd.DataFrame:
+    """The tracked balls in play of ``table`` (tidy) with ``batter_mean`` (mph: the mean
+    bat speed of the batter's other tracked swings) and ``swings`` (his tracked swings),
+    for batters with at least ``min_swings``."""
+    swings = table[np.isfinite(table["bat_speed"])]
+    total = swings.groupby("batter")["bat_speed"].agg(["sum", "size"])
+    balls = swings[sc.balls_in_play(swings) & np.isfinite(swings["launch_speed"])
+                   & np.isfinite(swings["pitch_speed"])].copy()
+    balls["swings"] = balls["batter"].map(total["size"])
+    balls = balls[balls["swings"] >= min_swings]
+    balls["batter_mean"] = ((balls["batter"].map(total["sum"]) - balls["bat_speed"])
+                            / (balls["swings"] - 1))
+    return balls
+
+
+def variances(table: pd.DataFrame, min_swings: int) -> tuple[float, float, float]:
+    """``(between, within, typical swings per batter)``: the variances (mph^2) of the
+    batters' true mean bat speeds and of a swing about its batter's mean (one-way
+    analysis of variance, batters with at least ``min_swings`` tracked swings)."""
+    swings = table[np.isfinite(table["bat_speed"])]
+    count = swings.groupby("batter")["bat_speed"].transform("size")
+    swings = swings[count >= min_swings]
+    grouped = swings.groupby("batter")["bat_speed"]
+    n = grouped.size().to_numpy(float)
+    within = float(grouped.var(ddof=1).mul(n - 1).sum() / (n - 1).sum())
+    n0 = (n.sum() - (n ** 2).sum() / n.sum()) / (n.size - 1)
+    between = max(float(grouped.mean().var(ddof=1)) - within * float(np.mean(1 / n)), 0.0)
+    return between, within, float(n0)
+
+
+def slopes(balls: pd.DataFrame, between_var: float, within_var: float) -> np.ndarray:
+    """``(within, between)``, mph per mph, by moments: with ``B`` the left-out mean, the
+    between-batter slope is ``cov(launch speed, B) / var_b`` (``B``'s noise does not
+    follow the row) and the within one ``cov(launch speed, V - B) / (var(V - B) - e)``,
+    ``e`` the mean variance of ``B``'s noise, ``var_w / (swings - 1)``."""
+    launch = balls["launch_speed"].to_numpy(float)
+    mean = balls["batter_mean"].to_numpy(float)
+    offset = balls["bat_speed"].to_numpy(float) - mean
+    noise = within_var * float(np.mean(1.0 / (balls["swings"].to_numpy(float) - 1.0)))
+    between = np.cov(launch, mean)[0, 1] / between_var
+    within = np.cov(launch, offset)[0, 1] / (np.var(offset, ddof=1) - noise)
+    return np.array([within, between])
+
+
+def report(name: str, min_swings: int, boots: int, seed: int) -> list[str]:
+    """The lines of one file."""
+    table = sc.read(resolve(name))
+    balls = swing_means(table, min_swings)
+    if balls["batter"].nunique() < 2:
+        return [f"{name}: fewer than two batters with {min_swings} tracked swings"]
+    between_var, within_var, n0 = variances(table, min_swings)
+    fitted = slopes(balls, between_var, within_var)
+    rng = np.random.default_rng(seed)
+    groups = [g for _, g in balls.groupby("batter")]
+    reps = np.array([slopes(pd.concat([groups[i] for i in rng.integers(0, len(groups),
+                                                                       len(groups))]),
+                            between_var, within_var)
+                     for _ in range(boots)])
+    err = reps.std(axis=0)
+    lines = [f"{name}: {len(balls)} balls in play of {len(groups)} batters with >= "
+             f"{min_swings} tracked swings ({n0:.1f} swings per batter)",
+             f"  bat speed sd between batters {np.sqrt(between_var):.2f} mph, within "
+             f"{np.sqrt(within_var):.2f} mph",
+             f"  launch speed on bat speed: within a batter {fitted[0]:.2f} +- {err[0]:.2f}, "
+             f"between batters {fitted[1]:.2f} +- {err[1]:.2f} mph/mph"]
+    offset = balls["batter_mean"] - balls["batter_mean"].mean()
+    bat = balls["bat_speed"].to_numpy(float)
+    for lo, hi in zip(BINS[:-1], BINS[1:]):
+        rows = (bat >= lo) & (bat < hi)
+        label = f"{lo:.0f}-{hi:.0f}" if hi < 200 else f"{lo:.0f}+"
+        if rows.any():
+            lines.append(f"  bat speed {label:>6} mph: {rows.sum():4d} balls, batter's mean "
+                         f"{offset[rows].mean():+.2f} mph from the file's")
+    return lines
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m validation batter_swing_means",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("files", nargs="+", help="Savant exports with bat tracking")
+    parser.add_argument("--min-swings", type=int, default=6,
+                        help="tracked swings a batter needs (default 6)")
+    parser.add_argument("--boots", type=int, default=300)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    for name in args.files:
+        print("\n".join(report(name, args.min_swings, args.boots, args.seed)))
+
+
+if __name__ == "__main__":
+    main()
