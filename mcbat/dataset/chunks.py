@@ -426,9 +426,15 @@ def read_metadata(path) -> pq.FileMetaData:
 
 
 def read_table(path, columns=None) -> pa.Table:
-    """One chunk file as an Arrow table (only ``columns``, if given)."""
+    """One chunk file as an Arrow table (only ``columns``, if given).
+
+    Read with Parquet's file reader: ``pq.read_table`` runs Arrow's dataset scanner,
+    whose thread pool can abort the interpreter at exit (apache/arrow#34314), and one
+    file needs no scanner."""
     path = storage.location(path)
     if isinstance(path, str):
         fs, fs_path = storage.resolve(path)
-        return pq.read_table(fs_path, columns=columns, filesystem=fs)
-    return pq.read_table(os.path.abspath(path), columns=columns, filesystem=storage.LOCAL)
+    else:
+        fs, fs_path = storage.LOCAL, os.path.abspath(path)
+    with fs.open_input_file(fs_path) as handle:
+        return pq.ParquetFile(handle).read(columns=columns)

@@ -150,7 +150,8 @@ def _parse(data: bytes, where: str) -> pd.DataFrame | None:
         import pyarrow.parquet as pq
 
         try:
-            table = pq.read_table(io.BytesIO(data))
+            # the file reader, not read_table's dataset scanner (mcbat.dataset.chunks.read_table)
+            table = pq.ParquetFile(pa.BufferReader(data)).read()
         except (pa.ArrowException, OSError, ValueError) as err:
             raise InputError("pitches.file", f"{where}: not a readable Parquet file "
                              f"({_first_line(err)})") from None
