@@ -16,6 +16,8 @@ far a batter term could move that bin.
         statcast_2025-05-01.csv statcast_2024_skubal.csv
 
 Files are names in ``../shared/data/statcast/`` or ``data/``, or paths.
+``--leaderboard FILE`` gives the between-batter slope of a season's Savant search grouped
+by batter (``docs/bat_tracking.md`` (e) names the one used and its provenance).
 """
 
 import argparse
@@ -106,10 +108,39 @@ def report(name: str, min_swings: int, boots: int, seed: int) -> list[str]:
     return lines
 
 
+def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
+    """The between-batter slope of a Savant search grouped by batter (one row per batter:
+    ``bat_speed``, the mean over his tracked swings; ``launch_speed``, over his batted
+    balls; ``velocity``, the pitches' mean release speed; ``bip``): mean launch speed on
+    mean bat speed and pitch speed, over batters with at least ``min_balls`` balls in
+    play. Each mean is over hundreds of swings, so its noise flattens nothing."""
+    board = pd.read_csv(path, encoding="utf-8-sig")
+    for column in ("bat_speed", "launch_speed", "velocity", "bip"):
+        board[column] = pd.to_numeric(board[column], errors="coerce")
+    board = board.dropna(subset=["bat_speed", "launch_speed", "velocity"])
+    board = board[board["bip"] >= min_balls]
+    x = np.column_stack([np.ones(len(board)), board["bat_speed"], board["velocity"]])
+    y = board["launch_speed"].to_numpy(float)
+    fitted = np.linalg.lstsq(x, y, rcond=None)[0]
+    rng = np.random.default_rng(seed)
+    reps = [np.linalg.lstsq(x[i], y[i], rcond=None)[0][1]
+            for i in (rng.integers(0, len(board), len(board)) for _ in range(boots))]
+    return [f"{path}: {len(board)} batters with >= {min_balls} balls in play "
+            f"({int(board['bip'].sum())} balls), bat speed sd between batters "
+            f"{board['bat_speed'].std():.2f} mph",
+            f"  mean launch speed on mean bat speed: {fitted[1]:.2f} +- {np.std(reps):.2f} "
+            f"mph/mph between batters"]
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m validation batter_swing_means",
                                      description=__doc__.splitlines()[0])
-    parser.add_argument("files", nargs="+", help="Savant exports with bat tracking")
+    parser.add_argument("files", nargs="*", help="Savant exports with bat tracking")
+    parser.add_argument("--leaderboard", action="append", default=[],
+                        help="a Savant search grouped by batter (CSV): its between-batter "
+                             "slope")
+    parser.add_argument("--min-balls", type=int, default=150,
+                        help="balls in play a leaderboard's batter needs (default 150)")
     parser.add_argument("--min-swings", type=int, default=6,
                         help="tracked swings a batter needs (default 6)")
     parser.add_argument("--boots", type=int, default=300)
@@ -117,6 +148,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     for name in args.files:
         print("\n".join(report(name, args.min_swings, args.boots, args.seed)))
+    for path in args.leaderboard:
+        print("\n".join(leaderboard(path, args.min_balls, args.boots, args.seed)))
 
 
 if __name__ == "__main__":

@@ -62,3 +62,23 @@ def test_the_slopes_within_and_between_batters_are_recovered_through_the_means_n
                          balls["batter_mean"]])
     naive = np.linalg.lstsq(x, balls["launch_speed"].to_numpy(float), rcond=None)[0][2]
     assert abs(naive - between_slope) > 2 * abs(between_fit - between_slope)
+
+
+def test_a_leaderboards_between_batter_slope_is_recovered(tmp_path):
+    from validation.batter_swing_means import leaderboard
+
+    rng = np.random.default_rng(4)
+    bat = 72.0 + 2.7 * rng.standard_normal(300)
+    velocity = 89.5 + 0.5 * rng.standard_normal(300)
+    board = pd.DataFrame({"player_name": [f"p{i}" for i in range(300)], "bat_speed": bat,
+                          "launch_speed": 40.0 + 0.7 * bat + 0.1 * velocity
+                          + 0.3 * rng.standard_normal(300),
+                          "velocity": velocity, "bip": rng.integers(50, 450, 300)})
+    board.loc[0, "bat_speed"] = None  # a batter without bat tracking is left out
+    path = tmp_path / "board.csv"
+    board.to_csv(path, index=False)
+    lines = leaderboard(path, 150, 100, 0)
+    kept = int((board["bip"] >= 150).sum() - (board.loc[0, "bip"] >= 150))
+    assert f"{kept} batters" in lines[0]
+    slope = float(lines[1].split(":")[1].split("+-")[0])
+    assert slope == pytest.approx(0.7, abs=0.03)
