@@ -49,6 +49,12 @@ from mcbat.study.spec import Study
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT.parent / "shared" / "data" / "statcast"
 STUDY = ROOT / "studies" / "bat_tracking.toml"
+#: The study whose fixed settings the fits and judgements use (``--study``; everything but
+#: the contact, the swing errors and the bat-speed trend, which are fitted or given).
+BASE_STUDY = [STUDY]
+#: Keys of the base study replaced (``"contact.plate_x_trend"`` -> its table, None: removed;
+#: ``"restitution.location"`` -> a table's name), from ``--plate-x`` and ``--location``.
+OVERRIDES: dict = {}
 FREE = ("contact.from_barrel_end.mean", "contact.from_barrel_end.std",
         "contact.undercut.mean", "contact.undercut.std")
 BINS = (0.0, 65.0, 70.0, 75.0, 80.0, 200.0)
@@ -124,7 +130,13 @@ def study_definition(values=None, errors=None, trend=None) -> dict:
     mean": in, ...}``), swing errors (``{"attack_angle": deg, "bat_speed": mph,
     "attack_direction": deg}``) and the contact's bat-speed trend (in per 10 mph; None:
     the study's)."""
-    data = tomllib.loads(STUDY.read_text())
+    data = tomllib.loads(BASE_STUDY[0].read_text())
+    for key, table in OVERRIDES.items():
+        section, name = key.split(".")
+        if table is None:
+            data[section].pop(name, None)
+        else:
+            data[section][name] = table
     for name, value in (values or {}).items():
         section, key, field = name.split(".")
         data[section][key][field] = float(value)
@@ -219,7 +231,7 @@ def _placeholder():
     t = pd.DataFrame({"pitch_speed": [40.0], "vertical_approach_angle": [-6.0],
                       "horizontal_approach_angle": [0.0], "spin_rate": [2200.0],
                       "spin_axis": [180.0], "bat_speed": [70.0], "attack_angle": [10.0],
-                      "attack_direction": [0.0], "handedness": ["R"]})
+                      "attack_direction": [0.0], "handedness": ["R"], "plate_x": [0.0]})
     return t
 
 
@@ -431,6 +443,40 @@ def collision_efficiency(table, row, ls):
     return (ls - bat) / (pitch + bat)
 
 
+PLATE_X_BINS = (-10.0, -0.6, -0.3, 0.0, 0.3, 0.6, 10.0)
+"""Where the pitch crossed the plate, ft from its centre away from the batter (Statcast's
+``plate_x`` for a right-handed batter, its negative for a left-handed one)."""
+
+
+def plate_x_bins(table, row, ls) -> list[dict]:
+    """Per bin of :data:`PLATE_X_BINS`: rows, the measured mean launch speed and its
+    standard error, the model's mean, and the shares of rows above their own simulated
+    90th and below their 10th percentile of launch speed."""
+    plate_x = _column(table, "plate_x")
+    away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
+    measured = table["launch_speed"].to_numpy(float)
+    order = np.argsort(row, kind="stable")
+    cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
+    out = []
+    for lo, hi in zip(PLATE_X_BINS[:-1], PLATE_X_BINS[1:]):
+        rows = np.flatnonzero((away >= lo) & (away < hi))
+        if rows.size < 10:
+            continue
+        above = below = 0
+        for r in rows:
+            draws = ls[order[cuts[r]:cuts[r + 1]]]
+            lo_q, hi_q = np.quantile(draws, [0.1, 0.9])
+            above += measured[r] > hi_q
+            below += measured[r] < lo_q
+        sims = np.isin(row, rows)
+        out.append({"bin": f"{lo:+.1f} to {hi:+.1f}", "rows": int(rows.size),
+                    "measured": float(measured[rows].mean()),
+                    "se": float(measured[rows].std() / np.sqrt(rows.size)),
+                    "model": float(ls[sims].mean()), "above_p90": above / rows.size,
+                    "below_p10": below / rows.size})
+    return out
+
+
 def _median(values) -> float:
     """The median, NaN for no values."""
     return float(np.median(values)) if values.size else float("nan")
@@ -475,6 +521,9 @@ def evaluate(table, sim) -> dict:
          "q_median": _median(q_data[(bat >= lo) & (bat < hi)]),
          "q_median_model": _median(q_model[(bat[row] >= lo) & (bat[row] < hi)])}
         for lo, hi, b, m in zip(BINS[:-1], BINS[1:], bin_means(table), model_bins)]
+    out["plate_x_bins"] = plate_x_bins(table, row, ls)
+    out["plate_x_chi2"] = float(sum(((b["model"] - b["measured"]) / b["se"]) ** 2
+                                    for b in out["plate_x_bins"]))
     attack = _column(table, "attack_angle")
     out["attack_bins"] = []
     if np.isfinite(attack).sum() > 10:
@@ -548,6 +597,14 @@ def report(label, r) -> list[str]:
         lines.append(f"  bat speed {b['bin']:>6} mph: {b['rows']:4d} rows, measured "
                      f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph; "
                      f"median q {b['q_median']:.3f}, model {b['q_median_model']:.3f}")
+    if r.get("plate_x_bins"):
+        lines.append(f"  launch speed by where the pitch crossed the plate: sum of "
+                     f"((model - measured)/se)^2 over the bins {r['plate_x_chi2']:.1f} "
+                     f"({len(r['plate_x_bins'])} bins)")
+    for b in r.get("plate_x_bins", []):
+        lines.append(f"  plate_x {b['bin']:>12} ft away: {b['rows']:4d} rows, measured "
+                     f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph; "
+                     f"above p90 {b['above_p90']:.0%}, below p10 {b['below_p10']:.0%}")
     lines += ["  " + v for v in verdict(r)]
     return lines
 
@@ -569,7 +626,21 @@ def main(argv=None):
     parser.add_argument("--cross", help="a file whose games are cut into --folds parts, "
                         "each judged by a fit to --fit and the other parts")
     parser.add_argument("--folds", type=int, default=2)
+    parser.add_argument("--study", type=Path, help="a variant of studies/bat_tracking.toml "
+                        "whose fixed settings to use (e.g. another [contact.plate_x_trend] "
+                        "or restitution location table)")
+    parser.add_argument("--plate-x", help="the contact's pitch-location trend instead of "
+                        "the study's: SHIFT,DEAD_ZONE[,REFERENCE] (in per ft, in, in; "
+                        "'none': without one)")
+    parser.add_argument("--location", help="the restitution's location table instead of "
+                        "the study's (a name of mcbat.bodies.restitution.LOCATION_TABLES)")
     args = parser.parse_args(argv)
+    if args.study:
+        BASE_STUDY[0] = args.study
+    if args.plate_x:
+        OVERRIDES["contact.plate_x_trend"] = _plate_x_table(args.plate_x)
+    if args.location:
+        OVERRIDES["restitution.location"] = args.location
     errors = None
     if args.errors:
         parts = [float(x) for x in args.errors.split(",")]
@@ -581,6 +652,18 @@ def main(argv=None):
     if args.json:
         Path(args.json).write_text(json.dumps(summary(outcome), indent=1))
     return 0
+
+
+def _plate_x_table(text):
+    """``"SHIFT,DEAD_ZONE[,REFERENCE]"`` (in per ft, in, in; default reference 2 in) ->
+    a ``[contact.plate_x_trend]`` table; ``"none"`` -> None (no trend)."""
+    if text == "none":
+        return None
+    parts = [float(x) for x in text.split(",")]
+    shift, zone, reference = (*parts, 2.0)[:3]
+    return {"reference": {"value": reference, "unit": "in"},
+            "dead_zone": {"value": zone, "unit": "in"}, "per": {"value": 1, "unit": "ft"},
+            "from_barrel_end": {"value": shift, "unit": "in"}}
 
 
 def summary(outcome) -> dict:
@@ -615,15 +698,16 @@ def _centre(label) -> float:
 
 def figure(outcome, path):
     """Per row (in sample, out of sample): the mean launch speed per bat-speed bin, the
-    mean launch angle per attack-angle bin, the distribution of ``q`` and its 90th
-    percentile per bat-speed bin, data (points) and model (lines). Beside it
+    mean launch angle per attack-angle bin, the distribution of ``q``, its 90th
+    percentile per bat-speed bin and the mean launch speed per bin of where the pitch
+    crossed the plate, data (points) and model (lines). Beside it
     (``<path>_spin.png``): the model's backspin against launch angle with Nathan's."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 4, figsize=(18, 8.5))
+    fig, axes = plt.subplots(2, 5, figsize=(22, 8.5))
     for line_no, label in enumerate(("in sample", "out of sample")):
         ax = axes[line_no]
         for (_, name), r in _shown(outcome, label):
@@ -651,6 +735,13 @@ def figure(outcome, path):
             centres_all = [_centre(x["bin"]) for x in r["bat_speed_bins"]]
             ax[3].plot(centres_all, p90[:, 0], "o", color=colour, label=f"{name} (data)")
             ax[3].plot(centres_all, p90[:, 1], "-", color=colour, label=f"{name} (model)")
+            px = r.get("plate_x_bins", [])
+            middle = [np.clip(np.mean([float(v) for v in x["bin"].split(" to ")]), -0.9, 0.9)
+                      for x in px]
+            ax[4].errorbar(middle, [x["measured"] for x in px], yerr=[x["se"] for x in px],
+                           fmt="o", capsize=2, color=colour, label=f"{name} (data)")
+            ax[4].plot(middle, [x["model"] for x in px], "-", color=colour,
+                       label=f"{name} (model)")
         ax[0].set_title(f"{label}: launch speed vs bat speed")
         ax[0].set_xlabel("measured bat speed (mph; bins of 5, < 65 and 80+ at the ends)")
         ax[0].set_ylabel("mean launch speed (mph)")
@@ -663,6 +754,9 @@ def figure(outcome, path):
         ax[3].set_title(f"{label}: upper edge of q (90th percentile)")
         ax[3].set_xlabel("measured bat speed (mph)")
         ax[3].set_ylabel("q, 90th percentile per bin")
+        ax[4].set_title(f"{label}: launch speed vs plate_x")
+        ax[4].set_xlabel("plate_x away from the batter (ft; bins of 0.3)")
+        ax[4].set_ylabel("mean launch speed (mph)")
         for a in ax:
             a.legend(fontsize=6)
             a.grid(alpha=0.3)
@@ -730,8 +824,10 @@ def fit_and_choose(fit_files, samples, workdir, errors=None, trend=None) -> dict
           + (f" (distance within 1: {interval[0]:+.2f} to {interval[1]:+.2f})"
              if interval else ""))
     for p in result.parameters:
-        print(f"  {p['name']} = {p['value']:.2f} -{p['lower_error']:.2f} "
-              f"+{p['upper_error']:.2f} {p['unit']}")
+        # (an interval that reaches a parameter's limit has no error on that side)
+        low, high = (f"{e:.2f}" if e is not None else "?"
+                     for e in (p["lower_error"], p["upper_error"]))
+        print(f"  {p['name']} = {p['value']:.2f} -{low} +{high} {p['unit']}")
     return {"errors": errors, "trend": trend, "trend_interval": interval,
             "values": _values(result), "fit": result, "fit_files": list(fit_files)}
 

@@ -26,13 +26,16 @@ __all__ = ["GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution", "lo
 #: the spin inference (docs/spin_inference.md).
 GAME_E_X = 0.28
 
-#: Location tables shipped in ``data/`` (name -> file). Both are assumed shapes, not
-#: measurements: no table of a wood bat's COR against the impact point is shipped.
-#: ``"assumed"`` (the game presets') is flat between the barrel-end nodes of the first two
-#: bending modes and falls on both sides at rates chosen so that ``q`` peaks there
-#: (provenance: ``data/README.md``; what it does to ``q``: ``docs/batting.md``).
+#: Location tables shipped in ``data/`` (name -> file). None is a measurement: no table of
+#: a wood bat's COR against the impact point is shipped. ``"assumed"`` (the game presets')
+#: is flat between the barrel-end nodes of the first two bending modes and falls on both
+#: sides at rates chosen so that ``q`` peaks there; ``"bat_tracking"`` (the bat-tracking
+#: study's) is the same with its barrel-end side steeper, chosen with the contact's
+#: pitch-location trend on tracked balls in play (provenance: ``data/README.md``; what
+#: they do to ``q``: ``docs/batting.md``, ``docs/bat_tracking.md``).
 LOCATION_TABLES = {"illustrative": "restitution_location_illustrative.csv",
-                   "assumed": "restitution_location_assumed.csv"}
+                   "assumed": "restitution_location_assumed.csv",
+                   "bat_tracking": "restitution_location_bat_tracking.csv"}
 
 
 @dataclass(frozen=True)

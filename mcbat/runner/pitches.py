@@ -56,7 +56,8 @@ def load_pitches(study):
     source = getattr(study, "pitches", None)
     if source is None or study.pitch_rows is not None:
         return study
-    needed = source.needed_columns(study.handedness is None)
+    needed = source.needed_columns(study.handedness is None,
+                                   getattr(study, "plate_x_trend", None) is not None)
     try:
         table = read_pitch_table(source.path, needed, source.file)
     except InputError as err:

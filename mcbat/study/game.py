@@ -20,6 +20,11 @@ section::
     reference = { value = 70, unit = "mph" }   # (module docstring, "The contact and the
     per = { value = 10, unit = "mph" }          #  bat speed")
     from_barrel_end = { value = 1, unit = "in" }
+    [contact.plate_x_trend]       # optional, with [pitches]: the contact moves with where
+    reference = { value = 2, unit = "in" }     # the pitch crosses the plate (module
+    dead_zone = { value = 4, unit = "in" }     # docstring, "The contact and the pitch's
+    per = { value = 1, unit = "ft" }           # location")
+    from_barrel_end = { value = -8, unit = "in" }
     [friction]  mu = 0.5          # required
     [restitution]                 # optional; default: the game preset
                                   # (mcbat.bodies.restitution.GAME_RESTITUTION). Either e (constant)
@@ -44,6 +49,15 @@ distribution's support (within the bat for a fixed value): ``d = clip(d0 + s (V 
 ``s = from_barrel_end / per``. The distribution's mean is so the mean at ``reference``.
 ``from_barrel_end = 0`` (the default without the table) is a contact independent of the
 swing.
+
+**The contact and the pitch's location** (``[contact.plate_x_trend]``, with ``[pitches]``):
+a pitch off the plate is met off the sweet spot, one inside nearer the handle, one away
+nearer the barrel end. With ``x`` the row's ``plate_x`` away from the batter less
+``reference`` (Statcast's ``plate_x`` for a right-handed batter, its negative for a
+left-handed one), the contact moves by ``s sign(x) max(|x| - w, 0)`` (``w`` the
+``dead_zone``: the pitches over which the batter's adjustment keeps the contact where it
+is; ``s = from_barrel_end / per``, negative: towards the barrel end for a pitch away),
+before the bat-speed trend's move and the clip; a row without ``plate_x`` does not move.
 """
 
 from __future__ import annotations
@@ -72,6 +86,7 @@ from mcbat.study.game_keys import (
     is_game,
     largest_magnitude,
     parse_handedness,
+    parse_plate_x_trend,
     parse_trend,
 )
 from mcbat.study.impact import Study
@@ -123,10 +138,16 @@ class GameStudy(Study):
         location = None
         drawn = self.pitches.keys if real else {}
         self.contact_trend = parse_trend(data.get("contact", {}).get("bat_speed_trend"))
+        self.plate_x_trend = parse_plate_x_trend(
+            data.get("contact", {}).get("plate_x_trend"))
+        if self.plate_x_trend is not None and not real:
+            raise InputError("contact.plate_x_trend", "needs the rows of [pitches] (each "
+                             "row's plate_x); a study without them has no pitch location")
         for section, keys in KEYS.items():
             table = data.get(section, {})
             if section == "contact":
-                table = {k: v for k, v in table.items() if k != "bat_speed_trend"}
+                table = {k: v for k, v in table.items()
+                         if k not in ("bat_speed_trend", "plate_x_trend")}
             optional = tuple(keys) + (("location",) if section == "restitution" else ())
             required = tuple(k for k, (_, default, _) in keys.items()
                              if default is None and section != "restitution"
@@ -180,7 +201,7 @@ class GameStudy(Study):
             raise ValueError("this study has no [pitches] section")
         try:
             rows = select_rows(self.pitches, table, self.handedness, self.inputs,
-                               self.pitches.file)
+                               self.pitches.file, plate_x=self.plate_x_trend is not None)
         except InputError as err:
             raise err.within(source=self.source) from None
         new = object.__new__(type(self))
@@ -213,9 +234,11 @@ class GameStudy(Study):
         out.update({name: rows.identifiers[k, j] for k, name in enumerate(IDENTIFIERS)})
         return out
 
-    def _fill_pitches(self, cols, start, n, seed) -> None:
+    def _fill_pitches(self, cols, start, n, seed) -> np.ndarray | None:
         """Overwrite the drawn keys' columns with the sampled rows' values (where a row
-        lacks one, the fallback drawn there stays), and the handedness from the rows."""
+        lacks one, the fallback drawn there stays), and the handedness from the rows.
+        Returns the samples' ``plate_x`` away from the batter (m; None unless the rows
+        keep it)."""
         rows = self._need_rows()
         j = rows.draw_rows(seed, start, n)
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
@@ -232,6 +255,11 @@ class GameStudy(Study):
                                  np.isfinite(values))
         if rows.handedness is not None:
             cols["handedness"][:] = rows.handedness[j]
+        if rows.plate_x is None:
+            return None
+        # the batter stands on the side away from which "away" counts: a right-handed
+        # batter (handedness +1) on the third-base side, so away is +x for him
+        return rows.plate_x[j] * cols["handedness"]
 
     def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
         """Replace the measured values of swing key ``key`` in ``column`` (the samples
@@ -323,6 +351,13 @@ class GameStudy(Study):
             out["contact"]["bat_speed_trend"] = {
                 "reference": self.contact_trend[0], "from_barrel_end_per_bat_speed":
                 self.contact_trend[1], "form": "d = clip(d0 + s (V - V0)) to the support"}
+        if self.plate_x_trend is not None:
+            reference, zone, slope = self.plate_x_trend
+            out["contact"]["plate_x_trend"] = {
+                "reference": reference, "dead_zone": zone,
+                "from_barrel_end_per_plate_x": slope,
+                "form": "d0 + s sign(x) max(|x| - w, 0), x = plate_x away from the batter "
+                        "- reference, before the bat-speed trend"}
         if self.flight is not None:
             out["flight"] = self.flight.config()
         if self.pitches is not None:
@@ -381,10 +416,11 @@ class GameStudy(Study):
         cols["bat_cm_from_knob"][:] = bat.length - bat.cm_from_barrel_end
         if self.handedness is not None:
             cols["handedness"][:] = HANDEDNESS[self.handedness]
+        away = None
         if self.pitches is not None:
-            self._fill_pitches(cols, start, n, seed)
-        if self.contact_trend is not None:
-            self._apply_trend(cols)
+            away = self._fill_pitches(cols, start, n, seed)
+        if self.contact_trend is not None or self.plate_x_trend is not None:
+            self._move_contact(cols, away)
         self.fill_contact(cols)
         return table
 
@@ -396,13 +432,22 @@ class GameStudy(Study):
         return settings if self.flight is None else replace(
             settings, flight_tolerance=self.flight.tolerance)
 
-    def _apply_trend(self, cols) -> None:
-        """Move each sample's contact with its bat speed (``[contact.bat_speed_trend]``)."""
-        reference, slope = self.contact_trend
+    def _move_contact(self, cols, away) -> None:
+        """Move each sample's contact with where its pitch crossed the plate
+        (``[contact.plate_x_trend]``; ``away``: m away from the batter, NaN: no move) and
+        with its bat speed (``[contact.bat_speed_trend]``), then hold it inside the
+        distribution's support (within the bat for a fixed value)."""
+        moved = cols["from_barrel_end"].copy()
+        if self.plate_x_trend is not None and away is not None:
+            reference, zone, slope = self.plate_x_trend
+            x = np.nan_to_num(away - reference, nan=0.0)
+            moved += slope * np.sign(x) * np.maximum(np.abs(x) - zone, 0.0)
+        if self.contact_trend is not None:
+            reference, slope = self.contact_trend
+            moved += slope * (cols["bat_speed"] - reference)
         dist = self.inputs.get("contact.from_barrel_end")
         fixed = dist is None or dist.family == "fixed"
         low, high = (0.0, self.bat.length) if fixed else dist.support()
-        moved = cols["from_barrel_end"] + slope * (cols["bat_speed"] - reference)
         cols["from_barrel_end"][:] = np.clip(moved, max(low, 0.0), min(high, self.bat.length))
 
     def fill_contact(self, cols):

@@ -15,7 +15,7 @@ from mcbat.study.distributions import parse
 
 __all__ = ["GAME_SECTIONS", "HANDEDNESS", "KEYS", "OPTIONAL_SECTIONS", "REQUIRED_SECTIONS",
            "TREND_KEYS", "check_sections", "check_swing_angles", "is_game",
-           "largest_magnitude", "parse_handedness", "parse_trend"]
+           "largest_magnitude", "parse_handedness", "parse_plate_x_trend", "parse_trend"]
 
 #: The numeric keys of a game: section -> key -> (quantity, default in SI, column).
 KEYS = {
@@ -81,6 +81,26 @@ def check_swing_angles(attack_angle, vertical_bat_angle, field="swing.vertical_b
 
 
 TREND_KEYS = {"reference": u.SPEED, "per": u.SPEED, "from_barrel_end": u.LENGTH}
+PLATE_X_TREND_KEYS = {"reference": u.LENGTH, "dead_zone": u.LENGTH, "per": u.LENGTH,
+                      "from_barrel_end": u.LENGTH}
+
+
+def _fixed_table(table, name, keys, example) -> dict:
+    """The fixed values (SI) of the trend table ``name``, every key of ``keys`` required."""
+    if not isinstance(table, dict):
+        raise InputError(name, f"must be a table ([{name}]), got {table!r}")
+    check_keys(table, name, tuple(keys), ())
+    values = {}
+    for key, quantity in keys.items():
+        dist = parse(table[key], f"{name}.{key}", quantity)
+        if dist.family != "fixed" or not math.isfinite(dist.value):
+            raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {example}), "
+                             f"got {table[key]!r}")
+        values[key] = float(dist.value)
+    if not values["per"] > 0.0:
+        raise InputError(f"{name}.per", f"must be > 0 (the step the shift is given for), "
+                         f"got {table['per']!r}")
+    return values
 
 
 def parse_trend(table):
@@ -88,25 +108,25 @@ def parse_trend(table):
     None without the table."""
     if table is None:
         return None
-    if not isinstance(table, dict):
-        raise InputError("contact.bat_speed_trend", f"must be a table "
-                         f"([contact.bat_speed_trend]), got {table!r}")
-    check_keys(table, "contact.bat_speed_trend", tuple(TREND_KEYS), ())
-    values = {}
-    for key, quantity in TREND_KEYS.items():
-        name = f"contact.bat_speed_trend.{key}"
-        dist = parse(table[key], name, quantity)
-        if dist.family != "fixed" or not math.isfinite(dist.value):
-            raise InputError(name, f"must be a fixed value (e.g. {{ value = 10, unit = "
-                             f"\"mph\" }}), got {table[key]!r}")
-        values[key] = float(dist.value)
-    if not values["per"] > 0.0:
-        raise InputError("contact.bat_speed_trend.per", f"must be > 0 (the bat-speed step "
-                         f"the shift is given for), got {table['per']!r}")
+    values = _fixed_table(table, "contact.bat_speed_trend", TREND_KEYS,
+                          '{ value = 10, unit = "mph" }')
     if not values["reference"] >= 0.0:
         raise InputError("contact.bat_speed_trend.reference", f"must be >= 0, got "
                          f"{table['reference']!r}")
     return values["reference"], values["from_barrel_end"] / values["per"]
+
+
+def parse_plate_x_trend(table):
+    """``[contact.plate_x_trend]`` -> ``(reference m, dead zone m, slope m per m)``, or
+    None without the table."""
+    if table is None:
+        return None
+    values = _fixed_table(table, "contact.plate_x_trend", PLATE_X_TREND_KEYS,
+                          '{ value = 6, unit = "in" }')
+    if not values["dead_zone"] >= 0.0:
+        raise InputError("contact.plate_x_trend.dead_zone", f"must be >= 0 (the half-width "
+                         f"over which the contact does not move), got {table['dead_zone']!r}")
+    return values["reference"], values["dead_zone"], values["from_barrel_end"] / values["per"]
 
 
 def largest_magnitude(dist):

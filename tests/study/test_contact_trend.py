@@ -1,5 +1,6 @@
-"""The contact's bat-speed trend (``[contact.bat_speed_trend]``) and measurement errors that
-apply to measured swings only (not to values drawn from ``[pitches.fallback]``)."""
+"""The contact's bat-speed trend (``[contact.bat_speed_trend]``), its pitch-location trend
+(``[contact.plate_x_trend]``) and measurement errors that apply to measured swings only
+(not to values drawn from ``[pitches.fallback]``)."""
 
 import math
 
@@ -18,11 +19,12 @@ MPH, INCH = 0.44704, 0.0254
 def _rows(n=400, seed=3, attack=True):
     rng = np.random.default_rng(seed)
     return pd.DataFrame({
+        "plate_x": rng.uniform(-1.5, 1.5, n), "handedness": rng.choice(["R", "L"], n),
         "pitch_speed": rng.normal(85.0, 4.0, n), "vertical_approach_angle": -6.0,
         "horizontal_approach_angle": 0.0, "spin_rate": 2200.0, "spin_axis": 200.0,
         "bat_speed": rng.normal(70.0, 5.0, n),
         "attack_angle": rng.normal(9.0, 8.0, n) if attack else np.nan,
-        "attack_direction": rng.normal(0.0, 12.0, n), "handedness": "R",
+        "attack_direction": rng.normal(0.0, 12.0, n),
         "launch_speed": 90.0, "launch_angle": 10.0})
 
 
@@ -164,3 +166,84 @@ def test_population_fit_with_a_trend_refuses_other_engines(tmp_path):
                     ["from_barrel_end"], ["launch_speed"])
     finally:
         sim.close()
+
+
+FT = 0.3048
+
+
+def _location(shift=-8.0, zone=4.0, reference=2.0):
+    return {"reference": {"value": reference, "unit": "in"},
+            "dead_zone": {"value": zone, "unit": "in"}, "per": {"value": 1, "unit": "ft"},
+            "from_barrel_end": {"value": shift, "unit": "in"}}
+
+
+def test_plate_x_trend_moves_the_contact_with_where_the_pitch_crossed(tmp_path):
+    rows = _rows()
+    rows.loc[:9, "plate_x"] = np.nan  # a row without a location does not move
+    plain = load_pitches(Study.from_dict(_data(tmp_path, rows)))
+    data = _data(tmp_path, rows)
+    data["contact"]["plate_x_trend"] = _location()
+    moved = load_pitches(Study.from_dict(data))
+    a, b = plain.sample(), moved.sample()
+    j = plain.pitch_rows.draw_rows(plain.seed, 0, plain.samples)
+    hand = np.where(rows["handedness"].to_numpy()[plain.pitch_rows.index[j]] == "R", 1, -1)
+    np.testing.assert_array_equal(a["handedness"], hand)
+    x = hand * rows["plate_x"].to_numpy()[plain.pitch_rows.index[j]] * FT - 2 * INCH
+    shift = np.nan_to_num(-8 * INCH / FT * np.sign(x) * np.maximum(np.abs(x) - 4 * INCH, 0))
+    expected = np.clip(a["from_barrel_end"] + shift, 0.5 * INCH, 18 * INCH)
+    np.testing.assert_allclose(b["from_barrel_end"], expected, rtol=0, atol=1e-15)
+    # a pitch well away from the batter is met nearer the barrel end, one inside nearer
+    # the handle, one over the plate where it was
+    away, inside = x > 8 * INCH, x < -8 * INCH
+    assert np.mean(b["from_barrel_end"][away]) < np.mean(a["from_barrel_end"][away]) - INCH
+    assert np.mean(b["from_barrel_end"][inside]) > np.mean(a["from_barrel_end"][inside]) + INCH
+    middle = np.abs(x) <= 4 * INCH
+    np.testing.assert_array_equal(b["from_barrel_end"][middle], a["from_barrel_end"][middle])
+    assert moved.config()["contact"]["plate_x_trend"]["dead_zone"] == pytest.approx(4 * INCH)
+    assert plain.config_hash() != moved.config_hash()
+
+
+def test_plate_x_trend_needs_the_rows_of_pitches(tmp_path):
+    data = _data(tmp_path, _rows())
+    del data["pitches"]
+    data["pitch"] = {"speed": {"value": 90, "unit": "mph"}}
+    data["swing"]["bat_speed"] = {"value": 70, "unit": "mph"}
+    data["contact"]["plate_x_trend"] = _location()
+    with pytest.raises(InputError) as err:
+        Study.from_dict(data)
+    assert err.value.field == "contact.plate_x_trend"
+
+
+def test_plate_x_trend_names_a_file_without_plate_x(tmp_path):
+    rows = _rows().drop(columns=["plate_x"])
+    data = _data(tmp_path, rows)
+    data["contact"]["plate_x_trend"] = _location()
+    with pytest.raises(InputError, match="plate_x") as err:
+        load_pitches(Study.from_dict(data))
+    assert err.value.field == "pitches.file"
+
+
+@pytest.mark.parametrize("key, value, field", [
+    ("dead_zone", {"value": -1, "unit": "in"}, "contact.plate_x_trend.dead_zone"),
+    ("per", {"value": 0, "unit": "ft"}, "contact.plate_x_trend.per"),
+    ("reference", {"value": 70, "unit": "mph"}, "contact.plate_x_trend.reference"),
+])
+def test_bad_plate_x_trend_names_its_field(tmp_path, key, value, field):
+    data = _data(tmp_path, _rows())
+    data["contact"]["plate_x_trend"] = {**_location(), key: value}
+    with pytest.raises(InputError) as err:
+        Study.from_dict(data)
+    assert field in str(err.value)
+
+
+def test_population_templates_weigh_the_contact_before_the_location_moved_it(tmp_path):
+    from mcbat.stats.population.templates import _solve_memory
+
+    plain = Study.from_dict(_data(tmp_path, _rows()))
+    data = _data(tmp_path, _rows())
+    data["contact"]["plate_x_trend"] = _location()
+    moved = Study.from_dict(data)
+    a, obs_a, _ = _solve_memory(plain, 3000, 9, ["from_barrel_end"], ["launch_speed"])
+    b, obs_b, _ = _solve_memory(moved, 3000, 9, ["from_barrel_end"], ["launch_speed"])
+    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
+    assert not np.allclose(obs_a["launch_speed"], obs_b["launch_speed"], equal_nan=True)

@@ -75,10 +75,11 @@ class TemplateSimulator:
         from mcbat.dataset.schema import si_units
         from mcbat.runner.study_run import run_study
 
-        if "from_barrel_end" in columns and getattr(study, "contact_trend", None) is not None:
+        if "from_barrel_end" in columns and _moves_contact(study):
             raise InputError("engine", "a fit of contact.from_barrel_end with a "
-                             "[contact.bat_speed_trend] runs on engine 'memory' only (the "
-                             "datasets hold the contact after the trend moved it)")
+                             "[contact.bat_speed_trend] or [contact.plate_x_trend] runs on "
+                             "engine 'memory' only (the datasets hold the contact after "
+                             "the trend moved it)")
 
         out = self.workdir / f"templates_{self.runs}"
         run_study(study, out, samples=self.draws, seed=self.seed, engine=self.engine,
@@ -147,13 +148,19 @@ def _solve_memory(study, draws, seed, columns, observables):
         batted, ok = solve_game_inputs(study, inputs)
     row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
     drawn = {c: inputs[row[c]].copy() for c in columns}
-    if "from_barrel_end" in drawn and getattr(study, "contact_trend", None) is not None:
-        # The weights are densities of the drawn contact, before the bat-speed trend
-        # moved it (the same random numbers without the trend).
+    if "from_barrel_end" in drawn and _moves_contact(study):
+        # The weights are densities of the drawn contact, before the trends moved it (the
+        # same random numbers without the trends).
         plain = copy.copy(study)
-        plain.contact_trend = None
+        plain.contact_trend = plain.plate_x_trend = None
         drawn["from_barrel_end"] = plain.sample_inputs(0, draws, seed)[row["from_barrel_end"]]
     return drawn, {c: np.asarray(batted[c], float) for c in observables}, ok
+
+
+def _moves_contact(study) -> bool:
+    """Whether the study moves each drawn contact (a bat-speed or pitch-location trend)."""
+    return (getattr(study, "contact_trend", None) is not None
+            or getattr(study, "plate_x_trend", None) is not None)
 
 
 def _solve_and_fly(study, inputs):
