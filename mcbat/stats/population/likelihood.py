@@ -65,7 +65,13 @@ class BinnedCost:
         """The cost at ``theta`` (what MIGRAD minimises)."""
         from iminuit.cost import template_chi2_da
 
-        t, v = self.template(np.asarray(theta, float))
+        theta = np.asarray(theta, float)
+        # MINOS can try a width past its limit (seen at a mean held on its own limit): a
+        # width that is not positive is no distribution, so the cost is a wall there
+        if any(not theta[i] > 0.0 for i, (_, _, what) in enumerate(self.params)
+               if what == "std"):
+            return 1e30
+        t, v = self.template(theta)
         s = t.sum()
         if not s > 0:
             return 1e30
