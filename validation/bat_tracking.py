@@ -231,7 +231,8 @@ def _placeholder():
     t = pd.DataFrame({"pitch_speed": [40.0], "vertical_approach_angle": [-6.0],
                       "horizontal_approach_angle": [0.0], "spin_rate": [2200.0],
                       "spin_axis": [180.0], "bat_speed": [70.0], "attack_angle": [10.0],
-                      "attack_direction": [0.0], "handedness": ["R"], "plate_x": [0.0]})
+                      "attack_direction": [0.0], "handedness": ["R"], "plate_x": [0.0],
+                      "plate_z": [2.5]})
     return t
 
 
@@ -446,19 +447,27 @@ def collision_efficiency(table, row, ls):
 PLATE_X_BINS = (-10.0, -0.6, -0.3, 0.0, 0.3, 0.6, 10.0)
 """Where the pitch crossed the plate, ft from its centre away from the batter (Statcast's
 ``plate_x`` for a right-handed batter, its negative for a left-handed one)."""
+PLATE_Z_BINS = (-10.0, 1.8, 2.3, 2.8, 3.3, 10.0)
+"""How high the pitch crossed the plate, ft (Statcast's ``plate_z``)."""
 
 
-def plate_x_bins(table, row, ls) -> list[dict]:
-    """Per bin of :data:`PLATE_X_BINS`: rows, the measured mean launch speed and its
-    standard error, the model's mean, and the shares of rows above their own simulated
-    90th and below their 10th percentile of launch speed."""
-    plate_x = _column(table, "plate_x")
-    away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
-    measured = table["launch_speed"].to_numpy(float)
+def location_bins(table, row, draws, observable, edges) -> list[dict]:
+    """Per bin of ``edges`` of the pitch's location (:data:`PLATE_X_BINS`: ``plate_x``
+    away from the batter; :data:`PLATE_Z_BINS`: ``plate_z``): rows, the measured mean of
+    ``observable`` (``"launch_speed"`` or ``"launch_angle"``) and its standard error, the
+    model's mean (of ``draws``, meeting rows ``row``), and the shares of rows above their
+    own simulated 90th and below their 10th percentile."""
+    if edges is PLATE_X_BINS:
+        plate_x = _column(table, "plate_x")
+        away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
+    else:
+        away = _column(table, "plate_z")
+    measured = table[observable].to_numpy(float)
+    ls = draws
     order = np.argsort(row, kind="stable")
     cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
     out = []
-    for lo, hi in zip(PLATE_X_BINS[:-1], PLATE_X_BINS[1:]):
+    for lo, hi in zip(edges[:-1], edges[1:]):
         rows = np.flatnonzero((away >= lo) & (away < hi))
         if rows.size < 10:
             continue
@@ -521,9 +530,12 @@ def evaluate(table, sim) -> dict:
          "q_median": _median(q_data[(bat >= lo) & (bat < hi)]),
          "q_median_model": _median(q_model[(bat[row] >= lo) & (bat[row] < hi)])}
         for lo, hi, b, m in zip(BINS[:-1], BINS[1:], bin_means(table), model_bins)]
-    out["plate_x_bins"] = plate_x_bins(table, row, ls)
+    out["plate_x_bins"] = location_bins(table, row, ls, "launch_speed", PLATE_X_BINS)
     out["plate_x_chi2"] = float(sum(((b["model"] - b["measured"]) / b["se"]) ** 2
                                     for b in out["plate_x_bins"]))
+    out["plate_z_bins"] = location_bins(table, row, la, "launch_angle", PLATE_Z_BINS)
+    out["plate_z_chi2"] = float(sum(((b["model"] - b["measured"]) / b["se"]) ** 2
+                                    for b in out["plate_z_bins"]))
     attack = _column(table, "attack_angle")
     out["attack_bins"] = []
     if np.isfinite(attack).sum() > 10:
@@ -605,6 +617,13 @@ def report(label, r) -> list[str]:
         lines.append(f"  plate_x {b['bin']:>12} ft away: {b['rows']:4d} rows, measured "
                      f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} mph; "
                      f"above p90 {b['above_p90']:.0%}, below p10 {b['below_p10']:.0%}")
+    if r.get("plate_z_bins"):
+        lines.append(f"  launch angle by the pitch's height: sum of ((model - measured)/se)^2 "
+                     f"over the bins {r['plate_z_chi2']:.1f} ({len(r['plate_z_bins'])} bins)")
+    for b in r.get("plate_z_bins", []):
+        lines.append(f"  plate_z {b['bin']:>12} ft: {b['rows']:4d} rows, measured "
+                     f"{b['measured']:6.1f} +- {b['se']:.1f}, model {b['model']:6.1f} deg; "
+                     f"above p90 {b['above_p90']:.0%}, below p10 {b['below_p10']:.0%}")
     lines += ["  " + v for v in verdict(r)]
     return lines
 
@@ -632,6 +651,8 @@ def main(argv=None):
     parser.add_argument("--plate-x", help="the contact's pitch-location trend instead of "
                         "the study's: SHIFT,DEAD_ZONE[,REFERENCE] (in per ft, in, in; "
                         "'none': without one)")
+    parser.add_argument("--plate-z", help="the undercut's pitch-height trend instead of "
+                        "the study's: SHIFT[,REFERENCE] (in per ft, ft; 'none': without one)")
     parser.add_argument("--location", help="the restitution's location table instead of "
                         "the study's (a name of mcbat.bodies.restitution.LOCATION_TABLES)")
     args = parser.parse_args(argv)
@@ -639,6 +660,8 @@ def main(argv=None):
         BASE_STUDY[0] = args.study
     if args.plate_x:
         OVERRIDES["contact.plate_x_trend"] = _plate_x_table(args.plate_x)
+    if args.plate_z:
+        OVERRIDES["contact.plate_z_trend"] = _plate_z_table(args.plate_z)
     if args.location:
         OVERRIDES["restitution.location"] = args.location
     errors = None
@@ -664,6 +687,17 @@ def _plate_x_table(text):
     return {"reference": {"value": reference, "unit": "in"},
             "dead_zone": {"value": zone, "unit": "in"}, "per": {"value": 1, "unit": "ft"},
             "from_barrel_end": {"value": shift, "unit": "in"}}
+
+
+def _plate_z_table(text):
+    """``"SHIFT[,REFERENCE]"`` (in per ft, ft; default reference 2.5 ft) -> a
+    ``[contact.plate_z_trend]`` table; ``"none"`` -> None (no trend)."""
+    if text == "none":
+        return None
+    parts = [float(x) for x in text.split(",")]
+    shift, reference = (*parts, 2.5)[:2]
+    return {"reference": {"value": reference, "unit": "ft"}, "per": {"value": 1, "unit": "ft"},
+            "undercut": {"value": shift, "unit": "in"}}
 
 
 def summary(outcome) -> dict:

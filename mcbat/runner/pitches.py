@@ -57,7 +57,7 @@ def load_pitches(study):
     if source is None or study.pitch_rows is not None:
         return study
     needed = source.needed_columns(study.handedness is None,
-                                   getattr(study, "plate_x_trend", None) is not None)
+                                   getattr(study, "location_columns", ()))
     try:
         table = read_pitch_table(source.path, needed, source.file)
     except InputError as err:

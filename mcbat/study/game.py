@@ -25,6 +25,10 @@ section::
     dead_zone = { value = 4, unit = "in" }     # docstring, "The contact and the pitch's
     per = { value = 1, unit = "ft" }           # location")
     from_barrel_end = { value = -8, unit = "in" }
+    [contact.plate_z_trend]       # optional, with [pitches]: the undercut moves with the
+    reference = { value = 2.5, unit = "ft" }   # pitch's height (module docstring)
+    per = { value = 1, unit = "ft" }
+    undercut = { value = 0.4, unit = "in" }
     [friction]  mu = 0.5          # required
     [restitution]                 # optional; default: the game preset
                                   # (mcbat.bodies.restitution.GAME_RESTITUTION). Either e (constant)
@@ -40,24 +44,9 @@ Every numeric key takes a number or a distribution, with units, as in bat-frame 
 Samples are the float64 columns of ``COLUMNS``, the inputs of
 ``mcbat.core.swing.solve_game_batch``.
 
-**The contact and the bat speed** (``[contact.bat_speed_trend]``): a faster swing need not
-meet the ball as well. With this table each sample's ``from_barrel_end`` (drawn from its
-distribution, or fixed) moves by ``from_barrel_end`` for every ``per`` of the sample's bat
-speed above ``reference`` (the true bat speed the sample swings with: with
-``[pitches.swing_error]`` the draw given the measured one), and is then held inside the
-distribution's support (within the bat for a fixed value): ``d = clip(d0 + s (V - V0))``,
-``s = from_barrel_end / per``. The distribution's mean is so the mean at ``reference``.
-``from_barrel_end = 0`` (the default without the table) is a contact independent of the
-swing.
-
-**The contact and the pitch's location** (``[contact.plate_x_trend]``, with ``[pitches]``):
-a pitch off the plate is met off the sweet spot, one inside nearer the handle, one away
-nearer the barrel end. With ``x`` the row's ``plate_x`` away from the batter less
-``reference`` (Statcast's ``plate_x`` for a right-handed batter, its negative for a
-left-handed one), the contact moves by ``s sign(x) max(|x| - w, 0)`` (``w`` the
-``dead_zone``: the pitches over which the batter's adjustment keeps the contact where it
-is; ``s = from_barrel_end / per``, negative: towards the barrel end for a pitch away),
-before the bat-speed trend's move and the clip; a row without ``plate_x`` does not move.
+**The contact's trends** (``[contact.bat_speed_trend]``, ``[contact.plate_x_trend]``,
+``[contact.plate_z_trend]``) move each drawn contact with its bat speed and its pitch's
+location: ``mcbat.study.contact_moves``.
 """
 
 from __future__ import annotations
@@ -74,6 +63,7 @@ from mcbat.errors import InputError
 from mcbat.solving.names import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.solving.settings import SolverSettings
 from mcbat.study import units as u
+from mcbat.study.contact_moves import bat_speed_move, height_move, location_move
 from mcbat.study.dist_types import Normal
 from mcbat.study.distributions import check_range, parse
 from mcbat.study.flight import parse_flight
@@ -87,6 +77,7 @@ from mcbat.study.game_keys import (
     largest_magnitude,
     parse_handedness,
     parse_plate_x_trend,
+    parse_plate_z_trend,
     parse_trend,
 )
 from mcbat.study.impact import Study
@@ -137,17 +128,12 @@ class GameStudy(Study):
         inputs = {}
         location = None
         drawn = self.pitches.keys if real else {}
-        self.contact_trend = parse_trend(data.get("contact", {}).get("bat_speed_trend"))
-        self.plate_x_trend = parse_plate_x_trend(
-            data.get("contact", {}).get("plate_x_trend"))
-        if self.plate_x_trend is not None and not real:
-            raise InputError("contact.plate_x_trend", "needs the rows of [pitches] (each "
-                             "row's plate_x); a study without them has no pitch location")
+        self._parse_trends(data.get("contact", {}), real)
         for section, keys in KEYS.items():
             table = data.get(section, {})
             if section == "contact":
                 table = {k: v for k, v in table.items()
-                         if k not in ("bat_speed_trend", "plate_x_trend")}
+                         if k not in ("bat_speed_trend", "plate_x_trend", "plate_z_trend")}
             optional = tuple(keys) + (("location",) if section == "restitution" else ())
             required = tuple(k for k, (_, default, _) in keys.items()
                              if default is None and section != "restitution"
@@ -185,6 +171,18 @@ class GameStudy(Study):
         self._check_ranges()
         self._plan()
 
+    def _parse_trends(self, contact, real) -> None:
+        """The ``[contact]`` tables that move each drawn contact: with the bat speed, and
+        (with ``[pitches]`` rows, ``real``) with the pitch's location."""
+        self.contact_trend = parse_trend(contact.get("bat_speed_trend"))
+        self.plate_x_trend = parse_plate_x_trend(contact.get("plate_x_trend"))
+        self.plate_z_trend = parse_plate_z_trend(contact.get("plate_z_trend"))
+        for name in ("plate_x", "plate_z"):
+            if getattr(self, f"{name}_trend") is not None and not real:
+                raise InputError(f"contact.{name}_trend", f"needs the rows of [pitches] "
+                                 f"(each row's {name}); a study without them has no pitch "
+                                 "location")
+
     # ------------------------------------------------------------ real pitches
 
     def with_pitch_table(self, table: PitchTable) -> GameStudy:
@@ -201,7 +199,7 @@ class GameStudy(Study):
             raise ValueError("this study has no [pitches] section")
         try:
             rows = select_rows(self.pitches, table, self.handedness, self.inputs,
-                               self.pitches.file, plate_x=self.plate_x_trend is not None)
+                               self.pitches.file, self.location_columns)
         except InputError as err:
             raise err.within(source=self.source) from None
         new = object.__new__(type(self))
@@ -237,8 +235,8 @@ class GameStudy(Study):
     def _fill_pitches(self, cols, start, n, seed) -> np.ndarray | None:
         """Overwrite the drawn keys' columns with the sampled rows' values (where a row
         lacks one, the fallback drawn there stays), and the handedness from the rows.
-        Returns the samples' ``plate_x`` away from the batter (m; None unless the rows
-        keep it)."""
+        Returns the samples' location the trends need: ``{"away": plate_x away from the
+        batter, "plate_z": ...}`` (m), the keys the rows keep."""
         rows = self._need_rows()
         j = rows.draw_rows(seed, start, n)
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
@@ -255,11 +253,14 @@ class GameStudy(Study):
                                  np.isfinite(values))
         if rows.handedness is not None:
             cols["handedness"][:] = rows.handedness[j]
-        if rows.plate_x is None:
-            return None
-        # the batter stands on the side away from which "away" counts: a right-handed
-        # batter (handedness +1) on the third-base side, so away is +x for him
-        return rows.plate_x[j] * cols["handedness"]
+        location = {}
+        if "plate_x" in rows.location:
+            # the batter stands on the side away from which "away" counts: a right-handed
+            # batter (handedness +1) on the third-base side, so away is +x for him
+            location["away"] = rows.location["plate_x"][j] * cols["handedness"]
+        if "plate_z" in rows.location:
+            location["plate_z"] = rows.location["plate_z"][j]
+        return location
 
     def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
         """Replace the measured values of swing key ``key`` in ``column`` (the samples
@@ -358,6 +359,11 @@ class GameStudy(Study):
                 "from_barrel_end_per_plate_x": slope,
                 "form": "d0 + s sign(x) max(|x| - w, 0), x = plate_x away from the batter "
                         "- reference, before the bat-speed trend"}
+        if self.plate_z_trend is not None:
+            out["contact"]["plate_z_trend"] = {
+                "reference": self.plate_z_trend[0],
+                "undercut_per_plate_z": self.plate_z_trend[1],
+                "form": "u = clip(u0 + s (plate_z - reference)) to the support"}
         if self.flight is not None:
             out["flight"] = self.flight.config()
         if self.pitches is not None:
@@ -416,11 +422,13 @@ class GameStudy(Study):
         cols["bat_cm_from_knob"][:] = bat.length - bat.cm_from_barrel_end
         if self.handedness is not None:
             cols["handedness"][:] = HANDEDNESS[self.handedness]
-        away = None
+        location = {}
         if self.pitches is not None:
-            away = self._fill_pitches(cols, start, n, seed)
+            location = self._fill_pitches(cols, start, n, seed)
         if self.contact_trend is not None or self.plate_x_trend is not None:
-            self._move_contact(cols, away)
+            self._move_contact(cols, location.get("away"))
+        if self.plate_z_trend is not None:
+            self._move_undercut(cols, location["plate_z"])
         self.fill_contact(cols)
         return table
 
@@ -432,19 +440,31 @@ class GameStudy(Study):
         return settings if self.flight is None else replace(
             settings, flight_tolerance=self.flight.tolerance)
 
+    @property
+    def location_columns(self) -> tuple:
+        """The columns of the pitch's location its trends need from the ``[pitches]``
+        rows."""
+        return tuple(name for name in ("plate_x", "plate_z")
+                     if getattr(self, f"{name}_trend") is not None)
+
+    def _move_undercut(self, cols, plate_z) -> None:
+        """Move each sample's undercut with its pitch's height (``[contact.plate_z_trend]``),
+        held inside the undercut's support."""
+        moved = cols["undercut"] + height_move(plate_z, self.plate_z_trend)
+        dist = self.inputs.get("contact.undercut")
+        if dist is not None and dist.family != "fixed":
+            np.clip(moved, *dist.support(), out=moved)
+        cols["undercut"][:] = moved
+
     def _move_contact(self, cols, away) -> None:
-        """Move each sample's contact with where its pitch crossed the plate
-        (``[contact.plate_x_trend]``; ``away``: m away from the batter, NaN: no move) and
-        with its bat speed (``[contact.bat_speed_trend]``), then hold it inside the
+        """Move each sample's contact with where its pitch crossed the plate (``away``: m
+        away from the batter) and with its bat speed, then hold it inside the
         distribution's support (within the bat for a fixed value)."""
         moved = cols["from_barrel_end"].copy()
         if self.plate_x_trend is not None and away is not None:
-            reference, zone, slope = self.plate_x_trend
-            x = np.nan_to_num(away - reference, nan=0.0)
-            moved += slope * np.sign(x) * np.maximum(np.abs(x) - zone, 0.0)
+            moved += location_move(away, self.plate_x_trend)
         if self.contact_trend is not None:
-            reference, slope = self.contact_trend
-            moved += slope * (cols["bat_speed"] - reference)
+            moved += bat_speed_move(cols["bat_speed"], self.contact_trend)
         dist = self.inputs.get("contact.from_barrel_end")
         fixed = dist is None or dist.family == "fixed"
         low, high = (0.0, self.bat.length) if fixed else dist.support()

@@ -15,7 +15,8 @@ from mcbat.study.distributions import parse
 
 __all__ = ["GAME_SECTIONS", "HANDEDNESS", "KEYS", "OPTIONAL_SECTIONS", "REQUIRED_SECTIONS",
            "TREND_KEYS", "check_sections", "check_swing_angles", "is_game",
-           "largest_magnitude", "parse_handedness", "parse_plate_x_trend", "parse_trend"]
+           "largest_magnitude", "parse_handedness", "parse_plate_x_trend",
+           "parse_plate_z_trend", "parse_trend"]
 
 #: The numeric keys of a game: section -> key -> (quantity, default in SI, column).
 KEYS = {
@@ -83,6 +84,7 @@ def check_swing_angles(attack_angle, vertical_bat_angle, field="swing.vertical_b
 TREND_KEYS = {"reference": u.SPEED, "per": u.SPEED, "from_barrel_end": u.LENGTH}
 PLATE_X_TREND_KEYS = {"reference": u.LENGTH, "dead_zone": u.LENGTH, "per": u.LENGTH,
                       "from_barrel_end": u.LENGTH}
+PLATE_Z_TREND_KEYS = {"reference": u.LENGTH, "per": u.LENGTH, "undercut": u.LENGTH}
 
 
 def _fixed_table(table, name, keys, example) -> dict:
@@ -127,6 +129,16 @@ def parse_plate_x_trend(table):
         raise InputError("contact.plate_x_trend.dead_zone", f"must be >= 0 (the half-width "
                          f"over which the contact does not move), got {table['dead_zone']!r}")
     return values["reference"], values["dead_zone"], values["from_barrel_end"] / values["per"]
+
+
+def parse_plate_z_trend(table):
+    """``[contact.plate_z_trend]`` -> ``(reference m, slope m per m)``, or None without the
+    table."""
+    if table is None:
+        return None
+    values = _fixed_table(table, "contact.plate_z_trend", PLATE_Z_TREND_KEYS,
+                          '{ value = 1, unit = "ft" }')
+    return values["reference"], values["undercut"] / values["per"]
 
 
 def largest_magnitude(dist):

@@ -153,14 +153,14 @@ class PitchSource:
             keys.update({f"swing.{k}": c for k, c in SWING_KEYS.items()})
         return keys
 
-    def needed_columns(self, handedness_from_rows: bool, plate_x: bool = False) -> tuple:
-        """The table columns the study reads (``plate_x`` too where the contact follows
-        the pitch's location, ``[contact.plate_x_trend]``)."""
+    def needed_columns(self, handedness_from_rows: bool, location=()) -> tuple:
+        """The table columns the study reads (``location``: ``"plate_x"``, ``"plate_z"``,
+        where the contact follows the pitch's location, ``[contact.plate_x_trend]``,
+        ``[contact.plate_z_trend]``)."""
         names = [*self.keys.values(), *IDENTIFIERS, *self.filters]
         if handedness_from_rows:
             names.append("handedness")
-        if plate_x:
-            names.append("plate_x")
+        names.extend(location)
         return tuple(dict.fromkeys(names))
 
 
@@ -287,10 +287,10 @@ class PitchRows:
         ``IDENTIFIERS`` of the selected rows.
     summary : dict
         Rows in the file, selected by the filters, left out (reason -> count), drawn from.
-    plate_x : float64[M] or None
-        Where each pitch crossed the front of the plate, m along the field's ``x`` (towards
-        first base; Statcast's ``plate_x``), NaN where the file lacks it; None unless the
-        study asked for it.
+    location : mapping
+        Where each pitch crossed the front of the plate, as the study asked for it:
+        ``"plate_x"`` (m along the field's ``x``, towards first base) and ``"plate_z"`` (m
+        above the ground), Statcast's, float64[M], NaN where the file lacks a value.
     """
 
     index: np.ndarray
@@ -299,7 +299,7 @@ class PitchRows:
     handedness: np.ndarray | None
     identifiers: np.ndarray
     summary: dict = field(default_factory=dict)
-    plate_x: np.ndarray | None = None
+    location: dict = field(default_factory=dict)
 
     def config(self, source: PitchSource, table: PitchTable) -> dict:
         """The identity of the rows for the study's config: the file's content hash, the
@@ -325,7 +325,7 @@ class PitchRows:
 
 
 def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs,
-                where, plate_x: bool = False) -> PitchRows:
+                where, location=()) -> PitchRows:
     """Apply ``source``'s filters to ``table``, leave out (and count) the rows that lack a
     value without a fallback or hold one outside the physical range, and convert the drawn
     values to SI.
@@ -338,8 +338,9 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
         The study's other inputs (``swing.vertical_bat_angle`` bounds the attack angles).
     where : str
         The file as the study names it, for messages.
-    plate_x : bool
-        Keep the rows' ``plate_x`` (``PitchRows.plate_x``).
+    location : sequence of str
+        The columns of the pitch's location to keep (``"plate_x"``, ``"plate_z"``:
+        ``PitchRows.location``).
 
     Raises
     ------
@@ -413,10 +414,9 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
     identifiers = np.stack([cols[n][index].astype(np.int64) for n in IDENTIFIERS])
     summary = {"rows_in_file": table.rows, "selected": selected, "excluded": excluded,
                "drawn_from": int(index.size)}
-    location = None
-    if plate_x:
-        location = np.asarray(cols["plate_x"], np.float64)[index] * u.UNITS["length"]["ft"]
-    return PitchRows(index, values, keys, handedness, identifiers, summary, location)
+    kept = {name: np.asarray(cols[name], np.float64)[index] * u.UNITS["length"]["ft"]
+            for name in location}
+    return PitchRows(index, values, keys, handedness, identifiers, summary, kept)
 
 
 def _what_would_help(source, keys, excluded, untracked) -> str:

@@ -103,3 +103,12 @@ def test_cross_fitted_launch_speed_follows_where_the_pitch_crossed(outcome):
         assert b["rows"] >= 60
         assert abs(b["model"] - b["measured"]) <= 3 * b["se"] + 1.0, b
     assert r["plate_x_chi2"] <= 30.0
+
+
+def test_cross_fitted_launch_angle_follows_the_pitchs_height(outcome):
+    # measured, the launch angle rises from 8 deg below 1.8 ft to 24 deg above 3.3 ft; a
+    # contact whose undercut ignored the height gave 17 and 10 (docs/bat_tracking.md, (h))
+    r = outcome["results"][POOLED]
+    bins = [b for b in r["plate_z_bins"]]
+    assert bins[-1]["model"] - bins[0]["model"] >= 5.0
+    assert r["plate_z_chi2"] <= 10.0

@@ -1,5 +1,5 @@
-"""The contact's bat-speed trend (``[contact.bat_speed_trend]``), its pitch-location trend
-(``[contact.plate_x_trend]``) and measurement errors that apply to measured swings only
+"""The contact's bat-speed trend (``[contact.bat_speed_trend]``), its pitch-location trends
+(``[contact.plate_x_trend]``, ``[contact.plate_z_trend]``) and measurement errors that apply to measured swings only
 (not to values drawn from ``[pitches.fallback]``)."""
 
 import math
@@ -19,7 +19,8 @@ MPH, INCH = 0.44704, 0.0254
 def _rows(n=400, seed=3, attack=True):
     rng = np.random.default_rng(seed)
     return pd.DataFrame({
-        "plate_x": rng.uniform(-1.5, 1.5, n), "handedness": rng.choice(["R", "L"], n),
+        "plate_x": rng.uniform(-1.5, 1.5, n), "plate_z": rng.uniform(1.0, 4.0, n),
+        "handedness": rng.choice(["R", "L"], n),
         "pitch_speed": rng.normal(85.0, 4.0, n), "vertical_approach_angle": -6.0,
         "horizontal_approach_angle": 0.0, "spin_rate": 2200.0, "spin_axis": 200.0,
         "bat_speed": rng.normal(70.0, 5.0, n),
@@ -203,15 +204,16 @@ def test_plate_x_trend_moves_the_contact_with_where_the_pitch_crossed(tmp_path):
     assert plain.config_hash() != moved.config_hash()
 
 
-def test_plate_x_trend_needs_the_rows_of_pitches(tmp_path):
+@pytest.mark.parametrize("name", ["plate_x_trend", "plate_z_trend"])
+def test_a_location_trend_needs_the_rows_of_pitches(tmp_path, name):
     data = _data(tmp_path, _rows())
     del data["pitches"]
     data["pitch"] = {"speed": {"value": 90, "unit": "mph"}}
     data["swing"]["bat_speed"] = {"value": 70, "unit": "mph"}
-    data["contact"]["plate_x_trend"] = _location()
+    data["contact"][name] = _location() if name == "plate_x_trend" else _height()
     with pytest.raises(InputError) as err:
         Study.from_dict(data)
-    assert err.value.field == "contact.plate_x_trend"
+    assert err.value.field == f"contact.{name}"
 
 
 def test_plate_x_trend_names_a_file_without_plate_x(tmp_path):
@@ -247,3 +249,37 @@ def test_population_templates_weigh_the_contact_before_the_location_moved_it(tmp
     b, obs_b, _ = _solve_memory(moved, 3000, 9, ["from_barrel_end"], ["launch_speed"])
     np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
     assert not np.allclose(obs_a["launch_speed"], obs_b["launch_speed"], equal_nan=True)
+
+
+def _height(shift=0.4, reference=2.5):
+    return {"reference": {"value": reference, "unit": "ft"}, "per": {"value": 1, "unit": "ft"},
+            "undercut": {"value": shift, "unit": "in"}}
+
+
+def test_plate_z_trend_moves_the_undercut_with_the_pitchs_height(tmp_path):
+    rows = _rows()
+    rows.loc[:9, "plate_z"] = np.nan  # a row without a height does not move
+    contact = {"from_barrel_end": {"value": 6, "unit": "in"},
+               "undercut": {"dist": "truncnormal", "mean": 0.3, "std": 1.0, "low": -2,
+                            "high": 2, "unit": "in"}}
+    plain = load_pitches(Study.from_dict(_data(tmp_path, rows, contact=dict(contact))))
+    data = _data(tmp_path, rows, contact=dict(contact))
+    data["contact"]["plate_z_trend"] = _height()
+    moved = load_pitches(Study.from_dict(data))
+    a, b = plain.sample(), moved.sample()
+    j = plain.pitch_rows.draw_rows(plain.seed, 0, plain.samples)
+    z = rows["plate_z"].to_numpy()[plain.pitch_rows.index[j]] * FT
+    shift = np.nan_to_num(0.4 * INCH / FT * (z - 2.5 * FT))
+    expected = np.clip(a["undercut"] + shift, -2 * INCH, 2 * INCH)
+    np.testing.assert_allclose(b["undercut"], expected, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
+    high = z > 3.5 * FT
+    assert np.mean(b["undercut"][high]) > np.mean(a["undercut"][high]) + 0.3 * INCH
+    assert moved.config()["contact"]["plate_z_trend"]["undercut_per_plate_z"] == \
+        pytest.approx(0.4 * INCH / FT)
+    # the population fit weighs the undercut as drawn, before the move
+    from mcbat.stats.population.templates import _solve_memory
+
+    p, _, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
+    q, _, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
+    np.testing.assert_array_equal(p["undercut"], q["undercut"])

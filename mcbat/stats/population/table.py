@@ -99,8 +99,10 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
 
 def write_pitches(table, path):
     """The table's pitches (and measured swings, NaN where a row has none; ``plate_x``
-    where the table has it) as a tidy CSV a study's ``[pitches]`` reads."""
-    names = (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values(), "handedness", "plate_x")
+    and ``plate_z`` where the table has them) as a tidy CSV a study's ``[pitches]``
+    reads."""
+    names = (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values(), "handedness", "plate_x",
+             "plate_z")
     out = table[[c for c in names if c in table.columns]]
     out = out.copy()
     for name in (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values()):

@@ -75,9 +75,9 @@ class TemplateSimulator:
         from mcbat.dataset.schema import si_units
         from mcbat.runner.study_run import run_study
 
-        if "from_barrel_end" in columns and _moves_contact(study):
-            raise InputError("engine", "a fit of contact.from_barrel_end with a "
-                             "[contact.bat_speed_trend] or [contact.plate_x_trend] runs on "
+        if {"from_barrel_end", "undercut"} & set(columns) and _moves_contact(study):
+            raise InputError("engine", "a fit of the contact with a [contact.bat_speed_trend]"
+                             ", [contact.plate_x_trend] or [contact.plate_z_trend] runs on "
                              "engine 'memory' only (the datasets hold the contact after "
                              "the trend moved it)")
 
@@ -148,19 +148,22 @@ def _solve_memory(study, draws, seed, columns, observables):
         batted, ok = solve_game_inputs(study, inputs)
     row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
     drawn = {c: inputs[row[c]].copy() for c in columns}
-    if "from_barrel_end" in drawn and _moves_contact(study):
+    moved = [c for c in ("from_barrel_end", "undercut") if c in drawn]
+    if moved and _moves_contact(study):
         # The weights are densities of the drawn contact, before the trends moved it (the
         # same random numbers without the trends).
         plain = copy.copy(study)
-        plain.contact_trend = plain.plate_x_trend = None
-        drawn["from_barrel_end"] = plain.sample_inputs(0, draws, seed)[row["from_barrel_end"]]
+        plain.contact_trend = plain.plate_x_trend = plain.plate_z_trend = None
+        inputs = plain.sample_inputs(0, draws, seed)
+        for c in moved:
+            drawn[c] = inputs[row[c]]
     return drawn, {c: np.asarray(batted[c], float) for c in observables}, ok
 
 
 def _moves_contact(study) -> bool:
     """Whether the study moves each drawn contact (a bat-speed or pitch-location trend)."""
-    return (getattr(study, "contact_trend", None) is not None
-            or getattr(study, "plate_x_trend", None) is not None)
+    return any(getattr(study, f"{name}_trend", None) is not None
+               for name in ("contact", "plate_x", "plate_z"))
 
 
 def _solve_and_fly(study, inputs):

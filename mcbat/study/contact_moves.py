@@ -1,0 +1,61 @@
+"""How each drawn contact of a game study moves with its swing and its pitch.
+
+The contact's distributions (``[contact] from_barrel_end``, ``undercut``) are drawn as
+they are written; these trends then move each draw, as functions of what the sample meets
+(its true bat speed, where its real pitch crossed the plate). The population fit weighs
+the draws before the moves (``mcbat.stats.population.templates``), so a trend is a
+constant of the map from inputs to batted balls, chosen, not reweighted.
+
+**The contact and the bat speed** (``[contact.bat_speed_trend]``): a faster swing need not
+meet the ball as well. With this table each sample's ``from_barrel_end`` (drawn from its
+distribution, or fixed) moves by ``from_barrel_end`` for every ``per`` of the sample's bat
+speed above ``reference`` (the true bat speed the sample swings with: with
+``[pitches.swing_error]`` the draw given the measured one), and is then held inside the
+distribution's support (within the bat for a fixed value): ``d = clip(d0 + s (V - V0))``,
+``s = from_barrel_end / per``. The distribution's mean is so the mean at ``reference``.
+``from_barrel_end = 0`` (the default without the table) is a contact independent of the
+swing.
+
+**The contact and the pitch's location** (``[contact.plate_x_trend]``, with ``[pitches]``):
+a pitch off the plate is met off the sweet spot, one inside nearer the handle, one away
+nearer the barrel end. With ``x`` the row's ``plate_x`` away from the batter less
+``reference`` (Statcast's ``plate_x`` for a right-handed batter, its negative for a
+left-handed one), the contact moves by ``s sign(x) max(|x| - w, 0)`` (``w`` the
+``dead_zone``: the pitches over which the batter's adjustment keeps the contact where it
+is; ``s = from_barrel_end / per``, negative: towards the barrel end for a pitch away),
+before the bat-speed trend's move and the clip; a row without ``plate_x`` does not move.
+With ``[contact.plate_z_trend]`` the undercut moves by ``undercut`` for every ``per`` the
+pitch crossed the plate above ``reference`` (Statcast's ``plate_z``; positive: a high
+pitch is met further under its centre, so it leaves higher), held inside the undercut's
+support.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["bat_speed_move", "height_move", "location_move"]
+
+
+def bat_speed_move(bat_speed, trend) -> np.ndarray:
+    """The move along the bat (m) of samples swinging at ``bat_speed`` (m/s):
+    ``s (V - V0)``, ``trend = (V0 m/s, s m per m/s)`` (``[contact.bat_speed_trend]``)."""
+    reference, slope = trend
+    return slope * (bat_speed - reference)
+
+
+def location_move(away, trend) -> np.ndarray:
+    """The move along the bat (m) of samples whose pitch crossed the plate ``away`` (m away
+    from the batter; NaN: no move): ``s sign(x) max(|x| - w, 0)``, ``x = away - reference``,
+    ``trend = (reference m, w m, s m per m)`` (``[contact.plate_x_trend]``)."""
+    reference, zone, slope = trend
+    x = np.nan_to_num(away - reference, nan=0.0)
+    return slope * np.sign(x) * np.maximum(np.abs(x) - zone, 0.0)
+
+
+def height_move(plate_z, trend) -> np.ndarray:
+    """The undercut's move (m) of samples whose pitch crossed the plate at ``plate_z`` (m;
+    NaN: no move): ``s (plate_z - reference)``, ``trend = (reference m, s m per m)``
+    (``[contact.plate_z_trend]``)."""
+    reference, slope = trend
+    return slope * np.nan_to_num(plate_z - reference, nan=0.0)
