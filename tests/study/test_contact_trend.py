@@ -1,6 +1,6 @@
 """The contact's bat-speed trend (``[contact.bat_speed_trend]``), its pitch-location trends
-(``[contact.plate_x_trend]``, ``[contact.plate_z_trend]``) and measurement errors that apply to measured swings only
-(not to values drawn from ``[pitches.fallback]``)."""
+(``[contact.plate_x_trend]``, ``[contact.plate_z_trend]``) and measurement errors that
+apply to measured swings only (not to values drawn from ``[pitches.fallback]``)."""
 
 import math
 
