@@ -459,30 +459,27 @@ def location_bins(table, row, draws, observable, edges) -> list[dict]:
     own simulated 90th and below their 10th percentile."""
     if edges is PLATE_X_BINS:
         plate_x = _column(table, "plate_x")
-        away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
+        where = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
     else:
-        away = _column(table, "plate_z")
+        where = _column(table, "plate_z")
     measured = table[observable].to_numpy(float)
-    ls = draws
     order = np.argsort(row, kind="stable")
     cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
     out = []
     for lo, hi in zip(edges[:-1], edges[1:]):
-        rows = np.flatnonzero((away >= lo) & (away < hi))
+        rows = np.flatnonzero((where >= lo) & (where < hi))
         if rows.size < 10:
             continue
         above = below = 0
         for r in rows:
-            draws = ls[order[cuts[r]:cuts[r + 1]]]
-            lo_q, hi_q = np.quantile(draws, [0.1, 0.9])
-            above += measured[r] > hi_q
-            below += measured[r] < lo_q
-        sims = np.isin(row, rows)
+            low_q, high_q = np.quantile(draws[order[cuts[r]:cuts[r + 1]]], [0.1, 0.9])
+            above += measured[r] > high_q
+            below += measured[r] < low_q
         out.append({"bin": f"{lo:+.1f} to {hi:+.1f}", "rows": int(rows.size),
                     "measured": float(measured[rows].mean()),
                     "se": float(measured[rows].std() / np.sqrt(rows.size)),
-                    "model": float(ls[sims].mean()), "above_p90": above / rows.size,
-                    "below_p10": below / rows.size})
+                    "model": float(draws[np.isin(row, rows)].mean()),
+                    "above_p90": above / rows.size, "below_p10": below / rows.size})
     return out
 
 

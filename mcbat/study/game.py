@@ -17,16 +17,16 @@ section::
                                   # (0), pivot (6 in from the knob)
     [contact]                     # from_barrel_end (6 in), undercut (0)
     [contact.bat_speed_trend]     # optional: the contact moves with the bat speed
-    reference = { value = 70, unit = "mph" }   # (module docstring, "The contact and the
-    per = { value = 10, unit = "mph" }          #  bat speed")
+    reference = { value = 70, unit = "mph" }   # (mcbat.study.contact_moves)
+    per = { value = 10, unit = "mph" }
     from_barrel_end = { value = 1, unit = "in" }
     [contact.plate_x_trend]       # optional, with [pitches]: the contact moves with where
-    reference = { value = 2, unit = "in" }     # the pitch crosses the plate (module
-    dead_zone = { value = 4, unit = "in" }     # docstring, "The contact and the pitch's
-    per = { value = 1, unit = "ft" }           # location")
+    reference = { value = 2, unit = "in" }     # the pitch crosses the plate
+    dead_zone = { value = 4, unit = "in" }     # (mcbat.study.contact_moves)
+    per = { value = 1, unit = "ft" }
     from_barrel_end = { value = -8, unit = "in" }
     [contact.plate_z_trend]       # optional, with [pitches]: the undercut moves with the
-    reference = { value = 2.5, unit = "ft" }   # pitch's height (module docstring)
+    reference = { value = 2.5, unit = "ft" }   # pitch's height (mcbat.study.contact_moves)
     per = { value = 1, unit = "ft" }
     undercut = { value = 0.4, unit = "in" }
     [friction]  mu = 0.5          # required
@@ -232,7 +232,7 @@ class GameStudy(Study):
         out.update({name: rows.identifiers[k, j] for k, name in enumerate(IDENTIFIERS)})
         return out
 
-    def _fill_pitches(self, cols, start, n, seed) -> np.ndarray | None:
+    def _fill_pitches(self, cols, start, n, seed) -> dict:
         """Overwrite the drawn keys' columns with the sampled rows' values (where a row
         lacks one, the fallback drawn there stays), and the handedness from the rows.
         Returns the samples' location the trends need: ``{"away": plate_x away from the
