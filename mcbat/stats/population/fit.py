@@ -211,7 +211,8 @@ def fit_population(study, table, free, *, draws=None, bins=None,
     source = table.attrs.get("source")
     real = getattr(study, "pitches", None)
     data, dropped = population_table(table, observables, source,
-                                     swing=bool(real is not None and real.swing))
+                                     swing=bool(real is not None and real.swing),
+                                     filters=dict(real.filters) if real is not None else None)
     rows = len(data)
     # about ROWS_PER_BIN rows per bin, but at least 5 bins an axis (3 with three
     # observables): 100 rows in 3 x 3 bins left 3 degrees of freedom for 5 parameters

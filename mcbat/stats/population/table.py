@@ -31,7 +31,7 @@ REQUIRED_PITCH = ("pitch_speed", "vertical_approach_angle", "horizontal_approach
 
 
 def population_table(df, observables=("launch_speed", "launch_angle"), source=None,
-                     swing=False):
+                     swing=False, filters=None):
     """The rows of a tidy Statcast table (``mcbat.statcast.read``) a population fit
     uses, and the counts of rows left out.
 
@@ -43,7 +43,10 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
     when ``hit_distance`` is an observable: in Statcast such a ball went untracked, and its
     launch speed and angle are then not measured either (docs/population.md). With
     ``swing`` (a study that draws the measured swing, ``[pitches] swing = true``) a row
-    needs a measured ``bat_speed`` too (``no_bat_speed``).
+    needs a measured ``bat_speed`` too (``no_bat_speed``). With ``filters`` (the study's
+    ``[pitches]`` filters, column -> accepted values) only the rows they select are used,
+    so that the fit describes the rows the study draws from (``not_selected``: e.g. the
+    foul balls of an export, which have a launch but no ``bb_type``).
 
     Raises
     ------
@@ -67,6 +70,9 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
                              "Statcast export or mcbat's tidy table (mcbat statcast)", source)
     ok = np.ones(len(df), bool)
     dropped = {}
+    if filters:
+        ok = _selected(df, filters, source)
+        dropped["not_selected"] = int(np.sum(~ok))
     emptied = observables[0]  # the observable after which fewer than 2 rows are left
     for name in observables:
         good = np.isfinite(df[name].to_numpy(float))
@@ -95,6 +101,22 @@ def population_table(df, observables=("launch_speed", "launch_angle"), source=No
                          f"no rows with {', '.join(observables)} and the pitch at the "
                          "plate (a table of batted balls is needed)", source)
     return df.loc[ok].reset_index(drop=True), dropped
+
+
+def _selected(df, filters, source) -> np.ndarray:
+    """The rows ``filters`` (column -> accepted values, ``[pitches]``'s) select."""
+    import pandas as pd
+
+    ok = np.ones(len(df), bool)
+    for key, accepted in filters.items():
+        if key not in df.columns:
+            raise InputError(f"pitches.{key}", f"the table has no column {key}, by which the "
+                             "study's [pitches] selects its rows", source)
+        column = df[key]
+        if all(isinstance(v, (int, float)) for v in accepted):
+            column = pd.to_numeric(column, errors="coerce")
+        ok &= column.isin(list(accepted)).to_numpy()
+    return ok
 
 
 def write_pitches(table, path):
