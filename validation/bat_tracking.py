@@ -55,6 +55,11 @@ BASE_STUDY = [STUDY]
 #: Keys of the base study replaced (``"contact.plate_x_trend"`` -> its table, None: removed;
 #: ``"restitution.location"`` -> a table's name), from ``--plate-x`` and ``--location``.
 OVERRIDES: dict = {}
+#: The undercut's bat-speed trend (in per 10 mph) instead of the study's (``--undercut-trend``).
+UNDERCUT_TREND: list = []
+#: The bat-speed outliers' table instead of the study's (``--bat-speed-outliers``; None:
+#: without).
+OUTLIERS: list = []
 FREE = ("contact.from_barrel_end.mean", "contact.from_barrel_end.std",
         "contact.undercut.mean", "contact.undercut.std")
 BINS = (0.0, 65.0, 70.0, 75.0, 80.0, 200.0)
@@ -144,11 +149,23 @@ def study_definition(values=None, errors=None, trend=None) -> dict:
         unit = "deg" if key != "bat_speed" else "mph"
         data["pitches"].setdefault("swing_error", {})[key] = {"value": float(value),
                                                               "unit": unit}
-    if trend is not None:
-        data["contact"]["bat_speed_trend"] = {
+    if OUTLIERS:
+        swing_error = data["pitches"].setdefault("swing_error", {})
+        if OUTLIERS[0] is None:
+            swing_error.pop("bat_speed_outliers", None)
+        else:
+            swing_error["bat_speed_outliers"] = OUTLIERS[0]
+    if trend is not None or UNDERCUT_TREND:
+        # (the undercut's shift of the study's table, or of --undercut-trend, is kept)
+        table = data["contact"].setdefault("bat_speed_trend", {
             "reference": {"value": TREND_REFERENCE, "unit": "mph"},
-            "per": {"value": 10, "unit": "mph"},
-            "from_barrel_end": {"value": float(trend), "unit": "in"}}
+            "per": {"value": 10, "unit": "mph"}})
+        table["per"] = {"value": 10, "unit": "mph"}
+        table["reference"] = {"value": TREND_REFERENCE, "unit": "mph"}
+        if trend is not None:
+            table["from_barrel_end"] = {"value": float(trend), "unit": "in"}
+        if UNDERCUT_TREND:
+            table["undercut"] = {"value": float(UNDERCUT_TREND[0]), "unit": "in"}
     return data
 
 
@@ -652,7 +669,16 @@ def main(argv=None):
                         "the study's: SHIFT[,REFERENCE] (in per ft, ft; 'none': without one)")
     parser.add_argument("--location", help="the restitution's location table instead of "
                         "the study's (a name of mcbat.bodies.restitution.LOCATION_TABLES)")
+    parser.add_argument("--undercut-trend", type=float, help="the undercut's bat-speed "
+                        "trend instead of the study's (in per 10 mph)")
+    parser.add_argument("--bat-speed-outliers", help="the bat speeds measured far too "
+                        "fast instead of the study's: FRACTION,EXCESS[,SPREAD] (mph; "
+                        "'none': without)")
     args = parser.parse_args(argv)
+    if args.bat_speed_outliers:
+        OUTLIERS[:] = [_outliers_table(args.bat_speed_outliers)]
+    if args.undercut_trend is not None:
+        UNDERCUT_TREND[:] = [args.undercut_trend]
     if args.study:
         BASE_STUDY[0] = args.study
     if args.plate_x:
@@ -684,6 +710,18 @@ def _plate_x_table(text):
     return {"reference": {"value": reference, "unit": "in"},
             "dead_zone": {"value": zone, "unit": "in"}, "per": {"value": 1, "unit": "ft"},
             "from_barrel_end": {"value": shift, "unit": "in"}}
+
+
+def _outliers_table(text):
+    """``"FRACTION,EXCESS[,SPREAD]"`` (mph) -> a ``[pitches.swing_error.bat_speed_outliers]``
+    table; ``"none"`` -> None."""
+    if text.strip().lower() == "none":
+        return None
+    parts = [float(x) for x in text.split(",")]
+    table = {"fraction": parts[0], "excess": {"value": parts[1], "unit": "mph"}}
+    if len(parts) > 2:
+        table["spread"] = {"value": parts[2], "unit": "mph"}
+    return table
 
 
 def _plate_z_table(text):

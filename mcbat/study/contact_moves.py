@@ -14,7 +14,9 @@ speed above ``reference`` (the true bat speed the sample swings with: with
 distribution's support (within the bat for a fixed value): ``d = clip(d0 + s (V - V0))``,
 ``s = from_barrel_end / per``. The distribution's mean is so the mean at ``reference``.
 ``from_barrel_end = 0`` (the default without the table) is a contact independent of the
-swing.
+swing. The table's ``undercut`` moves the undercut the same way, ``u = clip(u0 + t (V -
+V0))``, ``t = undercut / per`` (positive: a faster swing gets further under the ball and
+lifts it, a slow one tops it), after the pitch-height trend's move.
 
 **The contact and the pitch's location** (``[contact.plate_x_trend]``, with ``[pitches]``):
 a pitch off the plate is met off the sweet spot, one inside nearer the handle, one away

@@ -17,9 +17,10 @@ section::
                                   # (0), pivot (6 in from the knob)
     [contact]                     # from_barrel_end (6 in), undercut (0)
     [contact.bat_speed_trend]     # optional: the contact moves with the bat speed
-    reference = { value = 70, unit = "mph" }   # (mcbat.study.contact_moves)
-    per = { value = 10, unit = "mph" }
+    reference = { value = 70, unit = "mph" }   # (mcbat.study.contact_moves), along the
+    per = { value = 10, unit = "mph" }         # bat, under the ball's centre, or both
     from_barrel_end = { value = 1, unit = "in" }
+    undercut = { value = 0.3, unit = "in" }
     [contact.plate_x_trend]       # optional, with [pitches]: the contact moves with where
     reference = { value = 2, unit = "in" }     # the pitch crosses the plate
     dead_zone = { value = 4, unit = "in" }     # (mcbat.study.contact_moves)
@@ -64,7 +65,7 @@ from mcbat.solving.names import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.solving.settings import SolverSettings
 from mcbat.study import units as u
 from mcbat.study.contact_moves import bat_speed_move, height_move, location_move
-from mcbat.study.dist_types import Normal
+from mcbat.study.dist_types import Normal, Uniform
 from mcbat.study.distributions import check_range, parse
 from mcbat.study.flight import parse_flight
 from mcbat.study.game_keys import (
@@ -86,6 +87,8 @@ from mcbat.study.pitches import (
     SWING_ERROR_STREAM,
     PitchRows,
     PitchTable,
+    outlier_population,
+    outlier_posterior_draw,
     parse_pitches,
     select_rows,
 )
@@ -110,6 +113,7 @@ class GameStudy(Study):
         self._parse_study_section(data["study"])
         self.pitches = parse_pitches(data["pitches"], self.source) if real else None
         self._pitch_rows = self._pitch_table = None
+        self._outlier_cache = {}
         # With real pitches and no handedness key, each row's batter side (None here).
         self.handedness = data.get("handedness", None if real else "R")
         if self.handedness is not None:
@@ -205,6 +209,7 @@ class GameStudy(Study):
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new._pitch_table, new._pitch_rows = table, rows
+        new._outlier_cache = {}
         return new
 
     @property
@@ -272,13 +277,28 @@ class GameStudy(Study):
         finite = measured[np.isfinite(measured)]
         m = float(finite.mean()) if finite.size else 0.0
         v = float(finite.var()) if finite.size > 1 else 0.0
-        k = max(0.0, 1.0 - s * s / v) if v > 0.0 else 0.0
         name = f"{SWING_ERROR_STREAM}.{key.split('.', 1)[1]}"
         z = np.empty((1, n))
         draw(compile_program([(name, Normal(name, u.DIMENSIONLESS, None, mean=0.0, std=1.0,
                                             raw={"mean": 0, "std": 1}))], {name: 0}),
              seed, start, z)
-        true = m + k * (column - m) + math.sqrt(k) * s * z[0]
+        outliers = self.pitches.bat_speed_outliers if key == "swing.bat_speed" else None
+        if not outliers or outliers[0] == 0.0:
+            k = max(0.0, 1.0 - s * s / v) if v > 0.0 else 0.0
+            true = m + k * (column - m) + math.sqrt(k) * s * z[0]
+        else:
+            pick = np.empty((1, n))
+            label = f"{name}.outlier"
+            draw(compile_program([(label, Uniform(label, u.DIMENSIONLESS, None, low=0.0,
+                                                  high=1.0, raw={"low": 0, "high": 1}))],
+                                 {label: 0}), seed, start, pick)
+            key_ = (id(self._pitch_rows), key, s, outliers)
+            if self._outlier_cache.get("key") != key_:
+                # (the deconvolved population is the same for every chunk of the rows)
+                self._outlier_cache.update(key=key_, population=outlier_population(
+                    finite, s, outliers))
+            true = outlier_posterior_draw(column, s, outliers, pick[0],
+                                          self._outlier_cache["population"])
         if key == "swing.bat_speed":
             true = np.maximum(true, 0.0)
         elif key == "swing.attack_angle":
@@ -349,9 +369,12 @@ class GameStudy(Study):
                    else {"preset": "game", **GAME_RESTITUTION.config()})
         out["contact"] = {"position": "from_barrel_end", "offset": "undercut"}
         if self.contact_trend is not None:
+            reference, along, under = self.contact_trend
             out["contact"]["bat_speed_trend"] = {
-                "reference": self.contact_trend[0], "from_barrel_end_per_bat_speed":
-                self.contact_trend[1], "form": "d = clip(d0 + s (V - V0)) to the support"}
+                "reference": reference, "from_barrel_end_per_bat_speed": along,
+                "undercut_per_bat_speed": under,
+                "form": "d = clip(d0 + s (V - V0)), u = clip(u0 + t (V - V0)) to the "
+                        "supports"}
         if self.plate_x_trend is not None:
             reference, zone, slope = self.plate_x_trend
             out["contact"]["plate_x_trend"] = {
@@ -427,8 +450,8 @@ class GameStudy(Study):
             location = self._fill_pitches(cols, start, n, seed)
         if self.contact_trend is not None or self.plate_x_trend is not None:
             self._move_contact(cols, location.get("away"))
-        if self.plate_z_trend is not None:
-            self._move_undercut(cols, location["plate_z"])
+        if self.plate_z_trend is not None or self.contact_trend is not None:
+            self._move_undercut(cols, location.get("plate_z"))
         self.fill_contact(cols)
         return table
 
@@ -448,9 +471,15 @@ class GameStudy(Study):
                      if getattr(self, f"{name}_trend") is not None)
 
     def _move_undercut(self, cols, plate_z) -> None:
-        """Move each sample's undercut with its pitch's height (``[contact.plate_z_trend]``),
-        held inside the undercut's support."""
-        moved = cols["undercut"] + height_move(plate_z, self.plate_z_trend)
+        """Move each sample's undercut with its pitch's height (``[contact.plate_z_trend]``)
+        and with its bat speed (``[contact.bat_speed_trend]``), held inside the undercut's
+        support."""
+        moved = cols["undercut"].copy()
+        if self.plate_z_trend is not None and plate_z is not None:
+            moved += height_move(plate_z, self.plate_z_trend)
+        if self.contact_trend is not None:
+            reference, _, under = self.contact_trend
+            moved += bat_speed_move(cols["bat_speed"], (reference, under))
         dist = self.inputs.get("contact.undercut")
         if dist is not None and dist.family != "fixed":
             np.clip(moved, *dist.support(), out=moved)
@@ -464,7 +493,8 @@ class GameStudy(Study):
         if self.plate_x_trend is not None and away is not None:
             moved += location_move(away, self.plate_x_trend)
         if self.contact_trend is not None:
-            moved += bat_speed_move(cols["bat_speed"], self.contact_trend)
+            reference, along, _ = self.contact_trend
+            moved += bat_speed_move(cols["bat_speed"], (reference, along))
         dist = self.inputs.get("contact.from_barrel_end")
         fixed = dist is None or dist.family == "fixed"
         low, high = (0.0, self.bat.length) if fixed else dist.support()

@@ -81,19 +81,24 @@ def check_swing_angles(attack_angle, vertical_bat_angle, field="swing.vertical_b
                          f"got {product:.4g})")
 
 
-TREND_KEYS = {"reference": u.SPEED, "per": u.SPEED, "from_barrel_end": u.LENGTH}
+TREND_KEYS = {"reference": u.SPEED, "per": u.SPEED, "from_barrel_end": u.LENGTH,
+              "undercut": u.LENGTH}
 PLATE_X_TREND_KEYS = {"reference": u.LENGTH, "dead_zone": u.LENGTH, "per": u.LENGTH,
                       "from_barrel_end": u.LENGTH}
 PLATE_Z_TREND_KEYS = {"reference": u.LENGTH, "per": u.LENGTH, "undercut": u.LENGTH}
 
 
-def _fixed_table(table, name, keys, example) -> dict:
-    """The fixed values (SI) of the trend table ``name``, every key of ``keys`` required."""
+def _fixed_table(table, name, keys, example, optional=()) -> dict:
+    """The fixed values (SI) of the trend table ``name``: every key of ``keys`` required
+    but those of ``optional`` (0 when left out)."""
     if not isinstance(table, dict):
         raise InputError(name, f"must be a table ([{name}]), got {table!r}")
-    check_keys(table, name, tuple(keys), ())
+    check_keys(table, name, tuple(k for k in keys if k not in optional), tuple(optional))
     values = {}
     for key, quantity in keys.items():
+        if key not in table:
+            values[key] = 0.0
+            continue
         dist = parse(table[key], f"{name}.{key}", quantity)
         if dist.family != "fixed" or not math.isfinite(dist.value):
             raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {example}), "
@@ -106,16 +111,22 @@ def _fixed_table(table, name, keys, example) -> dict:
 
 
 def parse_trend(table):
-    """``[contact.bat_speed_trend]`` -> ``(reference bat speed m/s, slope m per m/s)``, or
-    None without the table."""
+    """``[contact.bat_speed_trend]`` -> ``(reference bat speed m/s, from_barrel_end's slope
+    m per m/s, undercut's slope m per m/s)``, or None without the table. Either shift may
+    be left out (no move); one of them must be given."""
     if table is None:
         return None
-    values = _fixed_table(table, "contact.bat_speed_trend", TREND_KEYS,
-                          '{ value = 10, unit = "mph" }')
+    name = "contact.bat_speed_trend"
+    values = _fixed_table(table, name, TREND_KEYS, '{ value = 10, unit = "mph" }',
+                          optional=("from_barrel_end", "undercut"))
+    if "from_barrel_end" not in table and "undercut" not in table:
+        raise InputError(name, "needs from_barrel_end or undercut (the shift of the contact "
+                         "along the bat or under the ball's centre for every `per` of bat "
+                         "speed)")
     if not values["reference"] >= 0.0:
-        raise InputError("contact.bat_speed_trend.reference", f"must be >= 0, got "
-                         f"{table['reference']!r}")
-    return values["reference"], values["from_barrel_end"] / values["per"]
+        raise InputError(f"{name}.reference", f"must be >= 0, got {table['reference']!r}")
+    return (values["reference"], values["from_barrel_end"] / values["per"],
+            values["undercut"] / values["per"])
 
 
 def parse_plate_x_trend(table):

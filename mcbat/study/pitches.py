@@ -35,7 +35,11 @@ as the population's: ``true = m + k (x - m) + sqrt(k) s z``, ``k = max(0, 1 - s^
 (``z`` a standard normal of stream ``"pitches.swing_error.<key>"``). A regression of an
 output on the measured value is then flattened by ``k``, as the data's are; ``s = 0``
 leaves the measured values as they are. Attack angles are kept within the range the vertical
-bat angle allows, bat speeds at or above 0.
+bat angle allows, bat speeds at or above 0. With ``[pitches.swing_error.bat_speed_outliers]``
+(``fraction``, ``excess``, ``spread``) a share of the bat speeds is measured ``excess`` too
+fast, and the true value is drawn from the two-part posterior, with the rows' own measured
+bat speeds as the population (:func:`outlier_posterior_draw`, by a uniform of stream
+``"pitches.swing_error.bat_speed.outlier"``).
 
 This module knows only plain numpy columns: reading the file (pandas, pyarrow, the Savant
 reader) is the runner's (``mcbat.runner.pitches``), which hands a ``PitchTable`` to
@@ -106,6 +110,10 @@ ROW_STREAM = "pitches.row"
 
 #: The Philox stream prefix of the swing measurement errors' draws (+ ".<key>").
 SWING_ERROR_STREAM = "pitches.swing_error"
+OUTLIERS = "bat_speed_outliers"
+DECONVOLUTION_STEPS = 30
+"""Expectation-maximisation steps of :func:`outlier_posterior_draw`'s population."""
+"""The sub-table of ``[pitches.swing_error]`` of the bat speeds measured far too fast."""
 
 _HAND = {"R": 1.0, "L": -1.0}
 _RIGHT_ANGLE = math.pi / 2.0
@@ -136,6 +144,9 @@ class PitchSource:
     swing_error : mapping
         Study input name (``"swing.attack_angle"``) -> the sd of its measurement error
         (SI: m/s or rad); empty without ``[pitches.swing_error]``.
+    bat_speed_outliers : tuple or None
+        ``(fraction, excess m/s, spread m/s)`` of ``[pitches.swing_error.bat_speed_outliers]``:
+        the share of bat speeds measured ``excess`` too fast (with sd ``spread``).
     """
 
     file: str
@@ -144,6 +155,7 @@ class PitchSource:
     swing: bool
     fallback: MappingProxyType
     swing_error: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    bat_speed_outliers: tuple | None = None
 
     @property
     def keys(self) -> dict:
@@ -198,7 +210,8 @@ def parse_pitches(table, source) -> PitchSource:
         quantity = TABLE_UNITS[{**PITCH_KEYS, **SWING_KEYS}[key]][0]
         fallback[_study_key(key)] = parse(spec, f"pitches.fallback.{key}", quantity)
     return PitchSource(file, path, MappingProxyType(filters), swing,
-                       MappingProxyType(fallback), _parse_swing_error(table, swing))
+                       MappingProxyType(fallback), _parse_swing_error(table, swing),
+                       _parse_outliers(table.get("swing_error", {})))
 
 
 def _parse_swing_error(table, swing) -> MappingProxyType:
@@ -210,9 +223,11 @@ def _parse_swing_error(table, swing) -> MappingProxyType:
     if errors and not swing:
         raise InputError("pitches.swing_error", "only with pitches.swing = true (the errors "
                          "of the measured swings drawn from the rows)")
-    check_keys(errors, "pitches.swing_error", (), tuple(SWING_KEYS))
+    check_keys(errors, "pitches.swing_error", (), (*SWING_KEYS, OUTLIERS))
     out = {}
     for key, spec in errors.items():
+        if key == OUTLIERS:
+            continue
         name = f"pitches.swing_error.{key}"
         dist = parse(spec, name, TABLE_UNITS[SWING_KEYS[key]][0])
         if dist.family != "fixed" or not (math.isfinite(dist.value) and dist.value >= 0.0):
@@ -220,6 +235,114 @@ def _parse_swing_error(table, swing) -> MappingProxyType:
                              f"error, e.g. {{ value = 4, unit = \"deg\" }}), got {spec!r}")
         out[f"swing.{key}"] = float(dist.value)
     return MappingProxyType(out)
+
+
+def _parse_outliers(errors):
+    """``[pitches.swing_error.bat_speed_outliers]`` -> ``(fraction, excess m/s, spread
+    m/s)``, or None without it. It needs ``bat_speed`` in ``[pitches.swing_error]``: the
+    other rows' error, and ``spread``'s default."""
+    table = errors.get(OUTLIERS) if isinstance(errors, dict) else None
+    if table is None:
+        return None
+    name = f"pitches.swing_error.{OUTLIERS}"
+    check_keys(table, name, ("fraction", "excess"), ("spread",))
+    if "bat_speed" not in errors:
+        raise InputError(name, "needs pitches.swing_error.bat_speed (the error of the "
+                         "other measured bat speeds)")
+    fraction = table["fraction"]
+    if (isinstance(fraction, bool) or not isinstance(fraction, (int, float))
+            or not 0.0 <= fraction < 0.5):
+        raise InputError(f"{name}.fraction", f"must be a number in [0, 0.5) (the share of "
+                         f"measured bat speeds that are outliers), got {fraction!r}")
+    values = {}
+    for key in ("excess", "spread"):
+        if key not in table:
+            continue
+        dist = parse(table[key], f"{name}.{key}", TABLE_UNITS[SWING_KEYS["bat_speed"]][0])
+        if dist.family != "fixed" or not math.isfinite(dist.value):
+            raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {{ value = 12, "
+                             f"unit = \"mph\" }}), got {table[key]!r}")
+        values[key] = float(dist.value)
+    spread = values.get("spread")
+    if spread is None:
+        spread = _parse_swing_error({"swing_error": {"bat_speed": errors["bat_speed"]}},
+                                    True)["swing.bat_speed"]
+    if not spread >= 0.0:
+        raise InputError(f"{name}.spread", f"must be >= 0, got {table['spread']!r}")
+    return float(fraction), values["excess"], spread
+
+
+def outlier_population(population, sd, outliers, block=4096) -> tuple:
+    """The grid of true bat speeds (m/s) and the population's weights on it that
+    :func:`outlier_posterior_draw` draws with: the population whose measurements, with the
+    two-part error of ``outliers = (f, excess, spread)`` and ``sd``, give the selected
+    rows' own (``population``), deconvolved by expectation-maximisation (each row's
+    posterior over the grid, summed; ``DECONVOLUTION_STEPS`` steps), so that the outliers'
+    own readings do not count as fast true swings. A file's bat speeds are skewed (a long
+    tail of slow swings, few fast ones): whether a fast reading is an outlier depends on
+    how rare such swings are in the file itself, not in a normal law of its mean and
+    variance. Steps of the grid: ``sd / 10``."""
+    f, excess, spread = outliers
+    width = max(sd, spread, 1e-3)
+    step = width / 10.0
+    low = float(population.min()) - max(excess, 0.0) - 6.0 * width
+    high = float(population.max()) + max(-excess, 0.0) + 6.0 * width
+    grid = low + step * np.arange(int(np.ceil((high - low) / step)) + 1)
+    seen, counts = np.unique(np.asarray(population, float), return_counts=True)
+    prior = np.full(grid.size, 1.0 / grid.size)
+    for _ in range(DECONVOLUTION_STEPS):
+        updated = np.zeros(grid.size)
+        for start in range(0, seen.size, block):
+            weights = prior[None, :] * _two_part(seen[start:start + block], grid, sd,
+                                                 outliers)
+            weights /= weights.sum(axis=1, keepdims=True)
+            updated += counts[start:start + block] @ weights
+        prior = updated / updated.sum() + 1e-300
+    return grid, prior
+
+
+def outlier_posterior_draw(measured, sd, outliers, u_pick, population,
+                           block=4096) -> np.ndarray:
+    """Draws of the true bat speeds given the ``measured`` ones (m/s) when a share of the
+    measurements read far too fast (``[pitches.swing_error.bat_speed_outliers]``).
+
+    The measured value is the true one plus an error that is ``N(0, sd)`` for a share
+    ``1 - f`` of the rows and ``N(excess, spread)`` for the share ``f`` (``outliers = (f,
+    excess, spread)``); ``population = (grid, weights)`` of :func:`outlier_population`.
+    The posterior on the grid is drawn by its inverse distribution function at ``u_pick``
+    (uniform), linear within a step."""
+    grid, prior = population
+    step = grid[1] - grid[0]
+    values, where = np.unique(np.asarray(measured, float), return_inverse=True)
+    out = np.empty(where.size)
+    for start in range(0, values.size, block):
+        cdf = np.cumsum(prior[None, :] * _two_part(values[start:start + block], grid, sd,
+                                                   outliers), axis=1)
+        cdf /= cdf[:, -1:]
+        mine = np.flatnonzero((where >= start) & (where < start + block))
+        rows, u = cdf[where[mine] - start], np.asarray(u_pick, float)[mine]
+        k = np.minimum((rows < u[:, None]).sum(axis=1), grid.size - 1)
+        below = np.where(k > 0, rows[np.arange(k.size), k - 1], 0.0)
+        at = rows[np.arange(k.size), k]
+        share = np.clip((u - below) / np.maximum(at - below, 1e-300), 0.0, 1.0)
+        out[mine] = grid[k] - step * (1.0 - share)
+    return out
+
+
+def _two_part(values, grid, sd, outliers) -> np.ndarray:
+    """The likelihood of measured ``values`` (rows) at the true speeds of ``grid``
+    (columns) under the two-part error."""
+    f, excess, spread = outliers
+    step = grid[1] - grid[0]
+    x = values[:, None] - grid[None, :]
+    return (1.0 - f) * _normal(x, 0.0, sd, step) + f * _normal(x, excess, spread, step)
+
+
+def _normal(x, mean, sd, step) -> np.ndarray:
+    """The normal density of ``x`` (unnormalised: the grid's weights), a point mass on the
+    grid for ``sd`` below its step."""
+    sd = max(sd, step)
+    return np.exp(-0.5 * ((x - mean) / sd) ** 2) / sd
 
 
 def _filter_values(value, name, kind) -> tuple:
@@ -309,6 +432,9 @@ class PitchRows:
                 "swing": source.swing, "keys": list(self.keys),
                 "fallback": sorted(source.fallback),
                 **({"swing_error": dict(source.swing_error)} if source.swing_error else {}),
+                **({"bat_speed_outliers": dict(zip(("fraction", "excess", "spread"),
+                                                   source.bat_speed_outliers))}
+                   if source.bat_speed_outliers else {}),
                 "handedness": "rows" if self.handedness is not None else "study",
                 "draw": f"row = floor(u M), u the Philox uniform of stream {ROW_STREAM!r}",
                 **self.summary}

@@ -283,3 +283,51 @@ def test_plate_z_trend_moves_the_undercut_with_the_pitchs_height(tmp_path):
     p, _, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
     q, _, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
     np.testing.assert_array_equal(p["undercut"], q["undercut"])
+
+
+def test_bat_speed_trend_moves_the_undercut_too(tmp_path):
+    rows = _rows()
+    contact = {"from_barrel_end": {"value": 6, "unit": "in"},
+               "undercut": {"dist": "truncnormal", "mean": 0.3, "std": 1.0, "low": -2,
+                            "high": 2, "unit": "in"}}
+    plain = load_pitches(Study.from_dict(_data(tmp_path, rows, contact=dict(contact))))
+    data = _data(tmp_path, rows, contact=dict(contact))
+    trend = _trend(0.0)
+    del trend["from_barrel_end"]
+    trend["undercut"] = {"value": 0.3, "unit": "in"}
+    data["contact"]["bat_speed_trend"] = trend
+    moved = load_pitches(Study.from_dict(data))
+    a, b = plain.sample(), moved.sample()
+    np.testing.assert_array_equal(a["bat_speed"], b["bat_speed"])
+    expected = np.clip(a["undercut"] + 0.3 * INCH / (10 * MPH) * (a["bat_speed"] - 70 * MPH),
+                       -2 * INCH, 2 * INCH)
+    np.testing.assert_allclose(b["undercut"], expected, rtol=0, atol=1e-15)
+    # without its from_barrel_end the contact stays where it was drawn
+    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
+    fast = a["bat_speed"] > 75 * MPH
+    assert np.mean(b["undercut"][fast]) > np.mean(a["undercut"][fast]) + 0.1 * INCH
+    config = moved.config()["contact"]["bat_speed_trend"]
+    assert config["undercut_per_bat_speed"] == pytest.approx(0.3 * INCH / (10 * MPH))
+    assert config["from_barrel_end_per_bat_speed"] == 0
+    # a faster swing meets the ball further under its centre: it leaves higher
+    from mcbat.stats.models.simulate import solve_game_inputs
+
+    la_plain = solve_game_inputs(plain, plain.sample_inputs(0, 4000))[0]["launch_angle"]
+    la_moved = solve_game_inputs(moved, moved.sample_inputs(0, 4000))[0]["launch_angle"]
+    fast = a["bat_speed"][:4000] > 75 * MPH
+    assert np.mean(la_moved[fast]) > np.mean(la_plain[fast]) + 1.0
+    # the population fit weighs the undercut as drawn, before the move
+    from mcbat.stats.population.templates import _solve_memory
+
+    p, _, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
+    q, _, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
+    np.testing.assert_array_equal(p["undercut"], q["undercut"])
+
+
+def test_bat_speed_trend_needs_a_shift(tmp_path):
+    data = _data(tmp_path, _rows())
+    trend = _trend()
+    del trend["from_barrel_end"]
+    data["contact"]["bat_speed_trend"] = trend
+    with pytest.raises(InputError, match="from_barrel_end or undercut"):
+        Study.from_dict(data)

@@ -99,3 +99,102 @@ def test_population_table_with_swing_needs_bat_speed():
     assert len(used) == 7 and dropped["no_bat_speed"] == 3
     used, _ = population_table(rows)
     assert len(used) == 10
+
+
+def _outlier_study(tmp_path, rows, outliers, samples=40000):
+    path = tmp_path / "outlier_rows.csv"
+    write_pitches(rows, path)
+    data = {"study": {"name": "t", "samples": samples, "seed": 5},
+            "ball": {"preset": "baseball"}, "bat": {"preset": "r161"},
+            "pitches": {"file": str(path), "swing": True, "swing_error": {
+                "bat_speed": {"value": 2, "unit": "mph"},
+                **({"bat_speed_outliers": outliers} if outliers is not None else {})}},
+            "pitch": {"spin_efficiency": 0.9},
+            "swing": {"vertical_bat_angle": {"value": -30, "unit": "deg"}},
+            "contact": {"from_barrel_end": {"value": 6, "unit": "in"}, "undercut": 0.0},
+            "friction": {"mu": 0.5}}
+    return load_pitches(Study.from_dict(data))
+
+
+def _contaminated_rows(n=6000, share=0.05, excess=13.0, seed=11):
+    """Rows whose true bat speeds (mph, returned too) were measured with a 2-mph error,
+    and a share of them ``excess`` too fast."""
+    rng = np.random.default_rng(seed)
+    rows = _rows(n, seed)
+    true = rng.normal(70.0, 5.0, n)
+    outlier = rng.random(n) < share
+    rows["bat_speed"] = true + np.where(outlier, rng.normal(excess, 2.0, n),
+                                        rng.normal(0.0, 2.0, n))
+    return rows, true
+
+
+def test_bat_speed_outliers_recover_the_true_speeds(tmp_path):
+    rows, true = _contaminated_rows()
+    study = _outlier_study(tmp_path, rows, {"fraction": 0.05,
+                                            "excess": {"value": 13, "unit": "mph"}})
+    _, measured, drawn = _measured_and_drawn(study, "bat_speed")
+    j = study.pitch_rows.index[study.pitch_rows.draw_rows(study.seed, 0, study.samples)]
+    truth = true[j] * 0.44704
+    # the draws follow the true population, not the measured one
+    assert drawn.mean() == pytest.approx(truth.mean(), abs=0.15 * 0.44704)
+    assert drawn.std() == pytest.approx(truth.std(), rel=0.04)
+    # where the outliers dominate (measured far above the population), the draws are as
+    # slow as the true swings of those rows, and the plain error would not be
+    fast = measured > 81.0 * 0.44704
+    assert fast.sum() > 1000
+    assert drawn[fast].mean() == pytest.approx(truth[fast].mean(), abs=1.0 * 0.44704)
+    plain = _outlier_study(tmp_path, rows, None)
+    _, _, plain_drawn = _measured_and_drawn(plain, "bat_speed")
+    assert plain_drawn[fast].mean() > truth[fast].mean() + 3.0 * 0.44704
+    # and the swings in the bulk keep their measured speed, shrunk as by the plain error
+    bulk = np.abs(measured - 70.0 * 0.44704) < 3.0 * 0.44704
+    assert drawn[bulk].mean() == pytest.approx(truth[bulk].mean(), abs=0.3 * 0.44704)
+
+
+def test_zero_outlier_share_is_the_plain_error(tmp_path):
+    rows, _ = _contaminated_rows(n=500)
+    plain = _outlier_study(tmp_path, rows, None, samples=3000)
+    zero = _outlier_study(tmp_path, rows, {"fraction": 0.0,
+                                           "excess": {"value": 13, "unit": "mph"}},
+                          samples=3000)
+    np.testing.assert_allclose(plain.sample()["bat_speed"], zero.sample()["bat_speed"],
+                               rtol=0, atol=1e-12)
+    assert zero.config()["pitches"]["bat_speed_outliers"]["fraction"] == 0.0
+    assert plain.config_hash() != zero.config_hash()
+
+
+@pytest.mark.parametrize("outliers, errors, field", [
+    ({"fraction": 0.6, "excess": {"value": 13, "unit": "mph"}}, None,
+     "bat_speed_outliers.fraction"),
+    ({"fraction": 0.05, "excess": {"value": 13, "unit": "deg"}}, None,
+     "bat_speed_outliers.excess"),
+    ({"fraction": 0.05}, None, "bat_speed_outliers.excess"),
+    ({"fraction": 0.05, "excess": {"value": 13, "unit": "mph"}, "width": 1}, None,
+     "bat_speed_outliers.width"),
+    ({"fraction": 0.05, "excess": {"value": 13, "unit": "mph"}},
+     {"attack_angle": {"value": 4, "unit": "deg"}}, "bat_speed_outliers"),
+])
+def test_bad_outliers_name_their_field(tmp_path, outliers, errors, field):
+    errors = dict(errors or {"bat_speed": {"value": 2, "unit": "mph"}})
+    errors["bat_speed_outliers"] = outliers
+    with pytest.raises(InputError) as err:
+        _study(tmp_path, errors)
+    assert field in str(err.value)
+
+
+def test_bat_speed_outliers_keep_the_fast_swings_of_a_fast_population(tmp_path):
+    # one fast batter's file: his 80-mph swings are common, not outliers
+    rows, true = _contaminated_rows(share=0.0)
+    rows["bat_speed"] += 6.0
+    true = true + 6.0
+    study = _outlier_study(tmp_path, rows, {"fraction": 0.05,
+                                            "excess": {"value": 13, "unit": "mph"}})
+    _, measured, drawn = _measured_and_drawn(study, "bat_speed")
+    j = study.pitch_rows.index[study.pitch_rows.draw_rows(study.seed, 0, study.samples)]
+    fast = (measured > 80.0 * 0.44704) & (measured < 84.0 * 0.44704)
+    assert fast.sum() > 2000
+    # (the assumed 5 % of outliers, absent here, cost these rows a few tenths of a mph;
+    # a normal population of the rows' mean and variance would take them for outliers and
+    # draw many of them several mph slower)
+    assert drawn[fast].mean() == pytest.approx(true[j][fast].mean() * 0.44704,
+                                               abs=1.0 * 0.44704)
