@@ -1,0 +1,72 @@
+"""``python -m validation season_sample``: a season's swings, each given a real pitch.
+
+On the shipped excerpt of 2025-05-01 (``data/statcast_2025-05-01_bat_tracking.csv``,
+provenance in ``data/README.md``) read as a swing sample without its pitches."""
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+EXCERPT = ROOT / "data" / "statcast_2025-05-01_bat_tracking.csv"
+
+
+def _sample(raw):
+    """The excerpt as a season sample gives it: the swing, the batted ball, the hands."""
+    return pd.DataFrame({
+        "launch_speed": raw["launch_speed"], "launch_angle": raw["launch_angle"],
+        "bat_speed": raw["bat_speed"], "swing_length": raw["swing_length"],
+        "attack_angle": raw["attack_angle"], "swing_path_tilt": raw["swing_path_tilt"],
+        "plate_x": raw["plate_x"], "plate_z": raw["plate_z"],
+        "is_stand_left": (raw["stand"] == "L").astype(int),
+        "is_throw_left": (raw["p_throws"] == "L").astype(int)})
+
+
+def test_each_swing_gets_a_real_pitch_of_its_pitchers_hand():
+    from validation.season_sample import SWING_COLUMNS, pair
+
+    raw = pd.read_csv(EXCERPT)
+    raw = raw[raw["bb_type"].notna() & raw["bat_speed"].notna()].reset_index(drop=True)
+    sample = _sample(raw)
+    out = pair(sample, raw, seed=3)
+    assert len(out) == len(sample)
+    # the rows come grouped by the pitcher's hand: match them back by hand and order
+    for hand, flag in (("R", 0), ("L", 1)):
+        mine = sample[sample["is_throw_left"] == flag]
+        theirs = out[out["p_throws"] == hand]
+        assert len(mine) == len(theirs) > 0
+        for column in SWING_COLUMNS:
+            np.testing.assert_array_equal(theirs[column].to_numpy(), mine[column].to_numpy())
+        np.testing.assert_array_equal(theirs["stand"].to_numpy(),
+                                      np.where(mine["is_stand_left"] == 1, "L", "R"))
+        # the pitch is one of the file's own, thrown by a pitcher of that hand
+        pool = raw[raw["p_throws"] == hand]
+        assert set(theirs["release_speed"]) <= set(pool["release_speed"])
+        assert theirs["attack_direction"].isna().all()
+    keys = out[["game_pk", "at_bat_number", "pitch_number"]]
+    assert not keys.duplicated().any()
+
+
+def test_a_hand_without_pitches_names_it():
+    from validation.season_sample import pair
+
+    raw = pd.read_csv(EXCERPT)
+    raw = raw[raw["bb_type"].notna() & raw["bat_speed"].notna()]
+    with pytest.raises(ValueError, match="throwing L"):
+        pair(_sample(raw), raw[raw["p_throws"] == "R"])
+
+
+def test_bins_compare_the_model_with_the_rows_they_meet():
+    from validation.season_sample import binned, chi2
+
+    key = np.array([1.0, 1.5, 2.5, 2.6] * 20)
+    measured = np.array([10.0, 12.0, 20.0, 22.0] * 20)
+    row = np.repeat(np.arange(key.size), 3)
+    draws = measured[row] + 1.0  # the model 1 above every row
+    bins = binned(key, (0.0, 2.0, 3.0), measured, row, draws)
+    assert [b["rows"] for b in bins] == [40, 40]
+    assert [b["measured"] for b in bins] == [11.0, 21.0]
+    assert [b["model"] for b in bins] == [12.0, 22.0]
+    assert chi2(bins) == pytest.approx(2 * (1.0 / (1.0 / np.sqrt(40))) ** 2)

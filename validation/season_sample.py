@@ -1,0 +1,219 @@
+"""The study against a season-wide sample of tracked balls in play whose pitches are not
+given: launch speed and angle by bat speed, pitch height and location, model and data.
+
+A day's export holds a few hundred tracked balls in play, so a bin of 100 of them has a
+mean launch speed uncertain by 1.5 mph: the trends of the collision with the swing are
+hidden in its noise. Public samples of a season's tracked balls in play hold tens of
+thousands of rows, but often only the swing and the batted ball (``bat_speed``,
+``attack_angle``, ``swing_path_tilt``, ``launch_speed``, ``launch_angle``, ``plate_x``,
+``plate_z``, the batter's and pitcher's hands), not the pitch. Here each of their rows is
+given the pitch of a random tracked ball in play of a real export thrown by a pitcher of
+the same hand (:func:`pair`): the launch speed moves by about 0.2 mph per mph of pitch
+speed, so a bin's mean carries the pitch file's mix (a few tenths of a mph, the same in
+every bin), while its dependence on the bat speed is the season's. The pitch's plate
+location is the sample's own (the contact's location trends read it).
+
+    NUMBA_NUM_THREADS=1 .venv/bin/python -m validation season_sample \\
+        --sample season_2025.csv --sample season_2024.csv \\
+        --pitches statcast_2025-05-01.csv --figure docs/figures/bat_tracking/season.png
+
+Files are names in ``../shared/data/statcast/`` or ``data/``, or paths. The study is
+``studies/bat_tracking.toml`` as shipped (``--study`` for a variant); nothing is fitted
+here. ``docs/bat_tracking.md`` names the samples used and their provenance.
+"""
+
+import argparse
+import tempfile
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from validation.bat_tracking import PLATE_X_BINS, PLATE_Z_BINS, STUDY, resolve, simulate, tracked
+
+IN_ALL = False
+#: Swing columns taken from the sample (the rest of a row is its pitch's).
+SWING_COLUMNS = ("launch_speed", "launch_angle", "bat_speed", "swing_length",
+                 "attack_angle", "swing_path_tilt", "plate_x", "plate_z")
+BAT_SPEED_EDGES = tuple(np.arange(50.0, 90.1, 2.5))
+ACCEPTANCE_EDGES = (0.0, 65.0, 70.0, 75.0, 80.0, 200.0)
+MIN_ROWS = 30
+
+
+def pair(sample: pd.DataFrame, pitches: pd.DataFrame, seed=1) -> pd.DataFrame:
+    """Savant rows: each row of ``sample`` (a swing and its batted ball, the hands as
+    ``is_stand_left`` and ``is_throw_left`` 0/1 or as ``stand`` and ``p_throws``) with the
+    pitch of a random row of ``pitches`` (a raw Savant export's balls in play with bat
+    tracking) of a pitcher of the same hand. The swing columns missing from the sample
+    are left empty (the study's fallbacks draw them); every row gets its own pitch
+    identifiers (the pitches repeat)."""
+    sample = sample.copy()
+    if "stand" not in sample:
+        sample["stand"] = np.where(sample["is_stand_left"] == 1, "L", "R")
+    if "p_throws" not in sample:
+        sample["p_throws"] = np.where(sample["is_throw_left"] == 1, "L", "R")
+    pool = pitches[pitches["bb_type"].notna() & pitches["bat_speed"].notna()]
+    rng = np.random.default_rng(seed)
+    frames = []
+    for hand, rows in sample.groupby("p_throws", sort=True):
+        same = pool[pool["p_throws"] == hand]
+        if same.empty:
+            raise ValueError(f"the pitch file has no ball in play off a pitcher throwing {hand}")
+        out = same.iloc[rng.integers(0, len(same), len(rows))].copy()
+        for column in SWING_COLUMNS:
+            out[column] = rows[column].to_numpy() if column in rows else np.nan
+        out["stand"] = rows["stand"].to_numpy()
+        out["attack_direction"] = (rows["attack_direction"].to_numpy()
+                                   if "attack_direction" in rows else np.nan)
+        frames.append(out)
+    out = pd.concat(frames, ignore_index=True)
+    out["game_pk"] = 1 + np.arange(len(out)) // 1000
+    out["at_bat_number"] = 1 + np.arange(len(out)) % 1000
+    out["pitch_number"] = 1
+    return out
+
+
+def without(sample: pd.DataFrame, others) -> pd.DataFrame:
+    """``sample`` less its rows that are balls in play of the raw Savant exports
+    ``others`` (the same launch speed to 0.1 mph, launch angle to 1 deg and bat speed to
+    0.1 mph: a public season sample may hold a day's file whole)."""
+    def key(t):
+        return (t["launch_speed"].round(1).astype(str) + "|"
+                + t["launch_angle"].round(0).astype("Int64").astype(str) + "|"
+                + t["bat_speed"].round(1).astype(str))
+
+    seen = set()
+    for other in others:
+        raw = pd.read_csv(resolve(other), low_memory=False)
+        raw = raw[raw["bb_type"].notna() & raw["bat_speed"].notna()
+                  & raw["launch_speed"].notna()]
+        seen |= set(key(raw))
+    return sample[~key(sample).isin(seen)]
+
+
+def binned(key, edges, measured, row, draws) -> list[dict]:
+    """Per bin of ``key`` (one value per row) with at least ``MIN_ROWS`` rows: the rows,
+    the measured mean and its standard error, the model's mean over the draws of those
+    rows (``row``: the row each draw meets)."""
+    out = []
+    k_row, k_draw = np.digitize(key, edges), np.digitize(key[row], edges)
+    for k in range(1, len(edges)):
+        rows = k_row == k
+        if rows.sum() < MIN_ROWS:
+            continue
+        out.append({"low": float(edges[k - 1]), "high": float(edges[k]),
+                    "rows": int(rows.sum()), "measured": float(measured[rows].mean()),
+                    "se": float(measured[rows].std() / np.sqrt(rows.sum())),
+                    "model": float(draws[k_draw == k].mean())})
+    return out
+
+
+def chi2(bins) -> float:
+    """Sum of ((model - measured) / se)^2 over the bins."""
+    return float(sum(((b["model"] - b["measured"]) / b["se"]) ** 2 for b in bins))
+
+
+def judge(path, pitches, samples, seed, study=STUDY, exclude=()) -> dict:
+    """The study (its settings as written) on the sample at ``path`` less the balls in play
+    of the exports ``exclude`` (:func:`without`), each row paired with a pitch of
+    ``pitches`` (:func:`pair`)."""
+    sample = without(pd.read_csv(resolve(path)), exclude)
+    raw = pd.read_csv(resolve(pitches), low_memory=False)
+    data = tomllib.loads(Path(study).read_text())
+    with tempfile.TemporaryDirectory() as tmp:
+        paired = Path(tmp) / "paired.csv"
+        pair(sample, raw, seed).to_csv(paired, index=False)
+        table = tracked([str(paired)])
+        sim = simulate(data, table, samples, seed, tmp)
+    bat = table["bat_speed"].to_numpy()
+    speed, angle = table["launch_speed"].to_numpy(), table["launch_angle"].to_numpy()
+    plate_z = table["plate_z"].to_numpy()  # (ft, as Statcast gives it)
+    plate_x = table["plate_x"].to_numpy()
+    away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
+    row = sim["row"]
+    result = {"sample": Path(path).name, "rows": len(table), "sample_rows": len(sample),
+              "speed": binned(bat, BAT_SPEED_EDGES, speed, row, sim["launch_speed"]),
+              "angle": binned(bat, BAT_SPEED_EDGES, angle, row, sim["launch_angle"]),
+              "acceptance": binned(bat, ACCEPTANCE_EDGES, speed, row, sim["launch_speed"]),
+              "height": binned(plate_z, PLATE_Z_BINS, angle, row, sim["launch_angle"]),
+              "away": binned(away, PLATE_X_BINS, speed, row, sim["launch_speed"])}
+    for key in ("speed", "angle", "height", "away"):
+        result[f"{key}_chi2"] = chi2(result[key])
+    return result
+
+
+def report(r) -> list[str]:
+    """The printed lines of one sample's judgement."""
+    lines = [f"{r['sample']}: {r['rows']} of {r['sample_rows']} rows (after the exclusions)"]
+    for key, title, unit in (("speed", "launch speed by bat speed", "mph"),
+                             ("angle", "launch angle by bat speed", "deg"),
+                             ("height", "launch angle by plate_z (ft)", "deg"),
+                             ("away", "launch speed by plate_x away from the batter (ft)",
+                              "mph"),
+                             ("acceptance", "launch speed, acceptance bins", "mph")):
+        lines.append(f"  {title}" + (f": sum of ((model - measured)/se)^2 "
+                                     f"{r[key + '_chi2']:.1f} ({len(r[key])} bins)"
+                                     if key != "acceptance" else ""))
+        for b in r[key]:
+            gap = b["model"] - b["measured"]
+            lines.append(f"    {b['low']:5.1f} to {b['high']:5.1f}: {b['rows']:5d} rows, "
+                         f"measured {b['measured']:6.1f} +- {b['se']:.1f}, model "
+                         f"{b['model']:6.1f} {unit} (model - measured {gap:+.1f})")
+    return lines
+
+
+def figure(results, path):
+    """Launch speed and angle against bat speed, data and model, one column a sample."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, len(results), figsize=(5.2 * len(results), 7.5),
+                             squeeze=False, sharex=True)
+    for j, r in enumerate(results):
+        for i, (key, label) in enumerate((("speed", "launch speed (mph)"),
+                                          ("angle", "launch angle (deg)"))):
+            ax = axes[i, j]
+            x = [0.5 * (b["low"] + b["high"]) for b in r[key]]
+            ax.errorbar(x, [b["measured"] for b in r[key]], [b["se"] for b in r[key]],
+                        fmt="o", color="k", ms=4, label="measured (mean +- se)")
+            ax.plot(x, [b["model"] for b in r[key]], "-", color="C3", label="model")
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+            if i == 0:
+                ax.set_title(f"{r['sample']} ({r['rows']} rows)", fontsize=10)
+                ax.legend(fontsize=8)
+        axes[1, j].set_xlabel("measured bat speed (mph)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m validation season_sample",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sample", action="append", required=True,
+                        help="a season sample of tracked balls in play (repeatable)")
+    parser.add_argument("--pitches", default="statcast_2025-05-01.csv",
+                        help="the Savant export whose balls in play give the pitches")
+    parser.add_argument("--samples", type=int, default=200000)
+    parser.add_argument("--seed", type=int, default=2025)
+    parser.add_argument("--study", type=Path, default=STUDY)
+    parser.add_argument("--figure", help="write the figure to this PNG")
+    parser.add_argument("--exclude", default="", help="comma-separated Savant exports "
+                        "whose balls in play to drop from the samples (those a fit used, "
+                        "or those judged on their own)")
+    args = parser.parse_args(argv)
+    exclude = [x for x in args.exclude.split(",") if x]
+    results = [judge(s, args.pitches, args.samples, args.seed, args.study, exclude)
+               for s in args.sample]
+    for r in results:
+        print("\n".join(report(r)))
+    if args.figure:
+        figure(results, args.figure)
+
+
+if __name__ == "__main__":
+    main()
