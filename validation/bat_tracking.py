@@ -487,16 +487,20 @@ def location_bins(table, row, draws, observable, edges) -> list[dict]:
         rows = np.flatnonzero((where >= lo) & (where < hi))
         if rows.size < 10:
             continue
-        above = below = 0
+        above = below = used = 0
         for r in rows:
-            low_q, high_q = np.quantile(draws[order[cuts[r]:cuts[r + 1]]], [0.1, 0.9])
+            mine = draws[order[cuts[r]:cuts[r + 1]]]
+            if mine.size < 10:  # (a row met by too few draws has no percentiles)
+                continue
+            low_q, high_q = np.quantile(mine, [0.1, 0.9])
+            used += 1
             above += measured[r] > high_q
             below += measured[r] < low_q
         out.append({"bin": f"{lo:+.1f} to {hi:+.1f}", "rows": int(rows.size),
                     "measured": float(measured[rows].mean()),
                     "se": float(measured[rows].std() / np.sqrt(rows.size)),
                     "model": float(draws[np.isin(row, rows)].mean()),
-                    "above_p90": above / rows.size, "below_p10": below / rows.size})
+                    "above_p90": above / max(used, 1), "below_p10": below / max(used, 1)})
     return out
 
 

@@ -14,12 +14,16 @@ every bin), while its dependence on the bat speed is the season's. The pitch's p
 location is the sample's own (the contact's location trends read it).
 
     NUMBA_NUM_THREADS=1 .venv/bin/python -m validation season_sample \\
-        --sample season_2025.csv --sample season_2024.csv \\
-        --pitches statcast_2025-05-01.csv --figure docs/figures/bat_tracking/season.png
+        --fit season_2025.csv --sample season_2025.csv --sample season_2024.csv \\
+        --judge statcast_2025-05-01.csv,statcast_2024_skubal.csv,statcast_2024_ohtani.csv \\
+        --figure docs/figures/bat_tracking/season.png
 
-Files are names in ``../shared/data/statcast/`` or ``data/``, or paths. The study is
-``studies/bat_tracking.toml`` as shipped (``--study`` for a variant); nothing is fitted
-here. ``docs/bat_tracking.md`` names the samples used and their provenance.
+``--fit`` fits the study's contact to a sample first (:func:`fit_contact`; every other
+setting the study's, ``--study`` for a variant), leaving out the balls in play of the
+exports judged (``--judge``: judged like ``validation bat_tracking``'s, out of sample) and
+of ``--exclude``; without it the study's contact is used as written. Files are names in
+``../shared/data/statcast/`` or ``data/``, or paths. ``docs/bat_tracking.md`` names the
+samples used and their provenance.
 """
 
 import argparse
@@ -30,6 +34,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+import validation.bat_tracking as bt
 from validation.bat_tracking import PLATE_X_BINS, PLATE_Z_BINS, STUDY, resolve, simulate, tracked
 
 IN_ALL = False
@@ -39,6 +44,8 @@ SWING_COLUMNS = ("launch_speed", "launch_angle", "bat_speed", "swing_length",
 BAT_SPEED_EDGES = tuple(np.arange(50.0, 90.1, 2.5))
 ACCEPTANCE_EDGES = (0.0, 65.0, 70.0, 75.0, 80.0, 200.0)
 MIN_ROWS = 30
+UNREACHED = (60.0, 90.0)
+"""Launch angle (deg) and speed (mph) above both of which a fit leaves a row out."""
 
 
 def pair(sample: pd.DataFrame, pitches: pd.DataFrame, seed=1) -> pd.DataFrame:
@@ -114,17 +121,44 @@ def chi2(bins) -> float:
     return float(sum(((b["model"] - b["measured"]) / b["se"]) ** 2 for b in bins))
 
 
-def judge(path, pitches, samples, seed, study=STUDY, exclude=()) -> dict:
-    """The study (its settings as written) on the sample at ``path`` less the balls in play
-    of the exports ``exclude`` (:func:`without`), each row paired with a pitch of
-    ``pitches`` (:func:`pair`)."""
+def paired_table(path, pitches, seed, exclude=()) -> tuple:
+    """The tidy table of the sample at ``path`` less the balls in play of the exports
+    ``exclude`` (:func:`without`), each row paired with a pitch of ``pitches``
+    (:func:`pair`), and the sample's row count after the exclusions."""
     sample = without(pd.read_csv(resolve(path)), exclude)
     raw = pd.read_csv(resolve(pitches), low_memory=False)
-    data = tomllib.loads(Path(study).read_text())
     with tempfile.TemporaryDirectory() as tmp:
         paired = Path(tmp) / "paired.csv"
         pair(sample, raw, seed).to_csv(paired, index=False)
-        table = tracked([str(paired)])
+        return tracked([str(paired)]), len(sample)
+
+
+def fit_contact(path, pitches, seed, exclude=()):
+    """The study's contact (``FREE`` of ``validation bat_tracking``) fitted with
+    ``fit_population`` to the sample at ``path`` (:func:`paired_table`), every other
+    setting the study's. The rows no draw of the study reaches (pop-ups above 60 deg
+    leaving faster than 90 mph: ``UNREACHED``) are left out and counted. Returns the fit
+    and the rows left out."""
+    table, _ = paired_table(path, pitches, seed, exclude)
+    unreached = ((table["launch_angle"] > UNREACHED[0])
+                 & (table["launch_speed"] > UNREACHED[1])).to_numpy()
+    table = table[~unreached]
+    errors = {k: v for k, v in study_errors(bt.BASE_STUDY[0]).items()
+              if k != "attack_direction"}
+    return bt.fit(table, errors, trend=None), int(unreached.sum())
+
+
+def study_errors(study) -> dict:
+    """The study's ``[pitches.swing_error]`` sds (deg, mph; no outlier table)."""
+    table = tomllib.loads(Path(study).read_text())["pitches"].get("swing_error", {})
+    return {k: v["value"] for k, v in table.items() if isinstance(v, dict) and "value" in v}
+
+
+def judge(path, pitches, samples, seed, data, exclude=()) -> dict:
+    """The study ``data`` (a study definition) on the sample at ``path``
+    (:func:`paired_table`)."""
+    table, kept = paired_table(path, pitches, seed, exclude)
+    with tempfile.TemporaryDirectory() as tmp:
         sim = simulate(data, table, samples, seed, tmp)
     bat = table["bat_speed"].to_numpy()
     speed, angle = table["launch_speed"].to_numpy(), table["launch_angle"].to_numpy()
@@ -132,7 +166,7 @@ def judge(path, pitches, samples, seed, study=STUDY, exclude=()) -> dict:
     plate_x = table["plate_x"].to_numpy()
     away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
     row = sim["row"]
-    result = {"sample": Path(path).name, "rows": len(table), "sample_rows": len(sample),
+    result = {"sample": Path(path).name, "rows": len(table), "sample_rows": kept,
               "speed": binned(bat, BAT_SPEED_EDGES, speed, row, sim["launch_speed"]),
               "angle": binned(bat, BAT_SPEED_EDGES, angle, row, sim["launch_angle"]),
               "acceptance": binned(bat, ACCEPTANCE_EDGES, speed, row, sim["launch_speed"]),
@@ -145,7 +179,8 @@ def judge(path, pitches, samples, seed, study=STUDY, exclude=()) -> dict:
 
 def report(r) -> list[str]:
     """The printed lines of one sample's judgement."""
-    lines = [f"{r['sample']}: {r['rows']} of {r['sample_rows']} rows (after the exclusions)"]
+    lines = [f"{r['sample']}, {r.get('role', 'judged')}: {r['rows']} of {r['sample_rows']} "
+             f"rows (after the exclusions)"]
     for key, title, unit in (("speed", "launch speed by bat speed", "mph"),
                              ("angle", "launch angle by bat speed", "deg"),
                              ("height", "launch angle by plate_z (ft)", "deg"),
@@ -183,7 +218,8 @@ def figure(results, path):
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
             if i == 0:
-                ax.set_title(f"{r['sample']} ({r['rows']} rows)", fontsize=10)
+                ax.set_title(f"{r['sample']}, {r.get('role', 'judged')} ({r['rows']} rows)",
+                             fontsize=10)
                 ax.legend(fontsize=8)
         axes[1, j].set_xlabel("measured bat speed (mph)")
     fig.tight_layout()
@@ -194,8 +230,12 @@ def figure(results, path):
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m validation season_sample",
                                      description=__doc__.split("\n\n")[0])
-    parser.add_argument("--sample", action="append", required=True,
-                        help="a season sample of tracked balls in play (repeatable)")
+    parser.add_argument("--sample", action="append", default=[],
+                        help="a season sample of tracked balls in play to judge (repeatable)")
+    parser.add_argument("--fit", help="a season sample to fit the study's contact to first "
+                        "(else the study's contact as written)")
+    parser.add_argument("--judge", default="", help="comma-separated Savant exports to "
+                        "judge with the contact (validation bat_tracking's numbers)")
     parser.add_argument("--pitches", default="statcast_2025-05-01.csv",
                         help="the Savant export whose balls in play give the pitches")
     parser.add_argument("--samples", type=int, default=200000)
@@ -203,15 +243,37 @@ def main(argv=None):
     parser.add_argument("--study", type=Path, default=STUDY)
     parser.add_argument("--figure", help="write the figure to this PNG")
     parser.add_argument("--exclude", default="", help="comma-separated Savant exports "
-                        "whose balls in play to drop from the samples (those a fit used, "
-                        "or those judged on their own)")
+                        "whose balls in play to drop from the samples (those judged on their "
+                        "own, or fitted)")
     args = parser.parse_args(argv)
-    exclude = [x for x in args.exclude.split(",") if x]
-    results = [judge(s, args.pitches, args.samples, args.seed, args.study, exclude)
+    bt.BASE_STUDY[0] = args.study
+    judged = [j for j in args.judge.split(",") if j]
+    # (a judged export's balls in play never enter the fit, whatever --exclude says)
+    exclude = list(dict.fromkeys([*(x for x in args.exclude.split(",") if x), *judged]))
+    values = None
+    if args.fit:
+        result, unreached = fit_contact(args.fit, args.pitches, args.seed, exclude)
+        values = bt._values(result)
+        print(f"fit on {Path(args.fit).name} ({result.rows} rows; {unreached} left out, "
+              f"launch angle above {UNREACHED[0]:g} deg at over {UNREACHED[1]:g} mph): chi2 "
+              f"{result.chi2:.1f}/{result.dof}")
+        for p in result.parameters:
+            low, high = (f"{e:.2f}" if e is not None else "?"
+                         for e in (p["lower_error"], p["upper_error"]))
+            print(f"  {p['name']} = {p['value']:.3f} -{low} +{high} {p['unit']}")
+    data = bt.study_definition(values)
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in judged:
+            table = tracked([name])
+            print("\n".join(bt.report(f"{Path(name).name} (out of sample)",
+                                       bt.judge(data, table, 100000, args.seed, tmp))))
+    results = [judge(s, args.pitches, args.samples, args.seed, data, exclude)
                for s in args.sample]
+    for s, r in zip(args.sample, results):
+        r["role"] = "in sample (fitted)" if args.fit and s == args.fit else "out of sample"
     for r in results:
         print("\n".join(report(r)))
-    if args.figure:
+    if args.figure and results:
         figure(results, args.figure)
 
 
