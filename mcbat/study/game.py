@@ -87,13 +87,12 @@ from mcbat.study.pitches import (
     SWING_ERROR_STREAM,
     PitchRows,
     PitchTable,
-    outlier_population,
-    outlier_posterior_draw,
     parse_pitches,
     select_rows,
 )
 from mcbat.study.random_program import compile_program, draw
 from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
+from mcbat.study.swing_errors import clip_true, outlier_population, true_values
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
@@ -270,48 +269,33 @@ class GameStudy(Study):
     def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
         """Replace the measured values of swing key ``key`` in ``column`` (the samples
         flagged by ``where``; the others took the key's fallback) by draws of the true
-        values given them (``mcbat.study.pitches``, "Swing measurement error"):
-        ``m + k (x - m) + sqrt(k) s z``, ``m`` and ``v`` the mean and variance of the
-        selected rows' measured values (``measured``, SI), ``k = max(0, 1 - s^2/v)``."""
+        values given them (``mcbat.study.swing_errors``; ``measured``: the selected rows'
+        values, SI)."""
         s = self.pitches.swing_error[key]
         finite = measured[np.isfinite(measured)]
-        m = float(finite.mean()) if finite.size else 0.0
-        v = float(finite.var()) if finite.size > 1 else 0.0
         name = f"{SWING_ERROR_STREAM}.{key.split('.', 1)[1]}"
         z = np.empty((1, n))
         draw(compile_program([(name, Normal(name, u.DIMENSIONLESS, None, mean=0.0, std=1.0,
                                             raw={"mean": 0, "std": 1}))], {name: 0}),
              seed, start, z)
         outliers = self.pitches.bat_speed_outliers if key == "swing.bat_speed" else None
-        if not outliers or outliers[0] == 0.0:
-            k = max(0.0, 1.0 - s * s / v) if v > 0.0 else 0.0
-            true = m + k * (column - m) + math.sqrt(k) * s * z[0]
-        else:
+        pick = population = None
+        if outliers and outliers[0] > 0.0:
             pick = np.empty((1, n))
             label = f"{name}.outlier"
             draw(compile_program([(label, Uniform(label, u.DIMENSIONLESS, None, low=0.0,
                                                   high=1.0, raw={"low": 0, "high": 1}))],
                                  {label: 0}), seed, start, pick)
-            key_ = (id(self._pitch_rows), key, s, outliers)
-            if self._outlier_cache.get("key") != key_:
+            pick = pick[0]
+            cache_key = (id(self._pitch_rows), key, s, outliers)
+            if self._outlier_cache.get("key") != cache_key:
                 # (the deconvolved population is the same for every chunk of the rows)
-                self._outlier_cache.update(key=key_, population=outlier_population(
+                self._outlier_cache.update(key=cache_key, population=outlier_population(
                     finite, s, outliers))
-            true = outlier_posterior_draw(column, s, outliers, pick[0],
-                                          self._outlier_cache["population"])
-        if key == "swing.bat_speed":
-            true = np.maximum(true, 0.0)
-        elif key == "swing.attack_angle":
-            limit = 0.5 * math.pi - 1e-6
-            vertical = self.inputs.get("swing.vertical_bat_angle")
-            if vertical is not None:
-                low, high = vertical.support()
-                largest = max(abs(low), abs(high))
-                if largest > 0.0:
-                    limit = min(limit, math.atan((1.0 - 1e-6) / math.tan(largest)))
-            true = np.clip(true, -limit, limit)
-        else:
-            true = np.clip(true, -0.5 * math.pi + 1e-6, 0.5 * math.pi - 1e-6)
+            population = self._outlier_cache["population"]
+        true = true_values(column, finite, s, z[0], outliers, pick, population)
+        vertical = self.inputs.get("swing.vertical_bat_angle")
+        true = clip_true(key, true, vertical.support() if vertical is not None else None)
         np.copyto(column, true, where=where)
 
     def _check_ranges(self):

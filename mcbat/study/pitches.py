@@ -38,7 +38,7 @@ leaves the measured values as they are. Attack angles are kept within the range 
 bat angle allows, bat speeds at or above 0. With ``[pitches.swing_error.bat_speed_outliers]``
 (``fraction``, ``excess``, ``spread``) a share of the bat speeds is measured ``excess`` too
 fast, and the true value is drawn from the two-part posterior, with the rows' own measured
-bat speeds as the population (:func:`outlier_posterior_draw`, by a uniform of stream
+bat speeds as the population (``mcbat.study.swing_errors``, by a uniform of stream
 ``"pitches.swing_error.bat_speed.outlier"``).
 
 This module knows only plain numpy columns: reading the file (pandas, pyarrow, the Savant
@@ -111,8 +111,6 @@ ROW_STREAM = "pitches.row"
 #: The Philox stream prefix of the swing measurement errors' draws (+ ".<key>").
 SWING_ERROR_STREAM = "pitches.swing_error"
 OUTLIERS = "bat_speed_outliers"
-DECONVOLUTION_STEPS = 30
-"""Expectation-maximisation steps of :func:`outlier_posterior_draw`'s population."""
 """The sub-table of ``[pitches.swing_error]`` of the bat speeds measured far too fast."""
 
 _HAND = {"R": 1.0, "L": -1.0}
@@ -270,79 +268,6 @@ def _parse_outliers(errors):
     if not spread >= 0.0:
         raise InputError(f"{name}.spread", f"must be >= 0, got {table['spread']!r}")
     return float(fraction), values["excess"], spread
-
-
-def outlier_population(population, sd, outliers, block=4096) -> tuple:
-    """The grid of true bat speeds (m/s) and the population's weights on it that
-    :func:`outlier_posterior_draw` draws with: the population whose measurements, with the
-    two-part error of ``outliers = (f, excess, spread)`` and ``sd``, give the selected
-    rows' own (``population``), deconvolved by expectation-maximisation (each row's
-    posterior over the grid, summed; ``DECONVOLUTION_STEPS`` steps), so that the outliers'
-    own readings do not count as fast true swings. A file's bat speeds are skewed (a long
-    tail of slow swings, few fast ones): whether a fast reading is an outlier depends on
-    how rare such swings are in the file itself, not in a normal law of its mean and
-    variance. Steps of the grid: ``sd / 10``."""
-    f, excess, spread = outliers
-    width = max(sd, spread, 1e-3)
-    step = width / 10.0
-    low = float(population.min()) - max(excess, 0.0) - 6.0 * width
-    high = float(population.max()) + max(-excess, 0.0) + 6.0 * width
-    grid = low + step * np.arange(int(np.ceil((high - low) / step)) + 1)
-    seen, counts = np.unique(np.asarray(population, float), return_counts=True)
-    prior = np.full(grid.size, 1.0 / grid.size)
-    for _ in range(DECONVOLUTION_STEPS):
-        updated = np.zeros(grid.size)
-        for start in range(0, seen.size, block):
-            weights = prior[None, :] * _two_part(seen[start:start + block], grid, sd,
-                                                 outliers)
-            weights /= weights.sum(axis=1, keepdims=True)
-            updated += counts[start:start + block] @ weights
-        prior = updated / updated.sum() + 1e-300
-    return grid, prior
-
-
-def outlier_posterior_draw(measured, sd, outliers, u_pick, population,
-                           block=4096) -> np.ndarray:
-    """Draws of the true bat speeds given the ``measured`` ones (m/s) when a share of the
-    measurements read far too fast (``[pitches.swing_error.bat_speed_outliers]``).
-
-    The measured value is the true one plus an error that is ``N(0, sd)`` for a share
-    ``1 - f`` of the rows and ``N(excess, spread)`` for the share ``f`` (``outliers = (f,
-    excess, spread)``); ``population = (grid, weights)`` of :func:`outlier_population`.
-    The posterior on the grid is drawn by its inverse distribution function at ``u_pick``
-    (uniform), linear within a step."""
-    grid, prior = population
-    step = grid[1] - grid[0]
-    values, where = np.unique(np.asarray(measured, float), return_inverse=True)
-    out = np.empty(where.size)
-    for start in range(0, values.size, block):
-        cdf = np.cumsum(prior[None, :] * _two_part(values[start:start + block], grid, sd,
-                                                   outliers), axis=1)
-        cdf /= cdf[:, -1:]
-        mine = np.flatnonzero((where >= start) & (where < start + block))
-        rows, u = cdf[where[mine] - start], np.asarray(u_pick, float)[mine]
-        k = np.minimum((rows < u[:, None]).sum(axis=1), grid.size - 1)
-        below = np.where(k > 0, rows[np.arange(k.size), k - 1], 0.0)
-        at = rows[np.arange(k.size), k]
-        share = np.clip((u - below) / np.maximum(at - below, 1e-300), 0.0, 1.0)
-        out[mine] = grid[k] - step * (1.0 - share)
-    return out
-
-
-def _two_part(values, grid, sd, outliers) -> np.ndarray:
-    """The likelihood of measured ``values`` (rows) at the true speeds of ``grid``
-    (columns) under the two-part error."""
-    f, excess, spread = outliers
-    step = grid[1] - grid[0]
-    x = values[:, None] - grid[None, :]
-    return (1.0 - f) * _normal(x, 0.0, sd, step) + f * _normal(x, excess, spread, step)
-
-
-def _normal(x, mean, sd, step) -> np.ndarray:
-    """The normal density of ``x`` (unnormalised: the grid's weights), a point mass on the
-    grid for ``sd`` below its step."""
-    sd = max(sd, step)
-    return np.exp(-0.5 * ((x - mean) / sd) ** 2) / sd
 
 
 def _filter_values(value, name, kind) -> tuple:
