@@ -67,6 +67,7 @@ from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import compile_program, draw
+from mcbat.study.swing_errors import parse_swing_errors
 
 __all__ = ["BUNT_COLUMN", "DUPLICATE_COLUMN", "FILTERS", "IDENTIFIERS", "PITCH_KEYS",
            "PITCH_SOURCE_COLUMNS", "ROW_RANGES", "ROW_STREAM", "SWING_ERROR_STREAM",
@@ -110,8 +111,6 @@ ROW_STREAM = "pitches.row"
 
 #: The Philox stream prefix of the swing measurement errors' draws (+ ".<key>").
 SWING_ERROR_STREAM = "pitches.swing_error"
-OUTLIERS = "bat_speed_outliers"
-"""The sub-table of ``[pitches.swing_error]`` of the bat speeds measured far too fast."""
 
 _HAND = {"R": 1.0, "L": -1.0}
 _RIGHT_ANGLE = math.pi / 2.0
@@ -177,6 +176,7 @@ class PitchSource:
 def parse_pitches(table, source) -> PitchSource:
     """Validate a ``[pitches]`` section; ``source`` is the study file (or None)."""
     check_keys(table, "pitches", ("file",), (*FILTERS, "swing", "fallback", "swing_error"))
+    quantities = {k: TABLE_UNITS[c][0] for k, c in SWING_KEYS.items()}
     file = table["file"]
     if not isinstance(file, str) or not file.strip():
         raise InputError("pitches.file", f"must be a file name (a string), got {file!r}")
@@ -208,66 +208,8 @@ def parse_pitches(table, source) -> PitchSource:
         quantity = TABLE_UNITS[{**PITCH_KEYS, **SWING_KEYS}[key]][0]
         fallback[_study_key(key)] = parse(spec, f"pitches.fallback.{key}", quantity)
     return PitchSource(file, path, MappingProxyType(filters), swing,
-                       MappingProxyType(fallback), _parse_swing_error(table, swing),
-                       _parse_outliers(table.get("swing_error", {})))
-
-
-def _parse_swing_error(table, swing) -> MappingProxyType:
-    """``[pitches.swing_error]``: drawn swing key -> the sd of its measurement error (SI)."""
-    errors = table.get("swing_error", {})
-    if not isinstance(errors, dict):
-        raise InputError("pitches.swing_error", f"must be a table ([pitches.swing_error]), "
-                         f"got {errors!r}")
-    if errors and not swing:
-        raise InputError("pitches.swing_error", "only with pitches.swing = true (the errors "
-                         "of the measured swings drawn from the rows)")
-    check_keys(errors, "pitches.swing_error", (), (*SWING_KEYS, OUTLIERS))
-    out = {}
-    for key, spec in errors.items():
-        if key == OUTLIERS:
-            continue
-        name = f"pitches.swing_error.{key}"
-        dist = parse(spec, name, TABLE_UNITS[SWING_KEYS[key]][0])
-        if dist.family != "fixed" or not (math.isfinite(dist.value) and dist.value >= 0.0):
-            raise InputError(name, f"must be a fixed value >= 0 (the sd of the measurement "
-                             f"error, e.g. {{ value = 4, unit = \"deg\" }}), got {spec!r}")
-        out[f"swing.{key}"] = float(dist.value)
-    return MappingProxyType(out)
-
-
-def _parse_outliers(errors):
-    """``[pitches.swing_error.bat_speed_outliers]`` -> ``(fraction, excess m/s, spread
-    m/s)``, or None without it. It needs ``bat_speed`` in ``[pitches.swing_error]``: the
-    other rows' error, and ``spread``'s default."""
-    table = errors.get(OUTLIERS) if isinstance(errors, dict) else None
-    if table is None:
-        return None
-    name = f"pitches.swing_error.{OUTLIERS}"
-    check_keys(table, name, ("fraction", "excess"), ("spread",))
-    if "bat_speed" not in errors:
-        raise InputError(name, "needs pitches.swing_error.bat_speed (the error of the "
-                         "other measured bat speeds)")
-    fraction = table["fraction"]
-    if (isinstance(fraction, bool) or not isinstance(fraction, (int, float))
-            or not 0.0 <= fraction < 0.5):
-        raise InputError(f"{name}.fraction", f"must be a number in [0, 0.5) (the share of "
-                         f"measured bat speeds that are outliers), got {fraction!r}")
-    values = {}
-    for key in ("excess", "spread"):
-        if key not in table:
-            continue
-        dist = parse(table[key], f"{name}.{key}", TABLE_UNITS[SWING_KEYS["bat_speed"]][0])
-        if dist.family != "fixed" or not math.isfinite(dist.value):
-            raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {{ value = 12, "
-                             f"unit = \"mph\" }}), got {table[key]!r}")
-        values[key] = float(dist.value)
-    spread = values.get("spread")
-    if spread is None:
-        spread = _parse_swing_error({"swing_error": {"bat_speed": errors["bat_speed"]}},
-                                    True)["swing.bat_speed"]
-    if not spread >= 0.0:
-        raise InputError(f"{name}.spread", f"must be >= 0, got {table['spread']!r}")
-    return float(fraction), values["excess"], spread
+                       MappingProxyType(fallback),
+                       *parse_swing_errors(table, swing, quantities))
 
 
 def _filter_values(value, name, kind) -> tuple:

@@ -14,14 +14,79 @@ random numbers are the study's (``mcbat.study.game``); this module is numpy only
 from __future__ import annotations
 
 import math
+from types import MappingProxyType
 
 import numpy as np
 
-__all__ = ["DECONVOLUTION_STEPS", "clip_true", "outlier_population",
-           "outlier_posterior_draw", "true_values"]
+from mcbat.checks import check_keys
+from mcbat.errors import InputError
+from mcbat.study.distributions import parse
+
+__all__ = ["DECONVOLUTION_STEPS", "OUTLIERS", "clip_true", "outlier_population",
+           "outlier_posterior_draw", "parse_swing_errors", "true_values"]
+
+OUTLIERS = "bat_speed_outliers"
+"""The sub-table of ``[pitches.swing_error]`` of the bat speeds measured far too fast."""
 
 DECONVOLUTION_STEPS = 30
 """Expectation-maximisation steps of :func:`outlier_population`."""
+
+
+def parse_swing_errors(table, swing, quantities) -> tuple:
+    """``[pitches]``'s ``[pitches.swing_error]`` -> (drawn swing key -> the sd of its
+    measurement error, SI; the outliers' ``(fraction, excess m/s, spread m/s)`` or None).
+    ``quantities``: each swing key's physical quantity (``"bat_speed"`` -> speed)."""
+    errors = table.get("swing_error", {})
+    if not isinstance(errors, dict):
+        raise InputError("pitches.swing_error", f"must be a table ([pitches.swing_error]), "
+                         f"got {errors!r}")
+    if errors and not swing:
+        raise InputError("pitches.swing_error", "only with pitches.swing = true (the errors "
+                         "of the measured swings drawn from the rows)")
+    check_keys(errors, "pitches.swing_error", (), (*quantities, OUTLIERS))
+    out = {}
+    for key, spec in errors.items():
+        if key == OUTLIERS:
+            continue
+        name = f"pitches.swing_error.{key}"
+        dist = parse(spec, name, quantities[key])
+        if dist.family != "fixed" or not (math.isfinite(dist.value) and dist.value >= 0.0):
+            raise InputError(name, f"must be a fixed value >= 0 (the sd of the measurement "
+                             f"error, e.g. {{ value = 4, unit = \"deg\" }}), got {spec!r}")
+        out[f"swing.{key}"] = float(dist.value)
+    return MappingProxyType(out), _parse_outliers(errors, out, quantities["bat_speed"])
+
+
+def _parse_outliers(errors, sds, quantity):
+    """``[pitches.swing_error.bat_speed_outliers]`` -> ``(fraction, excess m/s, spread
+    m/s)``, or None without it. It needs ``bat_speed`` in ``[pitches.swing_error]``: the
+    other rows' error, and ``spread``'s default."""
+    table = errors.get(OUTLIERS)
+    if table is None:
+        return None
+    name = f"pitches.swing_error.{OUTLIERS}"
+    check_keys(table, name, ("fraction", "excess"), ("spread",))
+    if "swing.bat_speed" not in sds:
+        raise InputError(name, "needs pitches.swing_error.bat_speed (the error of the "
+                         "other measured bat speeds)")
+    fraction = table["fraction"]
+    if (isinstance(fraction, bool) or not isinstance(fraction, (int, float))
+            or not 0.0 <= fraction < 0.5):
+        raise InputError(f"{name}.fraction", f"must be a number in [0, 0.5) (the share of "
+                         f"measured bat speeds that are outliers), got {fraction!r}")
+    values = {}
+    for key in ("excess", "spread"):
+        if key not in table:
+            continue
+        dist = parse(table[key], f"{name}.{key}", quantity)
+        if dist.family != "fixed" or not math.isfinite(dist.value):
+            raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {{ value = 12, "
+                             f"unit = \"mph\" }}), got {table[key]!r}")
+        values[key] = float(dist.value)
+    spread = values.get("spread", sds["swing.bat_speed"])
+    if not spread >= 0.0:
+        raise InputError(f"{name}.spread", f"must be >= 0, got {table['spread']!r}")
+    return float(fraction), values["excess"], spread
 
 
 def true_values(measured, rows, sd, z, outliers=None, u_pick=None, population=None):
