@@ -273,6 +273,8 @@ class GameStudy(Study):
         values, SI)."""
         s = self.pitches.swing_error[key]
         finite = measured[np.isfinite(measured)]
+        if not finite.size:  # (every row took the key's fallback: nothing was measured)
+            return
         name = f"{SWING_ERROR_STREAM}.{key.split('.', 1)[1]}"
         z = np.empty((1, n))
         draw(compile_program([(name, Normal(name, u.DIMENSIONLESS, None, mean=0.0, std=1.0,

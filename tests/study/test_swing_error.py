@@ -198,3 +198,26 @@ def test_bat_speed_outliers_keep_the_fast_swings_of_a_fast_population(tmp_path):
     # draw many of them several mph slower)
     assert drawn[fast].mean() == pytest.approx(true[j][fast].mean() * 0.44704,
                                                abs=1.0 * 0.44704)
+
+
+def test_bat_speed_outliers_with_no_measured_bat_speed_keep_the_fallback(tmp_path):
+    # a file before bat tracking, every bat speed drawn from the fallback: no measurement
+    # to correct, and the fallback's draws are left as drawn
+    rows, _ = _contaminated_rows(n=300)
+    rows["bat_speed"] = np.nan
+    path = tmp_path / "untracked.csv"
+    write_pitches(rows, path)
+    data = {"study": {"name": "t", "samples": 2000, "seed": 5},
+            "ball": {"preset": "baseball"}, "bat": {"preset": "r161"},
+            "pitches": {"file": str(path), "swing": True,
+                        "fallback": {"bat_speed": {"value": 70, "unit": "mph"}},
+                        "swing_error": {"bat_speed": {"value": 2, "unit": "mph"},
+                                        "bat_speed_outliers": {
+                                            "fraction": 0.05,
+                                            "excess": {"value": 13, "unit": "mph"}}}},
+            "pitch": {"spin_efficiency": 0.9},
+            "swing": {"vertical_bat_angle": {"value": -30, "unit": "deg"}},
+            "contact": {"from_barrel_end": {"value": 6, "unit": "in"}, "undercut": 0.0},
+            "friction": {"mu": 0.5}}
+    cols = load_pitches(Study.from_dict(data)).sample()
+    np.testing.assert_array_equal(cols["bat_speed"], 70 * 0.44704)
