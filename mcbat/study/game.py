@@ -267,10 +267,9 @@ class GameStudy(Study):
         return location
 
     def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
-        """Replace the measured values of swing key ``key`` in ``column`` (the samples
-        flagged by ``where``; the others took the key's fallback) by draws of the true
-        values given them (``mcbat.study.swing_errors``; ``measured``: the selected rows'
-        values, SI)."""
+        """Replace the measured values of swing key ``key`` in ``column`` (where ``where``;
+        the others took the key's fallback) by draws of the true values given them
+        (``mcbat.study.swing_errors``; ``measured``: the selected rows' values, SI)."""
         s = self.pitches.swing_error[key]
         finite = measured[np.isfinite(measured)]
         if not finite.size:  # (every row took the key's fallback: nothing was measured)
