@@ -70,3 +70,23 @@ def test_bins_compare_the_model_with_the_rows_they_meet():
     assert [b["measured"] for b in bins] == [11.0, 21.0]
     assert [b["model"] for b in bins] == [12.0, 22.0]
     assert chi2(bins) == pytest.approx(2 * (1.0 / (1.0 / np.sqrt(40))) ** 2)
+
+
+def test_the_contact_is_fitted_to_a_sample_without_its_excluded_balls(tmp_path):
+    # the excerpt read as a season sample, less the balls of a file of its own first rows:
+    # those never reach the fit, and the fit frees the study's contact
+    from validation.bat_tracking import FREE
+    from validation.season_sample import UNREACHED, fit_contact
+
+    raw = pd.read_csv(EXCERPT)
+    raw = raw[raw["bb_type"].notna() & raw["bat_speed"].notna()].reset_index(drop=True)
+    sample = tmp_path / "sample.csv"
+    _sample(raw).to_csv(sample, index=False)
+    excluded = tmp_path / "excluded.csv"
+    raw.head(40).to_csv(excluded, index=False)
+    result, unreached = fit_contact(str(sample), str(EXCERPT), 3, [str(excluded)])
+    high = (raw["launch_angle"] > UNREACHED[0]) & (raw["launch_speed"] > UNREACHED[1])
+    assert unreached == int(high.iloc[40:].sum())
+    assert result.rows == len(raw) - 40 - unreached
+    assert [p["name"] for p in result.parameters] == list(FREE)
+    assert np.isfinite(result.chi2) and result.dof > 0
