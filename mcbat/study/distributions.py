@@ -28,6 +28,8 @@ This module parses and range-checks single inputs; the types it builds are in
 
 from __future__ import annotations
 
+import math
+
 from mcbat.checks import check_keys, integer, number, subfield, type_name
 from mcbat.errors import InputError
 from mcbat.study import units as u
@@ -48,7 +50,7 @@ from mcbat.study.dist_types import (
 
 __all__ = ["Choice", "DIST_KINDS", "Dist", "Fixed", "Grid", "LHS", "MAX_GRID_POINTS",
            "MIXTURE_COMPONENT_KINDS", "Mixture", "Normal", "Point", "RandomDist", "Sobol",
-           "TruncNormal", "Uniform", "check_range", "parse"]
+           "TruncNormal", "Uniform", "check_range", "fixed_value", "parse"]
 
 #: The distribution names of ``dist = ...``.
 DIST_KINDS = ("uniform", "normal", "truncnormal", "choice", "mixture", "grid", "sobol", "lhs")
@@ -327,3 +329,12 @@ def check_range(dist: Dist, *, minimum=None, maximum=None, strict_minimum=False,
             bad |= p.si >= maximum if strict_maximum else p.si > maximum
         if bad:
             raise InputError(p.field, f"{what} must be {need}, got {dist.describe(p)}")
+
+
+def fixed_value(spec, field, quantity, example) -> float:
+    """A key that must be one finite fixed value (SI), e.g. a trend's shift;
+    ``example`` is shown in the error (``'{ value = 10, unit = "mph" }'``)."""
+    dist = parse(spec, field, quantity)
+    if dist.family != "fixed" or not math.isfinite(dist.value):
+        raise InputError(field, f"must be a fixed value (e.g. {example}), got {spec!r}")
+    return float(dist.value)

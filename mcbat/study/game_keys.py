@@ -11,7 +11,7 @@ from mcbat.checks import check_keys
 from mcbat.errors import InputError
 from mcbat.solving.names import SWEET_SPOT_FROM_BARREL_END
 from mcbat.study import units as u
-from mcbat.study.distributions import parse
+from mcbat.study.distributions import fixed_value
 
 __all__ = ["GAME_SECTIONS", "HANDEDNESS", "KEYS", "OPTIONAL_SECTIONS", "REQUIRED_SECTIONS",
            "TREND_KEYS", "check_sections", "check_swing_angles", "is_game",
@@ -99,11 +99,7 @@ def _fixed_table(table, name, keys, example, optional=()) -> dict:
         if key not in table:
             values[key] = 0.0
             continue
-        dist = parse(table[key], f"{name}.{key}", quantity)
-        if dist.family != "fixed" or not math.isfinite(dist.value):
-            raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {example}), "
-                             f"got {table[key]!r}")
-        values[key] = float(dist.value)
+        values[key] = fixed_value(table[key], f"{name}.{key}", quantity, example)
     if not values["per"] > 0.0:
         raise InputError(f"{name}.per", f"must be > 0 (the step the shift is given for), "
                          f"got {table['per']!r}")

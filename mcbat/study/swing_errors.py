@@ -20,7 +20,7 @@ import numpy as np
 
 from mcbat.checks import check_keys
 from mcbat.errors import InputError
-from mcbat.study.distributions import parse
+from mcbat.study.distributions import fixed_value, parse
 
 __all__ = ["DECONVOLUTION_STEPS", "OUTLIERS", "clip_true", "outlier_population",
            "outlier_posterior_draw", "parse_swing_errors", "true_values"]
@@ -78,11 +78,8 @@ def _parse_outliers(errors, sds, quantity):
     for key in ("excess", "spread"):
         if key not in table:
             continue
-        dist = parse(table[key], f"{name}.{key}", quantity)
-        if dist.family != "fixed" or not math.isfinite(dist.value):
-            raise InputError(f"{name}.{key}", f"must be a fixed value (e.g. {{ value = 12, "
-                             f"unit = \"mph\" }}), got {table[key]!r}")
-        values[key] = float(dist.value)
+        values[key] = fixed_value(table[key], f"{name}.{key}", quantity,
+                                  '{ value = 12, unit = "mph" }')
     spread = values.get("spread", sds["swing.bat_speed"])
     if not spread >= 0.0:
         raise InputError(f"{name}.spread", f"must be >= 0, got {table['spread']!r}")
