@@ -9,7 +9,8 @@ with one assumed attack angle (``attack_angle_nodes = 1``); the figure.
     .venv/bin/python -m validation spin_inference_slopes \\
         --figure docs/figures/spin_vs_launch_angle_real.png
 
-``--vertical-bat-angle DEG`` and ``--spin-efficiency X`` change those assumptions (the
+``--vertical-bat-angle DEG``, ``--spin-efficiency X`` and ``--e-x X`` (the tangential
+restitution, fitted with this table: docs/spin_inference.md) change those assumptions (the
 defaults: ``mcbat.inference.SpinAssumptions``), to see what the slopes owe to them.
 
 Reads ``../shared/data/statcast/`` (relative to the repository; skipped where absent)
@@ -73,6 +74,8 @@ def main(argv=None):
                         help="the assumed vertical bat angle, deg (default: -30)")
     parser.add_argument("--spin-efficiency", type=float, default=None,
                         help="the pitch's assumed spin efficiency (default: 1)")
+    parser.add_argument("--e-x", type=float, default=None,
+                        help="the tangential restitution e_x (default: the game preset's)")
     args = parser.parse_args(argv)
     point = InferenceOptions(attack_angle_nodes=1)
     changed = {}
@@ -80,6 +83,9 @@ def main(argv=None):
         changed["vertical_bat_angle"] = math.radians(args.vertical_bat_angle)
     if args.spin_efficiency is not None:
         changed["spin_efficiency"] = args.spin_efficiency
+    if args.e_x is not None:
+        changed["restitution"] = dataclasses.replace(SpinAssumptions().restitution,
+                                                     e_x=args.e_x)
     assumptions = dataclasses.replace(SpinAssumptions(), **changed)
     if changed:
         print("assumptions changed: " + ", ".join(

@@ -18,13 +18,15 @@ from mcbat.errors import InputError
 
 __all__ = ["GAME_E_X", "GAME_RESTITUTION", "LOCATION_TABLES", "Restitution", "location_table"]
 
-#: Tangential restitution e_x at game speeds: 0.28, the value the game presets' backspin
-#: needs against Nathan's average spin model of tracked balls (docs/batting.md), inside the
-#: laboratory range (Cross & Nathan 2006: ~0.16 in this model; Nathan et al., Procedia
-#: Eng. 34, 182 (2012): ~0.30; Kensrud, Nathan & Smith, Am. J. Phys. 85, 503 (2017):
-#: ~0.4). One value for every caller: studies without [restitution], ``mcbat impact`` and
-#: the spin inference (docs/spin_inference.md).
-GAME_E_X = 0.28
+#: Tangential restitution e_x at game speeds: 0.2, fitted to the backspin inferred from the
+#: tracked balls in play of 2024 (their measured pitches and swings) against Nathan's
+#: average spin model of tracked balls, and judged on 2025's (docs/spin_inference.md);
+#: inside the laboratory range (Cross & Nathan 2006: ~0.16 in this model; Nathan et al.,
+#: Procedia Eng. 34, 182 (2012): ~0.30; Kensrud, Nathan & Smith, Am. J. Phys. 85, 503
+#: (2017): ~0.4). One value for every caller: studies without [restitution], ``mcbat
+#: impact`` and the spin inference. The game presets with an assumed swing keep their own
+#: fitted 0.28 (docs/batting.md, "Batted-ball spin").
+GAME_E_X = 0.2
 
 #: Location tables shipped in ``data/`` (name -> file). None is a measurement: no table of
 #: a wood bat's COR against the impact point is shipped. ``"assumed"`` (the game presets')

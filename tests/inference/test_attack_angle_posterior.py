@@ -10,6 +10,7 @@ import pytest
 
 import mcbat.statcast as sc
 from mcbat.inference import InferenceOptions, SpinAssumptions, infer_spin
+from mcbat.inference.compare import NATHAN_SLOPE, backspin_slopes
 from tests.inference.known_contacts import simulate_balls
 
 SHARED = Path(__file__).parents[2] / ".." / "shared" / "data" / "statcast"
@@ -66,17 +67,28 @@ def test_tracked_balls_in_play_converge(name):
     assert (point["inference_status"] == "converged").mean() < 0.95
 
 
-def test_backspin_slope_of_the_tracked_files_near_nathans():
-    """Least squares of backspin on launch angle, 10-40 deg, the three files' converged
-    balls together: within 15 % of Nathan's 120 rpm per degree."""
-    la, back = [], []
-    for name in FILES:
-        balls = _tracked(name)
-        out = infer_spin(balls)
-        ok = (out["inference_status"] == "converged").to_numpy()
-        angle = balls["launch_angle"].to_numpy()
-        sel = ok & (angle >= 10) & (angle <= 40)
-        la.append(angle[sel])
-        back.append(out["backspin"].to_numpy()[sel])
-    slope = np.polyfit(np.concatenate(la), np.concatenate(back), 1)[0]
-    assert 102.0 <= slope <= 138.0, slope
+@pytest.fixture(scope="module")
+def tracked_slopes():
+    """``backspin_slopes`` of each tracked file's balls in play, inferred with the
+    defaults."""
+    return {name: backspin_slopes(balls, infer_spin(balls))
+            for name, balls in ((n, _tracked(n)) for n in FILES)}
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_backspin_slope_of_each_tracked_file_near_nathans(tracked_slopes, name):
+    """Least squares of backspin on launch angle, 10-40 deg, one file's converged balls:
+    within 15 % of Nathan's 120 rpm per degree."""
+    assert 102.0 <= tracked_slopes[name].inferred <= 138.0, tracked_slopes[name]
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_backspin_follows_nathans_model_on_the_same_balls(tracked_slopes, name):
+    """Like for like: the slope within 5 % of Nathan's model evaluated on the same balls
+    (whose spray angles rise with the launch angle), and the launch angle's coefficient
+    with the spray angle held within 8 rpm/deg (two of its bootstrap errors) of his 120.
+    The tangential restitution was fitted on the 2024 files; 2025-05-01 is out of its
+    sample. With e_x = 0.28 every file fails the first (7-9 % above Nathan's)."""
+    s = tracked_slopes[name]
+    assert abs(s.inferred / s.nathan_same_balls - 1.0) < 0.05, s
+    assert abs(s.inferred_spray_held - NATHAN_SLOPE) < 8.0, s
