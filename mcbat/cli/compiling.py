@@ -280,7 +280,7 @@ def notice(args, stream=None):
             first.on_start((ev.data or {}).get("dispatcher"))
 
         def on_end(self, ev):
-            pass
+            pass  # the listener interface needs it; only the start of a compile is reported
 
     try:
         with event.install_listener("numba:compile", Listener()):

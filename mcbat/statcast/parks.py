@@ -94,7 +94,7 @@ def _dates(game_date: ArrayLike) -> NDArray[np.datetime64]:
         try:
             out[i] = np.datetime64(str(v)[:10], "D")
         except ValueError:
-            pass
+            pass  # a date that does not parse stays NaT: the row is matched to no park
     return out
 
 
