@@ -249,7 +249,7 @@ def _placeholder():
                       "horizontal_approach_angle": [0.0], "spin_rate": [2200.0],
                       "spin_axis": [180.0], "bat_speed": [70.0], "attack_angle": [10.0],
                       "attack_direction": [0.0], "handedness": ["R"], "plate_x": [0.0],
-                      "plate_z": [2.5]})
+                      "plate_z": [2.5], "swing_length": [7.2]})
     return t
 
 

@@ -16,7 +16,9 @@ far a batter term could move that bin.
         statcast_2025-05-01.csv statcast_2024_skubal.csv
 
 Files are names in ``../shared/data/statcast/`` or ``data/``, or paths.
-``--leaderboard FILE`` gives the between-batter slope of a season's Savant search grouped
+``--swing-length`` prints instead the launch angle's and speed's dependence on the swing
+length within a batter (:func:`within_swing_length`). ``--leaderboard FILE`` gives the
+between-batter slope of a season's Savant search grouped
 by batter (``docs/bat_tracking.md`` (e) names the one used and its provenance).
 """
 
@@ -108,6 +110,38 @@ def report(name: str, min_swings: int, boots: int, seed: int) -> list[str]:
     return lines
 
 
+def within_swing_length(name: str, min_balls: int = 3) -> list[str]:
+    """Launch angle and speed on ``swing_length`` within a batter (each column less its
+    batter's mean over his tracked balls in play: fixed effects; batters with at least
+    ``min_balls``), the bat speed and the pitch's height held, and with the attack angle
+    held too where every ball has one: coefficient and its standard error per ft."""
+    table = sc.read(resolve(name))
+    balls = table[sc.balls_in_play(table) & np.isfinite(table["launch_speed"])
+                  & np.isfinite(table["bat_speed"]) & np.isfinite(table["swing_length"])
+                  & np.isfinite(table["plate_z"]) & (table["bat_speed"] > 50.0)]
+    balls = balls[balls.groupby("batter")["launch_speed"].transform("size") >= min_balls]
+    held = ["bat_speed", "swing_length", "plate_z"]
+    sets = [held]
+    if np.isfinite(balls["attack_angle"]).all():
+        sets.append([*held, "attack_angle"])
+    lines = [f"{name}: {len(balls)} balls in play of {balls['batter'].nunique()} batters "
+             f"with >= {min_balls}, per ft of swing length within a batter"]
+    for columns in sets:
+        centred = balls[[*columns, "launch_speed", "launch_angle"]] - balls.groupby(
+            "batter")[[*columns, "launch_speed", "launch_angle"]].transform("mean")
+        x = centred[columns].to_numpy(float)
+        parts = []
+        for y_name in ("launch_angle", "launch_speed"):
+            y = centred[y_name].to_numpy(float)
+            beta = np.linalg.lstsq(x, y, rcond=None)[0]
+            resid = y - x @ beta
+            se = np.sqrt(np.diag(np.linalg.inv(x.T @ x)) * resid.var())
+            parts.append(f"{y_name} {beta[1]:+.2f} +- {se[1]:.2f}")
+        lines.append(f"  holding {', '.join(c for c in columns if c != 'swing_length')}: "
+                     + ", ".join(parts))
+    return lines
+
+
 def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
     """The between-batter slope of a Savant search grouped by batter (one row per batter:
     ``bat_speed``, the mean over his tracked swings; ``launch_speed``, over his batted
@@ -143,11 +177,15 @@ def main(argv=None):
                         help="balls in play a leaderboard's batter needs (default 150)")
     parser.add_argument("--min-swings", type=int, default=6,
                         help="tracked swings a batter needs (default 6)")
+    parser.add_argument("--swing-length", action="store_true",
+                        help="instead: launch angle and speed on the swing length within "
+                             "a batter")
     parser.add_argument("--boots", type=int, default=300)
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args(argv)
     for name in args.files:
-        print("\n".join(report(name, args.min_swings, args.boots, args.seed)))
+        print("\n".join(within_swing_length(name) if args.swing_length
+                        else report(name, args.min_swings, args.boots, args.seed)))
     for path in args.leaderboard:
         print("\n".join(leaderboard(path, args.min_balls, args.boots, args.seed)))
 

@@ -154,6 +154,32 @@ def study_errors(study) -> dict:
     return {k: v["value"] for k, v in table.items() if isinstance(v, dict) and "value" in v}
 
 
+def swing_length_slopes(table, speed, angle, rows=None) -> dict:
+    """Least-squares coefficients of launch speed (mph per ft) and angle (deg per ft) on
+    the measured ``swing_length`` with the bat speed, the pitch's height, its distance
+    off the plate's middle (``plate_x`` away from the batter, beyond 4 in about 2 in away)
+    and, where every row has one, the attack angle held: ``{"speed": (coefficient, se),
+    "angle": ...}``. ``rows``: the table's row of each of ``speed`` and ``angle`` (the
+    model's draws); None: the rows themselves (the data)."""
+    plate_x = table["plate_x"].to_numpy()
+    away = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
+    held = [table["bat_speed"].to_numpy() - 72.0, table["swing_length"].to_numpy() - 7.2,
+            table["plate_z"].to_numpy() - 2.5, np.maximum(np.abs(away - 1 / 6) - 1 / 3, 0.0)]
+    attack = table["attack_angle"].to_numpy() if "attack_angle" in table else None
+    if attack is not None and np.isfinite(attack).all():
+        held.append(attack)
+    x = np.column_stack([np.ones(len(table)), *held])
+    x = x if rows is None else x[rows]
+    out = {}
+    for name, y in (("speed", speed), ("angle", angle)):
+        ok = np.isfinite(x).all(axis=1) & np.isfinite(y)
+        beta, *_ = np.linalg.lstsq(x[ok], y[ok], rcond=None)
+        resid = y[ok] - x[ok] @ beta
+        cov = np.linalg.inv(x[ok].T @ x[ok]) * resid.var()
+        out[name] = (float(beta[2]), float(np.sqrt(cov[2, 2])))
+    return out
+
+
 def judge(path, pitches, samples, seed, data, exclude=()) -> dict:
     """The study ``data`` (a study definition) on the sample at ``path``
     (:func:`paired_table`)."""
@@ -174,6 +200,9 @@ def judge(path, pitches, samples, seed, data, exclude=()) -> dict:
               "away": binned(away, PLATE_X_BINS, speed, row, sim["launch_speed"])}
     for key in ("speed", "angle", "height", "away"):
         result[f"{key}_chi2"] = chi2(result[key])
+    result["swing_length"] = {
+        "data": swing_length_slopes(table, speed, angle),
+        "model": swing_length_slopes(table, sim["launch_speed"], sim["launch_angle"], row)}
     return result
 
 
@@ -195,6 +224,13 @@ def report(r) -> list[str]:
             lines.append(f"    {b['low']:5.1f} to {b['high']:5.1f}: {b['rows']:5d} rows, "
                          f"measured {b['measured']:6.1f} +- {b['se']:.1f}, model "
                          f"{b['model']:6.1f} {unit} (model - measured {gap:+.1f})")
+    sl = r.get("swing_length")
+    if sl:
+        lines.append("  per ft of swing_length, the bat speed, pitch height, distance off the "
+                     "plate (and attack angle, where measured) held: " + ", ".join(
+                         f"launch {name} {unit}: data {sl['data'][name][0]:+.2f} +- "
+                         f"{sl['data'][name][1]:.2f}, model {sl['model'][name][0]:+.2f}"
+                         for name, unit in (("speed", "mph"), ("angle", "deg"))))
     return lines
 
 
@@ -245,8 +281,15 @@ def main(argv=None):
     parser.add_argument("--exclude", default="", help="comma-separated Savant exports "
                         "whose balls in play to drop from the samples (those judged on their "
                         "own, or fitted)")
+    parser.add_argument("--swing-length", help="SHIFT[,REFERENCE]: add a "
+                        "[contact.swing_length_trend] to the study, the undercut moving "
+                        "SHIFT in per ft of swing_length above REFERENCE ft (default 7.2); "
+                        "with --fit the contact is refitted with it")
     args = parser.parse_args(argv)
     bt.BASE_STUDY[0] = args.study
+    if args.swing_length:
+        shift, reference = (*(float(x) for x in args.swing_length.split(",")), 7.2)[:2]
+        bt.OVERRIDES["contact.swing_length_trend"] = bt._plate_z_table(f"{shift},{reference}")
     judged = [j for j in args.judge.split(",") if j]
     # (a judged export's balls in play never enter the fit, whatever --exclude says)
     exclude = list(dict.fromkeys([*(x for x in args.exclude.split(",") if x), *judged]))

@@ -30,13 +30,22 @@ With ``[contact.plate_z_trend]`` the undercut moves by ``undercut`` for every ``
 pitch crossed the plate above ``reference`` (Statcast's ``plate_z``; positive: a high
 pitch is met further under its centre, so it leaves higher), held inside the undercut's
 support.
+
+**The contact and the swing's length** (``[contact.swing_length_trend]``, with
+``[pitches]``): the undercut moves by ``undercut`` for every ``per`` of the row's measured
+``swing_length`` (Statcast's: the distance the bat's head travels from the start of the
+swing to contact) above ``reference``, the same form as the height's; a row without
+``swing_length`` does not move. Positive: of two swings at the same bat speed, the longer
+one meets the ball further under its centre (in the season's tracked balls in play, a
+foot more swing at the same bat speed, attack angle and pitch height leaves 5-6 deg higher
+and 1.6 mph slower: ``docs/bat_tracking.md``).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["bat_speed_move", "height_move", "location_move"]
+__all__ = ["bat_speed_move", "height_move", "location_move", "trends_config"]
 
 
 def bat_speed_move(bat_speed, trend) -> np.ndarray:
@@ -61,3 +70,28 @@ def height_move(plate_z, trend) -> np.ndarray:
     (``[contact.plate_z_trend]``)."""
     reference, slope = trend
     return slope * np.nan_to_num(plate_z - reference, nan=0.0)
+
+
+def trends_config(study) -> dict:
+    """The trend tables of a game study's ``[contact]`` for its config (SI): name -> its
+    values and the form of its move."""
+    out = {}
+    if study.contact_trend is not None:
+        reference, along, under = study.contact_trend
+        out["bat_speed_trend"] = {
+            "reference": reference, "from_barrel_end_per_bat_speed": along,
+            "undercut_per_bat_speed": under,
+            "form": "d = clip(d0 + s (V - V0)), u = clip(u0 + t (V - V0)) to the supports"}
+    if study.plate_x_trend is not None:
+        reference, zone, slope = study.plate_x_trend
+        out["plate_x_trend"] = {
+            "reference": reference, "dead_zone": zone, "from_barrel_end_per_plate_x": slope,
+            "form": "d0 + s sign(x) max(|x| - w, 0), x = plate_x away from the batter "
+                    "- reference, before the bat-speed trend"}
+    for name in ("plate_z", "swing_length"):
+        trend = getattr(study, f"{name}_trend", None)
+        if trend is not None:
+            out[f"{name}_trend"] = {
+                "reference": trend[0], f"undercut_per_{name}": trend[1],
+                "form": f"u = clip(u0 + s ({name} - reference)) to the support"}
+    return out

@@ -30,6 +30,10 @@ section::
     reference = { value = 2.5, unit = "ft" }   # pitch's height (mcbat.study.contact_moves)
     per = { value = 1, unit = "ft" }
     undercut = { value = 0.4, unit = "in" }
+    [contact.swing_length_trend]  # optional, with [pitches]: the undercut moves with the
+    reference = { value = 7.2, unit = "ft" }   # swing's measured swing_length (the same
+    per = { value = 1, unit = "ft" }           # keys)
+    undercut = { value = 0.3, unit = "in" }
     [friction]  mu = 0.5          # required
     [restitution]                 # optional; default: the game preset
                                   # (mcbat.bodies.restitution.GAME_RESTITUTION). Either e (constant)
@@ -46,8 +50,8 @@ Samples are the float64 columns of ``COLUMNS``, the inputs of
 ``mcbat.core.swing.solve_game_batch``.
 
 **The contact's trends** (``[contact.bat_speed_trend]``, ``[contact.plate_x_trend]``,
-``[contact.plate_z_trend]``) move each drawn contact with its bat speed and its pitch's
-location: ``mcbat.study.contact_moves``.
+``[contact.plate_z_trend]``, ``[contact.swing_length_trend]``) move each drawn contact with
+its bat speed, its pitch's location and its swing's length: ``mcbat.study.contact_moves``.
 """
 
 from __future__ import annotations
@@ -64,7 +68,7 @@ from mcbat.errors import InputError
 from mcbat.solving.names import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.solving.settings import SolverSettings
 from mcbat.study import units as u
-from mcbat.study.contact_moves import bat_speed_move, height_move, location_move
+from mcbat.study.contact_moves import bat_speed_move, height_move, location_move, trends_config
 from mcbat.study.dist_types import Normal, Uniform
 from mcbat.study.distributions import check_range, parse
 from mcbat.study.flight import parse_flight
@@ -79,6 +83,7 @@ from mcbat.study.game_keys import (
     parse_handedness,
     parse_plate_x_trend,
     parse_plate_z_trend,
+    parse_swing_length_trend,
     parse_trend,
 )
 from mcbat.study.impact import Study
@@ -98,6 +103,10 @@ __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
 #: Columns returned by ``GameStudy.sample``: the game kernel's inputs.
 COLUMNS = GAME_INPUT_FIELDS
+#: The ``[contact]`` tables that move each drawn contact, and the columns of the
+#: ``[pitches]`` rows the last three follow.
+CONTACT_TRENDS = ("bat_speed_trend", "plate_x_trend", "plate_z_trend", "swing_length_trend")
+ROW_TRENDS = ("plate_x", "plate_z", "swing_length")
 
 class GameStudy(Study):
     """A validated game study (see the module docstring). Sampling, overrides and the
@@ -136,7 +145,7 @@ class GameStudy(Study):
             table = data.get(section, {})
             if section == "contact":
                 table = {k: v for k, v in table.items()
-                         if k not in ("bat_speed_trend", "plate_x_trend", "plate_z_trend")}
+                         if k not in CONTACT_TRENDS}
             optional = tuple(keys) + (("location",) if section == "restitution" else ())
             required = tuple(k for k, (_, default, _) in keys.items()
                              if default is None and section != "restitution"
@@ -180,11 +189,12 @@ class GameStudy(Study):
         self.contact_trend = parse_trend(contact.get("bat_speed_trend"))
         self.plate_x_trend = parse_plate_x_trend(contact.get("plate_x_trend"))
         self.plate_z_trend = parse_plate_z_trend(contact.get("plate_z_trend"))
-        for name in ("plate_x", "plate_z"):
+        self.swing_length_trend = parse_swing_length_trend(contact.get("swing_length_trend"))
+        for name in ROW_TRENDS:
             if getattr(self, f"{name}_trend") is not None and not real:
                 raise InputError(f"contact.{name}_trend", f"needs the rows of [pitches] "
-                                 f"(each row's {name}); a study without them has no pitch "
-                                 "location")
+                                 f"(each row's {name}); a study without them has no "
+                                 f"{name}")
 
     # ------------------------------------------------------------ real pitches
 
@@ -239,8 +249,8 @@ class GameStudy(Study):
     def _fill_pitches(self, cols, start, n, seed) -> dict:
         """Overwrite the drawn keys' columns with the sampled rows' values (where a row
         lacks one, the fallback drawn there stays), and the handedness from the rows.
-        Returns the samples' location the trends need: ``{"away": plate_x away from the
-        batter, "plate_z": ...}`` (m), the keys the rows keep."""
+        Returns the samples' values the trends need: ``{"away": plate_x away from the
+        batter, "plate_z": ..., "swing_length": ...}`` (m), the keys the rows keep."""
         rows = self._need_rows()
         j = rows.draw_rows(seed, start, n)
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
@@ -262,8 +272,9 @@ class GameStudy(Study):
             # the batter stands on the side away from which "away" counts: a right-handed
             # batter (handedness +1) on the third-base side, so away is +x for him
             location["away"] = rows.location["plate_x"][j] * cols["handedness"]
-        if "plate_z" in rows.location:
-            location["plate_z"] = rows.location["plate_z"][j]
+        for name in ("plate_z", "swing_length"):
+            if name in rows.location:
+                location[name] = rows.location[name][j]
         return location
 
     def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
@@ -352,26 +363,8 @@ class GameStudy(Study):
                    restitution=self.restitution.config()
                    if any(k.startswith("restitution.") for k in self.inputs)
                    else {"preset": "game", **GAME_RESTITUTION.config()})
-        out["contact"] = {"position": "from_barrel_end", "offset": "undercut"}
-        if self.contact_trend is not None:
-            reference, along, under = self.contact_trend
-            out["contact"]["bat_speed_trend"] = {
-                "reference": reference, "from_barrel_end_per_bat_speed": along,
-                "undercut_per_bat_speed": under,
-                "form": "d = clip(d0 + s (V - V0)), u = clip(u0 + t (V - V0)) to the "
-                        "supports"}
-        if self.plate_x_trend is not None:
-            reference, zone, slope = self.plate_x_trend
-            out["contact"]["plate_x_trend"] = {
-                "reference": reference, "dead_zone": zone,
-                "from_barrel_end_per_plate_x": slope,
-                "form": "d0 + s sign(x) max(|x| - w, 0), x = plate_x away from the batter "
-                        "- reference, before the bat-speed trend"}
-        if self.plate_z_trend is not None:
-            out["contact"]["plate_z_trend"] = {
-                "reference": self.plate_z_trend[0],
-                "undercut_per_plate_z": self.plate_z_trend[1],
-                "form": "u = clip(u0 + s (plate_z - reference)) to the support"}
+        out["contact"] = {"position": "from_barrel_end", "offset": "undercut",
+                          **trends_config(self)}
         if self.flight is not None:
             out["flight"] = self.flight.config()
         if self.pitches is not None:
@@ -435,8 +428,9 @@ class GameStudy(Study):
             location = self._fill_pitches(cols, start, n, seed)
         if self.contact_trend is not None or self.plate_x_trend is not None:
             self._move_contact(cols, location.get("away"))
-        if self.plate_z_trend is not None or self.contact_trend is not None:
-            self._move_undercut(cols, location.get("plate_z"))
+        if (self.plate_z_trend is not None or self.contact_trend is not None
+                or self.swing_length_trend is not None):
+            self._move_undercut(cols, location)
         self.fill_contact(cols)
         return table
 
@@ -450,18 +444,21 @@ class GameStudy(Study):
 
     @property
     def location_columns(self) -> tuple:
-        """The columns of the pitch's location its trends need from the ``[pitches]``
-        rows."""
-        return tuple(name for name in ("plate_x", "plate_z")
+        """The columns its trends need from the ``[pitches]`` rows (the pitch's location,
+        the swing's length)."""
+        return tuple(name for name in ROW_TRENDS
                      if getattr(self, f"{name}_trend") is not None)
 
-    def _move_undercut(self, cols, plate_z) -> None:
-        """Move each sample's undercut with its pitch's height (``[contact.plate_z_trend]``)
-        and with its bat speed (``[contact.bat_speed_trend]``), held inside the undercut's
-        support."""
+    def _move_undercut(self, cols, rows) -> None:
+        """Move each sample's undercut with its pitch's height (``[contact.plate_z_trend]``),
+        its swing's length (``[contact.swing_length_trend]``; ``rows``: the samples' values
+        of those columns, m) and its bat speed (``[contact.bat_speed_trend]``), held inside
+        the undercut's support."""
         moved = cols["undercut"].copy()
-        if self.plate_z_trend is not None and plate_z is not None:
-            moved += height_move(plate_z, self.plate_z_trend)
+        for name in ("plate_z", "swing_length"):
+            trend = getattr(self, f"{name}_trend")
+            if trend is not None and name in rows:
+                moved += height_move(rows[name], trend)
         if self.contact_trend is not None:
             reference, _, under = self.contact_trend
             moved += bat_speed_move(cols["bat_speed"], (reference, under))

@@ -16,7 +16,7 @@ from mcbat.study.distributions import fixed_value
 __all__ = ["GAME_SECTIONS", "HANDEDNESS", "KEYS", "OPTIONAL_SECTIONS", "REQUIRED_SECTIONS",
            "TREND_KEYS", "check_sections", "check_swing_angles", "is_game",
            "largest_magnitude", "parse_handedness", "parse_plate_x_trend",
-           "parse_plate_z_trend", "parse_trend"]
+           "parse_plate_z_trend", "parse_swing_length_trend", "parse_trend"]
 
 #: The numeric keys of a game: section -> key -> (quantity, default in SI, column).
 KEYS = {
@@ -138,14 +138,20 @@ def parse_plate_x_trend(table):
     return values["reference"], values["dead_zone"], values["from_barrel_end"] / values["per"]
 
 
-def parse_plate_z_trend(table):
+def parse_plate_z_trend(table, name="contact.plate_z_trend"):
     """``[contact.plate_z_trend]`` -> ``(reference m, slope m per m)``, or None without the
     table."""
     if table is None:
         return None
-    values = _fixed_table(table, "contact.plate_z_trend", PLATE_Z_TREND_KEYS,
-                          '{ value = 1, unit = "ft" }')
+    values = _fixed_table(table, name, PLATE_Z_TREND_KEYS, '{ value = 1, unit = "ft" }')
     return values["reference"], values["undercut"] / values["per"]
+
+
+def parse_swing_length_trend(table):
+    """``[contact.swing_length_trend]`` -> ``(reference m, slope m per m)``, or None
+    without the table: the undercut's move with Statcast's ``swing_length``, of the same
+    form (and keys) as the pitch height's."""
+    return parse_plate_z_trend(table, "contact.swing_length_trend")
 
 
 def largest_magnitude(dist):

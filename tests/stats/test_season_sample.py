@@ -72,6 +72,34 @@ def test_bins_compare_the_model_with_the_rows_they_meet():
     assert chi2(bins) == pytest.approx(2 * (1.0 / (1.0 / np.sqrt(40))) ** 2)
 
 
+def test_swing_length_slopes_recover_a_known_dependence_with_the_rest_held():
+    from validation.season_sample import swing_length_slopes
+
+    rng = np.random.default_rng(4)
+    n = 4000
+    bat = rng.normal(72.0, 5.0, n)
+    # a swing length correlated with the bat speed and the height, as a season's are
+    plate_z = rng.normal(2.4, 0.6, n)
+    length = 7.2 + 0.05 * (bat - 72.0) - 0.4 * (plate_z - 2.4) + rng.normal(0.0, 0.5, n)
+    table = pd.DataFrame({"bat_speed": bat, "swing_length": length, "plate_z": plate_z,
+                          "plate_x": rng.uniform(-1.0, 1.0, n),
+                          "handedness": rng.choice(["R", "L"], n),
+                          "attack_angle": np.nan})
+    speed = 90.0 + 1.0 * (bat - 72.0) - 1.5 * (length - 7.2) + rng.normal(0.0, 2.0, n)
+    angle = 12.0 + 20.0 * (plate_z - 2.5) + 3.0 * (length - 7.2) + rng.normal(0.0, 5.0, n)
+    data = swing_length_slopes(table, speed, angle)
+    assert abs(data["speed"][0] + 1.5) < 3 * data["speed"][1]
+    assert abs(data["angle"][0] - 3.0) < 3 * data["angle"][1]
+    assert data["speed"][1] < 0.2
+    # the model's draws map to their rows: three draws of each, the same dependence
+    row = np.repeat(np.arange(n), 3)
+    model = swing_length_slopes(table, speed[row], angle[row], row)
+    assert model["speed"][0] == pytest.approx(data["speed"][0])
+    # a regression on the length alone would mistake the bat speed's part for it
+    naive = np.polyfit(length, speed, 1)[0]
+    assert naive > data["speed"][0] + 1.0
+
+
 def test_the_contact_is_fitted_to_a_sample_without_its_excluded_balls(tmp_path):
     # the excerpt read as a season sample, less the balls of a file of its own first rows:
     # those never reach the fit, and the fit frees the study's contact

@@ -1,6 +1,7 @@
 """The contact's bat-speed trend (``[contact.bat_speed_trend]``), its pitch-location trends
-(``[contact.plate_x_trend]``, ``[contact.plate_z_trend]``) and measurement errors that
-apply to measured swings only (not to values drawn from ``[pitches.fallback]``)."""
+(``[contact.plate_x_trend]``, ``[contact.plate_z_trend]``), its swing-length trend
+(``[contact.swing_length_trend]``) and measurement errors that apply to measured swings
+only (not to values drawn from ``[pitches.fallback]``)."""
 
 import math
 
@@ -204,7 +205,7 @@ def test_plate_x_trend_moves_the_contact_with_where_the_pitch_crossed(tmp_path):
     assert plain.config_hash() != moved.config_hash()
 
 
-@pytest.mark.parametrize("name", ["plate_x_trend", "plate_z_trend"])
+@pytest.mark.parametrize("name", ["plate_x_trend", "plate_z_trend", "swing_length_trend"])
 def test_a_location_trend_needs_the_rows_of_pitches(tmp_path, name):
     data = _data(tmp_path, _rows())
     del data["pitches"]
@@ -283,6 +284,53 @@ def test_plate_z_trend_moves_the_undercut_with_the_pitchs_height(tmp_path):
     p, _, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
     q, _, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
     np.testing.assert_array_equal(p["undercut"], q["undercut"])
+
+
+def _length(shift=0.3, reference=7.2):
+    return {"reference": {"value": reference, "unit": "ft"}, "per": {"value": 1, "unit": "ft"},
+            "undercut": {"value": shift, "unit": "in"}}
+
+
+def test_swing_length_trend_moves_the_undercut_with_the_measured_swing_length(tmp_path):
+    rows = _rows()
+    rows["swing_length"] = np.random.default_rng(8).normal(7.2, 0.8, len(rows))
+    rows.loc[:9, "swing_length"] = np.nan  # a row without a swing length does not move
+    contact = {"from_barrel_end": {"value": 6, "unit": "in"},
+               "undercut": {"dist": "truncnormal", "mean": 0.3, "std": 1.0, "low": -2,
+                            "high": 2, "unit": "in"}}
+    plain = load_pitches(Study.from_dict(_data(tmp_path, rows, contact=dict(contact))))
+    data = _data(tmp_path, rows, contact=dict(contact))
+    data["contact"]["swing_length_trend"] = _length()
+    moved = load_pitches(Study.from_dict(data))
+    a, b = plain.sample(), moved.sample()
+    j = plain.pitch_rows.draw_rows(plain.seed, 0, plain.samples)
+    length = rows["swing_length"].to_numpy()[plain.pitch_rows.index[j]] * FT
+    shift = np.nan_to_num(0.3 * INCH / FT * (length - 7.2 * FT))
+    expected = np.clip(a["undercut"] + shift, -2 * INCH, 2 * INCH)
+    np.testing.assert_allclose(b["undercut"], expected, rtol=0, atol=1e-15)
+    assert np.isnan(length).any() and np.all(b["undercut"][np.isnan(length)]
+                                             == a["undercut"][np.isnan(length)])
+    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
+    assert moved.config()["contact"]["swing_length_trend"]["undercut_per_swing_length"] == \
+        pytest.approx(0.3 * INCH / FT)
+    assert plain.config_hash() != moved.config_hash()
+    # a longer swing, met further under the ball, leaves higher
+    long = length > 8.0 * FT
+    assert np.mean(b["undercut"][long]) > np.mean(a["undercut"][long]) + 0.2 * INCH
+    from mcbat.stats.population.templates import _solve_memory
+
+    p, obs_p, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
+    q, obs_q, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
+    np.testing.assert_array_equal(p["undercut"], q["undercut"])
+    assert not np.allclose(obs_p["launch_angle"], obs_q["launch_angle"], equal_nan=True)
+
+
+def test_swing_length_trend_names_a_bad_key(tmp_path):
+    data = _data(tmp_path, _rows())
+    data["contact"]["swing_length_trend"] = {**_length(), "per": {"value": 0, "unit": "ft"}}
+    with pytest.raises(InputError) as err:
+        Study.from_dict(data)
+    assert "contact.swing_length_trend.per" in str(err.value)
 
 
 def test_bat_speed_trend_moves_the_undercut_too(tmp_path):

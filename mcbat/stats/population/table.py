@@ -120,11 +120,11 @@ def _selected(df, filters, source) -> np.ndarray:
 
 
 def write_pitches(table, path):
-    """The table's pitches (and measured swings, NaN where a row has none; ``plate_x``
-    and ``plate_z`` where the table has them) as a tidy CSV a study's ``[pitches]``
-    reads."""
+    """The table's pitches (and measured swings, NaN where a row has none; ``plate_x``,
+    ``plate_z`` and ``swing_length`` where the table has them) as a tidy CSV a study's
+    ``[pitches]`` reads."""
     names = (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values(), "handedness", "plate_x",
-             "plate_z")
+             "plate_z", "swing_length")
     out = table[[c for c in names if c in table.columns]]
     out = out.copy()
     for name in (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values()):

@@ -76,10 +76,10 @@ class TemplateSimulator:
         from mcbat.runner.study_run import run_study
 
         if {"from_barrel_end", "undercut"} & set(columns) and _moves_contact(study):
-            raise InputError("engine", "a fit of the contact with a [contact.bat_speed_trend]"
-                             ", [contact.plate_x_trend] or [contact.plate_z_trend] runs on "
-                             "engine 'memory' only (the datasets hold the contact after "
-                             "the trend moved it)")
+            raise InputError("engine", "a fit of the contact with a trend of [contact] "
+                             "(bat_speed_trend, plate_x_trend, plate_z_trend, "
+                             "swing_length_trend) runs on engine 'memory' only (the "
+                             "datasets hold the contact after the trend moved it)")
 
         out = self.workdir / f"templates_{self.runs}"
         run_study(study, out, samples=self.draws, seed=self.seed, engine=self.engine,
@@ -154,6 +154,7 @@ def _solve_memory(study, draws, seed, columns, observables):
         # same random numbers without the trends).
         plain = copy.copy(study)
         plain.contact_trend = plain.plate_x_trend = plain.plate_z_trend = None
+        plain.swing_length_trend = None
         inputs = plain.sample_inputs(0, draws, seed)
         for c in moved:
             drawn[c] = inputs[row[c]]
@@ -161,9 +162,9 @@ def _solve_memory(study, draws, seed, columns, observables):
 
 
 def _moves_contact(study) -> bool:
-    """Whether the study moves each drawn contact (a bat-speed or pitch-location trend)."""
+    """Whether the study moves each drawn contact (a trend of ``[contact]``)."""
     return any(getattr(study, f"{name}_trend", None) is not None
-               for name in ("contact", "plate_x", "plate_z"))
+               for name in ("contact", "plate_x", "plate_z", "swing_length"))
 
 
 def _solve_and_fly(study, inputs):
