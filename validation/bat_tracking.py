@@ -575,6 +575,16 @@ def evaluate(table, sim) -> dict:
     out["spray_slope_data"] = spray_slope(table)
     out["above_50_model"] = float(np.mean(la > 50.0))
     out["above_50_data"] = float(np.mean(m_la > 50.0))
+    # the launch speed of the highest balls: where the launch angles above their row's
+    # 90th percentile come from
+    out["high_angles"] = [
+        {"bin": f"{lo:g}-{hi:g}", "share_model": float(np.mean((la >= lo) & (la < hi))),
+         "share_data": float(np.mean((m_la >= lo) & (m_la < hi))),
+         "speed_model": float(np.median(ls[(la >= lo) & (la < hi)]))
+         if np.any((la >= lo) & (la < hi)) else float("nan"),
+         "speed_data": float(np.median(m_ls[(m_la >= lo) & (m_la < hi)]))
+         if np.any((m_la >= lo) & (m_la < hi)) else float("nan")}
+        for lo, hi in ((40.0, 50.0), (50.0, 60.0), (60.0, 90.0))]
     out["q"] = {"data": q_data, "model": q_model,
                 "p90_by_bin": [
                     (float(np.quantile(q_data[(bat >= lo) & (bat < hi)], 0.9))
@@ -617,6 +627,10 @@ def report(label, r) -> list[str]:
              f"{r['spray_slope_data']:.2f}",
              f"  launch angle > 50 deg: model {r['above_50_model']:.1%}, data "
              f"{r['above_50_data']:.1%}"]
+    for h in r.get("high_angles", []):
+        lines.append(f"  launch angle {h['bin']} deg: share model {h['share_model']:.1%}, data "
+                     f"{h['share_data']:.1%}; median launch speed model "
+                     f"{h['speed_model']:.1f}, data {h['speed_data']:.1f} mph")
     if "batter_slopes_data" in r:
         w, b, ew, eb = r["batter_slopes_data"]
         mw, mb = r["batter_slopes_model"]
