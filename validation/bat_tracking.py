@@ -595,7 +595,26 @@ def evaluate(table, sim) -> dict:
     out["spin"] = {"launch_angle": la, "spray_angle": sim["spray_angle"],
                    "backspin": sim["backspin"],
                    "handedness": table["handedness"].to_numpy()[row]}
+    out["backspin_slopes"] = backspin_slopes(out["spin"])
     return out
+
+
+def backspin_slopes(spin) -> tuple:
+    """``(model, Nathan's, mean ratio)``: the least-squares slope (rpm per deg) of the
+    drawn balls' backspin on their launch angle over 10-40 deg, the same of Nathan's
+    average spin model at the same balls (launch and spray angles, the batter's side),
+    and the ratio of their means there."""
+    from mcbat.statcast.spin import nathan_average_spin
+
+    la = spin["launch_angle"]
+    used = (la >= 10.0) & (la <= 40.0) & np.isfinite(spin["backspin"])
+    if used.sum() < 100:
+        return float("nan"), float("nan"), float("nan")
+    nathan, _ = nathan_average_spin(la[used], spin["spray_angle"][used],
+                                    spin["handedness"][used])
+    backspin = spin["backspin"][used]
+    return (float(np.polyfit(la[used], backspin, 1)[0]),
+            float(np.polyfit(la[used], nathan, 1)[0]), float(backspin.mean() / nathan.mean()))
 
 
 def verdict(r) -> list[str]:
@@ -627,6 +646,11 @@ def report(label, r) -> list[str]:
              f"{r['spray_slope_data']:.2f}",
              f"  launch angle > 50 deg: model {r['above_50_model']:.1%}, data "
              f"{r['above_50_data']:.1%}"]
+    if "backspin_slopes" in r:
+        model, nathan, ratio = r["backspin_slopes"]
+        lines.append(f"  backspin on launch angle, 10-40 deg: model {model:.0f} rpm/deg, Nathan's "
+                     f"model on the same balls {nathan:.0f}; mean backspin / Nathan's "
+                     f"{ratio:.2f}")
     for h in r.get("high_angles", []):
         lines.append(f"  launch angle {h['bin']} deg: share model {h['share_model']:.1%}, data "
                      f"{h['share_data']:.1%}; median launch speed model "

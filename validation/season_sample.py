@@ -285,8 +285,16 @@ def main(argv=None):
                         "[contact.swing_length_trend] to the study, the undercut moving "
                         "SHIFT in per ft of swing_length above REFERENCE ft (default 7.2); "
                         "with --fit the contact is refitted with it")
+    parser.add_argument("--vertical-bat-angle", type=float, help="MEAN (deg): the study's "
+                        "assumed vertical bat angle moved to MEAN, its sd and width kept")
     args = parser.parse_args(argv)
     bt.BASE_STUDY[0] = args.study
+    if args.vertical_bat_angle is not None:
+        swing = tomllib.loads(Path(args.study).read_text())["swing"]["vertical_bat_angle"]
+        shift = args.vertical_bat_angle - swing["mean"]
+        bt.OVERRIDES["swing.vertical_bat_angle"] = {
+            **swing, "mean": args.vertical_bat_angle, "low": swing["low"] + shift,
+            "high": min(swing["high"] + shift, 0.0)}
     if args.swing_length:
         shift, reference = (*(float(x) for x in args.swing_length.split(",")), 7.2)[:2]
         bt.OVERRIDES["contact.swing_length_trend"] = bt._plate_z_table(f"{shift},{reference}")

@@ -118,3 +118,23 @@ def test_the_contact_is_fitted_to_a_sample_without_its_excluded_balls(tmp_path):
     assert result.rows == len(raw) - 40 - unreached
     assert [p["name"] for p in result.parameters] == list(FREE)
     assert np.isfinite(result.chi2) and result.dof > 0
+
+
+def test_backspin_slopes_compare_the_draws_with_nathans_model_on_the_same_balls():
+    from mcbat.statcast.spin import nathan_average_spin
+    from validation.bat_tracking import backspin_slopes
+
+    rng = np.random.default_rng(2)
+    n = 5000
+    spin = {"launch_angle": rng.uniform(-20.0, 60.0, n), "spray_angle": rng.normal(0, 20, n),
+            "handedness": rng.choice(["R", "L"], n)}
+    nathan, _ = nathan_average_spin(spin["launch_angle"], spin["spray_angle"],
+                                    spin["handedness"])
+    spin["backspin"] = 1.1 * nathan
+    model, theirs, ratio = backspin_slopes(spin)
+    assert theirs == pytest.approx(120.0, abs=3.0)  # spray and side average out
+    assert model == pytest.approx(1.1 * theirs)
+    assert ratio == pytest.approx(1.1)
+    # too few balls in 10-40 deg: no slope rather than a noisy one
+    few = {k: v[:50] for k, v in spin.items()}
+    assert all(np.isnan(x) for x in backspin_slopes(few))
