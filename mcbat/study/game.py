@@ -108,6 +108,7 @@ COLUMNS = GAME_INPUT_FIELDS
 CONTACT_TRENDS = ("bat_speed_trend", "plate_x_trend", "plate_z_trend", "swing_length_trend")
 ROW_TRENDS = ("plate_x", "plate_z", "swing_length")
 
+
 class GameStudy(Study):
     """A validated game study (see the module docstring). Sampling, overrides and the
     config hash work as for ``mcbat.study.impact.Study``."""
