@@ -50,6 +50,11 @@ def cmd_infer(args) -> int:
     reasons = {k: v for k, v in spin.attrs.get("unusable_swing", {}).items() if v}
     if reasons:
         print("  unusable swings: " + ", ".join(f"{k} {v:,}" for k, v in reasons.items()))
+    behind = int((ok & ~spin["spray_observed"]).sum())
+    if behind:
+        print(f"  {behind:,} ball{'s' if behind > 1 else ''} fielded behind the plate's line "
+              "(spray angle beyond 90 deg) solved with a straightaway launch "
+              "(spray_observed)")
     moved = spin["bat_speed_adjustment"].fillna(0.0) != 0.0
     if moved.any():
         adj = spin.loc[moved, "bat_speed_adjustment"]

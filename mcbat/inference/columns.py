@@ -8,7 +8,8 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.solving.inference import INFERENCE_STATUS_NAMES
 
-__all__ = ["INPUT_COLUMNS", "OPTIONAL_COLUMNS", "OUTPUT_UNITS", "RANGES", "STATUS_NAMES",
+__all__ = ["INPUT_COLUMNS", "OPTIONAL_COLUMNS", "OUTPUT_UNITS", "RANGES", "SPRAY_BEHIND",
+           "STATUS_NAMES",
            "SWING_COLUMNS", "SWING_RANGES", "TEXT_COLUMNS", "bunt_rows", "check_range",
            "numeric_column", "read_column", "unusable_swing_rows"]
 
@@ -50,12 +51,20 @@ swing the model cannot use (a bunt, a bat speed below
 ``bat_speed_inconsistent`` where no bat speed within
 ``InferenceOptions.bat_speed_error`` of the measured one gives the ball."""
 
+SPRAY_BEHIND = 90.0
+"""deg: a ``spray_angle`` beyond it (the ball fielded behind the line through home plate
+square to centre field: a pop-up the catcher caught, a dribbler bouncing back) gives no
+launch direction (the direction from home to where a ball was fielded is its launch's only
+for a ball that travelled out). Such a ball is solved with a straightaway launch (spray 0)
+and ``spray_observed`` False: its backspin follows from the launch speed and angle, its
+sidespin and attack direction are those of the straightaway launch, not measured."""
+
 OUTPUT_UNITS = {
     "inference_status": "", "inferred": "", "backspin": "rpm", "sidespin": "rpm",
     "gyrospin": "rpm", "spin_rate": "rpm", "undercut": "m", "bat_speed": "mph",
     "from_barrel_end": "m", "attack_direction": "deg", "attack_angle": "deg",
     "collision_efficiency": "1", "bat_speed_adjustment": "mph", "inference_iterations": "",
-    "kernel_evaluations": "",
+    "kernel_evaluations": "", "spray_observed": "",
 }
 """Columns of ``infer_spin``'s result and their units."""
 

@@ -21,6 +21,7 @@ from mcbat.inference.columns import (
     OPTIONAL_COLUMNS,
     OUTPUT_UNITS,
     RANGES,
+    SPRAY_BEHIND,
     STATUS_NAMES,
     SWING_COLUMNS,
     bunt_rows,
@@ -85,10 +86,11 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
         (``"bat_speed"`` or ``"from_barrel_end"``), the batted ball's ``backspin``,
         ``sidespin``, ``gyrospin``, ``spin_rate`` (rpm, ``docs/batting.md``), the contact
         (``undercut``, ``bat_speed``, ``from_barrel_end``, ``attack_direction``,
-        ``attack_angle``), ``collision_efficiency``, ``inference_iterations`` and
-        ``kernel_evaluations`` (game-kernel calls, the cost). NaN
-        wherever the status is not ``converged``. ``df.attrs``: ``units``,
-        ``assumptions``, ``status_counts``.
+        ``attack_angle``), ``collision_efficiency``, ``inference_iterations``,
+        ``kernel_evaluations`` (game-kernel calls, the cost) and ``spray_observed``
+        (False for a ball fielded behind the plate's line, ``SPRAY_BEHIND``: solved with
+        a straightaway launch). NaN wherever the status is not ``converged``.
+        ``df.attrs``: ``units``, ``assumptions``, ``status_counts``.
 
     Raises
     ------
@@ -147,9 +149,10 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                               use_bat_speed, use_attack_angle)
     if options.bat_speed_error > 0.0:
         mode[mode == INFER_FROM_BARREL_END] = INFER_NEAREST_BAT_SPEED
-    observed = np.ascontiguousarray(np.stack((cols["launch_speed"] * M_S_PER_MPH,
-                                              cols["launch_angle"] * RAD_PER_DEG,
-                                              cols["spray_angle"] * RAD_PER_DEG)))
+    spray_observed = ~(np.abs(cols["spray_angle"]) > SPRAY_BEHIND)
+    observed = np.ascontiguousarray(np.stack((
+        cols["launch_speed"] * M_S_PER_MPH, cols["launch_angle"] * RAD_PER_DEG,
+        np.where(spray_observed, cols["spray_angle"], 0.0) * RAD_PER_DEG)))
     skipped = missing_rows | unusable
     observed[:, skipped] = np.nan
     rest = assumptions.restitution
@@ -170,6 +173,7 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                   {"missing_input": missing_rows, "unusable_swing": unusable,
                    "bat_speed_inconsistent": inconsistent}, adjustment)
     out["kernel_evaluations"] = np.where(skipped, 0, evaluations)
+    out["spray_observed"] = spray_observed
     out.attrs["unusable_swing"] = {k: int((v & unusable).sum()) for k, v in reasons.items()}
     return out
 

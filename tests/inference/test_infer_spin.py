@@ -66,6 +66,26 @@ def test_a_launch_speed_beyond_the_bat_speed_is_no_solution_with_nan_spin():
     assert (out.drop(index=1)["inference_status"] == "converged").all()
 
 
+def test_a_ball_fielded_behind_the_plate_is_solved_with_a_straightaway_launch():
+    # hit coordinates behind the plate's line (a pop-up the catcher caught) give no launch
+    # direction: the ball is solved as if it had left straightaway, and says so
+    balls, _ = _simulate(3, seed=7, measured_swing=True)
+    behind = balls.copy()
+    behind.loc[1, "spray_angle"] = 162.0
+    straight = balls.copy()
+    straight.loc[1, "spray_angle"] = 0.0
+    out, ref = infer_spin(behind, options=EXACT), infer_spin(straight, options=EXACT)
+    assert out["spray_observed"].tolist() == [True, False, True]
+    assert (out["inference_status"] == "converged").all()
+    for name in ("backspin", "sidespin", "undercut", "attack_direction"):
+        np.testing.assert_array_equal(out[name], ref[name])
+    # the other balls keep their own spray: the same solution as without the row changed
+    plain = infer_spin(balls, options=EXACT)
+    np.testing.assert_array_equal(out.loc[[0, 2], "backspin"], plain.loc[[0, 2], "backspin"])
+    assert not np.isclose(out.loc[1, "attack_direction"], plain.loc[1, "attack_direction"])
+    assert out.attrs["units"]["spray_observed"] == ""
+
+
 def test_the_end_side_of_the_bat_is_a_second_root():
     """With a measured bat speed the launch speed has two contact positions; the end
     side's root is found when asked for."""
