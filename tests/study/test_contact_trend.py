@@ -257,66 +257,45 @@ def _height(shift=0.4, reference=2.5):
             "undercut": {"value": shift, "unit": "in"}}
 
 
-def test_plate_z_trend_moves_the_undercut_with_the_pitchs_height(tmp_path):
-    rows = _rows()
-    rows.loc[:9, "plate_z"] = np.nan  # a row without a height does not move
-    contact = {"from_barrel_end": {"value": 6, "unit": "in"},
-               "undercut": {"dist": "truncnormal", "mean": 0.3, "std": 1.0, "low": -2,
-                            "high": 2, "unit": "in"}}
-    plain = load_pitches(Study.from_dict(_data(tmp_path, rows, contact=dict(contact))))
-    data = _data(tmp_path, rows, contact=dict(contact))
-    data["contact"]["plate_z_trend"] = _height()
-    moved = load_pitches(Study.from_dict(data))
-    a, b = plain.sample(), moved.sample()
-    j = plain.pitch_rows.draw_rows(plain.seed, 0, plain.samples)
-    z = rows["plate_z"].to_numpy()[plain.pitch_rows.index[j]] * FT
-    shift = np.nan_to_num(0.4 * INCH / FT * (z - 2.5 * FT))
-    expected = np.clip(a["undercut"] + shift, -2 * INCH, 2 * INCH)
-    np.testing.assert_allclose(b["undercut"], expected, rtol=0, atol=1e-15)
-    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
-    high = z > 3.5 * FT
-    assert np.mean(b["undercut"][high]) > np.mean(a["undercut"][high]) + 0.3 * INCH
-    assert moved.config()["contact"]["plate_z_trend"]["undercut_per_plate_z"] == \
-        pytest.approx(0.4 * INCH / FT)
-    # the population fit weighs the undercut as drawn, before the move
-    from mcbat.stats.population.templates import _solve_memory
-
-    p, _, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
-    q, _, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
-    np.testing.assert_array_equal(p["undercut"], q["undercut"])
-
-
 def _length(shift=0.3, reference=7.2):
     return {"reference": {"value": reference, "unit": "ft"}, "per": {"value": 1, "unit": "ft"},
             "undercut": {"value": shift, "unit": "in"}}
 
 
-def test_swing_length_trend_moves_the_undercut_with_the_measured_swing_length(tmp_path):
+@pytest.mark.parametrize("column, table, shift, reference, beyond, margin", [
+    # a high pitch is met further under its centre
+    ("plate_z", _height, 0.4, 2.5, 3.5, 0.3),
+    # of two swings at one bat speed, the longer meets the ball further under its centre
+    ("swing_length", _length, 0.3, 7.2, 8.0, 0.2),
+])
+def test_a_row_trend_moves_the_undercut_with_its_rows_column(tmp_path, column, table, shift,
+                                                            reference, beyond, margin):
     rows = _rows()
-    rows["swing_length"] = np.random.default_rng(8).normal(7.2, 0.8, len(rows))
-    rows.loc[:9, "swing_length"] = np.nan  # a row without a swing length does not move
+    if column == "swing_length":
+        rows["swing_length"] = np.random.default_rng(8).normal(7.2, 0.8, len(rows))
+    rows.loc[:9, column] = np.nan  # a row without the value does not move
     contact = {"from_barrel_end": {"value": 6, "unit": "in"},
                "undercut": {"dist": "truncnormal", "mean": 0.3, "std": 1.0, "low": -2,
                             "high": 2, "unit": "in"}}
     plain = load_pitches(Study.from_dict(_data(tmp_path, rows, contact=dict(contact))))
     data = _data(tmp_path, rows, contact=dict(contact))
-    data["contact"]["swing_length_trend"] = _length()
+    data["contact"][f"{column}_trend"] = table()
     moved = load_pitches(Study.from_dict(data))
     a, b = plain.sample(), moved.sample()
     j = plain.pitch_rows.draw_rows(plain.seed, 0, plain.samples)
-    length = rows["swing_length"].to_numpy()[plain.pitch_rows.index[j]] * FT
-    shift = np.nan_to_num(0.3 * INCH / FT * (length - 7.2 * FT))
-    expected = np.clip(a["undercut"] + shift, -2 * INCH, 2 * INCH)
+    x = rows[column].to_numpy()[plain.pitch_rows.index[j]] * FT
+    expected = np.clip(a["undercut"] + np.nan_to_num(shift * INCH / FT * (x - reference * FT)),
+                       -2 * INCH, 2 * INCH)
     np.testing.assert_allclose(b["undercut"], expected, rtol=0, atol=1e-15)
-    assert np.isnan(length).any() and np.all(b["undercut"][np.isnan(length)]
-                                             == a["undercut"][np.isnan(length)])
+    assert np.isnan(x).any()
+    np.testing.assert_array_equal(b["undercut"][np.isnan(x)], a["undercut"][np.isnan(x)])
     np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
-    assert moved.config()["contact"]["swing_length_trend"]["undercut_per_swing_length"] == \
-        pytest.approx(0.3 * INCH / FT)
+    far = x > beyond * FT
+    assert np.mean(b["undercut"][far]) > np.mean(a["undercut"][far]) + margin * INCH
+    assert moved.config()["contact"][f"{column}_trend"][f"undercut_per_{column}"] == \
+        pytest.approx(shift * INCH / FT)
     assert plain.config_hash() != moved.config_hash()
-    # a longer swing, met further under the ball, leaves higher
-    long = length > 8.0 * FT
-    assert np.mean(b["undercut"][long]) > np.mean(a["undercut"][long]) + 0.2 * INCH
+    # the population fit weighs the undercut as drawn, before the move
     from mcbat.stats.population.templates import _solve_memory
 
     p, obs_p, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
