@@ -159,11 +159,20 @@ def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
     rng = np.random.default_rng(seed)
     reps = [np.linalg.lstsq(x[i], y[i], rcond=None)[0][1]
             for i in (rng.integers(0, len(board), len(board)) for _ in range(boots))]
+    # how far a batter's mean launch speed lies from what his swings and pitches predict,
+    # less the noise of a mean over his balls (launch speed sd ~14.5 mph per ball)
+    resid = y - x @ fitted
+    noise = float(np.mean(14.5 ** 2 / board["bip"].to_numpy(float)))
+    true_sd = float(np.sqrt(max(resid.var() - noise, 0.0)))
     return [f"{path}: {len(board)} batters with >= {min_balls} balls in play "
             f"({int(board['bip'].sum())} balls), bat speed sd between batters "
             f"{board['bat_speed'].std():.2f} mph",
             f"  mean launch speed on mean bat speed: {fitted[1]:.2f} +- {np.std(reps):.2f} "
-            f"mph/mph between batters"]
+            f"mph/mph between batters",
+            f"  a batter's mean launch speed about the fit: sd {resid.std():.2f} mph, "
+            f"{true_sd:.2f} less the noise of his mean; within 1 mph for "
+            f"{np.mean(np.abs(resid) < 1.0):.0%} of the batters, within 2 for "
+            f"{np.mean(np.abs(resid) < 2.0):.0%}"]
 
 
 def main(argv=None):
