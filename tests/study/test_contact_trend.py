@@ -106,12 +106,17 @@ def test_bad_trend_names_its_field(tmp_path, key, value, field):
     assert field in str(err.value)
 
 
-def test_trend_missing_key_names_it(tmp_path):
+@pytest.mark.parametrize("key, message", [
+    ("per", "per"),
+    # without its only shift the trend moves nothing: it must have one of the two
+    ("from_barrel_end", "from_barrel_end or undercut"),
+])
+def test_trend_missing_key_names_it(tmp_path, key, message):
     data = _data(tmp_path, _rows())
     trend = _trend()
-    del trend["per"]
+    del trend[key]
     data["contact"]["bat_speed_trend"] = trend
-    with pytest.raises(InputError, match="per"):
+    with pytest.raises(InputError, match=message):
         Study.from_dict(data)
 
 
@@ -137,19 +142,23 @@ def test_swing_error_leaves_fallback_draws_alone(tmp_path):
     assert not np.array_equal(a[~from_fallback], b[~from_fallback])
 
 
-def test_population_templates_weigh_the_contact_before_the_trend(tmp_path):
-    # a population fit reweights the drawn contact by its distribution's density: the
-    # templates hand it the draws before the trend moved them (the same random numbers)
+def _assert_weighed_as_drawn(plain, moved, column, observable, draws=3000):
+    """A population fit reweights the drawn contact by its distribution's density: the
+    templates hand it the draws before the trend moved them (the same random numbers),
+    and the batted balls of the moved contact."""
     from mcbat.stats.population.templates import _solve_memory
 
+    a, obs_a, _ = _solve_memory(plain, draws, 9, [column], [observable])
+    b, obs_b, _ = _solve_memory(moved, draws, 9, [column], [observable])
+    np.testing.assert_array_equal(a[column], b[column])
+    assert not np.allclose(obs_a[observable], obs_b[observable], equal_nan=True)
+
+
+def test_population_templates_weigh_the_contact_before_the_trend(tmp_path):
     plain = Study.from_dict(_data(tmp_path, _rows()))
     data = _data(tmp_path, _rows())
     data["contact"]["bat_speed_trend"] = _trend(2.0)
-    moved = Study.from_dict(data)
-    a, obs_a, _ = _solve_memory(plain, 3000, 9, ["from_barrel_end"], ["launch_speed"])
-    b, obs_b, _ = _solve_memory(moved, 3000, 9, ["from_barrel_end"], ["launch_speed"])
-    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
-    assert not np.allclose(obs_a["launch_speed"], obs_b["launch_speed"], equal_nan=True)
+    _assert_weighed_as_drawn(plain, Study.from_dict(data), "from_barrel_end", "launch_speed")
 
 
 def test_population_fit_with_a_trend_refuses_other_engines(tmp_path):
@@ -240,16 +249,10 @@ def test_bad_plate_x_trend_names_its_field(tmp_path, key, value, field):
 
 
 def test_population_templates_weigh_the_contact_before_the_location_moved_it(tmp_path):
-    from mcbat.stats.population.templates import _solve_memory
-
     plain = Study.from_dict(_data(tmp_path, _rows()))
     data = _data(tmp_path, _rows())
     data["contact"]["plate_x_trend"] = _location()
-    moved = Study.from_dict(data)
-    a, obs_a, _ = _solve_memory(plain, 3000, 9, ["from_barrel_end"], ["launch_speed"])
-    b, obs_b, _ = _solve_memory(moved, 3000, 9, ["from_barrel_end"], ["launch_speed"])
-    np.testing.assert_array_equal(a["from_barrel_end"], b["from_barrel_end"])
-    assert not np.allclose(obs_a["launch_speed"], obs_b["launch_speed"], equal_nan=True)
+    _assert_weighed_as_drawn(plain, Study.from_dict(data), "from_barrel_end", "launch_speed")
 
 
 def _height(shift=0.4, reference=2.5):
@@ -296,12 +299,7 @@ def test_a_row_trend_moves_the_undercut_with_its_rows_column(tmp_path, column, t
         pytest.approx(shift * INCH / FT)
     assert plain.config_hash() != moved.config_hash()
     # the population fit weighs the undercut as drawn, before the move
-    from mcbat.stats.population.templates import _solve_memory
-
-    p, obs_p, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
-    q, obs_q, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
-    np.testing.assert_array_equal(p["undercut"], q["undercut"])
-    assert not np.allclose(obs_p["launch_angle"], obs_q["launch_angle"], equal_nan=True)
+    _assert_weighed_as_drawn(plain, moved, "undercut", "launch_angle", draws=2000)
 
 
 def test_swing_length_trend_names_a_bad_key(tmp_path):
@@ -349,12 +347,3 @@ def test_bat_speed_trend_moves_the_undercut_too(tmp_path):
     p, _, _ = _solve_memory(plain, 2000, 9, ["undercut"], ["launch_angle"])
     q, _, _ = _solve_memory(moved, 2000, 9, ["undercut"], ["launch_angle"])
     np.testing.assert_array_equal(p["undercut"], q["undercut"])
-
-
-def test_bat_speed_trend_needs_a_shift(tmp_path):
-    data = _data(tmp_path, _rows())
-    trend = _trend()
-    del trend["from_barrel_end"]
-    data["contact"]["bat_speed_trend"] = trend
-    with pytest.raises(InputError, match="from_barrel_end or undercut"):
-        Study.from_dict(data)
