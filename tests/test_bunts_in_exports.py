@@ -47,6 +47,8 @@ def test_infer(capsys, monkeypatch, tmp_path):
     result = _mcbat(capsys, monkeypatch, "infer", EXCERPT, "--out", out)
     assert result.returncode == 0, result.stderr
     assert "unusable_swing 1" in result.stdout  # the sacrifice bunt in play
+    # every other tracked ball in play takes its bat's angle from its swing plane
+    assert "from the measured swing plane (swing_path_tilt) on " in result.stdout
     import pandas as pd
 
     spin = pd.read_parquet(out)

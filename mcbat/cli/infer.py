@@ -50,6 +50,10 @@ def cmd_infer(args) -> int:
     reasons = {k: v for k, v in spin.attrs.get("unusable_swing", {}).items() if v}
     if reasons:
         print("  unusable swings: " + ", ".join(f"{k} {v:,}" for k, v in reasons.items()))
+    planes = spin.attrs.get("swing_plane", 0)
+    if planes:
+        print(f"  vertical bat angle from the measured swing plane (swing_path_tilt) on "
+              f"{planes:,} balls, assumed on the others")
     behind = int((ok & ~spin["spray_observed"]).sum())
     if behind:
         print(f"  {behind:,} ball{'s' if behind > 1 else ''} fielded behind the plate's line "

@@ -23,11 +23,14 @@ pitch at the plate (speed, approach angles: vertical < 0 descending, horizontal 
 moving towards first base; spin rate), the batter's side, and the batted ball."""
 
 OPTIONAL_COLUMNS = {"spin_axis": "deg", "bat_speed": "mph", "attack_angle": "deg",
-                    "attack_direction": "deg"}
+                    "attack_direction": "deg", "swing_path_tilt": "deg"}
 """Optional columns. ``spin_axis`` (Statcast's clock-face convention, 180 = pure
 backspin; NaN or absent: ``SpinAssumptions.spin_axis``); ``bat_speed`` (where
 finite, used, and the contact position inferred instead); ``attack_angle`` (where
-finite, used instead of ``SpinAssumptions.attack_angle``); ``attack_direction`` is
+finite, used instead of ``SpinAssumptions.attack_angle``); ``swing_path_tilt`` (where
+finite and below 90 deg, the vertical bat angle follows from it and the attack angle,
+``mcbat.study.swing_plane``, instead of ``SpinAssumptions.vertical_bat_angle``);
+``attack_direction`` is
 not an input: it is one of the unknowns that reproduce the spray angle
 (``docs/spin_inference.md``), but a swing aimed 90 deg or more off the pitch's line (a
 bunt) makes the row's swing unusable."""

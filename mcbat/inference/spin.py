@@ -42,6 +42,7 @@ from mcbat.solving.inference import (
     InferenceStatus,
     infer_contacts,
 )
+from mcbat.study.swing_plane import fill_vertical_bat_angle, measured_tilt
 
 __all__ = ["infer_spin", "predict_batted_balls"]
 
@@ -58,7 +59,8 @@ def _bat_table(bat: Bat):
 
 def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
                options: InferenceOptions | None = None, missing: str = "flag",
-               use_bat_speed: bool = True, use_attack_angle: bool = True) -> pd.DataFrame:
+               use_bat_speed: bool = True, use_attack_angle: bool = True,
+               use_swing_plane: bool = True) -> pd.DataFrame:
     """Infer the contact and the spin of measured batted balls.
 
     Parameters
@@ -77,6 +79,10 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
     use_bat_speed, use_attack_angle : bool
         Use the measured ``bat_speed`` / ``attack_angle`` where the table has them
         (False: infer the bat speed / assume the attack angle for every ball).
+    use_swing_plane : bool
+        Where the table has a ``swing_path_tilt``, take the ball's vertical bat angle from
+        it and the attack angle (``mcbat.study.swing_plane``); else, and with False,
+        ``SpinAssumptions.vertical_bat_angle``.
 
     Returns
     -------
@@ -90,7 +96,8 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
         ``kernel_evaluations`` (game-kernel calls, the cost) and ``spray_observed``
         (False for a ball fielded behind the plate's line, ``SPRAY_BEHIND``: solved with
         a straightaway launch). NaN wherever the status is not ``converged``.
-        ``df.attrs``: ``units``, ``assumptions``, ``status_counts``.
+        ``df.attrs``: ``units``, ``assumptions``, ``status_counts``, ``swing_plane`` (the
+        balls whose bat angle came from their measured swing plane).
 
     Raises
     ------
@@ -147,6 +154,7 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
     unusable &= ~missing_rows
     game, mode = _game_inputs(cols, np.where(is_l, -1.0, 1.0), assumptions, n,
                               use_bat_speed, use_attack_angle)
+    tilt = measured_tilt(cols["swing_path_tilt"], slice(None)) if use_swing_plane else None
     if options.bat_speed_error > 0.0:
         mode[mode == INFER_FROM_BARREL_END] = INFER_NEAREST_BAT_SPEED
     spray_observed = ~(np.abs(cols["spray_angle"]) > SPRAY_BEHIND)
@@ -161,7 +169,7 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
     measured = cols["attack_angle"] if use_attack_angle else np.full(n, np.nan)
     nodes = _attack_angle_nodes(measured, assumptions, options.attack_angle_nodes)
     runs = _run_nodes(game, observed, mode, nodes, cols["bat_speed"], assumptions, options,
-                      loc_z, loc_f)
+                      loc_z, loc_f, tilt)
     solution, status, iterations, evaluations, adjustment, inconsistent, attack = _combine(
         runs, assumptions)
     inconsistent &= ~skipped
@@ -175,6 +183,7 @@ def infer_spin(table, *, assumptions: SpinAssumptions | None = None,
     out["kernel_evaluations"] = np.where(skipped, 0, evaluations)
     out["spray_observed"] = spray_observed
     out.attrs["unusable_swing"] = {k: int((v & unusable).sum()) for k, v in reasons.items()}
+    out.attrs["swing_plane"] = 0 if tilt is None else int((np.isfinite(tilt) & ~skipped).sum())
     return out
 
 
@@ -188,7 +197,8 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
     ----------
     table : pandas.DataFrame or mapping
         The pitch columns of ``INPUT_COLUMNS`` and ``handedness`` (the batted-ball
-        columns are not needed), optionally ``spin_axis`` and ``attack_angle``.
+        columns are not needed), optionally ``spin_axis``, ``attack_angle`` and
+        ``swing_path_tilt`` (as ``infer_spin`` uses them).
     undercut : array_like
         m (> 0: the ball's centre passes above the bat axis).
     attack_direction : array_like
@@ -236,6 +246,8 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
     game[rows["bat_radius"]] = radius
     game[rows["bat_slope"]] = slope
     game[rows["e_location_factor"]] = assumptions.restitution.location_factor(z)
+    fill_vertical_bat_angle(_swing_rows(game), measured_tilt(cols["swing_path_tilt"],
+                                                             slice(None)))
     game[rows["undercut"]] = np.broadcast_to(np.asarray(undercut, np.float64), (n,))
     game[rows["attack_direction"]] = np.broadcast_to(
         np.asarray(attack_direction, np.float64), (n,)) * RAD_PER_DEG
@@ -249,11 +261,12 @@ def predict_batted_balls(table, *, undercut, attack_direction, bat_speed=None,
 
 
 def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, options, loc_z,
-               loc_f):
+               loc_f, tilt=None):
     """The inference at each attack-angle node: per node ``(attack angle (rad), weight,
     solution, status, iterations, evaluations, bat-speed adjustment (mph),
     bat_speed_inconsistent)``; the weight is the node's prior weight times the density of
-    its contact (``_posterior_weight``) where there are several nodes."""
+    its contact (``_posterior_weight``) where there are several nodes. ``tilt`` (rad, NaN
+    where not measured): the swing planes that set each node's vertical bat angle."""
     settings = options.kernel_settings(assumptions.contact_side)
     table_ = _bat_table(assumptions.bat)
     loc_z = np.ascontiguousarray(loc_z, dtype=np.float64)
@@ -262,6 +275,8 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
     runs = []
     for attack_node, prior in nodes:
         game[row] = attack_node
+        if tilt is not None:  # (a ball without a plane keeps the assumed angle)
+            fill_vertical_bat_angle(_swing_rows(game), tilt)
         solution, _, status, iterations, evaluations = infer_contacts(
             game, observed, mode, table_, loc_z, loc_f, settings)
         adjustment = np.where(mode == INFER_BAT_SPEED, np.nan,
@@ -277,6 +292,11 @@ def _run_nodes(game, observed, mode, nodes, measured_bat_speed, assumptions, opt
         runs.append((attack_node, prior, solution, status, iterations, evaluations,
                      adjustment, inconsistent))
     return runs
+
+
+def _swing_rows(game) -> dict:
+    """The attack and vertical bat angles' rows of the game inputs ``game`` (views)."""
+    return {k: game[GAME_INPUT_FIELDS.index(k)] for k in ("attack_angle", "vertical_bat_angle")}
 
 
 def _attack_angle_nodes(measured, a: SpinAssumptions, count):

@@ -127,6 +127,10 @@ class RunSummary:
             out.append(f"pitches: {p['drawn_from']:,} rows of {p['file']} drawn from "
                        f"({p['rows_in_file']:,} in the file, {p['selected']:,} selected by "
                        f"the filters{left})")
+            if "swing_plane_measured" in p:
+                plane, rest = p["swing_plane_measured"], p["drawn_from"] - p["swing_plane_measured"]
+                out.append(f"vertical bat angle from the measured swing plane on {plane:,} of "
+                           f"those rows" + (f", [swing]'s on the other {rest:,}" if rest else ""))
         for index, reason in self.redone:
             out.append(f"recomputed {chunks.chunk_name(index)}: {reason}")
         for name in self.removed:

@@ -98,6 +98,7 @@ from mcbat.study.pitches import (
 from mcbat.study.random_program import compile_program, draw
 from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
 from mcbat.study.swing_errors import clip_true, outlier_population, true_values
+from mcbat.study.swing_plane import fill_vertical_bat_angle
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
@@ -266,6 +267,8 @@ class GameStudy(Study):
                 # (a value drawn from the key's fallback is no measurement: left as drawn)
                 self._true_swing(key, rows.values[k], column, start, n, seed,
                                  np.isfinite(values))
+        if rows.tilt is not None:  # (after the attack angle's true value is drawn)
+            fill_vertical_bat_angle(cols, rows.tilt[j])
         if rows.handedness is not None:
             cols["handedness"][:] = rows.handedness[j]
         location = {}

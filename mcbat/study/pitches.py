@@ -11,21 +11,26 @@ A game study with a ``[pitches]`` section resamples real pitches with replacemen
                                                #   ground_ball, line_drive, fly_ball, popup)
     swing = true                               # also bat_speed, attack_angle and
                                                # attack_direction from the rows (default false)
+    swing_plane = true                         # with swing: the vertical bat angle from
+                                               # swing_path_tilt (default false)
     [pitches.fallback]                         # for rows that lack a value: a number or a
     spin_axis = { dist = "uniform", low = 180, high = 240, unit = "deg" }  # distribution
     [pitches.swing_error]                      # with swing = true: the measurement error
     attack_angle = { value = 4, unit = "deg" } # (sd) of a drawn swing key (below)
 
-The drawn keys are ``PITCH_KEYS`` (and ``SWING_KEYS`` with ``swing = true``);
-``[pitch]`` and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat
-angle, ...), drawn from their distributions as always. A row that lacks a drawn value (NaN:
-older exports have no spin axis, bat tracking starts in 2024, a pitch not swung at) takes the key's
-fallback when ``[pitches.fallback]`` has one; otherwise it is left out of the draw and
-counted. Rows with values outside the ranges of ``ROW_RANGES`` (those a study's own
-values are checked against, and at most what was ever measured: pitch and bat speeds up to
-150 mph, spins up to 10,000 rpm) are left out and counted too, and so are the copies of a
-pitch the file gives twice (the same ``game_pk``, ``at_bat_number`` and ``pitch_number``:
-two overlapping downloads concatenated), flagged by the runner in ``DUPLICATE_COLUMN``.
+The drawn keys are ``PITCH_KEYS`` (and ``SWING_KEYS`` with ``swing = true``); ``[pitch]``
+and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat angle, ...),
+drawn from their distributions as always. With ``swing_plane = true`` a row's measured
+``swing_path_tilt`` and its attack angle set its vertical bat angle
+(``mcbat.study.swing_plane``); rows without a tilt keep ``[swing] vertical_bat_angle``. A
+row that lacks a drawn value (NaN: older exports have no spin axis, bat tracking starts in
+2024, a pitch not swung at) takes the key's fallback when ``[pitches.fallback]`` has one;
+otherwise it is left out of the draw and counted. Rows with values outside the ranges of
+``ROW_RANGES`` (those a study's own values are checked against, and at most what was ever
+measured: pitch and bat speeds up to 150 mph, spins up to 10,000 rpm) are left out and
+counted too, and so are the copies of a pitch the file gives twice (the same ``game_pk``,
+``at_bat_number`` and ``pitch_number``: two overlapping downloads concatenated), flagged by
+the runner in ``DUPLICATE_COLUMN``.
 
 **Swing measurement error** (``[pitches.swing_error]``, with ``swing = true``): a drawn
 swing key ``x`` measured with a Gaussian error of sd ``s`` (classical errors: the measured
@@ -68,11 +73,12 @@ from mcbat.study import units as u
 from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import compile_program, draw
 from mcbat.study.swing_errors import parse_swing_errors
+from mcbat.study.swing_plane import measured_tilt, parse_swing_plane
 
 __all__ = ["BUNT_COLUMN", "DUPLICATE_COLUMN", "FILTERS", "IDENTIFIERS", "PITCH_KEYS",
            "PITCH_SOURCE_COLUMNS", "ROW_RANGES", "ROW_STREAM", "SWING_ERROR_STREAM",
-           "SWING_KEYS", "TABLE_UNITS", "PitchRows", "PitchSource", "PitchTable",
-           "parse_pitches"]
+           "SWING_KEYS", "TABLE_UNITS", "TILT_COLUMN", "PitchRows", "PitchSource",
+           "PitchTable", "parse_pitches"]
 
 #: Study keys of ``[pitch]`` drawn from the rows -> the tidy table's column.
 PITCH_KEYS = {"speed": "pitch_speed",
@@ -106,6 +112,8 @@ DUPLICATE_COLUMN = "duplicate"
 #: highest spin near 3,800 rpm. With the signs and angle limits of ``_in_range``.
 ROW_RANGES = {"pitch.speed": (150.0, "mph"), "swing.bat_speed": (150.0, "mph"),
               "pitch.spin_rate": (10_000.0, "rpm"), "pitch.spin_axis": (720.0, "deg")}
+#: The tidy column of the swing plane's tilt (``[pitches] swing_plane``).
+TILT_COLUMN = "swing_path_tilt"
 #: The Philox stream of the row draw (as an input named so; no study key has the name).
 ROW_STREAM = "pitches.row"
 
@@ -144,6 +152,9 @@ class PitchSource:
     bat_speed_outliers : tuple or None
         ``(fraction, excess m/s, spread m/s)`` of ``[pitches.swing_error.bat_speed_outliers]``:
         the share of bat speeds measured ``excess`` too fast (with sd ``spread``).
+    swing_plane : bool
+        Each row's vertical bat angle from its ``swing_path_tilt``
+        (``mcbat.study.swing_plane``).
     """
 
     file: str
@@ -153,6 +164,7 @@ class PitchSource:
     fallback: MappingProxyType
     swing_error: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     bat_speed_outliers: tuple | None = None
+    swing_plane: bool = False
 
     @property
     def keys(self) -> dict:
@@ -167,6 +179,8 @@ class PitchSource:
         where the contact follows the pitch's location, ``[contact.plate_x_trend]``,
         ``[contact.plate_z_trend]``)."""
         names = [*self.keys.values(), *IDENTIFIERS, *self.filters]
+        if self.swing_plane:
+            names.append(TILT_COLUMN)
         if handedness_from_rows:
             names.append("handedness")
         names.extend(location)
@@ -175,7 +189,8 @@ class PitchSource:
 
 def parse_pitches(table, source) -> PitchSource:
     """Validate a ``[pitches]`` section; ``source`` is the study file (or None)."""
-    check_keys(table, "pitches", ("file",), (*FILTERS, "swing", "fallback", "swing_error"))
+    check_keys(table, "pitches", ("file",),
+               (*FILTERS, "swing", "swing_plane", "fallback", "swing_error"))
     quantities = {k: TABLE_UNITS[c][0] for k, c in SWING_KEYS.items()}
     file = table["file"]
     if not isinstance(file, str) or not file.strip():
@@ -188,6 +203,7 @@ def parse_pitches(table, source) -> PitchSource:
     swing = table.get("swing", False)
     if not isinstance(swing, bool):
         raise InputError("pitches.swing", f"must be true or false, got {swing!r}")
+    swing_plane = parse_swing_plane(table, swing)
     filters = {}
     for key, kind in FILTERS.items():
         if key in table:
@@ -209,7 +225,7 @@ def parse_pitches(table, source) -> PitchSource:
         fallback[_study_key(key)] = parse(spec, f"pitches.fallback.{key}", quantity)
     return PitchSource(file, path, MappingProxyType(filters), swing,
                        MappingProxyType(fallback),
-                       *parse_swing_errors(table, swing, quantities))
+                       *parse_swing_errors(table, swing, quantities), swing_plane)
 
 
 def _filter_values(value, name, kind) -> tuple:
@@ -281,6 +297,9 @@ class PitchRows:
         Where each pitch crossed the front of the plate, as the study asked for it:
         ``"plate_x"`` (m along the field's ``x``, towards first base) and ``"plate_z"`` (m
         above the ground), Statcast's, float64[M], NaN where the file lacks a value.
+    tilt : float64[M] or None
+        With ``swing_plane``: the swing plane's measured tilt (rad; NaN where the row has
+        none, or a vertical plane).
     """
 
     index: np.ndarray
@@ -290,6 +309,7 @@ class PitchRows:
     identifiers: np.ndarray
     summary: dict = field(default_factory=dict)
     location: dict = field(default_factory=dict)
+    tilt: np.ndarray | None = None
 
     def config(self, source: PitchSource, table: PitchTable) -> dict:
         """The identity of the rows for the study's config: the file's content hash, the
@@ -302,6 +322,7 @@ class PitchRows:
                 **({"bat_speed_outliers": dict(zip(("fraction", "excess", "spread"),
                                                    source.bat_speed_outliers))}
                    if source.bat_speed_outliers else {}),
+                **({"swing_plane": True} if source.swing_plane else {}),
                 "handedness": "rows" if self.handedness is not None else "study",
                 "draw": f"row = floor(u M), u the Philox uniform of stream {ROW_STREAM!r}",
                 **self.summary}
@@ -409,7 +430,11 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
                "drawn_from": int(index.size)}
     kept = {name: np.asarray(cols[name], np.float64)[index] * u.UNITS["length"]["ft"]
             for name in location}
-    return PitchRows(index, values, keys, handedness, identifiers, summary, kept)
+    tilt = None
+    if source.swing_plane:
+        tilt = measured_tilt(cols[TILT_COLUMN], index)
+        summary["swing_plane_measured"] = int(np.isfinite(tilt).sum())
+    return PitchRows(index, values, keys, handedness, identifiers, summary, kept, tilt)
 
 
 def _what_would_help(source, keys, excluded, untracked) -> str:

@@ -16,13 +16,16 @@ RPM = 60 / (2 * math.pi)
 BAT = bat_preset("r161")
 
 
-def simulate_balls(n, seed, measured_swing):
-    """Balls from known contacts: the tidy columns, and the truth."""
+def simulate_balls(n, seed, measured_swing, planes=False):
+    """Balls from known contacts: the tidy columns, and the truth. With ``planes`` each
+    ball's bat has its own vertical angle (−45 to −15°) and the row the tilt of the plane
+    its axis and the sweet spot's velocity span (``sin² tilt = sin² b + sin² a``)."""
     rng = np.random.default_rng(seed)
     rows, truth = [], []
     for k in range(n):
         hand = "R" if k % 2 == 0 else "L"
         attack = rng.uniform(0, 20) if measured_swing else 10.0
+        vertical = rng.uniform(-45, -15) if planes else -30.0
         case = GameCase(
             ball=BALL_PRESETS["baseball"], bat=BAT, mu=0.5, handedness=hand,
             pitch_speed=rng.uniform(78, 98) * MPH, bat_speed=rng.uniform(62, 80) * MPH,
@@ -30,7 +33,7 @@ def simulate_balls(n, seed, measured_swing):
             horizontal_approach_angle=rng.uniform(-3, 3) * DEG,
             spin_rate=rng.uniform(1500, 2700) / RPM, spin_axis=rng.uniform(0, 360) * DEG,
             attack_angle=attack * DEG, attack_direction=rng.uniform(-20, 20) * DEG,
-            vertical_bat_angle=-30 * DEG, undercut=rng.uniform(-0.025, 0.025),
+            vertical_bat_angle=vertical * DEG, undercut=rng.uniform(-0.025, 0.025),
             from_barrel_end=rng.uniform(0.17, 0.25) if measured_swing else 0.1524)
         ball = solve_game(case).batted_ball
         row = {"pitch_speed": case.pitch_speed / MPH,
@@ -41,6 +44,9 @@ def simulate_balls(n, seed, measured_swing):
                "launch_angle": ball["launch_angle"], "spray_angle": ball["spray_angle"]}
         if measured_swing:
             row.update(bat_speed=case.bat_speed / MPH, attack_angle=attack)
+        if planes:
+            row["swing_path_tilt"] = math.degrees(math.asin(math.sqrt(
+                math.sin(vertical * DEG) ** 2 + math.sin(attack * DEG) ** 2)))
         rows.append(row)
         truth.append({"undercut": case.undercut, "bat_speed": case.bat_speed / MPH,
                       "from_barrel_end": case.from_barrel_end,

@@ -45,6 +45,26 @@ def test_round_trip_with_measured_bat_speed_infers_the_contact_position():
     np.testing.assert_array_equal(out["attack_angle"], balls["attack_angle"])
 
 
+@pytest.mark.parametrize("measured_swing", [True, False])
+def test_round_trip_with_each_balls_swing_plane(measured_swing):
+    # each ball's bat at its own angle, given only through its plane's tilt: the inference
+    # finds the contact again only if it rebuilds the bat from the tilt
+    balls, truth = _simulate(10, seed=8, measured_swing=measured_swing, planes=True)
+    out = infer_spin(balls, options=EXACT)
+    _check_round_trip(out, truth, "from_barrel_end" if measured_swing else "bat_speed")
+    assert out.attrs["swing_plane"] == len(balls)
+    ball = predict_batted_balls(balls, undercut=truth["undercut"],
+                                attack_direction=truth["attack_direction"],
+                                bat_speed=truth["bat_speed"],
+                                from_barrel_end=truth["from_barrel_end"])
+    np.testing.assert_allclose(ball["launch_angle"], truth["launch_angle"], atol=1e-9)
+    # without the plane every bat is the assumed one, and the balls are not found again
+    assumed = infer_spin(balls, options=EXACT, use_swing_plane=False)
+    assert assumed.attrs["swing_plane"] == 0
+    gap = np.abs(assumed["undercut"] - truth["undercut"]).fillna(1.0)
+    assert (gap > 1e-4).mean() > 0.5
+
+
 def test_predict_batted_balls_is_the_forward_model_of_the_inference():
     balls, truth = _simulate(4, seed=5, measured_swing=False)
     ball = predict_batted_balls(balls, undercut=truth["undercut"],

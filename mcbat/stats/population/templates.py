@@ -126,8 +126,9 @@ def _conditioned_definition(study, pitches, flight=False):
         data["pitches"]["swing"] = True
         fallback.update({k: v for k, v in own.get("fallback", {}).items()
                          if f"swing.{k}" in SWING_COLUMNS})
-        if own.get("swing_error"):
-            data["pitches"]["swing_error"] = own["swing_error"]
+        for key in ("swing_error", "swing_plane"):
+            if own.get(key):
+                data["pitches"][key] = own[key]
     if "restitution" not in data:  # the game preset, written out so e and e_x can be set
         r = GAME_RESTITUTION
         data["restitution"] = {"e_ref": r.e_ref, "e_slope": r.e_slope,
