@@ -29,7 +29,11 @@ before the bat-speed trend's move and the clip; a row without ``plate_x`` does n
 With ``[contact.plate_z_trend]`` the undercut moves by ``undercut`` for every ``per`` the
 pitch crossed the plate above ``reference`` (Statcast's ``plate_z``; positive: a high
 pitch is met further under its centre, so it leaves higher), held inside the undercut's
-support.
+support. The table's ``vertical_bat_angle`` moves the bat's vertical angle the same way,
+held inside the range of ``[swing] vertical_bat_angle``, on the rows without a measured
+swing plane (with ``[pitches] swing_plane``, a row's plane sets its bat): a high pitch is
+met with a flatter bat, a low one with a steeper one (2025's planes: 7.2 deg per ft,
+``docs/bat_tracking.md``, "The swing's plane").
 
 **The contact and the swing's length** (``[contact.swing_length_trend]``, with
 ``[pitches]``): the undercut moves by ``undercut`` for every ``per`` of the row's measured
@@ -45,7 +49,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["bat_speed_move", "height_move", "location_move", "trends_config"]
+__all__ = ["bat_angle_move", "bat_speed_move", "height_move", "location_move",
+           "trends_config"]
 
 
 def bat_speed_move(bat_speed, trend) -> np.ndarray:
@@ -66,10 +71,20 @@ def location_move(away, trend) -> np.ndarray:
 
 def height_move(plate_z, trend) -> np.ndarray:
     """The undercut's move (m) of samples whose pitch crossed the plate at ``plate_z`` (m;
-    NaN: no move): ``s (plate_z - reference)``, ``trend = (reference m, s m per m)``
-    (``[contact.plate_z_trend]``)."""
-    reference, slope = trend
+    NaN: no move): ``s (plate_z - reference)``, ``trend = (reference m, s m per m, ...)``
+    (``[contact.plate_z_trend]``, ``[contact.swing_length_trend]``)."""
+    reference, slope = trend[:2]
     return slope * np.nan_to_num(plate_z - reference, nan=0.0)
+
+
+def bat_angle_move(angle, plate_z, trend, support) -> None:
+    """Move the vertical bat angles ``angle`` (rad, in place) of samples whose pitch
+    crossed the plate at ``plate_z`` (m; NaN: no move) by ``b (plate_z - reference)``,
+    ``trend = (reference m, _, b rad per m)`` (``[contact.plate_z_trend]``), and hold them
+    inside ``support`` (rad)."""
+    reference, _, slope = trend
+    angle += slope * np.nan_to_num(plate_z - reference, nan=0.0)
+    np.clip(angle, *support, out=angle)
 
 
 def trends_config(study) -> dict:
@@ -94,4 +109,9 @@ def trends_config(study) -> dict:
             out[f"{name}_trend"] = {
                 "reference": trend[0], f"undercut_per_{name}": trend[1],
                 "form": f"u = clip(u0 + s ({name} - reference)) to the support"}
+            if name == "plate_z" and trend[2] != 0.0:
+                out["plate_z_trend"].update(
+                    vertical_bat_angle_per_plate_z=trend[2],
+                    vertical_bat_angle_form="b = clip(b0 + t (plate_z - reference)) to the "
+                                            "support, rows without a measured swing plane")
     return out

@@ -26,13 +26,14 @@ section::
     dead_zone = { value = 4, unit = "in" }     # (mcbat.study.contact_moves)
     per = { value = 1, unit = "ft" }
     from_barrel_end = { value = -8, unit = "in" }
-    [contact.plate_z_trend]       # optional, with [pitches]: the undercut moves with the
-    reference = { value = 2.5, unit = "ft" }   # pitch's height (mcbat.study.contact_moves)
-    per = { value = 1, unit = "ft" }
-    undercut = { value = 0.4, unit = "in" }
+    [contact.plate_z_trend]       # optional, with [pitches]: the undercut (and the bat's
+    reference = { value = 2.5, unit = "ft" }   # angle, rows without a swing plane) move
+    per = { value = 1, unit = "ft" }           # with the pitch's height
+    undercut = { value = 0.4, unit = "in" }    # (mcbat.study.contact_moves)
+    vertical_bat_angle = { value = 7, unit = "deg" }
     [contact.swing_length_trend]  # optional, with [pitches]: the undercut moves with the
-    reference = { value = 7.2, unit = "ft" }   # swing's measured swing_length (the same
-    per = { value = 1, unit = "ft" }           # keys)
+    reference = { value = 7.2, unit = "ft" }   # swing's measured swing_length (the keys
+    per = { value = 1, unit = "ft" }           # of the height's but the bat's angle)
     undercut = { value = 0.3, unit = "in" }
     [friction]  mu = 0.5          # required
     [restitution]                 # optional; default: the game preset
@@ -47,10 +48,7 @@ section::
 
 Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
 Samples are the float64 columns of ``COLUMNS``, the inputs of
-``mcbat.core.swing.solve_game_batch``.
-
-**The contact's trends** (``[contact.bat_speed_trend]``, ``[contact.plate_x_trend]``,
-``[contact.plate_z_trend]``, ``[contact.swing_length_trend]``) move each drawn contact with
+``mcbat.core.swing.solve_game_batch``. The contact's trends move each drawn contact with
 its bat speed, its pitch's location and its swing's length: ``mcbat.study.contact_moves``.
 """
 
@@ -67,8 +65,8 @@ from mcbat.checks import check_keys, check_string
 from mcbat.errors import InputError
 from mcbat.solving.names import GAME_INPUT_FIELDS, SWEET_SPOT_FROM_BARREL_END
 from mcbat.solving.settings import SolverSettings
+from mcbat.study import contact_moves as moves
 from mcbat.study import units as u
-from mcbat.study.contact_moves import bat_speed_move, height_move, location_move, trends_config
 from mcbat.study.dist_types import Normal, Uniform
 from mcbat.study.distributions import check_range, parse
 from mcbat.study.flight import parse_flight
@@ -76,6 +74,7 @@ from mcbat.study.game_keys import (
     GAME_SECTIONS,
     HANDEDNESS,
     KEYS,
+    check_bat_angle_trend,
     check_sections,
     check_swing_angles,
     is_game,
@@ -95,7 +94,7 @@ from mcbat.study.pitches import (
     parse_pitches,
     select_rows,
 )
-from mcbat.study.random_program import compile_program, draw
+from mcbat.study.random_program import draw_stream
 from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
 from mcbat.study.swing_errors import clip_true, outlier_population, true_values
 from mcbat.study.swing_plane import fill_vertical_bat_angle
@@ -267,6 +266,9 @@ class GameStudy(Study):
                 # (a value drawn from the key's fallback is no measurement: left as drawn)
                 self._true_swing(key, rows.values[k], column, start, n, seed,
                                  np.isfinite(values))
+        if self.plate_z_trend is not None and self.plate_z_trend[2] != 0.0:
+            moves.bat_angle_move(cols["vertical_bat_angle"], rows.location["plate_z"][j],
+                           self.plate_z_trend, self.inputs["swing.vertical_bat_angle"].support())
         if rows.tilt is not None:  # (after the attack angle's true value is drawn)
             fill_vertical_bat_angle(cols, rows.tilt[j])
         if rows.handedness is not None:
@@ -290,26 +292,21 @@ class GameStudy(Study):
         if not finite.size:  # (every row took the key's fallback: nothing was measured)
             return
         name = f"{SWING_ERROR_STREAM}.{key.split('.', 1)[1]}"
-        z = np.empty((1, n))
-        draw(compile_program([(name, Normal(name, u.DIMENSIONLESS, None, mean=0.0, std=1.0,
-                                            raw={"mean": 0, "std": 1}))], {name: 0}),
-             seed, start, z)
+        z = draw_stream(name, Normal(name, u.DIMENSIONLESS, None, mean=0.0, std=1.0,
+                                     raw={"mean": 0, "std": 1}), seed, start, n)
         outliers = self.pitches.bat_speed_outliers if key == "swing.bat_speed" else None
         pick = population = None
         if outliers and outliers[0] > 0.0:
-            pick = np.empty((1, n))
             label = f"{name}.outlier"
-            draw(compile_program([(label, Uniform(label, u.DIMENSIONLESS, None, low=0.0,
-                                                  high=1.0, raw={"low": 0, "high": 1}))],
-                                 {label: 0}), seed, start, pick)
-            pick = pick[0]
+            pick = draw_stream(label, Uniform(label, u.DIMENSIONLESS, None, low=0.0, high=1.0,
+                                              raw={"low": 0, "high": 1}), seed, start, n)
             cache_key = (id(self._pitch_rows), key, s, outliers)
             if self._outlier_cache.get("key") != cache_key:
                 # (the deconvolved population is the same for every chunk of the rows)
                 self._outlier_cache.update(key=cache_key, population=outlier_population(
                     finite, s, outliers))
             population = self._outlier_cache["population"]
-        true = true_values(column, finite, s, z[0], outliers, pick, population)
+        true = true_values(column, finite, s, z, outliers, pick, population)
         vertical = self.inputs.get("swing.vertical_bat_angle")
         true = clip_true(key, true, vertical.support() if vertical is not None else None)
         np.copyto(column, true, where=where)
@@ -317,6 +314,7 @@ class GameStudy(Study):
     def _check_ranges(self):
         inp, bat = self.inputs, self.bat
         right = math.pi / 2.0
+        check_bat_angle_trend(self.plate_z_trend, inp.get("swing.vertical_bat_angle"))
 
         def need(key, **kw):
             if key in inp:
@@ -368,7 +366,7 @@ class GameStudy(Study):
                    if any(k.startswith("restitution.") for k in self.inputs)
                    else {"preset": "game", **GAME_RESTITUTION.config()})
         out["contact"] = {"position": "from_barrel_end", "offset": "undercut",
-                          **trends_config(self)}
+                          **moves.trends_config(self)}
         if self.flight is not None:
             out["flight"] = self.flight.config()
         if self.pitches is not None:
@@ -462,10 +460,10 @@ class GameStudy(Study):
         for name in ("plate_z", "swing_length"):
             trend = getattr(self, f"{name}_trend")
             if trend is not None and name in rows:
-                moved += height_move(rows[name], trend)
+                moved += moves.height_move(rows[name], trend)
         if self.contact_trend is not None:
             reference, _, under = self.contact_trend
-            moved += bat_speed_move(cols["bat_speed"], (reference, under))
+            moved += moves.bat_speed_move(cols["bat_speed"], (reference, under))
         dist = self.inputs.get("contact.undercut")
         if dist is not None and dist.family != "fixed":
             np.clip(moved, *dist.support(), out=moved)
@@ -477,10 +475,10 @@ class GameStudy(Study):
         distribution's support (within the bat for a fixed value)."""
         moved = cols["from_barrel_end"].copy()
         if self.plate_x_trend is not None and away is not None:
-            moved += location_move(away, self.plate_x_trend)
+            moved += moves.location_move(away, self.plate_x_trend)
         if self.contact_trend is not None:
             reference, along, _ = self.contact_trend
-            moved += bat_speed_move(cols["bat_speed"], (reference, along))
+            moved += moves.bat_speed_move(cols["bat_speed"], (reference, along))
         dist = self.inputs.get("contact.from_barrel_end")
         fixed = dist is None or dist.family == "fixed"
         low, high = (0.0, self.bat.length) if fixed else dist.support()

@@ -14,8 +14,8 @@ from mcbat.study import units as u
 from mcbat.study.distributions import fixed_value
 
 __all__ = ["GAME_SECTIONS", "HANDEDNESS", "KEYS", "OPTIONAL_SECTIONS", "REQUIRED_SECTIONS",
-           "TREND_KEYS", "check_sections", "check_swing_angles", "is_game",
-           "largest_magnitude", "parse_handedness", "parse_plate_x_trend",
+           "TREND_KEYS", "check_bat_angle_trend", "check_sections", "check_swing_angles",
+           "is_game", "largest_magnitude", "parse_handedness", "parse_plate_x_trend",
            "parse_plate_z_trend", "parse_swing_length_trend", "parse_trend"]
 
 #: The numeric keys of a game: section -> key -> (quantity, default in SI, column).
@@ -85,7 +85,8 @@ TREND_KEYS = {"reference": u.SPEED, "per": u.SPEED, "from_barrel_end": u.LENGTH,
               "undercut": u.LENGTH}
 PLATE_X_TREND_KEYS = {"reference": u.LENGTH, "dead_zone": u.LENGTH, "per": u.LENGTH,
                       "from_barrel_end": u.LENGTH}
-PLATE_Z_TREND_KEYS = {"reference": u.LENGTH, "per": u.LENGTH, "undercut": u.LENGTH}
+PLATE_Z_TREND_KEYS = {"reference": u.LENGTH, "per": u.LENGTH, "undercut": u.LENGTH,
+                      "vertical_bat_angle": u.ANGLE}
 
 
 def _fixed_table(table, name, keys, example, optional=()) -> dict:
@@ -138,20 +139,42 @@ def parse_plate_x_trend(table):
     return values["reference"], values["dead_zone"], values["from_barrel_end"] / values["per"]
 
 
-def parse_plate_z_trend(table, name="contact.plate_z_trend"):
-    """``[contact.plate_z_trend]`` -> ``(reference m, slope m per m)``, or None without the
-    table."""
+def parse_plate_z_trend(table):
+    """``[contact.plate_z_trend]`` -> ``(reference m, the undercut's slope m per m, the
+    vertical bat angle's slope rad per m)``, or None without the table. Either move may be
+    left out (0); one of them must be given."""
     if table is None:
         return None
-    values = _fixed_table(table, name, PLATE_Z_TREND_KEYS, '{ value = 1, unit = "ft" }')
-    return values["reference"], values["undercut"] / values["per"]
+    name = "contact.plate_z_trend"
+    values = _fixed_table(table, name, PLATE_Z_TREND_KEYS, '{ value = 1, unit = "ft" }',
+                          optional=("undercut", "vertical_bat_angle"))
+    if "undercut" not in table and "vertical_bat_angle" not in table:
+        raise InputError(name, "needs undercut or vertical_bat_angle (the move of the "
+                         "undercut or of the bat's angle for every `per` of pitch height)")
+    return (values["reference"], values["undercut"] / values["per"],
+            values["vertical_bat_angle"] / values["per"])
 
 
 def parse_swing_length_trend(table):
     """``[contact.swing_length_trend]`` -> ``(reference m, slope m per m)``, or None
     without the table: the undercut's move with Statcast's ``swing_length``, of the same
-    form (and keys) as the pitch height's."""
-    return parse_plate_z_trend(table, "contact.swing_length_trend")
+    form as the pitch height's."""
+    if table is None:
+        return None
+    name = "contact.swing_length_trend"
+    keys = {k: q for k, q in PLATE_Z_TREND_KEYS.items() if k != "vertical_bat_angle"}
+    values = _fixed_table(table, name, keys, '{ value = 1, unit = "ft" }')
+    return values["reference"], values["undercut"] / values["per"]
+
+
+def check_bat_angle_trend(trend, vertical_bat_angle) -> None:
+    """A ``[contact.plate_z_trend] vertical_bat_angle`` needs ``[swing]
+    vertical_bat_angle`` as a distribution, whose range holds the moved angles."""
+    if trend is not None and trend[2] != 0.0 and getattr(vertical_bat_angle, "family",
+                                                         "fixed") == "fixed":
+        raise InputError("contact.plate_z_trend.vertical_bat_angle", "needs [swing] "
+                         "vertical_bat_angle as a distribution (the moved angle is held "
+                         "inside its range)")
 
 
 def largest_magnitude(dist):

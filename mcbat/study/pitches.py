@@ -71,7 +71,7 @@ from mcbat.checks import check_keys, integer
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import Uniform, parse
-from mcbat.study.random_program import compile_program, draw
+from mcbat.study.random_program import draw_stream
 from mcbat.study.swing_errors import parse_swing_errors
 from mcbat.study.swing_plane import measured_tilt, parse_swing_plane
 
@@ -330,12 +330,11 @@ class PitchRows:
     def draw_rows(self, seed: int, start: int, n: int) -> np.ndarray:
         """Indices into the selection (0 .. M - 1) of samples ``start .. start + n - 1``."""
         m = self.index.size
-        table = np.empty((1, n))
         dist = Uniform(ROW_STREAM, u.DIMENSIONLESS, None, low=0.0, high=float(m),
                        raw={"low": 0, "high": m})
-        draw(compile_program([(ROW_STREAM, dist)], {ROW_STREAM: 0}), seed, start, table)
         # u < 1, but u M may round up to M: the last row then.
-        return np.minimum(table[0].astype(np.int64), m - 1)
+        return np.minimum(draw_stream(ROW_STREAM, dist, seed, start, n).astype(np.int64),
+                          m - 1)
 
 
 def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs,

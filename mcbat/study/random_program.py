@@ -31,7 +31,7 @@ from mcbat.study.distributions import (
     Uniform,
 )
 
-__all__ = ["INPUTS", "NOISE", "compile_program", "draw", "stream_id"]
+__all__ = ["INPUTS", "NOISE", "compile_program", "draw", "draw_stream", "stream_id"]
 
 
 def stream_id(name: str) -> int:
@@ -119,3 +119,11 @@ def draw(program: DrawProgram, seed: int, start: int, out: np.ndarray) -> None:
     if program.row.size and out.shape[1]:
         await_group("sampling")
         draw_random_inputs(program, np.uint64(seed), np.int64(start), out)
+
+
+def draw_stream(name: str, dist, seed: int, start: int, n: int) -> np.ndarray:
+    """The draws of one named stream from ``dist`` for samples ``start .. start + n - 1``
+    (float64[n]): a study's extra random numbers (the row draw, the swing errors)."""
+    out = np.empty((1, n))
+    draw(compile_program([(name, dist)], {name: 0}), seed, start, out)
+    return out[0]

@@ -155,3 +155,92 @@ def test_a_run_says_how_many_rows_took_their_planes_bat(tmp_path):
     assert 0 < rest < measured
     assert (f"vertical bat angle from the measured swing plane on {measured:,} of those "
             f"rows, [swing]'s on the other {rest:,}") in lines
+
+
+def _with_heights(rows, seed=9):
+    rows = rows.copy()
+    rows["plate_z"] = np.random.default_rng(seed).uniform(1.0, 4.0, len(rows))
+    return rows
+
+
+def _height_trend(angle=7.2, undercut=None):
+    table = {"reference": {"value": 2.5, "unit": "ft"}, "per": {"value": 1, "unit": "ft"},
+             "vertical_bat_angle": {"value": angle, "unit": "deg"}}
+    if undercut is not None:
+        table["undercut"] = {"value": undercut, "unit": "in"}
+    return table
+
+
+_SPREAD = {"dist": "truncnormal", "mean": -28, "std": 7, "low": -50, "high": -2,
+           "unit": "deg"}
+
+
+def test_the_height_trend_moves_the_bat_of_rows_without_a_plane(tmp_path):
+    """Rows without a measured plane: the drawn angle moved by the pitch's height and held
+    in the range; rows with one: their plane's bat, the trend ignored."""
+    rows = _with_heights(_rows())
+    path = tmp_path / "rows.csv"
+    write_pitches(rows, path)
+    plain_data = _data(path, swing_plane=True)
+    plain_data["swing"]["vertical_bat_angle"] = dict(_SPREAD)
+    plain_data["contact"]["plate_z_trend"] = _height_trend(0.0, undercut=0.0)
+    data = _data(path, swing_plane=True)
+    data["swing"]["vertical_bat_angle"] = dict(_SPREAD)
+    data["contact"]["plate_z_trend"] = _height_trend()
+    plain = load_pitches(Study.from_dict(plain_data))
+    moved = load_pitches(Study.from_dict(data))
+    a, b = plain.sample(), moved.sample()
+    j = moved.pitch_rows.draw_rows(moved.seed, 0, moved.samples)
+    tilt = moved.pitch_rows.tilt[j]
+    z = rows["plate_z"].to_numpy()[moved.pitch_rows.index[j]] * 0.3048
+    free = ~np.isfinite(tilt)
+    expected = np.clip(a["vertical_bat_angle"][free]
+                       + math.radians(7.2) / 0.3048 * (z[free] - 2.5 * 0.3048),
+                       math.radians(-50), math.radians(-2))
+    np.testing.assert_allclose(b["vertical_bat_angle"][free], expected, atol=1e-12)
+    np.testing.assert_array_equal(b["vertical_bat_angle"][~free], a["vertical_bat_angle"][~free])
+    high, low = free & (z > 3.25 * 0.3048), free & (z < 1.75 * 0.3048)
+    assert np.degrees(b["vertical_bat_angle"][high].mean()
+                      - b["vertical_bat_angle"][low].mean()) > 7.0
+    config = moved.config()["contact"]["plate_z_trend"]
+    assert config["vertical_bat_angle_per_plate_z"] == pytest.approx(
+        math.radians(7.2) / 0.3048)
+    assert config["undercut_per_plate_z"] == 0.0
+    assert plain.config_hash() != moved.config_hash()
+
+
+@pytest.mark.parametrize("swing, table, field, match", [
+    ({"value": -30, "unit": "deg"}, _height_trend(),
+     "contact.plate_z_trend.vertical_bat_angle", "as a distribution"),
+    (_SPREAD, {"reference": {"value": 2.5, "unit": "ft"}, "per": {"value": 1, "unit": "ft"}},
+     "contact.plate_z_trend", "needs undercut or vertical_bat_angle")])
+def test_a_bad_height_trend_of_the_bat_names_its_field(tmp_path, swing, table, field, match):
+    path = tmp_path / "rows.csv"
+    write_pitches(_with_heights(_rows()), path)
+    data = _data(path)
+    data["swing"]["vertical_bat_angle"] = dict(swing)
+    data["contact"]["plate_z_trend"] = table
+    with pytest.raises(InputError, match=match) as err:
+        Study.from_dict(data)
+    assert err.value.field == field
+
+
+def test_the_swing_length_trend_has_no_bat_angle(tmp_path):
+    path = tmp_path / "rows.csv"
+    write_pitches(_rows(), path)
+    data = _data(path)
+    data["contact"]["swing_length_trend"] = {
+        "reference": {"value": 7.2, "unit": "ft"}, "per": {"value": 1, "unit": "ft"},
+        "undercut": {"value": 0.3, "unit": "in"},
+        "vertical_bat_angle": {"value": 5, "unit": "deg"}}
+    with pytest.raises(InputError, match="vertical_bat_angle"):
+        Study.from_dict(data)
+
+
+def test_a_population_fit_does_not_free_the_planes_bat_angle(tmp_path):
+    from mcbat.stats.population.parameters import parse_free
+
+    study = _study(tmp_path, swing_plane=True)
+    with pytest.raises(InputError, match="swing plane") as err:
+        parse_free(study, ["swing.vertical_bat_angle.mean"])
+    assert err.value.field == "free"

@@ -94,6 +94,10 @@ def parse_free(study, free):
         key, _, what = name.rpartition(".")
         if key in PITCH_COLUMNS:
             raise InputError("free", f"{name}: the pitch is measured row by row, not drawn")
+        if key == "swing.vertical_bat_angle" and getattr(
+                getattr(study, "pitches", None), "swing_plane", False):
+            raise InputError("free", f"{name}: with [pitches] swing_plane = true the bat's "
+                             "angle follows from each row's measured swing plane")
         if what not in ("mean", "std") or not key:
             raise InputError("free", f"unknown parameter {name!r} (the study's: "
                              f"{', '.join(fittable_parameters(study))})")

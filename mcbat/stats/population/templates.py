@@ -32,6 +32,8 @@ from mcbat.study.spec import Study
 __all__ = ["ENGINES", "TemplateSimulator", "simulate_table"]
 
 ENGINES = ("memory", "local", "dask")
+#: The drawn inputs a trend of ``[contact]`` may move after the draw.
+MOVED_COLUMNS = ("from_barrel_end", "undercut", "vertical_bat_angle")
 
 
 class TemplateSimulator:
@@ -75,7 +77,7 @@ class TemplateSimulator:
         from mcbat.dataset.schema import si_units
         from mcbat.runner.study_run import run_study
 
-        if {"from_barrel_end", "undercut"} & set(columns) and _moves_contact(study):
+        if set(MOVED_COLUMNS) & set(columns) and _moves_contact(study):
             raise InputError("engine", "a fit of the contact with a trend of [contact] "
                              "(bat_speed_trend, plate_x_trend, plate_z_trend, "
                              "swing_length_trend) runs on engine 'memory' only (the "
@@ -149,10 +151,10 @@ def _solve_memory(study, draws, seed, columns, observables):
         batted, ok = solve_game_inputs(study, inputs)
     row = {name: i for i, name in enumerate(GAME_INPUT_FIELDS)}
     drawn = {c: inputs[row[c]].copy() for c in columns}
-    moved = [c for c in ("from_barrel_end", "undercut") if c in drawn]
+    moved = [c for c in MOVED_COLUMNS if c in drawn]
     if moved and _moves_contact(study):
-        # The weights are densities of the drawn contact, before the trends moved it (the
-        # same random numbers without the trends).
+        # The weights are densities of the drawn contact (and bat angle), before the trends
+        # moved it (the same random numbers without the trends).
         plain = copy.copy(study)
         plain.contact_trend = plain.plate_x_trend = plain.plate_z_trend = None
         plain.swing_length_trend = None
