@@ -138,3 +138,21 @@ def test_backspin_slopes_compare_the_draws_with_nathans_model_on_the_same_balls(
     # too few balls in 10-40 deg: no slope rather than a noisy one
     few = {k: v[:50] for k, v in spin.items()}
     assert all(np.isnan(x) for x in backspin_slopes(few))
+
+
+@pytest.mark.parametrize("draws", [20, 40, 175])
+def test_an_exact_models_share_beyond_its_rows_p90_at_few_draws(draws):
+    # the measured value drawn from the row's own distribution: the share above the p90
+    # and below the p10 of its draws is what exact_model_share says, not 10 %
+    from validation.bat_tracking import exact_model_share
+
+    rng = np.random.default_rng(draws)
+    rows = 40000
+    sims = rng.normal(size=(rows, draws))
+    measured = rng.normal(size=rows)
+    lo, hi = np.quantile(sims, [0.1, 0.9], axis=1)
+    expected = exact_model_share(draws)
+    se = np.sqrt(expected * (1 - expected) / rows)
+    assert abs(np.mean(measured > hi) - expected) < 4 * se
+    assert abs(np.mean(measured < lo) - expected) < 4 * se
+    assert expected > 0.1 + 4 * se or draws == 175
