@@ -268,7 +268,8 @@ class GameStudy(Study):
                                  np.isfinite(values))
         if self.plate_z_trend is not None and self.plate_z_trend[2] != 0.0:
             moves.bat_angle_move(cols["vertical_bat_angle"], rows.location["plate_z"][j],
-                           self.plate_z_trend, self.inputs["swing.vertical_bat_angle"].support())
+                                 self.plate_z_trend,
+                                 self.inputs["swing.vertical_bat_angle"].support())
         if rows.tilt is not None:  # (after the attack angle's true value is drawn)
             fill_vertical_bat_angle(cols, rows.tilt[j])
         if rows.handedness is not None:
