@@ -24,7 +24,8 @@ of FILE by a fit to ``--fit`` and the other parts, and pools the parts. Steps:
 2. the contact fitted again there (the reported values and errors);
 3. per file: KS distances of launch speed and angle (``samples`` draws), each row's
    calibration (the share of rows whose measured value lies above the row's simulated
-   90th percentile, below its 10th), the mean launch speed per bat-speed bin (rows >= 100
+   90th percentile, below its 10th, read from its rank among the row's draws:
+   ``mcbat.stats.compare.per_row``), the mean launch speed per bat-speed bin (rows >= 100
    are held to 2 mph), the slopes, ``q`` and its upper edge, the backspin.
 """
 
@@ -41,6 +42,7 @@ import pandas as pd
 
 import mcbat.statcast as sc
 from mcbat.runner.pitches import load_pitches
+from mcbat.stats.compare.per_row import MIN_DRAWS, ranks
 from mcbat.stats.models.simulate import solve_game_inputs
 from mcbat.stats.population.fit import fit_population
 from mcbat.stats.population.table import write_pitches
@@ -473,34 +475,29 @@ def location_bins(table, row, draws, observable, edges) -> list[dict]:
     away from the batter; :data:`PLATE_Z_BINS`: ``plate_z``): rows, the measured mean of
     ``observable`` (``"launch_speed"`` or ``"launch_angle"``) and its standard error, the
     model's mean (of ``draws``, meeting rows ``row``), and the shares of rows above their
-    own simulated 90th and below their 10th percentile."""
+    own simulated 90th and below their 10th percentile (ranked among their draws:
+    ``mcbat.stats.compare.per_row``)."""
     if edges is PLATE_X_BINS:
         plate_x = _column(table, "plate_x")
         where = np.where(table["handedness"].to_numpy() == "L", -plate_x, plate_x)
     else:
         where = _column(table, "plate_z")
     measured = table[observable].to_numpy(float)
-    order = np.argsort(row, kind="stable")
-    cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
+    u = np.full(len(table), np.nan)
+    judged, u_judged = ranks(row, draws, measured, MIN_DRAWS)
+    u[judged] = u_judged
     out = []
     for lo, hi in zip(edges[:-1], edges[1:]):
         rows = np.flatnonzero((where >= lo) & (where < hi))
         if rows.size < 10:
             continue
-        above = below = used = 0
-        for r in rows:
-            mine = draws[order[cuts[r]:cuts[r + 1]]]
-            if mine.size < 10:  # (a row met by too few draws has no percentiles)
-                continue
-            low_q, high_q = np.quantile(mine, [0.1, 0.9])
-            used += 1
-            above += measured[r] > high_q
-            below += measured[r] < low_q
+        mine = u[rows][np.isfinite(u[rows])]
         out.append({"bin": f"{lo:+.1f} to {hi:+.1f}", "rows": int(rows.size),
                     "measured": float(measured[rows].mean()),
                     "se": float(measured[rows].std() / np.sqrt(rows.size)),
                     "model": float(draws[np.isin(row, rows)].mean()),
-                    "above_p90": above / max(used, 1), "below_p10": below / max(used, 1)})
+                    "above_p90": float(np.mean(mine > 0.9)) if mine.size else 0.0,
+                    "below_p10": float(np.mean(mine < 0.1)) if mine.size else 0.0})
     return out
 
 
@@ -534,24 +531,14 @@ def evaluate(table, sim) -> dict:
     m_ls, m_la = table["launch_speed"].to_numpy(float), table["launch_angle"].to_numpy(float)
     out["ks_launch_speed"] = float(stats.ks_2samp(ls, m_ls).statistic)
     out["ks_launch_angle"] = float(stats.ks_2samp(la, m_la).statistic)
-    order = np.argsort(row, kind="stable")
-    cuts = np.searchsorted(row[order], np.arange(len(table) + 1))
-    judged = np.diff(cuts)
-    judged = judged[judged >= 20]
+    judged = np.bincount(row, minlength=len(table))
+    judged = judged[judged >= MIN_DRAWS]
     out["draws_per_row"] = float(np.median(judged)) if judged.size else 0.0
     out["exact_share"] = float(np.mean(exact_model_share(judged)))
     for name, draws_all, meas in (("launch_speed", ls, m_ls), ("launch_angle", la, m_la)):
-        above = below = used = 0
-        for r in range(len(table)):
-            draws = draws_all[order[cuts[r]:cuts[r + 1]]]
-            if draws.size < 20:
-                continue
-            lo, hi = np.quantile(draws, [0.1, 0.9])
-            used += 1
-            above += meas[r] > hi
-            below += meas[r] < lo
-        out[f"{name}_above_p90"] = above / used
-        out[f"{name}_below_p10"] = below / used
+        _, u = ranks(row, draws_all, meas, MIN_DRAWS)
+        out[f"{name}_above_p90"] = float(np.mean(u > 0.9))
+        out[f"{name}_below_p10"] = float(np.mean(u < 0.1))
     model_bins = bin_means(table, row, ls)
     bat = table["bat_speed"].to_numpy(float)
     q_data = collision_efficiency(table, np.arange(len(table)), m_ls)
@@ -654,8 +641,9 @@ def report(label, r) -> list[str]:
              f"{r['launch_speed_below_p10']:.1%}",
              f"  launch angle: above row's p90 {r['launch_angle_above_p90']:.1%}, below p10 "
              f"{r['launch_angle_below_p10']:.1%}",
-             f"  (an exact model reads {r['exact_share']:.1%} on each side at these draws: "
-             f"{r['draws_per_row']:.0f} a row, median)",
+             f"  (each row's measured value ranked among its {r['draws_per_row']:.0f} draws, "
+             f"median, ties spread: an exact model reads 10 %; numpy's linear percentile of "
+             f"that many would read {r['exact_share']:.1%})",
              f"  slopes model {r['slopes_model'][0]:.2f} mph/mph, {r['slopes_model'][1]:.2f} "
              f"deg/deg; data {r['slopes_data'][0]:.2f}, {r['slopes_data'][1]:.2f}",
              f"  spray on attack direction: model {r['spray_slope_model']:.2f}, data "

@@ -20,6 +20,7 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.stats.compare.figure import fig_compare
 from mcbat.stats.compare.inputs import read_measured, read_simulated
+from mcbat.stats.compare.per_row import PITCH_KEY, per_row_calibration
 from mcbat.stats.compare.two_sample import (
     PERMUTATIONS,
     energy_test,
@@ -48,7 +49,7 @@ PLANE_ROWS = 2_000
 holds the pooled sample's distance matrix (4,000 x 4,000 at most, 128 MB)."""
 PLANE = ("launch_speed", "launch_angle")
 """The plane compared in two dimensions when both sides have both columns."""
-_NOT_COMPARED = ("sample_id", "chunk")
+_NOT_COMPARED = ("sample_id", "chunk", "source_row", "batter", "pitcher", *PITCH_KEY)
 
 
 # --------------------------------------------------------------------------------------
@@ -67,12 +68,13 @@ class Comparison:
     settings: dict
     simulated: dict = field(default_factory=dict)
     measured: dict = field(default_factory=dict)
+    per_row: dict | None = None
 
     def to_dict(self) -> dict:
         """JSON-ready (every number finite or None)."""
         return {"simulated": self.simulated, "measured": self.measured,
                 "settings": self.settings, "columns": self.columns, "plane": self.plane,
-                "not_compared": self.not_compared}
+                "per_row": self.per_row, "not_compared": self.not_compared}
 
     def lines(self) -> list:
         """The table ``mcbat compare`` prints."""
@@ -117,9 +119,32 @@ class Comparison:
         capped = [c["column"] for c in self.columns if c["energy"]["subsampled"]]
         if capped:
             out.append("subsampled for the energy test: " + ", ".join(capped))
+        out.extend(per_row_lines(self.per_row))
         for item in self.not_compared:
             out.append(f"not compared: {item['column']}: {item['reason']}")
         return out
+
+
+def per_row_lines(per_row) -> list:
+    """The per-row calibration's lines (none when the sides share no pitch key)."""
+    if per_row is None:
+        return []
+    if "not_judged" in per_row:
+        return [f"per row: not judged: {per_row['not_judged']}"]
+    if not per_row["met"] or not per_row["columns"]:
+        return [f"per row: no measured pitch met by {per_row['min_draws']} draws or more "
+                f"(of {per_row['rows']:,}): the dataset was not drawn from these pitches"]
+    low, high = per_row["band95"]
+    out = [f"per row: each of {per_row['met']:,} measured pitches (of {per_row['rows']:,}) "
+           f"ranked among the draws that met it (median {per_row['draws_per_row']:.0f}); "
+           f"an exact model puts 10 % above the 90th percentile and 10 % below the 10th "
+           f"(95 %: {100 * low:.1f}-{100 * high:.1f} %)",
+           f"  {'column':<30} {'rows':>7} {'above p90':>10} {'below p10':>10}"]
+    for c in per_row["columns"]:
+        if c["rows"]:
+            out.append(f"  {c['column']:<30} {c['rows']:>7,} {100 * c['above_p90']:>9.1f}% "
+                       f"{100 * c['below_p10']:>9.1f}%")
+    return out
 
 
 def compare(simulated, measured, columns=None, *, units=None, permutations=PERMUTATIONS,
@@ -194,7 +219,10 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
                           "(1 + k)/(1 + permutations)",
                 "plane": "energy distance on coordinates divided by the pooled sample's "
                          "standard deviations, permutation p-value"}
-    return Comparison(results, plane_result, not_compared, settings)
+    per_row = per_row_calibration(
+        simulated, measured, {r["column"]: (sim_units[r["column"]], meas_units.get(r["column"]))
+                              for r in results}, seed=seed)
+    return Comparison(results, plane_result, not_compared, settings, per_row=per_row)
 
 
 def check_settings(permutations, seed, max_rows, plane_rows, units=None):

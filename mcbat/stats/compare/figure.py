@@ -1,5 +1,5 @@
 """The figure of a comparison (``mcbat compare --figure``): both sides' histograms per
-column, and the launch speed / launch angle plane."""
+column, the launch speed / launch angle plane, and the per-row rank histograms."""
 
 from __future__ import annotations
 
@@ -16,8 +16,10 @@ __all__ = ["fig_compare"]
 
 def fig_compare(path, simulated, measured, comparison):
     """Histograms of both sides per compared column (densities, with the KS distance and
-    Wasserstein distance), and the launch speed / launch angle plane side by side
-    (simulated as a 2-D histogram, measured as points on the same axes)."""
+    Wasserstein distance), the launch speed / launch angle plane side by side
+    (simulated as a 2-D histogram, measured as points on the same axes), and when the
+    dataset was drawn from the measured pitches, each judged column's histogram of the
+    measured values' ranks among their own rows' draws (flat for a calibrated model)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -25,7 +27,8 @@ def fig_compare(path, simulated, measured, comparison):
     plane = comparison.plane
     per_row = 3
     rows_1d = math.ceil(len(columns) / per_row)
-    rows = rows_1d + (1 if plane else 0)
+    ranks = [c for c in (comparison.per_row or {}).get("columns", []) if c["rows"]]
+    rows = rows_1d + (1 if plane else 0) + math.ceil(len(ranks) / per_row)
     fig = Figure(figsize=(4.0 * per_row, 3.1 * rows), layout="constrained")
     FigureCanvasAgg(fig)
     grid = fig.add_gridspec(rows, per_row * 2)
@@ -76,9 +79,33 @@ def fig_compare(path, simulated, measured, comparison):
             ax.set_xlim(extent[:2])
             ax.set_ylim(extent[2:])
             ax.grid(alpha=0.3)
+    first = rows_1d + (1 if plane else 0)
+    for k, c in enumerate(ranks):
+        ax = fig.add_subplot(grid[first + k // per_row,
+                                  2 * (k % per_row):2 * (k % per_row) + 2])
+        _rank_histogram(ax, c)
     path = Path(path)
     fig.savefig(path, dpi=130)
     return path
+
+
+def _rank_histogram(ax, column):
+    """The measured values' ranks (PIT, ten bins) as densities, with an exact model's
+    level and the 95 % range of one bin's."""
+    counts = np.asarray(column["histogram"], float)
+    level = counts.sum() / counts.size
+    half = 1.96 * np.sqrt(level * (1 - 1 / counts.size)) / level
+    ax.axhspan(1 - half, 1 + half, color="0.85", label="exact model, 95 %")
+    ax.bar(np.arange(counts.size) / counts.size, counts / level, width=1 / counts.size,
+           align="edge", color="C2", alpha=0.7, edgecolor="white", label="measured")
+    ax.axhline(1, color="0.3", lw=1)
+    ax.set_xlim(0, 1)
+    ax.set_xlabel(f"{column['column']}: rank in its own row's draws (PIT)")
+    ax.set_ylabel("density")
+    ax.set_title(f"{column['rows']:,} rows: {100 * column['above_p90']:.1f} % above p90, "
+                 f"{100 * column['below_p10']:.1f} % below p10", fontsize=9)
+    ax.tick_params(labelsize=8)
+    ax.legend(fontsize=7, loc="upper center")
 
 
 def _shown_range(a, b):

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from mcbat.errors import InputError
+from mcbat.stats.compare.per_row import PITCH_KEY
 
 __all__ = ["read_measured", "read_simulated"]
 
@@ -106,6 +107,8 @@ def _read_one(path, strict=False):
         balls = pitches[balls_in_play(pitches)]
         table = balls[list(_STATCAST_COLUMNS)].rename(columns=_STATCAST_NAMES)
         table = table.reset_index(drop=True).astype(float)
+        for name in PITCH_KEY:  # (per-row calibration joins a dataset's draws on them)
+            table[name] = balls[name].to_numpy()
         foul = balls["des"].astype(str).str.contains("in foul territory", regex=False)
         table.loc[foul.to_numpy(), "spray_angle"] = np.nan
         units = {_STATCAST_NAMES.get(c, c): pitches.attrs["units"][c] for c in

@@ -1,0 +1,142 @@
+"""Each measured pitch against the draws that met it: is every row's predictive
+distribution calibrated? (``mcbat compare``, ``docs/compare.md``).
+
+A study that draws its pitches from a Statcast export (``[pitches] file``) records, for
+every sample, the pitch it met (``game_pk``, ``at_bat_number``, ``pitch_number``). The
+draws that met one pitch are that pitch's predictive distribution, and the measured value
+is one more draw of it if the model is right. Its rank among them is the probability
+integral transform (PIT) of the ensemble forecasting literature (the rank histogram of
+Hamill 2001, Mon. Wea. Rev. 129, 550): with ``below`` draws under the measured value,
+``equal`` draws at it and ``n`` draws in all,
+
+    u = (below + V (equal + 1)) / (n + 1),    V uniform on (0, 1),
+
+is uniform on (0, 1) for an exact model whatever ``n`` is (the randomisation spreads
+ties). "Above the row's 90th percentile" is ``u > 0.9``: an exact model puts 10 % of the
+rows there at any number of draws a row. The 90th percentile of numpy's default (linear)
+rule taken from the ``n`` draws is exceeded ``(0.1 n + 0.9) / (n + 1)`` of the time by an
+exact model instead (13.8 % at 20 draws, 10.5 % at 175), which is why the shares here are
+read from ranks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mcbat.stats.compare.units import convert
+
+__all__ = ["MIN_DRAWS", "PITCH_KEY", "PREDICTED", "TAIL", "per_row_calibration",
+           "probability_integral_transform", "ranks"]
+
+PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
+"""The columns that name one pitch in a Statcast export and in a dataset drawn from it."""
+PREDICTED = ("launch_speed", "launch_angle", "spray_angle", "hit_distance")
+"""The columns judged per row: what the model predicts from the pitch it met (the pitch's
+own columns repeat the measured values and say nothing)."""
+MIN_DRAWS = 10
+"""A row met by fewer draws is left out (and counted)."""
+TAIL = 0.1
+"""The tail share judged on each side: above the 90th percentile, below the 10th."""
+
+
+def probability_integral_transform(draws, value, rng):
+    """``u`` of ``value`` among ``draws`` (sorted ascending), ties spread by ``rng``."""
+    below = np.searchsorted(draws, value, side="left")
+    equal = np.searchsorted(draws, value, side="right") - below
+    return (below + rng.random() * (equal + 1)) / (draws.size + 1)
+
+
+def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, seed=0,
+                        min_draws=MIN_DRAWS):
+    """The shares of measured rows above their own predictive 90th percentile and below
+    their 10th, per predicted column.
+
+    Parameters
+    ----------
+    simulated : pandas.DataFrame
+        A dataset drawn from the measured table's pitches, with :data:`PITCH_KEY`.
+    measured : pandas.DataFrame
+        The measured rows, with :data:`PITCH_KEY` (a Statcast export read by
+        ``read_measured`` has them).
+    units : dict
+        ``{column: (simulated unit, measured unit)}`` of the columns to judge; a column
+        missing here or on either side is not judged.
+    columns : sequence of str
+        The columns to judge, of those in ``units``.
+    seed : int
+        Seed of the tie-breaking draws.
+    min_draws : int
+        The fewest draws a row must meet to be judged.
+
+    Returns
+    -------
+    dict or None
+        None when either side lacks the pitch key; ``rows`` and ``not_judged`` (the reason)
+        when the measured tables give a pitch twice. Else ``rows`` (measured), ``met`` (rows
+        met by at least ``min_draws`` draws), ``draws_per_row`` (their median),
+        ``expected`` (:data:`TAIL`), ``band95`` (the 95 % range of a share of ``met`` rows
+        under an exact model, binomial) and ``columns``: per column ``column``, ``unit``,
+        ``rows``, ``above_p90``, ``below_p10`` and ``histogram`` (the counts of ``u`` in
+        ten equal bins).
+    """
+    if not all(k in simulated.columns and k in measured.columns for k in PITCH_KEY):
+        return None
+    import pandas as pd
+
+    key = pd.MultiIndex.from_frame(measured[list(PITCH_KEY)].astype("int64"))
+    if key.has_duplicates:
+        first = key[key.duplicated()][0]
+        return {"rows": int(len(measured)), "not_judged":
+                f"a pitch is given twice in the measured tables (game_pk {first[0]}, "
+                f"at_bat_number {first[1]}, pitch_number {first[2]})"}
+    sim_key = simulated[list(PITCH_KEY)]
+    known = sim_key.notna().all(axis=1).to_numpy()
+    row = np.full(len(simulated), -1, np.int64)
+    row[known] = key.get_indexer(pd.MultiIndex.from_frame(sim_key[known].astype("int64")))
+    draws = np.bincount(row[row >= 0], minlength=len(measured))
+    met = draws >= min_draws
+    out = {"rows": int(len(measured)), "met": int(met.sum()),
+           "draws_per_row": float(np.median(draws[met])) if met.any() else 0.0,
+           "min_draws": int(min_draws), "expected": TAIL, "band95": None, "columns": []}
+    if not met.any():
+        return out
+    half = 1.96 * np.sqrt(TAIL * (1 - TAIL) / met.sum())
+    out["band95"] = [max(TAIL - half, 0.0), TAIL + half]
+    for name in columns:
+        if name not in (units or {}) or name not in simulated or name not in measured:
+            continue
+        sim_unit, meas_unit = units[name]
+        values = convert(simulated[name].to_numpy(float), sim_unit, meas_unit or sim_unit)
+        truth = measured[name].to_numpy(float)
+        rng = np.random.default_rng([seed, *name.encode()])
+        out["columns"].append(_judge_column(name, meas_unit or sim_unit, row, values, truth,
+                                            min_draws, rng))
+    return out
+
+
+def _judge_column(name, unit, row, values, truth, min_draws, rng):
+    """One column's shares."""
+    _, u = ranks(row, values, truth, min_draws, rng)
+    if not u.size:
+        return {"column": name, "unit": unit, "rows": 0, "above_p90": None,
+                "below_p10": None, "histogram": [0] * 10}
+    return {"column": name, "unit": unit, "rows": int(u.size),
+            "above_p90": float(np.mean(u > 1 - TAIL)), "below_p10": float(np.mean(u < TAIL)),
+            "histogram": np.histogram(u, bins=10, range=(0, 1))[0].tolist()}
+
+
+def ranks(row, values, truth, min_draws=MIN_DRAWS, rng=None):
+    """``(rows, u)``: the rows ``r`` with a finite measured value ``truth[r]`` and
+    ``min_draws`` finite ``values`` of draws whose ``row`` is ``r`` (-1: no measured row),
+    ascending, and each one's PIT ``u`` among those draws. ``rng`` breaks ties (default:
+    seed 0)."""
+    rng = np.random.default_rng(0) if rng is None else rng
+    row, values = np.asarray(row), np.asarray(values, float)
+    truth = np.asarray(truth, float)
+    ok = (row >= 0) & np.isfinite(values)
+    order = np.lexsort((values[ok], row[ok]))
+    row_sorted, value_sorted = row[ok][order], values[ok][order]
+    cuts = np.searchsorted(row_sorted, np.arange(truth.size + 1))
+    judged = np.flatnonzero((np.diff(cuts) >= min_draws) & np.isfinite(truth))
+    return judged, np.array([probability_integral_transform(
+        value_sorted[cuts[r]:cuts[r + 1]], truth[r], rng) for r in judged])
