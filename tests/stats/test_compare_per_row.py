@@ -81,6 +81,13 @@ def test_rows_not_met_are_counted_and_a_repeated_pitch_is_not_judged():
     assert per_row_calibration(simulated.drop(columns="game_pk"), measured, UNITS) is None
     twice = pd.concat([measured, measured.iloc[:1]])
     assert "given twice" in per_row_calibration(simulated, twice, UNITS)["not_judged"]
+    # a measured row without its identifiers (two of them) is simply not met
+    gaps = measured.astype({"at_bat_number": float})
+    gaps.loc[[100, 101], "at_bat_number"] = np.nan
+    assert per_row_calibration(simulated, gaps, UNITS)["met"] == 148
+    named = measured.astype({"pitch_number": object})
+    named.loc[5, "pitch_number"] = "first"
+    assert "whole numbers" in per_row_calibration(simulated, named, UNITS)["not_judged"]
 
 
 @pytest.fixture(scope="module")

@@ -37,6 +37,8 @@ MIN_DRAWS = 10
 """A row met by fewer draws is left out (and counted)."""
 TAIL = 0.1
 """The tail share judged on each side: above the 90th percentile, below the 10th."""
+MISSING = -1
+"""A missing identifier (no real pitch has a negative one); such a row is not joined."""
 
 
 def probability_integral_transform(draws, value, rng):
@@ -83,16 +85,21 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         return None
     import pandas as pd
 
-    key = pd.MultiIndex.from_frame(measured[list(PITCH_KEY)].astype("int64"))
+    measured_key = _whole_numbers(measured[list(PITCH_KEY)])
+    simulated_key = _whole_numbers(simulated[list(PITCH_KEY)])
+    if measured_key is None or simulated_key is None:
+        return {"rows": int(len(measured)), "not_judged": "the pitch identifiers "
+                f"({', '.join(PITCH_KEY)}) are not whole numbers on both sides"}
+    incomplete = np.flatnonzero((measured_key.to_numpy() == MISSING).any(axis=1))
+    measured_key.iloc[incomplete, 0] = MISSING - 1 - np.arange(incomplete.size)  # unmatched
+    key = pd.MultiIndex.from_frame(measured_key)
     if key.has_duplicates:
         first = key[key.duplicated()][0]
         return {"rows": int(len(measured)), "not_judged":
                 f"a pitch is given twice in the measured tables (game_pk {first[0]}, "
                 f"at_bat_number {first[1]}, pitch_number {first[2]})"}
-    sim_key = simulated[list(PITCH_KEY)]
-    known = sim_key.notna().all(axis=1).to_numpy()
-    row = np.full(len(simulated), -1, np.int64)
-    row[known] = key.get_indexer(pd.MultiIndex.from_frame(sim_key[known].astype("int64")))
+    row = key.get_indexer(pd.MultiIndex.from_frame(simulated_key)).astype(np.int64)
+    row[(simulated_key.to_numpy() == MISSING).any(axis=1)] = -1
     draws = np.bincount(row[row >= 0], minlength=len(measured))
     met = draws >= min_draws
     out = {"rows": int(len(measured)), "met": int(met.sum()),
@@ -112,6 +119,21 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         out["columns"].append(_judge_column(name, meas_unit or sim_unit, row, values, truth,
                                             min_draws, rng))
     return out
+
+
+def _whole_numbers(frame):
+    """The identifier columns as int64, a missing one as :data:`MISSING`; None when a value
+    is not a whole number."""
+    import pandas as pd
+
+    out = {}
+    for name in frame.columns:
+        values = pd.to_numeric(frame[name], errors="coerce").to_numpy(float)
+        given = frame[name].notna().to_numpy()
+        if np.any(given & ~np.isfinite(values)) or np.any(values[given] % 1 != 0):
+            return None
+        out[name] = np.where(given, values, MISSING).astype(np.int64)
+    return pd.DataFrame(out)
 
 
 def _judge_column(name, unit, row, values, truth, min_draws, rng):
