@@ -24,7 +24,7 @@ __all__ = ["COMMAND", "COMPARE_PARAMETERS", "cmd_compare"]
 
 
 COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns", "units",
-                      "strict")
+                      "strict", "by")
 
 
 def cmd_compare(args) -> int:
@@ -55,12 +55,14 @@ def cmd_compare(args) -> int:
         check_settings(args.permutations, args.seed, args.max_rows, args.plane_rows, units)
         if columns == []:
             raise InputError("columns", "no column given")
+    by = _parse_by(args.by)
     simulated = read_simulated(args.dataset)
     with flags(*COMPARE_PARAMETERS):
         measured = read_measured(args.measured, units, strict=args.strict)
     try:
         result = compare(simulated, measured, columns, permutations=args.permutations,
-                         seed=args.seed, max_rows=args.max_rows, plane_rows=args.plane_rows)
+                         seed=args.seed, max_rows=args.max_rows, plane_rows=args.plane_rows,
+                         by=by)
     except InputError as err:  # a column's problem: name the measured table(s)
         err = as_flags(_units_as_flag_values(err), COMPARE_PARAMETERS)
         where = args.dataset if "of the simulated dataset" in err.message else \
@@ -92,6 +94,21 @@ def cmd_compare(args) -> int:
     return EXIT_OK
 
 
+def _parse_by(text):
+    """``--by COLUMN[:E1,E2,...]`` -> ``(column, edges or None)``, or None."""
+    if text is None:
+        return None
+    name, _, edges = (part.strip() for part in text.partition(":"))
+    if not name:
+        raise InputError("--by", f"expected COLUMN or COLUMN:E1,E2,..., got {text!r}")
+    if not edges:
+        return name, None
+    try:
+        return name, [float(e) for e in edges.split(",")]
+    except ValueError:
+        raise InputError("--by", f"the bin edges must be numbers, got {edges!r}") from None
+
+
 def _note_left_out(measured) -> None:
     """The measured rows left out, per source, on stderr (each column's rows without a
     value are in the table and the JSON)."""
@@ -118,7 +135,9 @@ COMMAND = Command(
                 "or another dataset; several are concatenated) on their shared columns: "
                 "Kolmogorov-Smirnov distance and p-value, Wasserstein distance, energy "
                 "distance with a permutation p-value, and the energy distance in the "
-                "launch speed / launch angle plane (docs/compare.md).",
+                "launch speed / launch angle plane; with a dataset drawn from the measured "
+                "pitches, each pitch's measured value ranked among its own draws (per-row "
+                "calibration; docs/compare.md).",
     arguments=(
         arg("dataset", metavar="DATASET", help="the simulated dataset directory"),
         arg("measured", metavar="MEASURED", nargs="+",
@@ -143,5 +162,9 @@ COMMAND = Command(
         JSON,
         switch("--strict", "refuse a Statcast export's pitch given twice instead of dropping "
                "the copy and counting it"),
+        arg("--by", metavar="COLUMN[:E1,E2,...]",
+            help="with a dataset drawn from the measured pitches: the per-row judgement by "
+                 "bins of a measured column (inner edges, e.g. bat_speed:65,70,75,80; "
+                 "default its quintiles)"),
     ),
     run=cmd_compare)

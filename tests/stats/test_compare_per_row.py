@@ -90,6 +90,25 @@ def test_rows_not_met_are_counted_and_a_repeated_pitch_is_not_judged():
     assert "whole numbers" in per_row_calibration(simulated, named, UNITS)["not_judged"]
 
 
+def test_bins_of_a_measured_column_carry_their_rows_means():
+    simulated, measured = _frames(rows=1000, draws=15, spread=1.0)
+    measured["bat_speed"] = np.random.default_rng(3).normal(71, 6, len(measured))
+    result = per_row_calibration(simulated, measured, UNITS, by=("bat_speed", (65, 70, 75)))
+    bins = result["columns"][0]["bins"]
+    assert [b["bin"] for b in bins] == ["< 65", "65 to 70", "70 to 75", ">= 75"]
+    assert sum(b["rows"] for b in bins) == 1000
+    # independently: the rows' measured mean, and the mean of each row's own draw mean
+    row_means = simulated.groupby(list(PITCH_KEY))["launch_speed"].mean()
+    joined = measured.join(row_means.rename("model"), on=list(PITCH_KEY))
+    grouped = joined.groupby(pd.cut(joined["bat_speed"], [-np.inf, 65, 70, 75, np.inf],
+                                    right=False), observed=True)
+    for b, (_, group) in zip(bins, grouped):
+        assert b["rows"] == len(group)
+        assert b["measured"] == pytest.approx(group["launch_speed"].mean(), rel=1e-12)
+        assert b["model"] == pytest.approx(group["model"].mean(), rel=1e-12)
+        assert b["se"] == pytest.approx(group["launch_speed"].sem(), rel=1e-9)
+
+
 @pytest.fixture(scope="module")
 def tracked(tmp_path_factory):
     out = tmp_path_factory.mktemp("per_row") / "tracked"
@@ -131,3 +150,15 @@ def test_the_study_against_its_own_export(tracked, capsys, tmp_path):
     assert code == 0 and "per row: each of 263 measured pitches" in out
     line = next(s for s in out.splitlines() if s.startswith("  launch_speed "))
     assert f"{100 * per_row['columns'][0]['above_p90']:.1f}%" in line
+    # by the acceptance's bat-speed bins
+    code = main(["compare", tracked, export, "--permutations", "0", "--columns",
+                 "launch_speed", "--by", "bat_speed:65,70,75,80", "--json"])
+    out, _ = capsys.readouterr()
+    bins = json.loads(out)["per_row"]["columns"][0]["bins"]
+    assert code == 0 and [b["bin"] for b in bins][1:4] == ["65 to 70", "70 to 75", "75 to 80"]
+    assert sum(b["rows"] for b in bins) == len(real)
+    for bad, words in (("bat_sped", "not a column"), ("bat_speed:70,65", "increasing"),
+                       ("bat_speed:x", "numbers")):
+        code = main(["compare", tracked, export, "--permutations", "0", "--by", bad])
+        out, err = capsys.readouterr()
+        assert code == 2 and "--by" in err and words in err and len(err.splitlines()) == 1

@@ -144,11 +144,23 @@ def per_row_lines(per_row) -> list:
         if c["rows"]:
             out.append(f"  {c['column']:<30} {c['rows']:>7,} {100 * c['above_p90']:>9.1f}% "
                        f"{100 * c['below_p10']:>9.1f}%")
+    by = per_row.get("by")
+    for c in per_row["columns"] if by else ():
+        unit = f" ({by['unit']})" if by["unit"] else ""
+        out.append(f"  {c['column']} ({c['unit']}) by {by['column']}{unit}: measured mean +- "
+                   "its standard error, the model's mean of the rows' own draws")
+        out.append(f"    {'bin':<16} {'rows':>6} {'measured':>16} {'model':>9} "
+                   f"{'above p90':>10} {'below p10':>10}")
+        for b in c.get("bins", []):
+            se = f"{b['se']:.1f}" if b["se"] is not None else "-"
+            out.append(f"    {b['bin']:<16} {b['rows']:>6,} {b['measured']:>9.1f} +- "
+                       f"{se:<5} {b['model']:>8.1f} {100 * b['above_p90']:>9.1f}% "
+                       f"{100 * b['below_p10']:>9.1f}%")
     return out
 
 
 def compare(simulated, measured, columns=None, *, units=None, permutations=PERMUTATIONS,
-            seed=0, max_rows=MAX_ROWS, plane_rows=PLANE_ROWS, plane=PLANE):
+            seed=0, max_rows=MAX_ROWS, plane_rows=PLANE_ROWS, plane=PLANE, by=None):
     """Two-sample statistics of ``simulated`` against ``measured`` on their shared columns.
 
     Parameters
@@ -169,6 +181,10 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
         compared), and the most rows a side they use (subsampled with the seed).
     plane : pair of str or None
         The two columns of the 2-D test (done when both are compared).
+    by : (str, sequence of float or None), optional
+        With a dataset drawn from the measured pitches, a measured column and the inner
+        edges of its bins (None: the quintiles of its values), the per-row judgement by
+        bin (``mcbat.stats.compare.per_row``).
 
     Returns
     -------
@@ -221,8 +237,30 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
                          "standard deviations, permutation p-value"}
     per_row = per_row_calibration(
         simulated, measured, {r["column"]: (sim_units[r["column"]], meas_units.get(r["column"]))
-                              for r in results}, seed=seed)
+                              for r in results}, seed=seed, by=_bins_by(by, measured))
     return Comparison(results, plane_result, not_compared, settings, per_row=per_row)
+
+
+def _bins_by(by, measured):
+    """``by`` checked: ``(column, inner edges)``, the quintiles of the measured values when
+    no edges are given."""
+    if by is None:
+        return None
+    name, edges = by
+    if name not in measured.columns:
+        raise InputError("by", f"{name!r} is not a column of the measured table (its "
+                         f"columns: {', '.join(map(str, measured.columns))})")
+    values = measured[name].to_numpy(float) if _numeric(measured[name]) else None
+    if values is None or not np.isfinite(values).any():
+        raise InputError("by", f"{name!r} has no measured numbers to bin")
+    if edges is None:
+        quintiles = np.quantile(values[np.isfinite(values)], [0.2, 0.4, 0.6, 0.8])
+        edges = np.unique([float(f"{q:.3g}") for q in quintiles])
+    edges = np.asarray(edges, float)
+    if edges.size == 0 or not np.isfinite(edges).all() or np.any(np.diff(edges) <= 0):
+        raise InputError("by", f"the bin edges must be finite and increasing, got "
+                         f"{', '.join(f'{e:g}' for e in edges) or 'none'}")
+    return name, edges
 
 
 def check_settings(permutations, seed, max_rows, plane_rows, units=None):

@@ -29,6 +29,9 @@ _STATCAST_COLUMNS = ("launch_speed", "launch_angle", "spray_angle", "hit_distanc
                      "attack_direction")
 """The tidy table's columns that are quantities a game dataset also has (the same
 definitions and sign conventions: docs/statcast.md, docs/batting.md)."""
+_STATCAST_CONTEXT = ("plate_x", "plate_z", "swing_length", "swing_path_tilt")
+"""Measured columns a dataset does not have, kept to bin the per-row judgement by
+(``--by``)."""
 
 
 def read_simulated(directory):
@@ -105,14 +108,14 @@ def _read_one(path, strict=False):
     if is_statcast(path):
         pitches = read(path, strict=strict)
         balls = pitches[balls_in_play(pitches)]
-        table = balls[list(_STATCAST_COLUMNS)].rename(columns=_STATCAST_NAMES)
+        kept = [*_STATCAST_COLUMNS, *(c for c in _STATCAST_CONTEXT if c in balls)]
+        table = balls[kept].rename(columns=_STATCAST_NAMES)
         table = table.reset_index(drop=True).astype(float)
         for name in PITCH_KEY:  # (per-row calibration joins a dataset's draws on them)
             table[name] = balls[name].to_numpy()
         foul = balls["des"].astype(str).str.contains("in foul territory", regex=False)
         table.loc[foul.to_numpy(), "spray_angle"] = np.nan
-        units = {_STATCAST_NAMES.get(c, c): pitches.attrs["units"][c] for c in
-                 _STATCAST_COLUMNS}
+        units = {_STATCAST_NAMES.get(c, c): pitches.attrs["units"][c] for c in kept}
         table.attrs["units"] = units
         if len(table) == 0:
             raise InputError(None, f"the Statcast export has no ball in play (of "

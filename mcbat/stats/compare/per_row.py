@@ -49,7 +49,7 @@ def probability_integral_transform(draws, value, rng):
 
 
 def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, seed=0,
-                        min_draws=MIN_DRAWS):
+                        min_draws=MIN_DRAWS, by=None):
     """The shares of measured rows above their own predictive 90th percentile and below
     their 10th, per predicted column.
 
@@ -69,6 +69,10 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         Seed of the tie-breaking draws.
     min_draws : int
         The fewest draws a row must meet to be judged.
+    by : (str, sequence of float), optional
+        A measured column and the inner edges of its bins (``("bat_speed", (65, 70, 75,
+        80))``: below 65, 65-70, ..., 80 and above): each judged column's measured and
+        model means and shares per bin of the measured rows.
 
     Returns
     -------
@@ -78,8 +82,11 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         met by at least ``min_draws`` draws), ``draws_per_row`` (their median),
         ``expected`` (:data:`TAIL`), ``band95`` (the 95 % range of a share of ``met`` rows
         under an exact model, binomial) and ``columns``: per column ``column``, ``unit``,
-        ``rows``, ``above_p90``, ``below_p10`` and ``histogram`` (the counts of ``u`` in
-        ten equal bins).
+        ``rows``, ``above_p90``, ``below_p10``, ``histogram`` (the counts of ``u`` in
+        ten equal bins) and with ``by`` ``bins``: per bin ``bin`` (its range), ``rows``,
+        ``measured`` (the rows' mean), ``se`` (its standard error), ``model`` (the mean of
+        the rows' own draw means), ``above_p90``, ``below_p10``. With ``by`` also ``by``
+        (the column, its unit, the edges).
     """
     if not all(k in simulated.columns and k in measured.columns for k in PITCH_KEY):
         return None
@@ -109,6 +116,14 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         return out
     half = 1.96 * np.sqrt(TAIL * (1 - TAIL) / met.sum())
     out["band95"] = [max(TAIL - half, 0.0), TAIL + half]
+    groups = None
+    if by is not None:
+        by_name, edges = by[0], np.asarray(sorted(by[1]), float)
+        where = measured[by_name].to_numpy(float)
+        groups = np.where(np.isfinite(where), np.searchsorted(edges, where, side="right"),
+                          -1)
+        out["by"] = {"column": by_name, "edges": edges.tolist(),
+                     "unit": measured.attrs.get("units", {}).get(by_name)}
     for name in columns:
         if name not in (units or {}) or name not in simulated or name not in measured:
             continue
@@ -116,8 +131,12 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         values = convert(simulated[name].to_numpy(float), sim_unit, meas_unit or sim_unit)
         truth = measured[name].to_numpy(float)
         rng = np.random.default_rng([seed, *name.encode()])
-        out["columns"].append(_judge_column(name, meas_unit or sim_unit, row, values, truth,
-                                            min_draws, rng))
+        judged = _judge_column(name, meas_unit or sim_unit, row, values, truth, min_draws,
+                               rng)
+        if groups is not None:
+            judged["bins"] = _bins(row, values, truth, min_draws, groups, out["by"]["edges"],
+                                   np.random.default_rng([seed, *name.encode()]))
+        out["columns"].append(judged)
     return out
 
 
@@ -145,6 +164,34 @@ def _judge_column(name, unit, row, values, truth, min_draws, rng):
     return {"column": name, "unit": unit, "rows": int(u.size),
             "above_p90": float(np.mean(u > 1 - TAIL)), "below_p10": float(np.mean(u < TAIL)),
             "histogram": np.histogram(u, bins=10, range=(0, 1))[0].tolist()}
+
+
+def _bins(row, values, truth, min_draws, groups, edges, rng):
+    """Per bin of the measured rows (``groups``: its index, -1 none) the judged rows, their
+    measured mean and its standard error, the model's mean (of the rows' own draw means)
+    and the tail shares."""
+    judged, u = ranks(row, values, truth, min_draws, rng)
+    ok = (row >= 0) & np.isfinite(values)
+    counts = np.bincount(row[ok], minlength=truth.size)
+    row_mean = np.bincount(row[ok], weights=values[ok], minlength=truth.size) / \
+        np.maximum(counts, 1)
+    labels = ([f"< {edges[0]:g}"] if edges else []) + \
+        [f"{lo:g} to {hi:g}" for lo, hi in zip(edges[:-1], edges[1:])] + \
+        ([f">= {edges[-1]:g}"] if edges else ["all"])
+    out = []
+    for k, label in enumerate(labels):
+        mine = groups[judged] == k
+        rows = judged[mine]
+        if not rows.size:
+            continue
+        out.append({"bin": label, "rows": int(rows.size),
+                    "measured": float(truth[rows].mean()),
+                    "se": float(truth[rows].std(ddof=1) / np.sqrt(rows.size))
+                    if rows.size > 1 else None,
+                    "model": float(row_mean[rows].mean()),
+                    "above_p90": float(np.mean(u[mine] > 1 - TAIL)),
+                    "below_p10": float(np.mean(u[mine] < TAIL))})
+    return out
 
 
 def ranks(row, values, truth, min_draws=MIN_DRAWS, rng=None):
