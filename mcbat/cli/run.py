@@ -10,7 +10,17 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from mcbat.cli.common import EXIT_OK, QUIET, Command, arg, flags, int_option, progress, switch
+from mcbat.cli.common import (
+    EXIT_OK,
+    QUIET,
+    Command,
+    arg,
+    check_input_file,
+    flags,
+    int_option,
+    progress,
+    switch,
+)
 from mcbat.errors import InputError
 
 __all__ = ["COMMAND", "RUN_PARAMETERS", "cmd_run", "shipped_studies"]
@@ -85,6 +95,8 @@ def cmd_run(args) -> int:
 
     with _study_file(args.study) as path:
         study = load_study(path)  # validates everything before anything is written
+    if args.pitches is not None:
+        study = _with_pitches(study, args.pitches)
     if args.columns is not None:
         with flags("columns"):
             study = study.with_overrides(columns=args.columns)
@@ -108,6 +120,33 @@ def cmd_run(args) -> int:
     return EXIT_OK
 
 
+def _with_pitches(study, given):
+    """``study`` drawing its pitches from the file ``given`` (``--pitches``) instead of its
+    ``[pitches] file``, every other setting (the filters, the swing) as the study's. The
+    dataset's config records the file's name and SHA-256, as for the study's own file."""
+    from mcbat.runner.pitches import load_pitches
+    from mcbat.study import Study
+
+    if "pitches" not in study.definition():
+        raise InputError("--pitches", "the study draws no real pitches (it has no [pitches] "
+                         "section): --pitches replaces the file of a study that does, such "
+                         "as bat_tracking or real_pitches")
+    path = Path(given)
+    if not path.exists():
+        raise InputError("--pitches", "no such file", given)
+    check_input_file(path, "--pitches")
+    data = study.definition()
+    data["pitches"]["file"] = str(path.resolve())
+    try:
+        # (the file read and checked now, before anything is written)
+        return load_pitches(Study.from_dict(data, source=study.source,
+                                            text=study.source_text))
+    except InputError as err:
+        if err.field == "pitches.file":  # the file's fault: say so as the flag's
+            raise InputError("--pitches", err.message) from None
+        raise
+
+
 COMMAND = Command(
     "run", help="run a Monte Carlo study (TOML) into a Parquet dataset directory",
     description="Sample the study's inputs, solve every impact with the parallel kernel "
@@ -120,6 +159,10 @@ COMMAND = Command(
         switch("--list", "list the studies shipped with mcbat, and exit"),
         arg("--out", metavar="DIR", help="dataset directory, or a URL that pyarrow or fsspec "
                                          "can write (default: results/<study name>)"),
+        arg("--pitches", metavar="FILE",
+            help="draw the real pitches from FILE (a Savant export) instead of the study's "
+                 "[pitches] file, with the study's filters and swing (mcbat run "
+                 "bat_tracking --pitches my_export.csv)"),
         int_option("--samples", metavar="N", help="number of impacts (default: the study's)"),
         int_option("--seed", metavar="S", help="random seed (default: the study's)"),
         int_option("--threads", metavar="K",

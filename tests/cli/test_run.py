@@ -219,3 +219,39 @@ def test_a_shipped_study_runs_by_name_from_any_directory(tmp_path, cli):
     assert len(unknown.stderr.strip().splitlines()) == 1
     missing = cli("run", str(tmp_path / "elsewhere" / "example.toml"), cwd=tmp_path)
     assert missing.returncode == 2 and "cannot read the study file" in missing.stderr
+
+
+def test_pitches_flag_draws_another_exports_pitches(tmp_path, cli):
+    """``--pitches FILE`` runs a study's swing and filters on another export: every drawn
+    pitch is one of FILE's, and the dataset's config names FILE (its SHA-256); a study
+    without real pitches, a missing file and a file that is no export exit 2, one line
+    naming the flag."""
+    import hashlib
+
+    import mcbat
+    from mcbat.statcast import balls_in_play, read
+
+    lines = (ROOT / "data" / "statcast_2025-05-01_bat_tracking.csv").read_text().splitlines()
+    excerpt = tmp_path / "excerpt.csv"
+    excerpt.write_text("\n".join(lines[:121]) + "\n")  # its header and first 120 pitches
+    proc = cli("run", "bat_tracking", "--pitches", str(excerpt), "--samples", "2000",
+               "--out", "ds", "--quiet", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "rows of excerpt.csv drawn from" in proc.stdout
+    keys = ["game_pk", "at_bat_number", "pitch_number"]
+    drawn = mcbat.load(tmp_path / "ds", columns=keys).drop_duplicates()
+    real = read(excerpt)
+    real = real[balls_in_play(real)][keys]
+    assert len(drawn.merge(real, on=keys)) == len(drawn) > 50
+    config = json.loads((tmp_path / "ds" / "_mcbat.json").read_text())["study"]
+    assert config["pitches"]["file"] == "excerpt.csv"
+    assert config["pitches"]["sha256"] == hashlib.sha256(excerpt.read_bytes()).hexdigest()
+    (tmp_path / "notes.csv").write_text("a,b\n1,2\n")
+    for argv, words in ((("game_fastball", "--pitches", str(excerpt)), "no [pitches]"),
+                        (("bat_tracking", "--pitches", "nope.csv"), "no such file"),
+                        (("bat_tracking", "--pitches", "notes.csv"), "not a Statcast")):
+        bad = cli("run", *argv, "--out", "x", cwd=tmp_path)
+        assert bad.returncode == 2, bad.stderr
+        error = [s for s in bad.stderr.splitlines() if "error" in s]
+        assert len(error) == 1 and "--pitches" in error[0] and words in error[0]
+    assert not (tmp_path / "x").exists()
