@@ -24,7 +24,7 @@ __all__ = ["COMMAND", "COMPARE_PARAMETERS", "cmd_compare"]
 
 
 COMPARE_PARAMETERS = ("permutations", "seed", "max_rows", "plane_rows", "columns", "units",
-                      "strict", "by")
+                      "strict", "by", "drawn")
 
 
 def cmd_compare(args) -> int:
@@ -62,7 +62,7 @@ def cmd_compare(args) -> int:
     try:
         result = compare(simulated, measured, columns, permutations=args.permutations,
                          seed=args.seed, max_rows=args.max_rows, plane_rows=args.plane_rows,
-                         by=by)
+                         by=by, drawn=args.drawn)
     except InputError as err:  # a column's problem: name the measured table(s)
         err = as_flags(_units_as_flag_values(err), COMPARE_PARAMETERS)
         where = args.dataset if "of the simulated dataset" in err.message else \
@@ -162,6 +162,8 @@ COMMAND = Command(
         JSON,
         switch("--strict", "refuse a Statcast export's pitch given twice instead of dropping "
                "the copy and counting it"),
+        switch("--drawn", "compare only the measured pitches the dataset drew (a study's "
+               "own rows of the export: without the balls in play its filters left out)"),
         arg("--by", metavar="COLUMN[:E1,E2,...]",
             help="with a dataset drawn from the measured pitches: the per-row judgement by "
                  "bins of a measured column (inner edges, e.g. bat_speed:65,70,75,80; "

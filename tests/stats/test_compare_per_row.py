@@ -162,3 +162,23 @@ def test_the_study_against_its_own_export(tracked, capsys, tmp_path):
         code = main(["compare", tracked, export, "--permutations", "0", "--by", bad])
         out, err = capsys.readouterr()
         assert code == 2 and "--by" in err and words in err and len(err.splitlines()) == 1
+
+
+def test_drawn_keeps_the_measured_pitches_the_dataset_drew(tracked, capsys):
+    export = str(ROOT / "data" / "statcast_2025-05-01_bat_tracking.csv")
+    other = str(ROOT / "data" / "statcast_2020-09-03.csv")  # a day the study never drew
+    counts = {}
+    for flag in ((), ("--drawn",)):
+        code = main(["compare", tracked, export, other, "--columns", "launch_speed",
+                     "--permutations", "0", "--json", *flag])
+        out, err = capsys.readouterr()
+        assert code == 0, err
+        result = json.loads(out)
+        counts[flag] = result["columns"][0]["measured"]["rows"]
+    real = read(export)
+    drawn = len(real[balls_in_play(real)])
+    assert counts[("--drawn",)] == drawn == result["settings"]["drawn"]
+    assert counts[()] > drawn + 100
+    code = main(["compare", tracked, other, "--drawn"])
+    _, err = capsys.readouterr()
+    assert code == 2 and "--drawn: the dataset drew none" in err

@@ -20,7 +20,7 @@ import numpy as np
 from mcbat.errors import InputError
 from mcbat.stats.compare.figure import fig_compare
 from mcbat.stats.compare.inputs import read_measured, read_simulated
-from mcbat.stats.compare.per_row import PITCH_KEY, per_row_calibration
+from mcbat.stats.compare.per_row import PITCH_KEY, draw_rows, per_row_calibration
 from mcbat.stats.compare.two_sample import (
     PERMUTATIONS,
     energy_test,
@@ -79,7 +79,9 @@ class Comparison:
     def lines(self) -> list:
         """The table ``mcbat compare`` prints."""
         s = self.settings
-        out = [f"{'column':<32} {'unit':<6} {'n sim':>8} {'n meas':>7} {'median sim':>11} "
+        out = [f"measured rows compared: the {s['drawn']:,} pitches the dataset drew"] \
+            if s.get("drawn") else []
+        out += [f"{'column':<32} {'unit':<6} {'n sim':>8} {'n meas':>7} {'median sim':>11} "
                f"{'median meas':>11} {'KS D':>6} {'KS p':>8} {'Wasserst.':>10} "
                f"{'energy':>9} {'perm p':>7}"]
         for c in self.columns:
@@ -160,7 +162,8 @@ def per_row_lines(per_row) -> list:
 
 
 def compare(simulated, measured, columns=None, *, units=None, permutations=PERMUTATIONS,
-            seed=0, max_rows=MAX_ROWS, plane_rows=PLANE_ROWS, plane=PLANE, by=None):
+            seed=0, max_rows=MAX_ROWS, plane_rows=PLANE_ROWS, plane=PLANE, by=None,
+            drawn=False):
     """Two-sample statistics of ``simulated`` against ``measured`` on their shared columns.
 
     Parameters
@@ -185,6 +188,10 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
         With a dataset drawn from the measured pitches, a measured column and the inner
         edges of its bins (None: the quintiles of its values), the per-row judgement by
         bin (``mcbat.stats.compare.per_row``).
+    drawn : bool
+        Compare only the measured pitches the dataset drew (by ``game_pk``,
+        ``at_bat_number``, ``pitch_number``): a study's own rows of an export, without the
+        balls in play its filters left out.
 
     Returns
     -------
@@ -199,6 +206,8 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
         (``mcbat.stats.compare.units.unit_contradiction``), no shared column.
     """
     check_settings(permutations, seed, max_rows, plane_rows, units)
+    if drawn:
+        measured = _drawn(simulated, measured)
     if len(measured) == 0:
         raise InputError(None, "the measured table has no rows")
     if len(simulated) == 0:
@@ -234,11 +243,30 @@ def compare(simulated, measured, columns=None, *, units=None, permutations=PERMU
                 "energy": "sqrt(2E|X-Y| - E|X-X'| - E|Y-Y'|), permutation p-value "
                           "(1 + k)/(1 + permutations)",
                 "plane": "energy distance on coordinates divided by the pooled sample's "
-                         "standard deviations, permutation p-value"}
+                         "standard deviations, permutation p-value",
+                "drawn": len(measured) if drawn else None}
     per_row = per_row_calibration(
         simulated, measured, {r["column"]: (sim_units[r["column"]], meas_units.get(r["column"]))
                               for r in results}, seed=seed, by=_bins_by(by, measured))
     return Comparison(results, plane_result, not_compared, settings, per_row=per_row)
+
+
+def _drawn(simulated, measured):
+    """The measured rows the simulated dataset drew, ``attrs`` kept."""
+    row = draw_rows(simulated, measured)
+    if row is None:
+        raise InputError("drawn", "needs the pitch identifiers (game_pk, at_bat_number, "
+                         "pitch_number) on both sides: a dataset of a study that draws "
+                         "its pitches from an export ([pitches] file), and the export")
+    if isinstance(row, str):
+        raise InputError("drawn", row)
+    kept = measured.iloc[np.flatnonzero(np.bincount(row[row >= 0],
+                                                    minlength=len(measured)))]
+    if len(kept) == 0:
+        raise InputError("drawn", "the dataset drew none of the measured pitches")
+    out = kept.reset_index(drop=True)
+    out.attrs = dict(measured.attrs)
+    return out
 
 
 def _bins_by(by, measured):

@@ -19,7 +19,8 @@ def fig_compare(path, simulated, measured, comparison):
     Wasserstein distance), the launch speed / launch angle plane side by side
     (simulated as a 2-D histogram, measured as points on the same axes), and when the
     dataset was drawn from the measured pitches, each judged column's histogram of the
-    measured values' ranks among their own rows' draws (flat for a calibrated model)."""
+    measured values' ranks among their own rows' draws (flat for a calibrated model) and,
+    binned by a measured column, its measured and model means per bin."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -28,7 +29,10 @@ def fig_compare(path, simulated, measured, comparison):
     per_row = 3
     rows_1d = math.ceil(len(columns) / per_row)
     ranks = [c for c in (comparison.per_row or {}).get("columns", []) if c["rows"]]
-    rows = rows_1d + (1 if plane else 0) + math.ceil(len(ranks) / per_row)
+    by = (comparison.per_row or {}).get("by")
+    binned = [c for c in ranks if by and c.get("bins")]
+    rows = (rows_1d + (1 if plane else 0) + math.ceil(len(ranks) / per_row)
+            + math.ceil(len(binned) / per_row))
     fig = Figure(figsize=(4.0 * per_row, 3.1 * rows), layout="constrained")
     FigureCanvasAgg(fig)
     grid = fig.add_gridspec(rows, per_row * 2)
@@ -84,6 +88,11 @@ def fig_compare(path, simulated, measured, comparison):
         ax = fig.add_subplot(grid[first + k // per_row,
                                   2 * (k % per_row):2 * (k % per_row) + 2])
         _rank_histogram(ax, c)
+    first += math.ceil(len(ranks) / per_row)
+    for k, c in enumerate(binned):
+        ax = fig.add_subplot(grid[first + k // per_row,
+                                  2 * (k % per_row):2 * (k % per_row) + 2])
+        _bin_means(ax, c, by)
     path = Path(path)
     fig.savefig(path, dpi=130)
     return path
@@ -106,6 +115,26 @@ def _rank_histogram(ax, column):
                  f"{100 * column['below_p10']:.1f} % below p10", fontsize=9)
     ax.tick_params(labelsize=8)
     ax.legend(fontsize=7, loc="upper center")
+
+
+def _bin_means(ax, column, by):
+    """Per bin of ``by``'s column: the measured mean with its 95 % interval, and the
+    model's mean of the rows' own draws."""
+    bins = column["bins"]
+    x = np.arange(len(bins))
+    measured = np.array([b["measured"] for b in bins])
+    half = np.array([1.96 * b["se"] if b["se"] is not None else np.nan for b in bins])
+    ax.errorbar(x, measured, yerr=half, fmt="o", color="C3", capsize=3,
+                label="measured (95 %)")
+    ax.plot(x, [b["model"] for b in bins], "s", color="C0", label="model")
+    ax.set_xticks(x, [f"{b['bin']}\n({b['rows']})" for b in bins], fontsize=7)
+    unit = f" ({by['unit']})" if by.get("unit") else ""
+    ax.set_xlabel(f"{by['column']}{unit} (rows)")
+    ax.set_ylabel(f"{column['column']} ({column['unit']})")
+    ax.set_title(f"mean {column['column']} by {by['column']}", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.tick_params(axis="y", labelsize=8)
+    ax.legend(fontsize=7)
 
 
 def _shown_range(a, b):

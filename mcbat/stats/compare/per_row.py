@@ -25,7 +25,7 @@ import numpy as np
 
 from mcbat.stats.compare.units import convert
 
-__all__ = ["MIN_DRAWS", "PITCH_KEY", "PREDICTED", "TAIL", "per_row_calibration",
+__all__ = ["MIN_DRAWS", "PITCH_KEY", "PREDICTED", "TAIL", "draw_rows", "per_row_calibration",
            "probability_integral_transform", "ranks"]
 
 PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
@@ -88,25 +88,9 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         the rows' own draw means), ``above_p90``, ``below_p10``. With ``by`` also ``by``
         (the column, its unit, the edges).
     """
-    if not all(k in simulated.columns and k in measured.columns for k in PITCH_KEY):
-        return None
-    import pandas as pd
-
-    measured_key = _whole_numbers(measured[list(PITCH_KEY)])
-    simulated_key = _whole_numbers(simulated[list(PITCH_KEY)])
-    if measured_key is None or simulated_key is None:
-        return {"rows": int(len(measured)), "not_judged": "the pitch identifiers "
-                f"({', '.join(PITCH_KEY)}) are not whole numbers on both sides"}
-    incomplete = np.flatnonzero((measured_key.to_numpy() == MISSING).any(axis=1))
-    measured_key.iloc[incomplete, 0] = MISSING - 1 - np.arange(incomplete.size)  # unmatched
-    key = pd.MultiIndex.from_frame(measured_key)
-    if key.has_duplicates:
-        first = key[key.duplicated()][0]
-        return {"rows": int(len(measured)), "not_judged":
-                f"a pitch is given twice in the measured tables (game_pk {first[0]}, "
-                f"at_bat_number {first[1]}, pitch_number {first[2]})"}
-    row = key.get_indexer(pd.MultiIndex.from_frame(simulated_key)).astype(np.int64)
-    row[(simulated_key.to_numpy() == MISSING).any(axis=1)] = -1
+    row = draw_rows(simulated, measured)
+    if row is None or isinstance(row, str):
+        return row if row is None else {"rows": int(len(measured)), "not_judged": row}
     draws = np.bincount(row[row >= 0], minlength=len(measured))
     met = draws >= min_draws
     out = {"rows": int(len(measured)), "met": int(met.sum()),
@@ -138,6 +122,31 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
                                    np.random.default_rng([seed, *name.encode()]))
         out["columns"].append(judged)
     return out
+
+
+def draw_rows(simulated, measured):
+    """The measured row (from 0) each simulated draw met by :data:`PITCH_KEY` (-1: none),
+    None when either side lacks the key, or the reason they cannot be joined (a pitch
+    given twice in ``measured``, identifiers that are not whole numbers)."""
+    if not all(k in simulated.columns and k in measured.columns for k in PITCH_KEY):
+        return None
+    import pandas as pd
+
+    measured_key = _whole_numbers(measured[list(PITCH_KEY)])
+    simulated_key = _whole_numbers(simulated[list(PITCH_KEY)])
+    if measured_key is None or simulated_key is None:
+        return (f"the pitch identifiers ({', '.join(PITCH_KEY)}) are not whole numbers on "
+                "both sides")
+    incomplete = np.flatnonzero((measured_key.to_numpy() == MISSING).any(axis=1))
+    measured_key.iloc[incomplete, 0] = MISSING - 1 - np.arange(incomplete.size)  # unmatched
+    key = pd.MultiIndex.from_frame(measured_key)
+    if key.has_duplicates:
+        first = key[key.duplicated()][0]
+        return (f"a pitch is given twice in the measured tables (game_pk {first[0]}, "
+                f"at_bat_number {first[1]}, pitch_number {first[2]})")
+    row = key.get_indexer(pd.MultiIndex.from_frame(simulated_key)).astype(np.int64)
+    row[(simulated_key.to_numpy() == MISSING).any(axis=1)] = -1
+    return row
 
 
 def _whole_numbers(frame):
