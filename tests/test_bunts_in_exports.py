@@ -19,8 +19,8 @@ EXCERPT = HERE / "statcast" / "data" / "statcast_2025-05-01_excerpt.csv"
 STUDY = HERE.parent / "studies" / "real_pitches.toml"
 
 
-def _mcbat(capsys, monkeypatch, *args):
-    result = run_in_process(capsys, monkeypatch, *args)
+def _mcbat(capsys, monkeypatch, *args, cwd=None):
+    result = run_in_process(capsys, monkeypatch, *args, cwd=cwd)
     assert "Traceback" not in result.stderr
     return result
 
@@ -111,3 +111,24 @@ def test_pitches_study_leaves_bunts_out_and_counts_them(capsys, monkeypatch, swi
     assert not (abs(data["bat_speed"] - rows.loc[bunt, "bat_speed"]) < 1e-6).any()
     result = _mcbat(capsys, monkeypatch, "compare", out, EXCERPT)
     assert result.returncode == 0, result.stderr
+
+
+def test_bat_tracking_on_the_excerpt_and_judged_on_its_drawn_balls(capsys, monkeypatch,
+                                                                   tmp_path):
+    # the shipped study on another export (--pitches); the sacrifice bunt in play is left
+    # out of the draws, and `compare --drawn` leaves it out of the judged rows too
+    out = tmp_path / "bt"
+    result = _mcbat(capsys, monkeypatch, "run", "bat_tracking", "--pitches", EXCERPT,
+                    "--samples", "3000", "--out", out, "--quiet", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "bunts" in result.stdout
+    result = _mcbat(capsys, monkeypatch, "compare", out, EXCERPT, "--drawn", "--by",
+                    "bat_speed", "--permutations", "0", "--json")
+    assert result.returncode == 0, result.stderr
+    compared = json.loads(result.stdout)
+    import mcbat.statcast as sc
+
+    rows = sc.read(EXCERPT)
+    in_play = rows[sc.balls_in_play(rows)]
+    assert compared["settings"]["drawn"] == len(in_play) - 1  # all but the sac bunt
+    assert compared["per_row"]["met"] == len(in_play) - 1
