@@ -18,8 +18,8 @@ far a batter term could move that bin.
 Files are names in ``../shared/data/statcast/`` or ``data/``, or paths.
 ``--swing-length`` prints instead the launch angle's and speed's dependence on the swing
 length within a batter (:func:`within_swing_length`). ``--leaderboard FILE`` gives the
-between-batter slope of a season's Savant search grouped
-by batter (``docs/bat_tracking.md`` (e) names the one used and its provenance).
+between-player slope of a season's Savant search grouped by batter, or by pitcher
+(``docs/bat_tracking.md`` (e) and *Results* name the ones used and their provenance).
 """
 
 import argparse
@@ -143,11 +143,12 @@ def within_swing_length(name: str, min_balls: int = 3) -> list[str]:
 
 
 def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
-    """The between-batter slope of a Savant search grouped by batter (one row per batter:
+    """The between-player slope of a Savant search grouped by batter (one row per batter:
     ``bat_speed``, the mean over his tracked swings; ``launch_speed``, over his batted
-    balls; ``velocity``, the pitches' mean release speed; ``bip``): mean launch speed on
-    mean bat speed and pitch speed, over batters with at least ``min_balls`` balls in
-    play. Each mean is over hundreds of swings, so its noise flattens nothing."""
+    balls; ``velocity``, the pitches' mean release speed; ``bip``) or by pitcher (the same
+    over his opponents' swings and balls and his own pitches): mean launch speed on mean
+    bat speed and pitch speed, over players with at least ``min_balls`` balls in play.
+    Each mean is over hundreds of swings, so its noise flattens nothing."""
     board = pd.read_csv(path, encoding="utf-8-sig")
     for column in ("bat_speed", "launch_speed", "velocity", "bip"):
         board[column] = pd.to_numeric(board[column], errors="coerce")
@@ -164,15 +165,18 @@ def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
     resid = y - x @ fitted
     noise = float(np.mean(14.5 ** 2 / board["bip"].to_numpy(float)))
     true_sd = float(np.sqrt(max(resid.var() - noise, 0.0)))
-    return [f"{path}: {len(board)} batters with >= {min_balls} balls in play "
-            f"({int(board['bip'].sum())} balls), bat speed sd between batters "
+    return [f"{path}: {len(board)} players with >= {min_balls} balls in play "
+            f"({int(board['bip'].sum())} balls), bat speed sd between players "
             f"{board['bat_speed'].std():.2f} mph",
             f"  mean launch speed on mean bat speed: {fitted[1]:.2f} +- {np.std(reps):.2f} "
-            f"mph/mph between batters",
-            f"  a batter's mean launch speed about the fit: sd {resid.std():.2f} mph, "
+            f"mph/mph between players",
+            f"  a player's mean launch speed about the fit: sd {resid.std():.2f} mph, "
             f"{true_sd:.2f} less the noise of his mean; within 1 mph for "
-            f"{np.mean(np.abs(resid) < 1.0):.0%} of the batters, within 2 for "
-            f"{np.mean(np.abs(resid) < 2.0):.0%}"]
+            f"{np.mean(np.abs(resid) < 1.0):.0%} of the players, within 2 for "
+            f"{np.mean(np.abs(resid) < 2.0):.0%}",
+            *[f"  {name}: {r:+.1f} mph" for name, r in
+              zip(board["player_name"], resid) if "player_name" in board
+              and any(k in str(name) for k in ("Skubal", "Ohtani"))]]
 
 
 def main(argv=None):
