@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import sys
 import tomllib
 from importlib import resources
@@ -95,8 +96,8 @@ def cmd_run(args) -> int:
 
     with _study_file(args.study) as path:
         study = load_study(path)  # validates everything before anything is written
-    if args.pitches is not None:
-        study = _with_pitches(study, args.pitches)
+    if args.pitches is not None or args.swing_shift:
+        study = _with_pitches(study, args.pitches, args.swing_shift)
     if args.columns is not None:
         with flags("columns"):
             study = study.with_overrides(columns=args.columns)
@@ -120,23 +121,35 @@ def cmd_run(args) -> int:
     return EXIT_OK
 
 
-def _with_pitches(study, given):
-    """``study`` drawing its pitches from the file ``given`` (``--pitches``) instead of its
-    ``[pitches] file``, every other setting (the filters, the swing) as the study's. The
-    dataset's config records the file's name and SHA-256, as for the study's own file."""
+#: ``--swing-shift KEY=VALUE``: the keys and the units of their values (Statcast's).
+SHIFT_UNITS = {"bat_speed": "mph", "attack_angle": "deg", "attack_direction": "deg"}
+
+
+def _with_pitches(study, given, shifts):
+    """``study`` drawing its pitches from the file ``given`` (``--pitches``, or None: the
+    study's ``[pitches] file``) and with each drawn swing moved by ``shifts``
+    (``--swing-shift``, over the study's ``[pitches.swing_shift]``), every other setting
+    as the study's. The dataset's config records the file's name and SHA-256 and the
+    shifts."""
     from mcbat.runner.pitches import load_pitches
     from mcbat.study import Study
 
+    flag = "--pitches" if given is not None else "--swing-shift"
     if "pitches" not in study.definition():
-        raise InputError("--pitches", "the study draws no real pitches (it has no [pitches] "
-                         "section): --pitches replaces the file of a study that does, such "
-                         "as bat_tracking or real_pitches")
-    path = Path(given)
-    if not path.exists():
-        raise InputError("--pitches", "no such file", given)
-    check_input_file(path, "--pitches")
+        raise InputError(flag, f"the study draws no real pitches (it has no [pitches] "
+                         f"section): {flag} works on a study that does, such as bat_tracking"
+                         " or real_pitches")
     data = study.definition()
-    data["pitches"]["file"] = str(path.resolve())
+    if given is not None:
+        path = Path(given)
+        if not path.exists():
+            raise InputError("--pitches", "no such file", given)
+        check_input_file(path, "--pitches")
+        data["pitches"]["file"] = str(path.resolve())
+    for item in shifts:
+        key, value = _swing_shift(item)
+        data["pitches"].setdefault("swing_shift", {})[key] = {"value": value,
+                                                              "unit": SHIFT_UNITS[key]}
     try:
         # (the file read and checked now, before anything is written)
         return load_pitches(Study.from_dict(data, source=study.source,
@@ -144,7 +157,26 @@ def _with_pitches(study, given):
     except InputError as err:
         if err.field == "pitches.file":  # the file's fault: say so as the flag's
             raise InputError("--pitches", err.message) from None
+        if err.field is not None and err.field.startswith("pitches.swing_shift"):
+            raise InputError("--swing-shift", err.message) from None
         raise
+
+
+def _swing_shift(item):
+    """``KEY=VALUE`` of ``--swing-shift`` -> ``(key, value)`` (the value in
+    :data:`SHIFT_UNITS`)."""
+    key, sep, value = (part.strip() for part in item.partition("="))
+    if not sep or key not in SHIFT_UNITS:
+        raise InputError("--swing-shift", f"expected KEY=VALUE with KEY one of "
+                         f"{', '.join(SHIFT_UNITS)}, got {item!r}")
+    try:
+        number = float(value.removesuffix(SHIFT_UNITS[key]).strip())
+    except ValueError:
+        raise InputError("--swing-shift", f"{key}: expected a number of "
+                         f"{SHIFT_UNITS[key]}, got {value!r}") from None
+    if not math.isfinite(number):
+        raise InputError("--swing-shift", f"{key}: must be finite, got {value!r}")
+    return key, number
 
 
 COMMAND = Command(
@@ -163,6 +195,10 @@ COMMAND = Command(
             help="draw the real pitches from FILE (a Savant export) instead of the study's "
                  "[pitches] file, with the study's filters and swing (mcbat run "
                  "bat_tracking --pitches my_export.csv)"),
+        arg("--swing-shift", action="append", default=[], metavar="KEY=VALUE",
+            help="what if every drawn swing were another: add VALUE to its bat_speed "
+                 "(mph), attack_angle or attack_direction (deg), e.g. bat_speed=2; "
+                 "repeatable; a study that draws its swings from the rows"),
         int_option("--samples", metavar="N", help="number of impacts (default: the study's)"),
         int_option("--seed", metavar="S", help="random seed (default: the study's)"),
         int_option("--threads", metavar="K",

@@ -131,6 +131,10 @@ class RunSummary:
                 plane, rest = p["swing_plane_measured"], p["drawn_from"] - p["swing_plane_measured"]
                 out.append(f"vertical bat angle from the measured swing plane on {plane:,} of "
                            f"those rows" + (f", [swing]'s on the other {rest:,}" if rest else ""))
+            if p.get("swing_shift"):
+                out.append("what if: every drawn swing moved by " + ", ".join(
+                    f"{key.split('.', 1)[1]} {_shift_text(key, value)}"
+                    for key, value in p["swing_shift"].items()))
         for index, reason in self.redone:
             out.append(f"recomputed {chunks.chunk_name(index)}: {reason}")
         for name in self.removed:
@@ -150,6 +154,13 @@ class RunSummary:
 
     def __repr__(self) -> str:
         return f"RunSummary({'; '.join(self.lines())})"
+
+
+def _shift_text(key, value) -> str:
+    """A ``[pitches.swing_shift]`` amount (SI) in Statcast's unit: ``+2.0 mph``."""
+    if key == "swing.bat_speed":
+        return f"{value / 0.44704:+.1f} mph"
+    return f"{math.degrees(value):+.1f} deg"
 
 
 def _share_line(share: dict) -> str:

@@ -32,14 +32,11 @@ section::
     undercut = { value = 0.4, unit = "in" }    # (mcbat.study.contact_moves)
     vertical_bat_angle = { value = 7, unit = "deg" }
     [contact.swing_length_trend]  # optional, with [pitches]: the undercut moves with the
-    reference = { value = 7.2, unit = "ft" }   # swing's measured swing_length (the keys
-    per = { value = 1, unit = "ft" }           # of the height's but the bat's angle)
-    undercut = { value = 0.3, unit = "in" }
+                                  # measured swing_length (the height's keys, no bat angle)
     [friction]  mu = 0.5          # required
-    [restitution]                 # optional; default: the game preset
-                                  # (mcbat.bodies.restitution.GAME_RESTITUTION). Either e (constant)
-                                  # or e_ref, e_slope (per m/s), e_speed_ref (speed); with
-                                  # either, location (a table of data/) and e_x.
+    [restitution]                 # optional; default: the game preset (mcbat.bodies.
+                                  # restitution.GAME_RESTITUTION). e (constant) or e_ref,
+                                  # e_slope, e_speed_ref; with either, location and e_x.
 
     [pitches]                     # optional: real pitches, resampled with replacement
     file = "statcast.parquet"     # (mcbat.study.pitches); then [pitch] and [swing] hold only
@@ -48,8 +45,7 @@ section::
 
 Every numeric key takes a number or a distribution, with units, as in bat-frame studies.
 Samples are the float64 columns of ``COLUMNS``, the inputs of
-``mcbat.core.swing.solve_game_batch``. The contact's trends move each drawn contact with
-its bat speed, its pitch's location and its swing's length: ``mcbat.study.contact_moves``.
+``mcbat.core.swing.solve_game_batch``; the contact's trends: ``mcbat.study.contact_moves``.
 """
 
 from __future__ import annotations
@@ -98,6 +94,7 @@ from mcbat.study.random_program import draw_stream
 from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
 from mcbat.study.swing_errors import clip_true, outlier_population, true_values
 from mcbat.study.swing_plane import fill_vertical_bat_angle
+from mcbat.study.swing_shift import apply_swing_shift
 
 __all__ = ["COLUMNS", "GAME_SECTIONS", "GameStudy", "KEYS", "is_game"]
 
@@ -255,6 +252,8 @@ class GameStudy(Study):
         rows = self._need_rows()
         j = rows.draw_rows(seed, start, n)
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
+        vertical = self.inputs.get("swing.vertical_bat_angle")
+        support = vertical.support() if vertical is not None else None
         for k, key in enumerate(rows.keys):
             values = rows.values[k, j]
             column = cols[targets[key]]
@@ -264,12 +263,12 @@ class GameStudy(Study):
                 column[:] = values
             if self.pitches.swing_error.get(key, 0.0) > 0.0:
                 # (a value drawn from the key's fallback is no measurement: left as drawn)
-                self._true_swing(key, rows.values[k], column, start, n, seed,
-                                 np.isfinite(values))
+                self._true_swing(key, rows.values[k], column, (start, n, seed),
+                                 np.isfinite(values), support)
+        apply_swing_shift(cols, self.pitches.swing_shift, targets, support)
         if self.plate_z_trend is not None and self.plate_z_trend[2] != 0.0:
             moves.bat_angle_move(cols["vertical_bat_angle"], rows.location["plate_z"][j],
-                                 self.plate_z_trend,
-                                 self.inputs["swing.vertical_bat_angle"].support())
+                                 self.plate_z_trend, support)
         if rows.tilt is not None:  # (after the attack angle's true value is drawn)
             fill_vertical_bat_angle(cols, rows.tilt[j])
         if rows.handedness is not None:
@@ -284,11 +283,13 @@ class GameStudy(Study):
                 location[name] = rows.location[name][j]
         return location
 
-    def _true_swing(self, key, measured, column, start, n, seed, where) -> None:
+    def _true_swing(self, key, measured, column, draws, where, support) -> None:
         """Replace the measured values of swing key ``key`` in ``column`` (where ``where``;
         the others took the key's fallback) by draws of the true values given them
-        (``mcbat.study.swing_errors``; ``measured``: the selected rows' values, SI)."""
+        (``mcbat.study.swing_errors``; ``measured``: the selected rows' values, SI;
+        ``draws``: ``(start, n, seed)``; ``support``: the vertical bat angle's, or None)."""
         s = self.pitches.swing_error[key]
+        start, n, seed = draws
         finite = measured[np.isfinite(measured)]
         if not finite.size:  # (every row took the key's fallback: nothing was measured)
             return
@@ -308,8 +309,7 @@ class GameStudy(Study):
                     finite, s, outliers))
             population = self._outlier_cache["population"]
         true = true_values(column, finite, s, z, outliers, pick, population)
-        vertical = self.inputs.get("swing.vertical_bat_angle")
-        true = clip_true(key, true, vertical.support() if vertical is not None else None)
+        true = clip_true(key, true, support)
         np.copyto(column, true, where=where)
 
     def _check_ranges(self):

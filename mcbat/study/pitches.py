@@ -17,6 +17,8 @@ A game study with a ``[pitches]`` section resamples real pitches with replacemen
     spin_axis = { dist = "uniform", low = 180, high = 240, unit = "deg" }  # distribution
     [pitches.swing_error]                      # with swing = true: the measurement error
     attack_angle = { value = 4, unit = "deg" } # (sd) of a drawn swing key (below)
+    [pitches.swing_shift]                      # with swing = true, a what-if: added to
+    bat_speed = { value = 2, unit = "mph" }    # every drawn swing (mcbat.study.swing_shift)
 
 The drawn keys are ``PITCH_KEYS`` (and ``SWING_KEYS`` with ``swing = true``); ``[pitch]``
 and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat angle, ...),
@@ -33,18 +35,10 @@ counted too, and so are the copies of a pitch the file gives twice (the same ``g
 the runner in ``DUPLICATE_COLUMN``.
 
 **Swing measurement error** (``[pitches.swing_error]``, with ``swing = true``): a drawn
-swing key ``x`` measured with a Gaussian error of sd ``s`` (classical errors: the measured
-value is the true one plus the error) is replaced by a draw of the true value given the
-measured one, with the selected rows' mean ``m`` and variance ``v`` of the measured values
-as the population's: ``true = m + k (x - m) + sqrt(k) s z``, ``k = max(0, 1 - s^2 / v)``
-(``z`` a standard normal of stream ``"pitches.swing_error.<key>"``). A regression of an
-output on the measured value is then flattened by ``k``, as the data's are; ``s = 0``
-leaves the measured values as they are. Attack angles are kept within the range the vertical
-bat angle allows, bat speeds at or above 0. With ``[pitches.swing_error.bat_speed_outliers]``
-(``fraction``, ``excess``, ``spread``) a share of the bat speeds is measured ``excess`` too
-fast, and the true value is drawn from the two-part posterior, with the rows' own measured
-bat speeds as the population (``mcbat.study.swing_errors``, by a uniform of stream
-``"pitches.swing_error.bat_speed.outlier"``).
+swing key measured with a Gaussian error of sd ``s`` is replaced by a draw of the true value
+given the measured one (``z`` a standard normal of stream ``"pitches.swing_error.<key>"``;
+with ``[pitches.swing_error.bat_speed_outliers]`` a share of the bat speeds measured far too
+fast), as ``mcbat.study.swing_errors`` describes; ``s = 0`` leaves the measured values.
 
 This module knows only plain numpy columns: reading the file (pandas, pyarrow, the Savant
 reader) is the runner's (``mcbat.runner.pitches``), which hands a ``PitchTable`` to
@@ -74,6 +68,7 @@ from mcbat.study.distributions import Uniform, parse
 from mcbat.study.random_program import draw_stream
 from mcbat.study.swing_errors import parse_swing_errors
 from mcbat.study.swing_plane import measured_tilt, parse_swing_plane
+from mcbat.study.swing_shift import parse_swing_shift
 
 __all__ = ["BUNT_COLUMN", "DUPLICATE_COLUMN", "FILTERS", "IDENTIFIERS", "PITCH_KEYS",
            "PITCH_SOURCE_COLUMNS", "ROW_RANGES", "ROW_STREAM", "SWING_ERROR_STREAM",
@@ -155,6 +150,9 @@ class PitchSource:
     swing_plane : bool
         Each row's vertical bat angle from its ``swing_path_tilt``
         (``mcbat.study.swing_plane``).
+    swing_shift : mapping
+        Study input name -> the amount added to every drawn swing's value (SI), a what-if
+        (``mcbat.study.swing_shift``); empty without ``[pitches.swing_shift]``.
     """
 
     file: str
@@ -165,6 +163,7 @@ class PitchSource:
     swing_error: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     bat_speed_outliers: tuple | None = None
     swing_plane: bool = False
+    swing_shift: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def keys(self) -> dict:
@@ -190,7 +189,7 @@ class PitchSource:
 def parse_pitches(table, source) -> PitchSource:
     """Validate a ``[pitches]`` section; ``source`` is the study file (or None)."""
     check_keys(table, "pitches", ("file",),
-               (*FILTERS, "swing", "swing_plane", "fallback", "swing_error"))
+               (*FILTERS, "swing", "swing_plane", "fallback", "swing_error", "swing_shift"))
     quantities = {k: TABLE_UNITS[c][0] for k, c in SWING_KEYS.items()}
     file = table["file"]
     if not isinstance(file, str) or not file.strip():
@@ -225,7 +224,8 @@ def parse_pitches(table, source) -> PitchSource:
         fallback[_study_key(key)] = parse(spec, f"pitches.fallback.{key}", quantity)
     return PitchSource(file, path, MappingProxyType(filters), swing,
                        MappingProxyType(fallback),
-                       *parse_swing_errors(table, swing, quantities), swing_plane)
+                       *parse_swing_errors(table, swing, quantities), swing_plane,
+                       parse_swing_shift(table, swing, quantities))
 
 
 def _filter_values(value, name, kind) -> tuple:
@@ -323,6 +323,7 @@ class PitchRows:
                                                    source.bat_speed_outliers))}
                    if source.bat_speed_outliers else {}),
                 **({"swing_plane": True} if source.swing_plane else {}),
+                **({"swing_shift": dict(source.swing_shift)} if source.swing_shift else {}),
                 "handedness": "rows" if self.handedness is not None else "study",
                 "draw": f"row = floor(u M), u the Philox uniform of stream {ROW_STREAM!r}",
                 **self.summary}
