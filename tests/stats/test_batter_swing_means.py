@@ -79,6 +79,6 @@ def test_a_leaderboards_between_batter_slope_is_recovered(tmp_path):
     board.to_csv(path, index=False)
     lines = leaderboard(path, 150, 100, 0)
     kept = int((board["bip"] >= 150).sum() - (board.loc[0, "bip"] >= 150))
-    assert f"{kept} batters" in lines[0]
+    assert f"{kept} players" in lines[0]
     slope = float(lines[1].split(":")[1].split("+-")[0])
     assert slope == pytest.approx(0.7, abs=0.03)
