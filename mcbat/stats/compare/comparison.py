@@ -140,7 +140,11 @@ def per_row_lines(per_row) -> list:
     out = [f"per row: each of {per_row['met']:,} measured pitches (of {per_row['rows']:,}) "
            f"ranked among the draws that met it (median {per_row['draws_per_row']:.0f}); "
            f"an exact model puts 10 % above the 90th percentile and 10 % below the 10th "
-           f"(95 %: {100 * low:.1f}-{100 * high:.1f} %)",
+           f"(95 %: {100 * low:.1f}-{100 * high:.1f} %)"
+           + (f"; the {per_row['rows'] - per_row['met']:,} others (not drawn, or by fewer "
+              f"than {per_row['min_draws']} draws) are in the two-sample statistics above "
+              "(--drawn leaves out those the dataset did not draw)"
+              if per_row["met"] < per_row["rows"] else ""),
            f"  {'column':<30} {'rows':>7} {'above p90':>10} {'below p10':>10}"]
     for c in per_row["columns"]:
         if c["rows"]:
