@@ -23,7 +23,7 @@ from mcbat.errors import InputError
 from mcbat.study.distributions import fixed_value, parse
 
 __all__ = ["DECONVOLUTION_STEPS", "OUTLIERS", "clip_true", "outlier_population",
-           "outlier_posterior_draw", "parse_swing_errors", "true_values"]
+           "outlier_posterior_draw", "parse_swing_errors", "swing_table", "true_values"]
 
 OUTLIERS = "bat_speed_outliers"
 """The sub-table of ``[pitches.swing_error]`` of the bat speeds measured far too fast."""
@@ -36,14 +36,8 @@ def parse_swing_errors(table, swing, quantities) -> tuple:
     """``[pitches]``'s ``[pitches.swing_error]`` -> (drawn swing key -> the sd of its
     measurement error, SI; the outliers' ``(fraction, excess m/s, spread m/s)`` or None).
     ``quantities``: each swing key's physical quantity (``"bat_speed"`` -> speed)."""
-    errors = table.get("swing_error", {})
-    if not isinstance(errors, dict):
-        raise InputError("pitches.swing_error", f"must be a table ([pitches.swing_error]), "
-                         f"got {errors!r}")
-    if errors and not swing:
-        raise InputError("pitches.swing_error", "only with pitches.swing = true (the errors "
-                         "of the measured swings drawn from the rows)")
-    check_keys(errors, "pitches.swing_error", (), (*quantities, OUTLIERS))
+    errors = swing_table(table, "swing_error", swing, (*quantities, OUTLIERS),
+                         "the errors of the measured swings drawn from the rows")
     out = {}
     for key, spec in errors.items():
         if key == OUTLIERS:
@@ -55,6 +49,19 @@ def parse_swing_errors(table, swing, quantities) -> tuple:
                              f"error, e.g. {{ value = 4, unit = \"deg\" }}), got {spec!r}")
         out[f"swing.{key}"] = float(dist.value)
     return MappingProxyType(out), _parse_outliers(errors, out, quantities["bat_speed"])
+
+
+def swing_table(table, key, swing, allowed, what) -> dict:
+    """``[pitches]``'s sub-table ``key`` (``{}`` when absent), checked: a table, only with
+    ``swing = true`` (``what`` says what it holds), its keys among ``allowed``."""
+    name = f"pitches.{key}"
+    sub = table.get(key, {})
+    if not isinstance(sub, dict):
+        raise InputError(name, f"must be a table ([{name}]), got {sub!r}")
+    if sub and not swing:
+        raise InputError(name, f"only with pitches.swing = true ({what})")
+    check_keys(sub, name, (), allowed)
+    return sub
 
 
 def _parse_outliers(errors, sds, quantity):

@@ -18,10 +18,9 @@ from types import MappingProxyType
 
 import numpy as np
 
-from mcbat.checks import check_keys
 from mcbat.errors import InputError
 from mcbat.study.distributions import parse
-from mcbat.study.swing_errors import clip_true
+from mcbat.study.swing_errors import clip_true, swing_table
 
 __all__ = ["SHIFTED", "apply_swing_shift", "parse_swing_shift"]
 
@@ -32,14 +31,8 @@ SHIFTED = ("bat_speed", "attack_angle", "attack_direction")
 def parse_swing_shift(table, swing, quantities) -> MappingProxyType:
     """``[pitches]``'s ``[pitches.swing_shift]`` -> study key (``"swing.bat_speed"``) ->
     the amount added (SI: m/s or rad). ``quantities``: each key's physical quantity."""
-    shifts = table.get("swing_shift", {})
-    if not isinstance(shifts, dict):
-        raise InputError("pitches.swing_shift", f"must be a table ([pitches.swing_shift]), "
-                         f"got {shifts!r}")
-    if shifts and not swing:
-        raise InputError("pitches.swing_shift", "only with pitches.swing = true (it moves "
-                         "the measured swings drawn from the rows)")
-    check_keys(shifts, "pitches.swing_shift", (), SHIFTED)
+    shifts = swing_table(table, "swing_shift", swing, SHIFTED,
+                         "it moves the measured swings drawn from the rows")
     out = {}
     for key, spec in shifts.items():
         name = f"pitches.swing_shift.{key}"
