@@ -114,12 +114,11 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         sim_unit, meas_unit = units[name]
         values = convert(simulated[name].to_numpy(float), sim_unit, meas_unit or sim_unit)
         truth = measured[name].to_numpy(float)
-        rng = np.random.default_rng([seed, *name.encode()])
-        judged = _judge_column(name, meas_unit or sim_unit, row, values, truth, min_draws,
-                               rng)
+        rows, u = ranks(row, values, truth, min_draws,
+                        np.random.default_rng([seed, *name.encode()]))
+        judged = _shares(name, meas_unit or sim_unit, u)
         if groups is not None:
-            judged["bins"] = _bins(row, values, truth, min_draws, groups, out["by"]["edges"],
-                                   np.random.default_rng([seed, *name.encode()]))
+            judged["bins"] = _bins(row, values, truth, rows, u, groups, out["by"]["edges"])
         out["columns"].append(judged)
     return out
 
@@ -164,9 +163,8 @@ def _whole_numbers(frame):
     return pd.DataFrame(out)
 
 
-def _judge_column(name, unit, row, values, truth, min_draws, rng):
-    """One column's shares."""
-    _, u = ranks(row, values, truth, min_draws, rng)
+def _shares(name, unit, u):
+    """One column's shares of its rows' ranks ``u``."""
     if not u.size:
         return {"column": name, "unit": unit, "rows": 0, "above_p90": None,
                 "below_p10": None, "histogram": [0] * 10}
@@ -175,11 +173,10 @@ def _judge_column(name, unit, row, values, truth, min_draws, rng):
             "histogram": np.histogram(u, bins=10, range=(0, 1))[0].tolist()}
 
 
-def _bins(row, values, truth, min_draws, groups, edges, rng):
-    """Per bin of the measured rows (``groups``: its index, -1 none) the judged rows, their
-    measured mean and its standard error, the model's mean (of the rows' own draw means)
-    and the tail shares."""
-    judged, u = ranks(row, values, truth, min_draws, rng)
+def _bins(row, values, truth, judged, u, groups, edges):
+    """Per bin of the measured rows (``groups``: its index, -1 none) the ``judged`` rows
+    (their ranks ``u``), their measured mean and its standard error, the model's mean (of
+    the rows' own draw means) and the tail shares."""
     ok = (row >= 0) & np.isfinite(values)
     counts = np.bincount(row[ok], minlength=truth.size)
     row_mean = np.bincount(row[ok], weights=values[ok], minlength=truth.size) / \
