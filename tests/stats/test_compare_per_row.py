@@ -150,7 +150,7 @@ def test_the_study_against_its_own_export(tracked, capsys, tmp_path):
     assert code == 0 and "per row: each of 263 measured pitches" in out
     line = next(s for s in out.splitlines() if s.startswith("  launch_speed "))
     assert f"{100 * per_row['columns'][0]['above_p90']:.1f}%" in line
-    # by the acceptance's bat-speed bins
+    # by the bat-speed bins of docs/bat_tracking.md
     code = main(["compare", tracked, export, "--permutations", "0", "--columns",
                  "launch_speed", "--by", "bat_speed:65,70,75,80", "--json"])
     out, _ = capsys.readouterr()
