@@ -30,9 +30,11 @@ __all__ = ["MIN_DRAWS", "PITCH_KEY", "PREDICTED", "TAIL", "draw_rows", "per_row_
 
 PITCH_KEY = ("game_pk", "at_bat_number", "pitch_number")
 """The columns that name one pitch in a Statcast export and in a dataset drawn from it."""
-PREDICTED = ("launch_speed", "launch_angle", "spray_angle", "hit_distance")
+PREDICTED = ("launch_speed", "launch_angle", "spray_angle")
 """The columns judged per row: what the model predicts from the pitch it met (the pitch's
-own columns repeat the measured values and say nothing)."""
+own columns repeat the measured values and say nothing; Statcast's ``hit_distance_sc``
+stops where a fielder first touched the ball, which no flight predicts for a ground
+ball)."""
 MIN_DRAWS = 10
 """A row met by fewer draws is left out (and counted)."""
 TAIL = 0.1
