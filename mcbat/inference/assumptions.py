@@ -29,7 +29,11 @@ class SpinAssumptions:
 
     ``attack_angle`` (rad) is used where the table has no measured one;
     ``vertical_bat_angle`` (rad, < 0 barrel below the hands) and ``pivot`` (m from the
-    knob) always; ``from_barrel_end`` (m) where the bat speed is inferred. ``mu``,
+    knob) always; ``from_barrel_end`` (m) where the bat speed is inferred: FITTED, the
+    position at which the bat speeds inferred without a measured swing have the measured
+    swings' median on tracked balls in play (10.9 in from the barrel end, toward the
+    handle from the sweet spot: ``docs/spin_inference.md``, *Without a measured swing*).
+    ``mu``,
     ``restitution`` (``e*`` and ``e_x``), the bat and ball; the pitch's
     ``spin_efficiency`` and ``gyro_sign``, and its ``spin_axis`` (rad, Statcast's
     convention) where the table has none. ``contact_side``: where the bat speed is
@@ -44,7 +48,10 @@ class SpinAssumptions:
     angle's error (2025 on), so that the true one given the measured ``m`` is
     ``N(mean + k (m - mean), k error^2)``, ``k = sd^2 / (sd^2 + error^2)``;
     ``undercut_mean`` and ``undercut_sd`` (m) the presets' fitted undercut, which weighs
-    each attack angle by how likely the undercut it needs is. With
+    each attack angle by how likely the undercut it needs is, with the attack direction's
+    ``attack_direction_sd`` and, where the bat speed is inferred, its ``bat_speed_mean``
+    and ``bat_speed_sd``, else the contact position's ``from_barrel_end_mean`` and
+    ``from_barrel_end_sd`` (the presets' population about the sweet spot). With
     ``InferenceOptions.attack_angle_nodes = 1`` the attack angle is taken as exact
     (measured, else ``attack_angle``) and these are not used.
     """
@@ -54,7 +61,7 @@ class SpinAssumptions:
     attack_angle: float = 10.0 * RAD_PER_DEG
     vertical_bat_angle: float = -30.0 * RAD_PER_DEG
     pivot: float = DEFAULT_PIVOT
-    from_barrel_end: float = SWEET_SPOT_FROM_BARREL_END
+    from_barrel_end: float = 10.9 * _INCH
     mu: float = 0.5
     restitution: Restitution = GAME_RESTITUTION
     spin_efficiency: float = 1.0
@@ -69,6 +76,7 @@ class SpinAssumptions:
     bat_speed_mean: float = 69.5 * M_S_PER_MPH
     bat_speed_sd: float = 6.3 * M_S_PER_MPH
     from_barrel_end_sd: float = 4.6 * _INCH
+    from_barrel_end_mean: float = SWEET_SPOT_FROM_BARREL_END
 
     def __post_init__(self):
         bat = self.bat
@@ -84,9 +92,10 @@ class SpinAssumptions:
         if not 0.0 <= _real(self.pivot, "pivot") < sweet:
             raise InputError("pivot", f"must lie between the knob and the sweet spot "
                              f"([0, {sweet:.4g}) m from the knob), got {self.pivot!r}")
-        if not 0.0 <= _real(self.from_barrel_end, "from_barrel_end") <= sweet:
-            raise InputError("from_barrel_end", f"must lie within [0, {sweet:.4g}] m, got "
-                             f"{self.from_barrel_end!r}")
+        for name in ("from_barrel_end", "from_barrel_end_mean"):
+            if not 0.0 <= _real(getattr(self, name), name) <= sweet:
+                raise InputError(name, f"must lie within [0, {sweet:.4g}] m, got "
+                                 f"{getattr(self, name)!r}")
         _real(self.mu, "mu", minimum=0.0)
         _real(self.spin_efficiency, "spin_efficiency", minimum=0.0, maximum=1.0)
         if self.gyro_sign not in (1, -1):
@@ -121,7 +130,8 @@ class SpinAssumptions:
                 "attack_direction_sd_deg": math.degrees(self.attack_direction_sd),
                 "bat_speed_mean_mph": self.bat_speed_mean / M_S_PER_MPH,
                 "bat_speed_sd_mph": self.bat_speed_sd / M_S_PER_MPH,
-                "from_barrel_end_sd_m": self.from_barrel_end_sd}
+                "from_barrel_end_sd_m": self.from_barrel_end_sd,
+                "from_barrel_end_mean_m": self.from_barrel_end_mean}
 
 
 @dataclass(frozen=True)

@@ -96,7 +96,7 @@ def posterior_weight(game, mode, solution, ok, a: SpinAssumptions, options):
     if a.from_barrel_end_sd > 0.0:
         second = np.where(speed_mode,
                           (sol["bat_speed"] - a.bat_speed_mean) / a.bat_speed_sd,
-                          (z - a.from_barrel_end) / a.from_barrel_end_sd)
+                          (z - a.from_barrel_end_mean) / a.from_barrel_end_sd)
         # the two densities' own scales (1/sd) differ: keep them
         scale2 = np.where(speed_mode, 1.0 / a.bat_speed_sd, 1.0 / a.from_barrel_end_sd)
     else:

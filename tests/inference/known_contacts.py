@@ -9,11 +9,15 @@ import pandas as pd
 
 from mcbat.api import GameCase, solve_game
 from mcbat.bodies import BALL_PRESETS, bat_preset
+from mcbat.inference import SpinAssumptions
 
 DEG = math.pi / 180
 MPH = 0.44704
 RPM = 60 / (2 * math.pi)
 BAT = bat_preset("r161")
+# without a measured swing the inference solves for the bat speed with the contact where it
+# assumes it: the balls are made there
+ASSUMED_CONTACT = SpinAssumptions().from_barrel_end
 
 
 def simulate_balls(n, seed, measured_swing, planes=False):
@@ -34,7 +38,7 @@ def simulate_balls(n, seed, measured_swing, planes=False):
             spin_rate=rng.uniform(1500, 2700) / RPM, spin_axis=rng.uniform(0, 360) * DEG,
             attack_angle=attack * DEG, attack_direction=rng.uniform(-20, 20) * DEG,
             vertical_bat_angle=vertical * DEG, undercut=rng.uniform(-0.025, 0.025),
-            from_barrel_end=rng.uniform(0.17, 0.25) if measured_swing else 0.1524)
+            from_barrel_end=rng.uniform(0.17, 0.25) if measured_swing else ASSUMED_CONTACT)
         ball = solve_game(case).batted_ball
         row = {"pitch_speed": case.pitch_speed / MPH,
                "vertical_approach_angle": case.vertical_approach_angle / DEG,
