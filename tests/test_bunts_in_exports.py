@@ -132,3 +132,23 @@ def test_bat_tracking_on_the_excerpt_and_judged_on_its_drawn_balls(capsys, monke
     in_play = rows[sc.balls_in_play(rows)]
     assert compared["settings"]["drawn"] == len(in_play) - 1  # all but the sac bunt
     assert compared["per_row"]["met"] == len(in_play) - 1
+
+
+def test_replay(capsys, monkeypatch):
+    result = _mcbat(capsys, monkeypatch, "replay", EXCERPT, "--park", "COL", "--json")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)
+
+
+def test_population_fit_of_the_shipped_study_by_name(capsys, monkeypatch, tmp_path):
+    # the bat-tracking study named as it ships; the sacrifice bunt in play is not fitted
+    import mcbat.statcast as sc
+
+    result = _mcbat(capsys, monkeypatch, "fit", "--population", "--study", "bat_tracking",
+                    "--data", EXCERPT, "--free", "contact.undercut.mean", "--draws", "10",
+                    "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "shipped with mcbat" in result.stderr
+    fitted = json.loads(result.stdout)
+    rows = sc.read(EXCERPT)
+    assert fitted["rows"] == sc.balls_in_play(rows).sum() - 1

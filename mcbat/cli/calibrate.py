@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from mcbat.cli.common import EXIT_OK, Command, Group, arg, flags, print_json
+from mcbat.cli.studies import study_file
 from mcbat.errors import InputError
 
 __all__ = ["COMMAND", "cmd_calibrate", "text_lines"]
@@ -37,7 +38,8 @@ def _calibrate_study(args) -> int:
 
     if args.target is None:
         raise InputError("--target", "required with --study: the measured mean")
-    study = load_study(args.study)
+    with study_file(args.study, "--study") as path:
+        study = load_study(path)
     column = args.column or ("launch_speed" if study.kind == "game" else "exit_speed")
     with flags("target", "column", "parameter", "samples"):
         result = calibrate(study, column, args.target, args.parameter, samples=args.samples)

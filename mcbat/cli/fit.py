@@ -21,6 +21,7 @@ from mcbat.cli.common import (
     read_export,
     switch,
 )
+from mcbat.cli.studies import study_file
 from mcbat.errors import InputError
 
 __all__ = ["COMMAND", "cmd_fit"]
@@ -119,7 +120,8 @@ def _cmd_fit(args) -> int:
     _check_required(args)
     free = _fit_options(args, check_free, check_bootstrap)
     check_figure(args.residuals, "--residuals")
-    study = load_study(args.study)
+    with study_file(args.study, "--study") as path:
+        study = load_study(path)
     table, left_out = _measurement_table(args)
     with flags("free", "bootstrap", "draws", "seed", "intervals"), \
             _rows_as_lines(table.attrs.get("lines")):
@@ -239,7 +241,8 @@ def _fit_population(args) -> int:
             raise InputError(flag, "required with --population")
     check_figure(args.figure, "--figure")
     check_input_file(args.data, "--data")
-    study = load_study(args.study)
+    with study_file(args.study, "--study") as path:
+        study = load_study(path)
     table = read_export(args.data, args.strict)
     with flags("free", "draws", "seed", "bins", "observables", "engine"):
         result = fit_population(study, table, [f for f in args.free.split(",") if f],

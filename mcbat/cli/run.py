@@ -4,11 +4,7 @@ package ``mcbat.studies``) run by name from any directory (``mcbat run game_fast
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
-import sys
-import tomllib
-from importlib import resources
 from pathlib import Path
 
 from mcbat.cli.common import (
@@ -22,6 +18,7 @@ from mcbat.cli.common import (
     progress,
     switch,
 )
+from mcbat.cli.studies import shipped_studies, study_file
 from mcbat.errors import InputError
 
 __all__ = ["COMMAND", "RUN_PARAMETERS", "cmd_run", "shipped_studies"]
@@ -50,38 +47,6 @@ class _ChunkSize(argparse.Action):
         pass
 
 
-def shipped_studies() -> dict[str, str]:
-    """The studies mcbat ships (``studies/`` of the repository, the resource package
-    ``mcbat.studies``): name (the file's stem) -> its ``[study] description``."""
-    out = {}
-    for entry in sorted(resources.files("mcbat.studies").iterdir(), key=lambda e: e.name):
-        if entry.name.endswith(".toml"):
-            try:
-                study = tomllib.loads(entry.read_text(encoding="utf-8")).get("study", {})
-            except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-                study = {}
-            out[entry.name.removesuffix(".toml")] = str(study.get("description", ""))
-    return out
-
-
-def _study_file(given):
-    """A context giving the path of the study ``given``: a file that exists, else the
-    shipped study of that name (``game_fastball``, ``game_fastball.toml`` or
-    ``studies/game_fastball.toml`` run from any directory)."""
-    path = Path(given)
-    if path.exists() or not (len(path.parts) == 1 or path.parent == Path("studies")):
-        return contextlib.nullcontext(path)  # load_study reports a missing or bad file
-    name = path.name.removesuffix(".toml")
-    shipped = shipped_studies()
-    if name not in shipped:
-        raise InputError(None, f"{given}: no such study file, and no study of that name "
-                         f"ships with mcbat (shipped: {', '.join(shipped)}; mcbat run "
-                         "--list describes them)")
-    print(f"mcbat: {given}: not found here; running the study {name!r} shipped with mcbat",
-          file=sys.stderr)
-    return resources.as_file(resources.files("mcbat.studies").joinpath(f"{name}.toml"))
-
-
 def cmd_run(args) -> int:
     """Run the study ``args.study`` into a dataset and print the run's report."""
     if args.list:
@@ -94,7 +59,7 @@ def cmd_run(args) -> int:
     from mcbat.runner import run_study
     from mcbat.study import load_study
 
-    with _study_file(args.study) as path:
+    with study_file(args.study) as path:
         study = load_study(path)  # validates everything before anything is written
     if args.pitches is not None or args.swing_shift:
         study = _with_pitches(study, args.pitches, args.swing_shift)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from mcbat.cli.common import EXIT_OK, Command, arg, check_output, flags, int_option
+from mcbat.cli.studies import study_file
 from mcbat.errors import InputError
 
 __all__ = ["COMMAND", "SYNTH_PARAMETERS", "cmd_synth"]
@@ -20,7 +21,8 @@ def cmd_synth(args) -> int:
     from mcbat.stats.measurements import synthesize, write_table_atomic
 
     check_output(args.out, "--out", (".csv", ".parquet", ".pq"))
-    study = load_study(args.study)
+    with study_file(args.study, "--study") as path:
+        study = load_study(path)
     input_noise = {}
     for item in args.input_noise:
         name, sep, value = item.partition("=")
