@@ -632,6 +632,26 @@ def verdict(r) -> list[str]:
     return [f"{'PASS' if good else 'FAIL'} {what}" for what, good in ok]
 
 
+def summary_table(judged) -> list[str]:
+    """One markdown row per judged export (``(label, result)`` pairs): the numbers the
+    model is held to, and how many of them hold."""
+    lines = ["| export | tracked balls in play | KS launch speed / angle | launch speed above "
+             "p90 / below p10 | launch angle above p90 / below p10 | bat-speed bins of 100 "
+             "rows or more: model - measured (mph) | held |",
+             "|---|---|---|---|---|---|---|"]
+    for label, r in judged:
+        bins = ", ".join(f"{b['bin']}: {b['model'] - b['measured']:+.1f}"
+                         for b in r["bat_speed_bins"] if b["rows"] >= 100) or "none"
+        held = verdict(r)
+        lines.append(
+            f"| {label} | {r['rows']} | {r['ks_launch_speed']:.3f} / "
+            f"{r['ks_launch_angle']:.3f} | {r['launch_speed_above_p90']:.1%} / "
+            f"{r['launch_speed_below_p10']:.1%} | {r['launch_angle_above_p90']:.1%} / "
+            f"{r['launch_angle_below_p10']:.1%} | {bins} | "
+            f"{sum(v.startswith('PASS') for v in held)} of {len(held)} |")
+    return lines
+
+
 def report(label, r) -> list[str]:
     """Lines of one judged file."""
     lines = [f"{label}: {r['rows']} rows",

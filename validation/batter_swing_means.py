@@ -23,6 +23,7 @@ between-player slope of a season's Savant search grouped by batter, or by pitche
 """
 
 import argparse
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -142,13 +143,9 @@ def within_swing_length(name: str, min_balls: int = 3) -> list[str]:
     return lines
 
 
-def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
-    """The between-player slope of a Savant search grouped by batter (one row per batter:
-    ``bat_speed``, the mean over his tracked swings; ``launch_speed``, over his batted
-    balls; ``velocity``, the pitches' mean release speed; ``bip``) or by pitcher (the same
-    over his opponents' swings and balls and his own pitches): mean launch speed on mean
-    bat speed and pitch speed, over players with at least ``min_balls`` balls in play.
-    Each mean is over hundreds of swings, so its noise flattens nothing."""
+def _board_fit(path, min_balls: int):
+    """A leaderboard's players with ``min_balls`` balls in play, and its least squares of
+    mean launch speed on mean bat speed and pitch speed."""
     board = pd.read_csv(path, encoding="utf-8-sig")
     for column in ("bat_speed", "launch_speed", "velocity", "bip"):
         board[column] = pd.to_numeric(board[column], errors="coerce")
@@ -156,7 +153,46 @@ def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
     board = board[board["bip"] >= min_balls]
     x = np.column_stack([np.ones(len(board)), board["bat_speed"], board["velocity"]])
     y = board["launch_speed"].to_numpy(float)
-    fitted = np.linalg.lstsq(x, y, rcond=None)[0]
+    return board, x, y, np.linalg.lstsq(x, y, rcond=None)[0]
+
+
+def season_levels(first, second, min_balls: int) -> tuple[int, float, float, float]:
+    """Is a player's level (his mean launch speed less what his bat speed and pitch speed
+    predict, ``leaderboard``) a lasting trait? The same players' levels in two seasons'
+    leaderboards (joined on ``player_id``): how many, their covariance between the seasons
+    and each season's variance less the noise of a mean over the player's balls (14.5 mph
+    per ball), mph^2."""
+    levels = []
+    for path in (first, second):
+        board, x, y, fitted = _board_fit(path, min_balls)
+        levels.append(pd.DataFrame({"level": y - x @ fitted,
+                                    "noise": 14.5 ** 2 / board["bip"].to_numpy(float)},
+                                   index=board["player_id"].to_numpy()))
+    both = levels[0].merge(levels[1], how="inner", left_index=True, right_index=True,
+                           suffixes=("_1", "_2"))
+    cov = float(np.cov(both["level_1"], both["level_2"])[0, 1])
+    true = [float(both[f"level_{k}"].var() - both[f"noise_{k}"].mean()) for k in (1, 2)]
+    return len(both), cov, true[0], true[1]
+
+
+def season_to_season(first, second, min_balls: int) -> list[str]:
+    """``season_levels`` in words."""
+    n, cov, one, two = season_levels(first, second, min_balls)
+    return [f"{n} players with >= {min_balls} balls in play in both "
+            f"({Path(first).name}, {Path(second).name})",
+            f"  levels' covariance between the seasons {cov:.2f} mph^2; each season's "
+            f"variance less the noise of the means {one:.2f}, {two:.2f} mph^2 "
+            f"(correlation of the true levels {cov / np.sqrt(max(one * two, 1e-12)):.2f})"]
+
+
+def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
+    """The between-player slope of a Savant search grouped by batter (one row per batter:
+    ``bat_speed``, the mean over his tracked swings; ``launch_speed``, over his batted
+    balls; ``velocity``, the pitches' mean release speed; ``bip``) or by pitcher (the same
+    over his opponents' swings and balls and his own pitches): mean launch speed on mean
+    bat speed and pitch speed, over players with at least ``min_balls`` balls in play.
+    Each mean is over hundreds of swings, so its noise flattens nothing."""
+    board, x, y, fitted = _board_fit(path, min_balls)
     rng = np.random.default_rng(seed)
     reps = [np.linalg.lstsq(x[i], y[i], rcond=None)[0][1]
             for i in (rng.integers(0, len(board), len(board)) for _ in range(boots))]
@@ -193,6 +229,9 @@ def main(argv=None):
     parser.add_argument("--swing-length", action="store_true",
                         help="instead: launch angle and speed on the swing length within "
                              "a batter")
+    parser.add_argument("--seasons", nargs=2, metavar=("FIRST", "SECOND"),
+                        help="two seasons' leaderboards of the same kind: is a player's "
+                             "level a lasting trait")
     parser.add_argument("--boots", type=int, default=300)
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args(argv)
@@ -201,6 +240,8 @@ def main(argv=None):
                         else report(name, args.min_swings, args.boots, args.seed)))
     for path in args.leaderboard:
         print("\n".join(leaderboard(path, args.min_balls, args.boots, args.seed)))
+    if args.seasons:
+        print("\n".join(season_to_season(*args.seasons, args.min_balls)))
 
 
 if __name__ == "__main__":

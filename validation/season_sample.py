@@ -215,7 +215,8 @@ def report(r) -> list[str]:
                              ("height", "launch angle by plate_z (ft)", "deg"),
                              ("away", "launch speed by plate_x away from the batter (ft)",
                               "mph"),
-                             ("acceptance", "launch speed, acceptance bins", "mph")):
+                             ("acceptance", "launch speed, the bat-speed bins held to 2 mph",
+                              "mph")):
         lines.append(f"  {title}" + (f": sum of ((model - measured)/se)^2 "
                                      f"{r[key + '_chi2']:.1f} ({len(r[key])} bins)"
                                      if key != "acceptance" else ""))
@@ -314,14 +315,21 @@ def main(argv=None):
             print(f"  {p['name']} = {p['value']:.3f} -{low} +{high} {p['unit']}")
     data = bt.study_definition(values)
     with tempfile.TemporaryDirectory() as tmp:
+        summary = []
         for name in judged:
             table = tracked([name])
-            print("\n".join(bt.report(f"{Path(name).name} (out of sample)",
-                                       bt.judge(data, table, 100000, args.seed, tmp))))
+            summary.append((Path(name).name, bt.judge(data, table, 100000, args.seed, tmp)))
+            print("\n".join(bt.report(f"{summary[-1][0]} (no ball of it in the contact's fit)",
+                                       summary[-1][1])))
+        if summary:
+            print("\n".join(["", *bt.summary_table(summary)]))
     results = [judge(s, args.pitches, args.samples, args.seed, data, exclude)
                for s in args.sample]
     for s, r in zip(args.sample, results):
-        r["role"] = "in sample (fitted)" if args.fit and s == args.fit else "out of sample"
+        # without --fit the contact is the study's as written, fitted on whatever its
+        # comments say: this run cannot tell in sample from out
+        r["role"] = (("in sample (fitted)" if s == args.fit else "out of sample") if args.fit
+                     else "the study's contact as written")
     for r in results:
         print("\n".join(report(r)))
     if args.figure and results:

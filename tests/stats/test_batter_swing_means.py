@@ -82,3 +82,29 @@ def test_a_leaderboards_between_batter_slope_is_recovered(tmp_path):
     assert f"{kept} players" in lines[0]
     slope = float(lines[1].split(":")[1].split("+-")[0])
     assert slope == pytest.approx(0.7, abs=0.03)
+
+
+@pytest.mark.parametrize("lasting", [True, False])
+def test_a_lasting_level_covaries_between_seasons_and_a_passing_one_does_not(tmp_path,
+                                                                               lasting):
+    from validation.batter_swing_means import season_levels
+
+    rng = np.random.default_rng(5)
+    players = 2000
+    level = 1.0 * rng.standard_normal(players)  # true sd 1 mph: variance 1 mph^2
+    paths = []
+    for season in (1, 2):
+        bip = rng.integers(200, 600, players)
+        true = level if lasting else 1.0 * rng.standard_normal(players)
+        bat = 72.0 + 2.7 * rng.standard_normal(players)
+        velocity = 89.5 + 0.5 * rng.standard_normal(players)
+        mean = (40.0 + 0.7 * bat + 0.1 * velocity + true
+                + 14.5 / np.sqrt(bip) * rng.standard_normal(players))
+        board = pd.DataFrame({"player_id": np.arange(players), "bat_speed": bat,
+                              "launch_speed": mean, "velocity": velocity, "bip": bip})
+        paths.append(tmp_path / f"season{season}.csv")
+        board.to_csv(paths[-1], index=False)
+    n, cov, var1, var2 = season_levels(*paths, 150)
+    assert n == players
+    assert var1 == pytest.approx(1.0, abs=0.15) and var2 == pytest.approx(1.0, abs=0.15)
+    assert cov == pytest.approx(1.0 if lasting else 0.0, abs=0.12)

@@ -156,3 +156,22 @@ def test_an_exact_models_share_beyond_its_rows_p90_at_few_draws(draws):
     assert abs(np.mean(measured > hi) - expected) < 4 * se
     assert abs(np.mean(measured < lo) - expected) < 4 * se
     assert expected > 0.1 + 4 * se or draws == 175
+
+
+def test_the_summary_row_says_which_targets_hold():
+    from validation.bat_tracking import summary_table
+
+    r = {"rows": 400, "ks_launch_speed": 0.06, "ks_launch_angle": 0.03,
+         "launch_speed_above_p90": 0.10, "launch_speed_below_p10": 0.14,
+         "launch_angle_above_p90": 0.09, "launch_angle_below_p10": 0.11,
+         "bat_speed_bins": [{"bin": "65-70", "rows": 150, "model": 88.0, "measured": 86.5},
+                            {"bin": "75-80", "rows": 120, "model": 95.0, "measured": 92.5},
+                            {"bin": "80+", "rows": 40, "model": 99.0, "measured": 90.0}]}
+    header, rule, row = summary_table([("day.csv", r)])
+    assert header.count("|") == rule.count("|") == row.count("|")
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[0] == "day.csv" and cells[1] == "400"
+    assert cells[5] == "65-70: +1.5, 75-80: +2.5"  # the 40-row bin is not held to 2 mph
+    # KS launch angle, three of the four shares and one bin hold; KS launch speed, the
+    # 14 % share and the 75-80 bin do not
+    assert cells[6] == "5 of 8"
