@@ -120,8 +120,11 @@ def _with_pitches(study, given, shifts):
         return load_pitches(Study.from_dict(data, source=study.source,
                                             text=study.source_text))
     except InputError as err:
-        if err.field == "pitches.file":  # the file's fault: say so as the flag's
-            raise InputError("--pitches", err.message) from None
+        if err.field == "pitches.file" or (given is not None and err.field == "pitches"):
+            # the file's fault (unreadable, or no row of it to draw): say so as the flag's
+            hint = ("; or run a study that draws the swing, such as real_pitches"
+                    if given is not None and "no bat tracking" in err.message else "")
+            raise InputError("--pitches", err.message + hint) from None
         if err.field is not None and err.field.startswith("pitches.swing_shift"):
             raise InputError("--swing-shift", err.message) from None
         raise

@@ -224,8 +224,8 @@ def test_a_shipped_study_runs_by_name_from_any_directory(tmp_path, cli):
 def test_pitches_flag_draws_another_exports_pitches(tmp_path, cli):
     """``--pitches FILE`` runs a study's swing and filters on another export: every drawn
     pitch is one of FILE's, and the dataset's config names FILE (its SHA-256); a study
-    without real pitches, a missing file and a file that is no export exit 2, one line
-    naming the flag."""
+    without real pitches, a missing file, a file that is no export and one without bat
+    tracking exit 2, one line naming the flag."""
     import hashlib
 
     import mcbat
@@ -249,7 +249,10 @@ def test_pitches_flag_draws_another_exports_pitches(tmp_path, cli):
     (tmp_path / "notes.csv").write_text("a,b\n1,2\n")
     for argv, words in ((("game_fastball", "--pitches", str(excerpt)), "no [pitches]"),
                         (("bat_tracking", "--pitches", "nope.csv"), "no such file"),
-                        (("bat_tracking", "--pitches", "notes.csv"), "not a Statcast")):
+                        (("bat_tracking", "--pitches", "notes.csv"), "not a Statcast"),
+                        # an export of 2020, before bat tracking: no swing to draw
+                        (("bat_tracking", "--pitches",
+                          str(ROOT / "data" / "statcast_2020-09-03.csv")), "real_pitches")):
         bad = cli("run", *argv, "--out", "x", cwd=tmp_path)
         assert bad.returncode == 2, bad.stderr
         error = [s for s in bad.stderr.splitlines() if "error" in s]
