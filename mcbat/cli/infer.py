@@ -59,6 +59,15 @@ def cmd_infer(args) -> int:
         print(f"  {behind:,} ball{'s' if behind > 1 else ''} fielded behind the plate's line "
               "(spray angle beyond 90 deg) solved with a straightaway launch "
               "(spray_observed)")
+    inferred = ok & (spin["inferred"] == "bat_speed")
+    if inferred.any():
+        from mcbat.core.units import M_PER_IN
+        from mcbat.inference import SpinAssumptions
+
+        print(f"  bat speed inferred on {int(inferred.sum()):,} balls without a measured "
+              f"swing: median {spin.loc[inferred, 'bat_speed'].median():.1f} mph, the "
+              f"contact assumed {SpinAssumptions().from_barrel_end / M_PER_IN:.1f} in from the "
+              "barrel end (docs/spin_inference.md)")
     moved = spin["bat_speed_adjustment"].fillna(0.0) != 0.0
     if moved.any():
         adj = spin.loc[moved, "bat_speed_adjustment"]

@@ -4,6 +4,7 @@ not follow the launches, errors naming the file and line, and no exit 1."""
 
 import json
 import os
+import re
 import shutil
 import signal
 
@@ -309,3 +310,14 @@ def test_a_game_fit_error_about_a_row_names_its_file_line(cli):
     table, lines = read_with_lines(DATA)
     row = int(np.flatnonzero(lines == number)[0])
     assert table.loc[row, column] == pytest.approx(value, rel=1e-5)
+
+
+def test_infer_says_where_it_assumed_the_contact_of_balls_without_a_swing(cli):
+    # the 2020 export has no bat tracking: every bat speed is inferred, with the contact
+    # at the assumed place, and the bats it needs are the speeds batters swing
+    code, out, err = cli("infer", DATA)
+    assert code == 0, err
+    line = next(s for s in out.splitlines() if "bat speed inferred on" in s)
+    median = float(re.search(r"median ([\d.]+) mph", line).group(1))
+    assert 68.0 < median < 78.0
+    assert "the contact assumed 10.9 in from the barrel end" in line
