@@ -158,7 +158,7 @@ def _cmd_fit(args) -> int:
         total = kept["rows"] + sum(kept.get("left_out", {}).values())
         note_left_out(f"{args.data}: Statcast export: {kept['used']:,} of {total:,} pitches "
                       f"used (balls in play with launch speed, angle, spray and plate speed"
-                      f"{' and bat tracking' if 'bat_speed' in table else ''});", left_out,
+                      f"{' and bat tracking' if 'bat_speed' in table else ''})", left_out,
                       "pitch(es)")
     return EXIT_OK
 
