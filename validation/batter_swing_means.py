@@ -175,14 +175,29 @@ def season_levels(first, second, min_balls: int) -> tuple[int, float, float, flo
     return len(both), cov, true[0], true[1]
 
 
+#: A grouped search's mean pitch characteristics that could carry a pitcher's level (its pitch
+#: speed is already in the level's regression).
+PITCH_FEATURES = ("spin_rate", "release_extension", "api_break_z_induced",
+                  "api_break_x_arm", "arm_angle", "release_pos_z", "plate_x", "plate_z")
+
+
 def season_to_season(first, second, min_balls: int) -> list[str]:
-    """``season_levels`` in words."""
+    """``season_levels`` in words, and each season's correlation of the level with the
+    players' mean pitch characteristics (:data:`PITCH_FEATURES`, where both have them)."""
     n, cov, one, two = season_levels(first, second, min_balls)
-    return [f"{n} players with >= {min_balls} balls in play in both "
-            f"({Path(first).name}, {Path(second).name})",
-            f"  levels' covariance between the seasons {cov:.2f} mph^2; each season's "
-            f"variance less the noise of the means {one:.2f}, {two:.2f} mph^2 "
-            f"(correlation of the true levels {cov / np.sqrt(max(one * two, 1e-12)):.2f})"]
+    lines = [f"{n} players with >= {min_balls} balls in play in both "
+             f"({Path(first).name}, {Path(second).name})",
+             f"  levels' covariance between the seasons {cov:.2f} mph^2; each season's "
+             f"variance less the noise of the means {one:.2f}, {two:.2f} mph^2 "
+             f"(correlation of the true levels {cov / np.sqrt(max(one * two, 1e-12)):.2f})"]
+    fits = [_board_fit(path, min_balls) for path in (first, second)]
+    for feature in PITCH_FEATURES:
+        if all(feature in board for board, *_ in fits):
+            r = [np.corrcoef(pd.to_numeric(board[feature], errors="coerce").fillna(
+                     pd.to_numeric(board[feature], errors="coerce").mean()),
+                 y - x @ fitted)[0, 1] for board, x, y, fitted in fits]
+            lines.append(f"  level against the mean {feature}: r {r[0]:+.2f}, {r[1]:+.2f}")
+    return lines
 
 
 def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:

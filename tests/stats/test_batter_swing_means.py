@@ -101,10 +101,19 @@ def test_a_lasting_level_covaries_between_seasons_and_a_passing_one_does_not(tmp
         mean = (40.0 + 0.7 * bat + 0.1 * velocity + true
                 + 14.5 / np.sqrt(bip) * rng.standard_normal(players))
         board = pd.DataFrame({"player_id": np.arange(players), "bat_speed": bat,
-                              "launch_speed": mean, "velocity": velocity, "bip": bip})
+                              "launch_speed": mean, "velocity": velocity, "bip": bip,
+                              "spin_rate": 2300.0 + 150.0 * rng.standard_normal(players)
+                              - (600.0 * true if lasting else 0.0)})
         paths.append(tmp_path / f"season{season}.csv")
         board.to_csv(paths[-1], index=False)
+    from validation.batter_swing_means import season_to_season
+
     n, cov, var1, var2 = season_levels(*paths, 150)
+    # a lasting level that a pitch characteristic carries shows in its correlation
+    spin = next(line for line in season_to_season(*paths, 150) if "spin_rate" in line)
+    r = [float(v) for v in spin.split("r ")[1].split(", ")]
+    # (lasting: r = -600 / sqrt(150^2 + 600^2) / sqrt(1 + noise 0.5) = -0.79)
+    assert all(v < -0.65 for v in r) if lasting else all(abs(v) < 0.1 for v in r)
     assert n == players
     assert var1 == pytest.approx(1.0, abs=0.15) and var2 == pytest.approx(1.0, abs=0.15)
     assert cov == pytest.approx(1.0 if lasting else 0.0, abs=0.12)
