@@ -182,3 +182,16 @@ def test_drawn_keeps_the_measured_pitches_the_dataset_drew(tracked, capsys):
     code = main(["compare", tracked, other, "--drawn"])
     _, err = capsys.readouterr()
     assert code == 2 and "--drawn: the dataset drew none" in err
+
+
+def test_a_dataset_drawn_too_thinly_says_how_many_samples_to_give():
+    from mcbat.stats.compare.comparison import DRAWS_ADVISED, per_row_lines
+
+    simulated, measured = _frames(rows=300, draws=4, spread=1.0)
+    thin = per_row_calibration(simulated, measured, UNITS)
+    assert thin["met"] == 0 and thin["drawn"] == 300
+    (line,) = per_row_lines(thin)
+    assert f"--samples {DRAWS_ADVISED * 300:,}" in line
+    other = measured.assign(game_pk=measured["game_pk"] + 10_000)  # pitches never drawn
+    (line,) = per_row_lines(per_row_calibration(simulated, other, UNITS))
+    assert "not drawn from these pitches" in line

@@ -127,6 +127,10 @@ class Comparison:
         return out
 
 
+#: Draws a pitch that estimate its tails well (docs/compare.md, "Per row").
+DRAWS_ADVISED = 200
+
+
 def per_row_lines(per_row) -> list:
     """The per-row calibration's lines (none when the sides share no pitch key)."""
     if per_row is None:
@@ -134,8 +138,12 @@ def per_row_lines(per_row) -> list:
     if "not_judged" in per_row:
         return [f"per row: not judged: {per_row['not_judged']}"]
     if not per_row["met"] or not per_row["columns"]:
+        why = ("the dataset was not drawn from these pitches" if not per_row.get("drawn")
+               else f"the dataset drew {per_row['drawn']:,} of them, too few times each: "
+               f"give the study about {DRAWS_ADVISED} samples a pitch (mcbat run ... "
+               f"--samples {DRAWS_ADVISED * per_row['rows']:,})")
         return [f"per row: no measured pitch met by {per_row['min_draws']} draws or more "
-                f"(of {per_row['rows']:,}): the dataset was not drawn from these pitches"]
+                f"(of {per_row['rows']:,}): {why}"]
     low, high = per_row["band95"]
     out = [f"per row: each of {per_row['met']:,} measured pitches (of {per_row['rows']:,}) "
            f"ranked among the draws that met it (median {per_row['draws_per_row']:.0f}); "

@@ -81,9 +81,10 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
     dict or None
         None when either side lacks the pitch key; ``rows`` and ``not_judged`` (the reason)
         when the measured tables give a pitch twice. Else ``rows`` (measured), ``met`` (rows
-        met by at least ``min_draws`` draws), ``draws_per_row`` (their median),
-        ``expected`` (:data:`TAIL`), ``band95`` (the 95 % range of a share of ``met`` rows
-        under an exact model, binomial) and ``columns``: per column ``column``, ``unit``,
+        met by at least ``min_draws`` draws), ``drawn`` (rows met by any),
+        ``draws_per_row`` (the median over the ``met`` rows), ``expected`` (:data:`TAIL`),
+        ``band95`` (the 95 % range of a share of ``met`` rows under an exact model,
+        binomial) and ``columns``: per column ``column``, ``unit``,
         ``rows``, ``above_p90``, ``below_p10``, ``histogram`` (the counts of ``u`` in
         ten equal bins) and with ``by`` ``bins``: per bin ``bin`` (its range), ``rows``,
         ``measured`` (the rows' mean), ``se`` (its standard error), ``model`` (the mean of
@@ -95,7 +96,7 @@ def per_row_calibration(simulated, measured, units=None, *, columns=PREDICTED, s
         return row if row is None else {"rows": int(len(measured)), "not_judged": row}
     draws = np.bincount(row[row >= 0], minlength=len(measured))
     met = draws >= min_draws
-    out = {"rows": int(len(measured)), "met": int(met.sum()),
+    out = {"rows": int(len(measured)), "met": int(met.sum()), "drawn": int((draws > 0).sum()),
            "draws_per_row": float(np.median(draws[met])) if met.any() else 0.0,
            "min_draws": int(min_draws), "expected": TAIL, "band95": None, "columns": []}
     if not met.any():
