@@ -126,7 +126,8 @@ class RunSummary:
             left = "".join(f", {n:,} {reason}" for reason, n in p["excluded"].items())
             out.append(f"pitches: {p['drawn_from']:,} rows of {p['file']} drawn from "
                        f"({p['rows_in_file']:,} in the file, {p['selected']:,} selected by "
-                       f"the filters{left})")
+                       f"the filters{left}), about {self.rows / max(p['drawn_from'], 1):,.0f} "
+                       "samples each")
             if "swing_plane_measured" in p:
                 plane, rest = p["swing_plane_measured"], p["drawn_from"] - p["swing_plane_measured"]
                 out.append(f"vertical bat angle from the measured swing plane on {plane:,} of "
