@@ -171,14 +171,15 @@ def study_definition(values=None, errors=None, trend=None) -> dict:
     return data
 
 
-def _study(data, table, workdir):
-    """The study drawing its pitches and swings from ``table``'s rows (in order)."""
+def _study(data, table, workdir, player_levels=True):
+    """The study drawing its pitches and swings from ``table``'s rows (in order);
+    ``player_levels=False``: the league's contact on every row, as a fit of it needs."""
     data = json.loads(json.dumps(data))
     path = Path(workdir) / f"rows{len(table)}_{id(table)}.csv"
     write_pitches(table.reset_index(drop=True), path)
     data["pitches"] = {k: v for k, v in data["pitches"].items() if k != "bb_type"}
     data["pitches"]["file"] = str(path)
-    return load_pitches(Study.from_dict(data, source=STUDY))
+    return load_pitches(Study.from_dict(data, source=STUDY), player_levels=player_levels)
 
 
 def simulate(data, table, samples, seed, workdir) -> dict:
@@ -243,7 +244,7 @@ def fit(table, errors, trend=None, seed=1):
 def _study_obj(data):
     """The study itself (its own [pitches] file is replaced by the fit's rows)."""
     with tempfile.TemporaryDirectory() as tmp:
-        return _study(data, _placeholder(), tmp)
+        return _study(data, _placeholder(), tmp, player_levels=False)
 
 
 def _placeholder():
@@ -529,8 +530,11 @@ def evaluate(table, sim) -> dict:
     row, ls, la = sim["row"], sim["launch_speed"], sim["launch_angle"]
     out = {"rows": len(table)}
     m_ls, m_la = table["launch_speed"].to_numpy(float), table["launch_angle"].to_numpy(float)
-    out["ks_launch_speed"] = float(stats.ks_2samp(ls, m_ls).statistic)
-    out["ks_launch_angle"] = float(stats.ks_2samp(la, m_la).statistic)
+    for name, draws, meas in (("launch_speed", ls, m_ls), ("launch_angle", la, m_la)):
+        test = stats.ks_2samp(draws, meas)
+        out[f"ks_{name}"], out[f"ks_{name}_p"] = float(test.statistic), float(test.pvalue)
+    # the distance an exact model's rows exceed half the time (so many rows: sampling)
+    out["ks_exact_median"] = float(stats.kstwo.ppf(0.5, len(table)))
     judged = np.bincount(row, minlength=len(table))
     judged = judged[judged >= MIN_DRAWS]
     out["draws_per_row"] = float(np.median(judged)) if judged.size else 0.0
@@ -575,6 +579,8 @@ def evaluate(table, sim) -> dict:
     out["spray_slope_model"] = spray_slope(table, row, sim["spray_angle"])
     out["spray_slope_data"] = spray_slope(table)
     out["above_50_model"] = float(np.mean(la > 50.0))
+    out["speed_percentiles"] = {"data": np.percentile(m_ls, (10, 25, 50, 75, 90)).tolist(),
+                                "model": np.percentile(ls, (10, 25, 50, 75, 90)).tolist()}
     out["above_50_data"] = float(np.mean(m_la > 50.0))
     # the launch speed of the highest balls: where the launch angles above their row's
     # 90th percentile come from
@@ -635,17 +641,20 @@ def verdict(r) -> list[str]:
 def summary_table(judged) -> list[str]:
     """One markdown row per judged export (``(label, result)`` pairs): the numbers the
     model is held to, and how many of them hold."""
-    lines = ["| export | tracked balls in play | KS launch speed / angle | launch speed above "
-             "p90 / below p10 | launch angle above p90 / below p10 | bat-speed bins of 100 "
-             "rows or more: model - measured (mph) | held |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| export | tracked balls in play | KS launch speed / angle (p-value) | KS an "
+             "exact model's rows exceed half the time | launch speed above p90 / below p10 | "
+             "launch angle above p90 / below p10 | bat-speed bins of 100 rows or more: model "
+             "- measured (mph) | held |",
+             "|---|---|---|---|---|---|---|---|"]
     for label, r in judged:
         bins = ", ".join(f"{b['bin']}: {b['model'] - b['measured']:+.1f}"
                          for b in r["bat_speed_bins"] if b["rows"] >= 100) or "none"
         held = verdict(r)
         lines.append(
-            f"| {label} | {r['rows']} | {r['ks_launch_speed']:.3f} / "
-            f"{r['ks_launch_angle']:.3f} | {r['launch_speed_above_p90']:.1%} / "
+            f"| {label} | {r['rows']} | {r['ks_launch_speed']:.3f} "
+            f"({r['ks_launch_speed_p']:.2f}) / {r['ks_launch_angle']:.3f} "
+            f"({r['ks_launch_angle_p']:.2f}) | {r['ks_exact_median']:.3f} | "
+            f"{r['launch_speed_above_p90']:.1%} / "
             f"{r['launch_speed_below_p10']:.1%} | {r['launch_angle_above_p90']:.1%} / "
             f"{r['launch_angle_below_p10']:.1%} | {bins} | "
             f"{sum(v.startswith('PASS') for v in held)} of {len(held)} |")
@@ -669,7 +678,10 @@ def report(label, r) -> list[str]:
              f"  spray on attack direction: model {r['spray_slope_model']:.2f}, data "
              f"{r['spray_slope_data']:.2f}",
              f"  launch angle > 50 deg: model {r['above_50_model']:.1%}, data "
-             f"{r['above_50_data']:.1%}"]
+             f"{r['above_50_data']:.1%}",
+             "  launch speed's 10/25/50/75/90th percentiles: data " + "/".join(
+                 f"{v:.1f}" for v in r["speed_percentiles"]["data"]) + ", model " + "/".join(
+                 f"{v:.1f}" for v in r["speed_percentiles"]["model"]) + " mph"]
     if "backspin_slopes" in r:
         model, nathan, ratio = r["backspin_slopes"]
         lines.append(f"  backspin on launch angle, 10-40 deg: model {model:.0f} rpm/deg, Nathan's "

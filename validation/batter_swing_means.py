@@ -216,6 +216,17 @@ def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
     resid = y - x @ fitted
     noise = float(np.mean(14.5 ** 2 / board["bip"].to_numpy(float)))
     true_sd = float(np.sqrt(max(resid.var() - noise, 0.0)))
+    # the same for the launch angle about the players' mean (one player's launch angles
+    # spread 25-29 deg per ball in the development exports: 27)
+    angle_lines = []
+    if "launch_angle" in board:
+        angle = pd.to_numeric(board["launch_angle"], errors="coerce").to_numpy(float)
+        noise_angle = float(np.mean(27.0 ** 2 / board["bip"].to_numpy(float)))
+        angle_lines.append(
+            f"  a player's mean launch angle about the players' mean: sd "
+            f"{np.nanstd(angle):.2f} deg, "
+            f"{np.sqrt(max(np.nanvar(angle) - noise_angle, 0.0)):.2f} less the noise of his "
+            "mean")
     return [f"{path}: {len(board)} players with >= {min_balls} balls in play "
             f"({int(board['bip'].sum())} balls), bat speed sd between players "
             f"{board['bat_speed'].std():.2f} mph",
@@ -225,6 +236,7 @@ def leaderboard(path, min_balls: int, boots: int, seed: int) -> list[str]:
             f"{true_sd:.2f} less the noise of his mean; within 1 mph for "
             f"{np.mean(np.abs(resid) < 1.0):.0%} of the players, within 2 for "
             f"{np.mean(np.abs(resid) < 2.0):.0%}",
+            *angle_lines,
             *[f"  {name}: {r:+.1f} mph" for name, r in
               zip(board["player_name"], resid) if "player_name" in board
               and any(k in str(name) for k in ("Skubal", "Ohtani"))]]

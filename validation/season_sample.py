@@ -54,7 +54,7 @@ def pair(sample: pd.DataFrame, pitches: pd.DataFrame, seed=1) -> pd.DataFrame:
     pitch of a random row of ``pitches`` (a raw Savant export's balls in play with bat
     tracking) of a pitcher of the same hand. The swing columns missing from the sample
     are left empty (the study's fallbacks draw them); every row gets its own pitch
-    identifiers (the pitches repeat)."""
+    identifiers (the pitches repeat), batter and pitcher."""
     sample = sample.copy()
     if "stand" not in sample:
         sample["stand"] = np.where(sample["is_stand_left"] == 1, "L", "R")
@@ -78,6 +78,10 @@ def pair(sample: pd.DataFrame, pitches: pd.DataFrame, seed=1) -> pd.DataFrame:
     out["game_pk"] = 1 + np.arange(len(out)) // 1000
     out["at_bat_number"] = 1 + np.arange(len(out)) % 1000
     out["pitch_number"] = 1
+    # the sample names no player: each ball its own batter and pitcher (the pitches'
+    # ids would tie unrelated balls into one player's level)
+    out["batter"] = 1 + np.arange(len(out))
+    out["pitcher"] = 1_000_000 + np.arange(len(out))
     return out
 
 
@@ -279,6 +283,9 @@ def main(argv=None):
     parser.add_argument("--seed", type=int, default=2025)
     parser.add_argument("--study", type=Path, default=STUDY)
     parser.add_argument("--figure", help="write the figure to this PNG")
+    parser.add_argument("--league-contact", action="store_true",
+                        help="judge without [pitches.player_levels]: the league's contact "
+                             "for every row")
     parser.add_argument("--exclude", default="", help="comma-separated Savant exports "
                         "whose balls in play to drop from the samples (those judged on their "
                         "own, or fitted)")
@@ -314,6 +321,8 @@ def main(argv=None):
                          for e in (p["lower_error"], p["upper_error"]))
             print(f"  {p['name']} = {p['value']:.3f} -{low} +{high} {p['unit']}")
     data = bt.study_definition(values)
+    if args.league_contact:
+        data["pitches"].pop("player_levels", None)
     with tempfile.TemporaryDirectory() as tmp:
         summary = []
         for name in judged:

@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 
 from mcbat.errors import InputError
+from mcbat.runner.player_levels import OBSERVED, with_player_levels
 from mcbat.statcast.collision import is_bunt
 from mcbat.statcast.files import check_regular_file
 from mcbat.study.pitches import BUNT_COLUMN, DUPLICATE_COLUMN, IDENTIFIERS, SWING_KEYS, PitchTable
@@ -42,9 +43,12 @@ _MISSING = ("", "nan", "NaN", "NA", "<NA>", "null", "NULL", "None")
 _TIDY_MARK = "pitch_speed"
 
 
-def load_pitches(study):
+def load_pitches(study, player_levels=True):
     """``study`` with the rows of its ``[pitches]`` file loaded (the study itself when it
-    has no ``[pitches]`` or has them already).
+    has no ``[pitches]`` or has them already), and with ``[pitches.player_levels]`` each
+    row's players' contact estimated from their other games
+    (``mcbat.runner.player_levels``; ``player_levels=False``: the league's contact for
+    every row, as a fit of that contact needs).
 
     Raises
     ------
@@ -58,11 +62,14 @@ def load_pitches(study):
         return study
     needed = source.needed_columns(study.handedness is None,
                                    getattr(study, "location_columns", ()))
+    if not player_levels:  # (the measured outcomes serve only the players' levels)
+        needed = tuple(c for c in needed if c not in OBSERVED)
     try:
         table = read_pitch_table(source.path, needed, source.file)
     except InputError as err:
         raise err.within(source=study.source) from None
-    return study.with_pitch_table(table)
+    loaded = study.with_pitch_table(table)
+    return with_player_levels(loaded) if player_levels else loaded
 
 
 def read_pitch_table(path, needed, where=None) -> PitchTable:

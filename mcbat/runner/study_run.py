@@ -42,6 +42,7 @@ from mcbat.runner.plan import (
     prepare_directory,
     summary_metadata,
 )
+from mcbat.study import units as u
 
 __all__ = ["ENGINES", "RunSummary", "make_engine", "run_study"]
 
@@ -132,6 +133,8 @@ class RunSummary:
                 plane, rest = p["swing_plane_measured"], p["drawn_from"] - p["swing_plane_measured"]
                 out.append(f"vertical bat angle from the measured swing plane on {plane:,} of "
                            f"those rows" + (f", [swing]'s on the other {rest:,}" if rest else ""))
+            if "rows_moved" in p.get("player_levels", {}):
+                out.append(_levels_line(p["player_levels"], p["drawn_from"]))
             if p.get("swing_shift"):
                 out.append("what if: every drawn swing moved by " + ", ".join(
                     f"{key.split('.', 1)[1]} {_shift_text(key, value)}"
@@ -155,6 +158,21 @@ class RunSummary:
 
     def __repr__(self) -> str:
         return f"RunSummary({'; '.join(self.lines())})"
+
+
+def _levels_line(levels, rows) -> str:
+    """What ``[pitches.player_levels]`` found, for the run report."""
+    players = " and ".join(f"{n:,} {key.split('_')[0][:-1]}{'s' if n != 1 else ''}"
+                           for key, n in levels.items() if key.endswith("_with_level"))
+    if not levels["rows_moved"]:
+        return ("player levels: no player of the file has another game in it; every row "
+                "meets the league's contact")
+    low, high = levels["spread_range"]
+    shift = [v / u.UNITS[u.LENGTH]["in"] for v in levels["undercut_shift_range"]]
+    return (f"player levels, each from the player's other games in the file: {players} "
+            f"with one; {levels['rows_moved']:,} of the {rows:,} rows met their players' "
+            f"contact (spread along the bat {low:.2f}-{high:.2f} of the league's, undercut "
+            f"{shift[0]:+.2f} to {shift[1]:+.2f} in)")
 
 
 def _shift_text(key, value) -> str:

@@ -50,7 +50,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["bat_angle_move", "bat_speed_move", "height_move", "location_move",
-           "trends_config"]
+           "move_contact", "move_undercut", "trends_config"]
 
 
 def bat_speed_move(bat_speed, trend) -> np.ndarray:
@@ -115,3 +115,40 @@ def trends_config(study) -> dict:
                     vertical_bat_angle_form="b = clip(b0 + t (plate_z - reference)) to the "
                                             "support, rows without a measured swing plane")
     return out
+
+
+def move_undercut(study, cols, rows) -> None:
+    """Move each sample's undercut (``cols``: a game study's sample columns) with its
+    pitch's height (``[contact.plate_z_trend]``), its swing's length
+    (``[contact.swing_length_trend]``; ``rows``: the samples' values of those columns, m)
+    and its bat speed (``[contact.bat_speed_trend]``), held inside the undercut's support
+    (``study``: the game study)."""
+    moved = cols["undercut"].copy()
+    for name in ("plate_z", "swing_length"):
+        trend = getattr(study, f"{name}_trend")
+        if trend is not None and name in rows:
+            moved += height_move(rows[name], trend)
+    if study.contact_trend is not None:
+        reference, _, under = study.contact_trend
+        moved += bat_speed_move(cols["bat_speed"], (reference, under))
+    dist = study.inputs.get("contact.undercut")
+    if dist is not None and dist.family != "fixed":
+        np.clip(moved, *dist.support(), out=moved)
+    cols["undercut"][:] = moved
+
+
+def move_contact(study, cols, away) -> None:
+    """Move each sample's contact along the bat with where its pitch crossed the plate
+    (``away``: m away from the batter) and with its bat speed, then hold it inside the
+    distribution's support (within the bat for a fixed value; ``study``: the game
+    study)."""
+    moved = cols["from_barrel_end"].copy()
+    if study.plate_x_trend is not None and away is not None:
+        moved += location_move(away, study.plate_x_trend)
+    if study.contact_trend is not None:
+        reference, along, _ = study.contact_trend
+        moved += bat_speed_move(cols["bat_speed"], (reference, along))
+    dist = study.inputs.get("contact.from_barrel_end")
+    fixed = dist is None or dist.family == "fixed"
+    low, high = (0.0, study.bat.length) if fixed else dist.support()
+    cols["from_barrel_end"][:] = np.clip(moved, max(low, 0.0), min(high, study.bat.length))

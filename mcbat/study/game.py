@@ -90,6 +90,7 @@ from mcbat.study.pitches import (
     parse_pitches,
     select_rows,
 )
+from mcbat.study.player_levels import apply_player_contact, check_contact
 from mcbat.study.random_program import draw_stream
 from mcbat.study.sections import check_solver, fill_bodies, parse_ball, parse_bat
 from mcbat.study.swing_errors import clip_true, outlier_population, true_values
@@ -118,7 +119,7 @@ class GameStudy(Study):
         real = "pitches" in data
         self._parse_study_section(data["study"])
         self.pitches = parse_pitches(data["pitches"], self.source) if real else None
-        self._pitch_rows = self._pitch_table = None
+        self._pitch_rows = self._pitch_table = self._player_contact = None
         self._outlier_cache = {}
         # With real pitches and no handedness key, each row's batter side (None here).
         self.handedness = data.get("handedness", None if real else "R")
@@ -179,6 +180,8 @@ class GameStudy(Study):
             inputs.update(self.pitches.fallback)
         self.inputs = MappingProxyType(inputs)
         self._check_ranges()
+        if self.pitches is not None and self.pitches.player_levels is not None:
+            check_contact(self.inputs)
         self._plan()
 
     def _parse_trends(self, contact, real) -> None:
@@ -216,8 +219,27 @@ class GameStudy(Study):
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new._pitch_table, new._pitch_rows = table, rows
-        new._outlier_cache = {}
+        new._outlier_cache, new._player_contact = {}, None
         return new
+
+    def with_player_contact(self, spread, shift, summary=None) -> GameStudy:
+        """A copy whose rows meet their players' own contact (``[pitches.player_levels]``,
+        estimated by ``mcbat.runner.player_levels``): ``spread`` and ``shift`` (m), one per
+        row drawn from (``mcbat.study.player_levels``); ``summary``: what the config records
+        of the estimate."""
+        m = self._need_rows().index.size
+        spread, shift = (np.asarray(v, np.float64) for v in (spread, shift))
+        if spread.shape != (m,) or shift.shape != (m,):
+            raise ValueError(f"need one spread and one shift per row drawn from ({m})")
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        new._player_contact = (spread, shift, dict(summary or {}))
+        return new
+
+    @property
+    def pitch_table(self) -> PitchTable | None:
+        """The ``[pitches]`` file's columns (None until loaded)."""
+        return self._pitch_table
 
     @property
     def pitch_rows(self) -> PitchRows | None:
@@ -248,7 +270,8 @@ class GameStudy(Study):
         """Overwrite the drawn keys' columns with the sampled rows' values (where a row
         lacks one, the fallback drawn there stays), and the handedness from the rows.
         Returns the samples' values the trends need: ``{"away": plate_x away from the
-        batter, "plate_z": ..., "swing_length": ...}`` (m), the keys the rows keep."""
+        batter, "plate_z": ..., "swing_length": ...}`` (m), the keys the rows keep, and
+        ``"row"``: each sample's index into the rows drawn from."""
         rows = self._need_rows()
         j = rows.draw_rows(seed, start, n)
         targets = {f"{s}.{k}": spec[2] for s, keys in KEYS.items() for k, spec in keys.items()}
@@ -273,7 +296,7 @@ class GameStudy(Study):
             fill_vertical_bat_angle(cols, rows.tilt[j])
         if rows.handedness is not None:
             cols["handedness"][:] = rows.handedness[j]
-        location = {}
+        location = {"row": j}
         if "plate_x" in rows.location:
             # the batter stands on the side away from which "away" counts: a right-handed
             # batter (handedness +1) on the third-base side, so away is +x for him
@@ -374,6 +397,8 @@ class GameStudy(Study):
             # The file's content hash, the filters and the selection: a changed file is a
             # different study (never resumed into the old dataset).
             out["pitches"] = self._need_rows().config(self.pitches, self._pitch_table)
+            if self._player_contact is not None:
+                out["pitches"]["player_levels"].update(self._player_contact[2])
         return out
 
     def definition(self) -> dict:
@@ -429,11 +454,13 @@ class GameStudy(Study):
         location = {}
         if self.pitches is not None:
             location = self._fill_pitches(cols, start, n, seed)
+        if self._player_contact is not None:
+            apply_player_contact(cols, location["row"], self._player_contact, self.inputs)
         if self.contact_trend is not None or self.plate_x_trend is not None:
-            self._move_contact(cols, location.get("away"))
+            moves.move_contact(self, cols, location.get("away"))
         if (self.plate_z_trend is not None or self.contact_trend is not None
                 or self.swing_length_trend is not None):
-            self._move_undercut(cols, location)
+            moves.move_undercut(self, cols, location)
         self.fill_contact(cols)
         return table
 
@@ -451,39 +478,6 @@ class GameStudy(Study):
         the swing's length)."""
         return tuple(name for name in ROW_TRENDS
                      if getattr(self, f"{name}_trend") is not None)
-
-    def _move_undercut(self, cols, rows) -> None:
-        """Move each sample's undercut with its pitch's height (``[contact.plate_z_trend]``),
-        its swing's length (``[contact.swing_length_trend]``; ``rows``: the samples' values
-        of those columns, m) and its bat speed (``[contact.bat_speed_trend]``), held inside
-        the undercut's support."""
-        moved = cols["undercut"].copy()
-        for name in ("plate_z", "swing_length"):
-            trend = getattr(self, f"{name}_trend")
-            if trend is not None and name in rows:
-                moved += moves.height_move(rows[name], trend)
-        if self.contact_trend is not None:
-            reference, _, under = self.contact_trend
-            moved += moves.bat_speed_move(cols["bat_speed"], (reference, under))
-        dist = self.inputs.get("contact.undercut")
-        if dist is not None and dist.family != "fixed":
-            np.clip(moved, *dist.support(), out=moved)
-        cols["undercut"][:] = moved
-
-    def _move_contact(self, cols, away) -> None:
-        """Move each sample's contact with where its pitch crossed the plate (``away``: m
-        away from the batter) and with its bat speed, then hold it inside the
-        distribution's support (within the bat for a fixed value)."""
-        moved = cols["from_barrel_end"].copy()
-        if self.plate_x_trend is not None and away is not None:
-            moved += moves.location_move(away, self.plate_x_trend)
-        if self.contact_trend is not None:
-            reference, along, _ = self.contact_trend
-            moved += moves.bat_speed_move(cols["bat_speed"], (reference, along))
-        dist = self.inputs.get("contact.from_barrel_end")
-        fixed = dist is None or dist.family == "fixed"
-        low, high = (0.0, self.bat.length) if fixed else dist.support()
-        cols["from_barrel_end"][:] = np.clip(moved, max(low, 0.0), min(high, self.bat.length))
 
     def fill_contact(self, cols):
         """Write the columns that follow from the contact's place on the bat: the barrel's

@@ -19,6 +19,9 @@ A game study with a ``[pitches]`` section resamples real pitches with replacemen
     attack_angle = { value = 4, unit = "deg" } # (sd) of a drawn swing key (below)
     [pitches.swing_shift]                      # with swing = true, a what-if: added to
     bat_speed = { value = 2, unit = "mph" }    # every drawn swing (mcbat.study.swing_shift)
+    [pitches.player_levels]                    # with swing = true: each batter's and
+    batter_launch_speed = ...                  # pitcher's own contact, from his other
+                                               # games (mcbat.study.player_levels)
 
 The drawn keys are ``PITCH_KEYS`` (and ``SWING_KEYS`` with ``swing = true``); ``[pitch]``
 and ``[swing]`` then hold only the other keys (spin efficiency, vertical bat angle, ...),
@@ -65,6 +68,8 @@ from mcbat.checks import check_keys, integer
 from mcbat.errors import InputError
 from mcbat.study import units as u
 from mcbat.study.distributions import Uniform, parse
+from mcbat.study.pitch_messages import present, what_would_help
+from mcbat.study.player_levels import PlayerLevels, parse_player_levels
 from mcbat.study.random_program import draw_stream
 from mcbat.study.swing_errors import parse_swing_errors
 from mcbat.study.swing_plane import measured_tilt, parse_swing_plane
@@ -153,6 +158,8 @@ class PitchSource:
     swing_shift : mapping
         Study input name -> the amount added to every drawn swing's value (SI), a what-if
         (``mcbat.study.swing_shift``); empty without ``[pitches.swing_shift]``.
+    player_levels : PlayerLevels or None
+        ``[pitches.player_levels]`` (``mcbat.study.player_levels``).
     """
 
     file: str
@@ -164,6 +171,7 @@ class PitchSource:
     bat_speed_outliers: tuple | None = None
     swing_plane: bool = False
     swing_shift: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    player_levels: PlayerLevels | None = None
 
     @property
     def keys(self) -> dict:
@@ -183,13 +191,16 @@ class PitchSource:
         if handedness_from_rows:
             names.append("handedness")
         names.extend(location)
+        if self.player_levels is not None:
+            names.extend(("launch_speed", "launch_angle"))
         return tuple(dict.fromkeys(names))
 
 
 def parse_pitches(table, source) -> PitchSource:
     """Validate a ``[pitches]`` section; ``source`` is the study file (or None)."""
     check_keys(table, "pitches", ("file",),
-               (*FILTERS, "swing", "swing_plane", "fallback", "swing_error", "swing_shift"))
+               (*FILTERS, "swing", "swing_plane", "fallback", "swing_error", "swing_shift",
+                "player_levels"))
     quantities = {k: TABLE_UNITS[c][0] for k, c in SWING_KEYS.items()}
     file = table["file"]
     if not isinstance(file, str) or not file.strip():
@@ -225,7 +236,8 @@ def parse_pitches(table, source) -> PitchSource:
     return PitchSource(file, path, MappingProxyType(filters), swing,
                        MappingProxyType(fallback),
                        *parse_swing_errors(table, swing, quantities), swing_plane,
-                       parse_swing_shift(table, swing, quantities))
+                       parse_swing_shift(table, swing, quantities),
+                       parse_player_levels(table, swing))
 
 
 def _filter_values(value, name, kind) -> tuple:
@@ -324,6 +336,8 @@ class PitchRows:
                    if source.bat_speed_outliers else {}),
                 **({"swing_plane": True} if source.swing_plane else {}),
                 **({"swing_shift": dict(source.swing_shift)} if source.swing_shift else {}),
+                **({"player_levels": source.player_levels.config()}
+                   if source.player_levels else {}),
                 "handedness": "rows" if self.handedness is not None else "study",
                 "draw": f"row = floor(u M), u the Philox uniform of stream {ROW_STREAM!r}",
                 **self.summary}
@@ -377,10 +391,10 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
             count = int(before.sum())
             context = ("" if count == table.rows else
                        f" among the {count:,} rows the filters before it select")
-            present = _present(column[before])
             which = "those rows have" if context else "the file has"
             raise InputError(f"pitches.{key}", f"selects no row of {where}: no {key} "
-                             f"= {shown!r}{context}; {which} {key} {present}")
+                             f"= {shown!r}{context}; {which} {key} "
+                             f"{present(column[before])}")
     selected = int(mask.sum())
     # (a file of the seasons before bat tracking: no selected row has a bat speed)
     untracked = source.swing and "bat_speed" in cols and not np.isfinite(
@@ -420,7 +434,7 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
         reasons = ", ".join(f"{n:,} {r}" for r, n in excluded.items())
         raise InputError("pitches", f"no row of {where} is left to draw from: of the "
                          f"{selected:,} rows the filters select, {reasons}"
-                         f"{_what_would_help(source, keys, excluded, untracked)}")
+                         f"{what_would_help(source, keys, excluded, untracked)}")
     index = np.flatnonzero(mask).astype(np.int64)
     if fixed_handedness is None:
         handedness = np.where(cols["handedness"][index] == "R", 1.0, -1.0)
@@ -435,40 +449,6 @@ def select_rows(source: PitchSource, table: PitchTable, fixed_handedness, inputs
         tilt = measured_tilt(cols[TILT_COLUMN], index)
         summary["swing_plane_measured"] = int(np.isfinite(tilt).sum())
     return PitchRows(index, values, keys, handedness, identifiers, summary, kept, tilt)
-
-
-def _what_would_help(source, keys, excluded, untracked) -> str:
-    """The hint of the "no row left" error: that the file has no bat tracking
-    (``untracked``), else the fallback for the value most rows lack."""
-    lacking = sorted(((excluded[f"without {source.keys[k]}"], k) for k in keys
-                      if f"without {source.keys[k]}" in excluded), reverse=True)
-    if not lacking:
-        return ""
-    name = lacking[0][1].split(".")[1]
-    if untracked:
-        return ("; the file has no bat tracking (Statcast measures the swing from 2024 "
-                "on): set pitches.swing = false to draw the swing from [swing], or give "
-                "pitches.fallback.bat_speed")
-    return f"; give pitches.fallback.{name} for rows without it"
-
-
-def _present(column) -> str:
-    """A short list of the values a column holds, for a filter's message."""
-    values = [v for v in column if v == v and v != ""]  # (NaN and empty: missing)
-    if not values:
-        return "no values in that column"
-    unique, counts = np.unique(np.asarray(values, object if isinstance(values[0], str)
-                                          else np.float64), return_counts=True)
-    order = np.argsort(-counts, kind="stable")[:8]
-    shown = ", ".join(_show(unique[i]) for i in order)
-    more = f" and {unique.size - 8} more" if unique.size > 8 else ""
-    return f"{shown}{more}"
-
-
-def _show(value) -> str:
-    if isinstance(value, str):
-        return value
-    return f"{int(value)}" if float(value).is_integer() else f"{value!r}"
 
 
 def _in_range(key, values, inputs) -> np.ndarray:

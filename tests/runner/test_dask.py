@@ -567,3 +567,22 @@ def test_workers_load_the_kernels_of_the_study_and_only_those(dask_installed, tm
     assert len(after) == 2
     assert all(k == {"bat_frame": False, "game": False} for k in before.values()), before
     assert all(k == {"bat_frame": False, "game": True} for k in after.values()), after
+
+
+def test_player_levels_on_a_scheduler_and_two_workers_give_the_local_dataset(
+        cluster, tmp_path, tmp_path_factory, capsys, monkeypatch):
+    # Every worker estimates the players' contact from the file itself, as the client
+    # does: one batter over 41 games, every row moved, the same dataset.
+    excerpt = ROOT / "tests" / "statcast" / "data" / "statcast_2024_ohtani_in_play_excerpt.csv"
+    text = (ROOT / "studies" / "bat_tracking.toml").read_text()
+    study = tmp_path_factory.mktemp("levels") / "levels.toml"
+    study.write_text(text.replace('file = "../data/statcast_2025-05-01_bat_tracking.csv"',
+                                  f"file = {str(excerpt)!r}"))
+    monkeypatch.chdir(tmp_path)
+    code, stdout, stderr = mcbat_main(
+        capsys, "run", study, "--out", "ds", "--samples", 12_000, "--seed", 4,
+        "--chunk-size", 3_000, "--engine", "dask", "--scheduler", cluster.address)
+    assert code == 0, stderr
+    assert "120 of the 120 rows met their players' contact" in stdout
+    reference = local_reference(tmp_path_factory, study, 12_000, 4, 3_000)
+    assert_same_dataset(tmp_path / "ds", reference)

@@ -111,11 +111,12 @@ def test_out_of_sample_launch_angle_follows_the_pitchs_height(judged):
 
 
 @pytest.mark.parametrize("name", ["statcast_2024_skubal.csv", "statcast_2024_ohtani.csv"])
-@pytest.mark.xfail(strict=True, reason="one player's file: his level (a pitcher's opponents' "
-                   "or a batter's launch speed beyond what the swings and pitches give) is "
-                   "no input of the study; docs/bat_tracking.md, At a glance")
-def test_one_players_file_launch_speed_distribution(tmp_path, name):
-    from validation.bat_tracking import judge, study_definition, tracked
+def test_one_players_file_meets_every_target(tmp_path, name):
+    # one pitcher's opponents, one batter: with each player's level from his other games
+    # (docs/bat_tracking.md, "Each player's contact"); without it the launch speed missed
+    # both players' level by about 2.5 mph (KS 0.079 and 0.095)
+    from validation.bat_tracking import judge, study_definition, tracked, verdict
 
     r = judge(study_definition(), tracked([name]), 100000, 2025, tmp_path)
-    assert r["ks_launch_speed"] <= 0.05
+    failed = [v for v in verdict(r) if not v.startswith("PASS")]
+    assert not failed, failed

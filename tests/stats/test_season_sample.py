@@ -162,6 +162,7 @@ def test_the_summary_row_says_which_targets_hold():
     from validation.bat_tracking import summary_table
 
     r = {"rows": 400, "ks_launch_speed": 0.06, "ks_launch_angle": 0.03,
+         "ks_launch_speed_p": 0.11, "ks_launch_angle_p": 0.86, "ks_exact_median": 0.041,
          "launch_speed_above_p90": 0.10, "launch_speed_below_p10": 0.14,
          "launch_angle_above_p90": 0.09, "launch_angle_below_p10": 0.11,
          "bat_speed_bins": [{"bin": "65-70", "rows": 150, "model": 88.0, "measured": 86.5},
@@ -171,7 +172,8 @@ def test_the_summary_row_says_which_targets_hold():
     assert header.count("|") == rule.count("|") == row.count("|")
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[0] == "day.csv" and cells[1] == "400"
-    assert cells[5] == "65-70: +1.5, 75-80: +2.5"  # the 40-row bin is not held to 2 mph
+    assert cells[2] == "0.060 (0.11) / 0.030 (0.86)" and cells[3] == "0.041"
+    assert cells[6] == "65-70: +1.5, 75-80: +2.5"  # the 40-row bin is not held to 2 mph
     # KS launch angle, three of the four shares and one bin hold; KS launch speed, the
     # 14 % share and the 75-80 bin do not
-    assert cells[6] == "5 of 8"
+    assert cells[7] == "5 of 8"

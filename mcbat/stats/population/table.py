@@ -121,10 +121,11 @@ def _selected(df, filters, source) -> np.ndarray:
 
 def write_pitches(table, path):
     """The table's pitches and measured swings (with ``swing_path_tilt``), NaN where a row
-    has none, and ``plate_x``, ``plate_z`` and ``swing_length`` where the table has them,
-    as a tidy CSV a study's ``[pitches]`` reads."""
+    has none, and ``plate_x``, ``plate_z``, ``swing_length`` and the measured
+    ``launch_speed`` and ``launch_angle`` (``[pitches.player_levels]``) where the table has
+    them, as a tidy CSV a study's ``[pitches]`` reads."""
     names = (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values(), "handedness", "plate_x",
-             "plate_z", "swing_length", "swing_path_tilt")
+             "plate_z", "swing_length", "swing_path_tilt", "launch_speed", "launch_angle")
     out = table[[c for c in names if c in table.columns]]
     out = out.copy()
     for name in (*PITCH_COLUMNS.values(), *SWING_COLUMNS.values(), "swing_path_tilt"):

@@ -143,7 +143,7 @@ def _solve_memory(study, draws, seed, columns, observables):
     """Sample and solve the draws in this process (what an engine's chunk does)."""
     from mcbat.runner.pitches import load_pitches
 
-    study = load_pitches(study)
+    study = load_pitches(study, player_levels=False)
     inputs = study.sample_inputs(0, draws, seed)
     if any(o in FLIGHT_OBSERVABLES for o in observables):
         batted, ok = _solve_and_fly(study, inputs)
@@ -209,7 +209,8 @@ def simulate_table(study, pitches, rows, seed, values=None):
         inputs, observed, ok = sim.run(proposal, phys, ["pitch_speed"], observables)
         from mcbat.runner.pitches import load_pitches
 
-        rewritten = load_pitches(Study.from_dict(sim.base, source=study.source))
+        rewritten = load_pitches(Study.from_dict(sim.base, source=study.source),
+                                 player_levels=False)
         ids = rewritten.pitch_identifiers(0, rows, seed)["source_row"]
     finally:
         sim.close()
