@@ -62,18 +62,21 @@ def load_pitches(study, player_levels=True):
         return study
     needed = source.needed_columns(study.handedness is None,
                                    getattr(study, "location_columns", ()))
-    if not player_levels:  # (the measured outcomes serve only the players' levels)
-        needed = tuple(c for c in needed if c not in OBSERVED)
+    # (the measured outcomes serve only the players' levels; a file without them gives
+    # every row the league's contact)
+    needed = tuple(c for c in needed if c not in OBSERVED)
+    optional = OBSERVED if player_levels and source.player_levels is not None else ()
     try:
-        table = read_pitch_table(source.path, needed, source.file)
+        table = read_pitch_table(source.path, needed, source.file, optional)
     except InputError as err:
         raise err.within(source=study.source) from None
     loaded = study.with_pitch_table(table)
     return with_player_levels(loaded) if player_levels else loaded
 
 
-def read_pitch_table(path, needed, where=None) -> PitchTable:
-    """The columns ``needed`` of the Statcast table at ``path`` as numpy arrays.
+def read_pitch_table(path, needed, where=None, optional=()) -> PitchTable:
+    """The columns ``needed`` (and those of ``optional`` the table has) of the Statcast
+    table at ``path`` as numpy arrays.
 
     Parameters
     ----------
@@ -135,7 +138,7 @@ def read_pitch_table(path, needed, where=None) -> PitchTable:
         columns[BUNT_COLUMN] = (is_bunt(**text).astype(np.float64)
                                 if any(v is not None for v in text.values())
                                 else np.zeros(len(frame)))
-    for name in needed:
+    for name in (*needed, *(c for c in optional if c in frame.columns)):
         column = frame[name]
         if name in _TEXT:
             given = column.notna() & ~column.astype(str).str.strip().isin(_MISSING)

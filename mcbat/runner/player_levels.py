@@ -49,6 +49,10 @@ def with_player_levels(study):
     source = getattr(study, "pitches", None)
     if source is None or source.player_levels is None:
         return study
+    m = study.pitch_rows.index.size
+    if any(c not in study.pitch_table.columns for c in OBSERVED):
+        return study.with_player_contact(np.ones(m), np.zeros(m), {
+            "rows_moved": 0, "measured": "the file has no launch_speed or launch_angle"})
     found = estimate_levels(study)
     spread, shift = found["contact"]
     moved = (spread != 1.0) | (shift != 0.0)

@@ -164,6 +164,9 @@ def _levels_line(levels, rows) -> str:
     """What ``[pitches.player_levels]`` found, for the run report."""
     players = " and ".join(f"{n:,} {key.split('_')[0][:-1]}{'s' if n != 1 else ''}"
                            for key, n in levels.items() if key.endswith("_with_level"))
+    if "measured" in levels:
+        return (f"player levels: none, {levels['measured']}; every row meets the league's "
+                "contact")
     if not levels["rows_moved"]:
         return ("player levels: no player of the file has another game in it; every row "
                 "meets the league's contact")

@@ -191,8 +191,6 @@ class PitchSource:
         if handedness_from_rows:
             names.append("handedness")
         names.extend(location)
-        if self.player_levels is not None:
-            names.extend(("launch_speed", "launch_angle"))
         return tuple(dict.fromkeys(names))
 
 

@@ -137,3 +137,20 @@ def test_the_run_reports_and_records_the_levels(tmp_path):
     attrs = mcbat.load(tmp_path / "ds").attrs["mcbat"]
     levels = attrs["study"]["pitches"]["player_levels"]
     assert levels["rows_moved"] == 120 and levels["spread_range"][1] < 1.0
+
+
+def test_a_file_without_measured_outcomes_gives_every_row_the_leagues_contact(tmp_path):
+    # a table of pitches and swings alone (no launch_speed or launch_angle) is still a
+    # study's rows: no player can have a level, and the run says so
+    rows = tidy_copy(OHTANI, tmp_path)
+    frame = pd.read_csv(rows).drop(columns=["launch_speed", "launch_angle"])
+    frame.to_csv(rows, index=False)
+    report = run_study(shipped(rows, samples=2000), tmp_path / "ds", progress=False)
+    line = next(s for s in report.lines() if s.startswith("player levels"))
+    assert "no launch_speed or launch_angle" in line
+    league = load_pitches(shipped(rows), player_levels=False)
+    import mcbat
+
+    got = mcbat.load(tmp_path / "ds")
+    np.testing.assert_array_equal(got["from_barrel_end"].to_numpy(),
+                                  league.sample(0, 2000)["from_barrel_end"])
