@@ -61,8 +61,8 @@ def cmd_run(args) -> int:
 
     with study_file(args.study) as path:
         study = load_study(path)  # validates everything before anything is written
-    if args.pitches is not None or args.swing_shift:
-        study = _with_pitches(study, args.pitches, args.swing_shift)
+    if args.pitches is not None or args.swing_shift or args.league_contact:
+        study = _with_pitches(study, args.pitches, args.swing_shift, args.league_contact)
     if args.columns is not None:
         with flags("columns"):
             study = study.with_overrides(columns=args.columns)
@@ -90,16 +90,18 @@ def cmd_run(args) -> int:
 SHIFT_UNITS = {"bat_speed": "mph", "attack_angle": "deg", "attack_direction": "deg"}
 
 
-def _with_pitches(study, given, shifts):
+def _with_pitches(study, given, shifts, league=False):
     """``study`` drawing its pitches from the file ``given`` (``--pitches``, or None: the
     study's ``[pitches] file``) and with each drawn swing moved by ``shifts``
-    (``--swing-shift``, over the study's ``[pitches.swing_shift]``), every other setting
+    (``--swing-shift``, over the study's ``[pitches.swing_shift]``), without its
+    ``[pitches.player_levels]`` with ``league`` (``--league-contact``), every other setting
     as the study's. The dataset's config records the file's name and SHA-256 and the
     shifts."""
     from mcbat.runner.pitches import load_pitches
     from mcbat.study import Study
 
-    flag = "--pitches" if given is not None else "--swing-shift"
+    flag = ("--pitches" if given is not None else "--swing-shift" if shifts
+            else "--league-contact")
     if "pitches" not in study.definition():
         raise InputError(flag, f"the study draws no real pitches (it has no [pitches] "
                          f"section): {flag} works on a study that does, such as bat_tracking"
@@ -111,6 +113,9 @@ def _with_pitches(study, given, shifts):
             raise InputError("--pitches", "no such file", given)
         check_input_file(path, "--pitches")
         data["pitches"]["file"] = str(path.resolve())
+    if league and data["pitches"].pop("player_levels", None) is None:
+        raise InputError("--league-contact", "the study has no [pitches.player_levels]: its "
+                         "rows meet the league's contact already")
     for item in shifts:
         key, value = _swing_shift(item)
         data["pitches"].setdefault("swing_shift", {})[key] = {"value": value,
@@ -167,6 +172,8 @@ COMMAND = Command(
             help="what if every drawn swing were another: add VALUE to its bat_speed "
                  "(mph), attack_angle or attack_direction (deg), e.g. bat_speed=2; "
                  "repeatable; a study that draws its swings from the rows"),
+        switch("--league-contact", "what if every batter and pitcher met the ball as the "
+               "league does: leave out the study's [pitches.player_levels]"),
         int_option("--samples", metavar="N", help="number of impacts (default: the study's)"),
         int_option("--seed", metavar="S", help="random seed (default: the study's)"),
         int_option("--threads", metavar="K",

@@ -154,3 +154,25 @@ def test_a_file_without_measured_outcomes_gives_every_row_the_leagues_contact(tm
     got = mcbat.load(tmp_path / "ds")
     np.testing.assert_array_equal(got["from_barrel_end"].to_numpy(),
                                   league.sample(0, 2000)["from_barrel_end"])
+
+
+def test_the_league_contact_flag_leaves_the_levels_out(tmp_path, capsys):
+    import mcbat
+    from mcbat.cli import main
+
+    outs = {}
+    for name, extra in (("own", []), ("league", ["--league-contact"])):
+        code = main(["run", "bat_tracking", "--pitches", str(OHTANI), "--samples", "3000",
+                     "--out", str(tmp_path / name), *extra])
+        out, err = capsys.readouterr()
+        assert code == 0, err
+        assert ("player levels, each from the player's other games" in out) == (name == "own")
+        outs[name] = mcbat.load(tmp_path / name)
+    # the same rows and random numbers; Ohtani's own contact is tighter along the bat
+    spread = [outs[k]["from_barrel_end"].std() for k in ("own", "league")]
+    assert spread[0] < spread[1]
+    assert outs["own"]["launch_speed"].mean() > outs["league"]["launch_speed"].mean()
+    code = main(["run", "real_pitches", "--league-contact", "--out", str(tmp_path / "x")])
+    _, err = capsys.readouterr()
+    assert code == 2 and "--league-contact: the study has no [pitches.player_levels]" in err
+    assert not (tmp_path / "x").exists()
