@@ -579,6 +579,8 @@ def evaluate(table, sim) -> dict:
     out["spray_slope_model"] = spray_slope(table, row, sim["spray_angle"])
     out["spray_slope_data"] = spray_slope(table)
     out["above_50_model"] = float(np.mean(la > 50.0))
+    out["means"] = {"launch_speed": (float(m_ls.mean()), float(ls.mean())),
+                    "launch_angle": (float(m_la.mean()), float(la.mean()))}
     out["speed_percentiles"] = {"data": np.percentile(m_ls, (10, 25, 50, 75, 90)).tolist(),
                                 "model": np.percentile(ls, (10, 25, 50, 75, 90)).tolist()}
     out["above_50_data"] = float(np.mean(m_la > 50.0))
