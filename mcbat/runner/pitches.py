@@ -71,7 +71,12 @@ def load_pitches(study, player_levels=True):
     except InputError as err:
         raise err.within(source=study.source) from None
     loaded = study.with_pitch_table(table)
-    return with_player_levels(loaded) if player_levels else loaded
+    if not player_levels:
+        return loaded
+    try:
+        return with_player_levels(loaded)
+    except InputError as err:
+        raise err.within(source=study.source) from None
 
 
 def read_pitch_table(path, needed, where=None, optional=()) -> PitchTable:

@@ -7,12 +7,12 @@ level for a row is the mean of his residuals (measured - predicted) over his bal
 play in the file's *other* games, shrunk by ``tau^2 / (tau^2 + sigma^2 / n)`` (``tau``
 the levels' sd of the table, ``sigma`` the residuals' sd over the file's other games,
 ``n`` his other balls): no ball's own outcome, nor any of its game's, enters its
-prediction. The row's
-batter and pitcher levels add, and the two traits of the contact that carry them (the
-spread along the bat, as ``log spread``, and the undercut's shift) follow from the
-levels through the study's own sensitivities: the mean change of launch speed and angle
-when every row's spread is multiplied by ``exp(-0.2)``, and when every undercut moves by
-0.25 in, on the same draws (common random numbers), a 2 x 2 linear solve.
+prediction. The row's batter and pitcher levels add, and the two traits of the contact
+that carry them (the spread along the bat, as ``log spread``, and the undercut's shift)
+follow from the levels through the study's own sensitivities: the mean change of launch
+speed and angle when every row's spread is multiplied by ``exp(-0.2)``, and when every
+undercut moves by 0.25 in, on the same draws (common random numbers), a 2 x 2 linear
+solve.
 
 Everything is a function of the study, its seed and the file: the same in every process
 (a Dask worker estimates what the client did), chunking and thread count.
@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from mcbat.core.status import ImpactStatus
+from mcbat.errors import InputError
 from mcbat.solving import GAME_OUTPUT_FIELDS, solve_games
 from mcbat.solving.derived import derive_game
 from mcbat.study import units as u
@@ -66,8 +67,16 @@ def with_player_levels(study):
 def estimate_levels(study) -> dict:
     """The levels of the loaded ``study``'s rows: ``{"levels": float64[2, M] (mph, deg),
     "contact": (spread[M], shift[M] m), "sensitivity": float64[2, 2] (mph and deg per
-    log spread and per m), "players": {kind: players with another game}}``."""
-    if study._player_contact is not None:  # (the league's contact predicts the rows)
+    log spread and per m; None when no player has another game), "players": {kind:
+    players with another game}}``.
+
+    Raises
+    ------
+    InputError
+        On ``pitches.player_levels`` when the contact's two traits move the launch speed
+        and angle alike (no solution for the two levels).
+    """
+    if study.player_contact is not None:  # (the league's contact predicts the rows)
         study = study.with_pitch_table(study.pitch_table)
     spec, rows = study.pitches.player_levels, study.pitch_rows
     m = rows.index.size
@@ -92,7 +101,14 @@ def estimate_levels(study) -> dict:
             tau = priors[k] / u.UNITS[quantity][unit]
             found, players[kind] = _other_games(residual[k], player, game, tau)
             levels[k] += found
+    if not levels.any():  # (no player has another game: the league's contact everywhere)
+        return {"levels": levels, "contact": (np.ones(m), np.zeros(m)),
+                "sensitivity": None, "players": players}
     sensitivity = _sensitivity(study, min(samples, SENSITIVITY_SAMPLES))
+    if not abs(np.linalg.det(sensitivity)) > 1e-9 * np.abs(sensitivity).max() ** 2:
+        raise InputError("pitches.player_levels", "the study's contact does not move the "
+                         "launch speed and angle apart (its spread along the bat and its "
+                         "undercut act alike): widen [contact] from_barrel_end or undercut")
     log_spread, shift = np.linalg.solve(sensitivity, levels)
     spread = np.clip(np.exp(log_spread), 1.0 / SPREAD_LIMIT, SPREAD_LIMIT)
     return {"levels": levels, "contact": (spread, shift), "sensitivity": sensitivity,

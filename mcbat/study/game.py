@@ -237,6 +237,11 @@ class GameStudy(Study):
         return new
 
     @property
+    def player_contact(self) -> tuple | None:
+        """``(spread, shift, summary)`` of the rows' players (None: the league's)."""
+        return self._player_contact
+
+    @property
     def pitch_table(self) -> PitchTable | None:
         """The ``[pitches]`` file's columns (None until loaded)."""
         return self._pitch_table

@@ -176,3 +176,17 @@ def test_the_league_contact_flag_leaves_the_levels_out(tmp_path, capsys):
     _, err = capsys.readouterr()
     assert code == 2 and "--league-contact: the study has no [pitches.player_levels]" in err
     assert not (tmp_path / "x").exists()
+
+
+def test_a_contact_whose_traits_act_alike_is_refused():
+    # a contact hardly spread along the bat: its spread moves nothing, so no spread and
+    # shift give the two levels (a clear error, not a singular matrix)
+    data = tomllib.loads(SHIPPED.read_text())
+    data["pitches"]["file"] = str(OHTANI)
+    data["contact"]["from_barrel_end"].update(std=1e-6)
+    from mcbat.errors import InputError
+
+    with pytest.raises(InputError, match="does not move the launch speed and angle apart") \
+            as err:
+        load_pitches(Study.from_dict(data, source=SHIPPED))
+    assert err.value.field == "pitches.player_levels"
