@@ -80,6 +80,11 @@ def estimate_levels(study) -> dict:
         study = study.with_pitch_table(study.pitch_table)
     spec, rows = study.pitches.player_levels, study.pitch_rows
     m = rows.index.size
+    game = rows.identifiers[IDENTIFIERS.index("game_pk")]
+    if not any(_in_several_games(rows.identifiers[IDENTIFIERS.index(kind)], game)
+               for kind in spec.spread):  # (a day's export: nothing to predict)
+        return {"levels": np.zeros((2, m)), "contact": (np.ones(m), np.zeros(m)),
+                "sensitivity": None, "players": dict.fromkeys(spec.spread, 0)}
     measured = np.vstack([np.asarray(study.pitch_table.columns[c], np.float64)[rows.index]
                           for c in OBSERVED])
     samples = spec.draws * m
@@ -92,7 +97,6 @@ def estimate_levels(study) -> dict:
             sums[k] += np.bincount(row[ok], out[k][ok], minlength=m)
     with np.errstate(invalid="ignore", divide="ignore"):
         residual = measured - sums / counts
-    game = rows.identifiers[IDENTIFIERS.index("game_pk")]
     levels, players = np.zeros((2, m)), {}
     for kind, priors in spec.spread.items():
         player = rows.identifiers[IDENTIFIERS.index(kind)]
@@ -113,6 +117,12 @@ def estimate_levels(study) -> dict:
     spread = np.clip(np.exp(log_spread), 1.0 / SPREAD_LIMIT, SPREAD_LIMIT)
     return {"levels": levels, "contact": (spread, shift), "sensitivity": sensitivity,
             "players": players}
+
+
+def _in_several_games(player, game) -> bool:
+    """Whether any player appears in more than one game."""
+    pairs = np.unique(np.column_stack([player, game]), axis=0)
+    return len(pairs) > np.unique(player).size
 
 
 def _other_games(residual, player, game, tau) -> tuple[np.ndarray, int]:
