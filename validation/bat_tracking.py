@@ -186,7 +186,11 @@ def simulate(data, table, samples, seed, workdir) -> dict:
     """Draws of the study for ``table``'s rows: ``row`` (the table's row each draw meets)
     and the draws' ``launch_speed`` (mph), ``launch_angle``, ``spray_angle`` (deg) and
     ``backspin`` (rpm)."""
-    study = _study(data, table, workdir)
+    return draws(_study(data, table, workdir), samples, seed)
+
+
+def draws(study, samples, seed) -> dict:
+    """:func:`simulate`'s draws of a loaded study."""
     inputs = study.sample_inputs(0, samples, seed)
     row = study.pitch_identifiers(0, samples, seed)["source_row"]
     out, ok = solve_game_inputs(study, inputs)

@@ -1,7 +1,9 @@
 """Each player's contact (``[pitches.player_levels]``) judged file by file: the shipped
 study with and without the players' levels on one-player exports (and any other), out of
 sample. Per file: the model's mean launch speed and angle less the measured, and the KS
-tests' p-values, both ways, printed and drawn.
+tests' p-values, both ways, printed and drawn; and, beside them, the same with each level
+taken in sample (over all the player's balls, the judged ball's own game included), which
+no study does: what leaving the game out costs.
 
     NUMBA_NUM_THREADS=2 .venv/bin/python -m validation player_levels \\
         statcast_2024_skubal.csv statcast_2024_ohtani.csv \\
@@ -20,6 +22,7 @@ import tempfile
 from pathlib import Path
 
 import validation.bat_tracking as bt
+from mcbat.runner.player_levels import estimate_levels
 
 IN_ALL = False  # (it needs exports with bat tracking)
 QUICK_ARGS = ["statcast_2024_ohtani.csv"]
@@ -37,15 +40,26 @@ def judged(names, samples: int, seed: int) -> list[dict]:
             table = bt.tracked([name])
             out.append({"file": Path(name).name, "rows": len(table),
                         "league": bt.judge(league, table, samples, seed, tmp),
-                        "levels": bt.judge(with_levels, table, samples, seed, tmp)})
+                        "levels": bt.judge(with_levels, table, samples, seed, tmp),
+                        "in_sample": in_sample(with_levels, table, samples, seed, tmp)})
     return out
+
+
+def in_sample(data, table, samples, seed, workdir) -> dict:
+    """The judgement with every level taken over all the player's balls (in sample)."""
+    study = bt._study(data, table, workdir)  # (its levels replaced: the league's predicts)
+    spread, shift = estimate_levels(study, own_game=True)["contact"]
+    sim = bt.draws(study.with_pitch_table(study.pitch_table).with_player_contact(
+        spread, shift), samples, seed)
+    return bt.evaluate(table, sim)
 
 
 def lines(results) -> list[str]:
     """The table of gaps and p-values."""
     rows = ["| export | rows | mean launch speed, model - measured (mph): league / levels | "
             "mean launch angle (deg): league / levels | KS p launch speed: league / levels | "
-            "KS p launch angle: league / levels |", "|---|---|---|---|---|---|"]
+            "KS p launch angle: league / levels | levels in sample: KS launch speed / angle "
+            "(p) |", "|---|---|---|---|---|---|---|"]
     for r in results:
         gap = {k: {q: r[k]["means"][q][1] - r[k]["means"][q][0]
                    for q in ("launch_speed", "launch_angle")} for k in ("league", "levels")}
@@ -54,7 +68,10 @@ def lines(results) -> list[str]:
             f"{gap['levels']['launch_speed']:+.1f} | {gap['league']['launch_angle']:+.1f} / "
             f"{gap['levels']['launch_angle']:+.1f} | "
             f"{r['league']['ks_launch_speed_p']:.3f} / {r['levels']['ks_launch_speed_p']:.3f} | "
-            f"{r['league']['ks_launch_angle_p']:.3f} / {r['levels']['ks_launch_angle_p']:.3f} |")
+            f"{r['league']['ks_launch_angle_p']:.3f} / {r['levels']['ks_launch_angle_p']:.3f} | "
+            f"{r['in_sample']['ks_launch_speed']:.3f} ({r['in_sample']['ks_launch_speed_p']:.2f})"
+            f" / {r['in_sample']['ks_launch_angle']:.3f} "
+            f"({r['in_sample']['ks_launch_angle_p']:.2f}) |")
     return rows
 
 

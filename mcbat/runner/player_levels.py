@@ -64,11 +64,13 @@ def with_player_levels(study):
     return study.with_player_contact(spread, shift, summary)
 
 
-def estimate_levels(study) -> dict:
+def estimate_levels(study, own_game=False) -> dict:
     """The levels of the loaded ``study``'s rows: ``{"levels": float64[2, M] (mph, deg),
     "contact": (spread[M], shift[M] m), "sensitivity": float64[2, 2] (mph and deg per
     log spread and per m; None when no player has another game), "players": {kind:
-    players with another game}}``.
+    players with another game}}``. ``own_game=True`` takes each level over all the
+    player's balls, the row's own included: in sample, for judging what leaving the
+    game out costs (no study does so).
 
     Raises
     ------
@@ -81,8 +83,9 @@ def estimate_levels(study) -> dict:
     spec, rows = study.pitches.player_levels, study.pitch_rows
     m = rows.index.size
     game = rows.identifiers[IDENTIFIERS.index("game_pk")]
-    if not any(_in_several_games(rows.identifiers[IDENTIFIERS.index(kind)], game)
-               for kind in spec.spread):  # (a day's export: nothing to predict)
+    if not own_game and not any(
+            _in_several_games(rows.identifiers[IDENTIFIERS.index(kind)], game)
+            for kind in spec.spread):  # (a day's export: nothing to predict)
         return {"levels": np.zeros((2, m)), "contact": (np.ones(m), np.zeros(m)),
                 "sensitivity": None, "players": dict.fromkeys(spec.spread, 0)}
     measured = np.vstack([np.asarray(study.pitch_table.columns[c], np.float64)[rows.index]
@@ -103,7 +106,8 @@ def estimate_levels(study) -> dict:
         for k, name in enumerate(OBSERVED):
             quantity, unit = _PRIOR_UNITS[name]
             tau = priors[k] / u.UNITS[quantity][unit]
-            found, players[kind] = _other_games(residual[k], player, game, tau)
+            found, players[kind] = _other_games(residual[k], player, game, tau,
+                                                own_game)
             levels[k] += found
     if not levels.any():  # (no player has another game: the league's contact everywhere)
         return {"levels": levels, "contact": (np.ones(m), np.zeros(m)),
@@ -125,23 +129,25 @@ def _in_several_games(player, game) -> bool:
     return len(pairs) > np.unique(player).size
 
 
-def _other_games(residual, player, game, tau) -> tuple[np.ndarray, int]:
+def _other_games(residual, player, game, tau, own_game=False) -> tuple[np.ndarray, int]:
     """Each row's shrunk mean of its player's ``residual`` over his other games, and how
     many players have another game (NaN residuals count for nothing). The residuals'
-    variance ``sigma^2`` is the file's without the row's own game too."""
+    variance ``sigma^2`` is the file's without the row's own game too. ``own_game``:
+    over all his games, the row's own included (in sample)."""
     valid = np.isfinite(residual)
     value = np.where(valid, residual, 0.0)
     _, g = np.unique(game, return_inverse=True)
     _, p = np.unique(player, return_inverse=True)
     _, pg = np.unique(np.column_stack([player, game]), axis=0, return_inverse=True)
     g, p, pg = g.ravel(), p.ravel(), pg.ravel()
-    n_rest = valid.sum() - np.bincount(g, valid)[g]
-    s_rest = value.sum() - np.bincount(g, value)[g]
-    q_rest = (value ** 2).sum() - np.bincount(g, value ** 2)[g]
+    drop = 0.0 if own_game else 1.0  # (whether the row's own game is left out)
+    n_rest = valid.sum() - drop * np.bincount(g, valid)[g]
+    s_rest = value.sum() - drop * np.bincount(g, value)[g]
+    q_rest = (value ** 2).sum() - drop * np.bincount(g, value ** 2)[g]
     sigma2 = np.where(n_rest > 1.5, (q_rest - s_rest ** 2 / np.maximum(n_rest, 1.0))
                       / np.maximum(n_rest, 1.0), 0.0)
-    n_other = np.bincount(p, valid)[p] - np.bincount(pg, valid)[pg]
-    s_other = np.bincount(p, value)[p] - np.bincount(pg, value)[pg]
+    n_other = np.bincount(p, valid)[p] - drop * np.bincount(pg, valid)[pg]
+    s_other = np.bincount(p, value)[p] - drop * np.bincount(pg, value)[pg]
     has = n_other > 0.5
     mean = np.where(has, s_other / np.maximum(n_other, 1.0), 0.0)
     shrink = np.where(has, tau ** 2 / (tau ** 2 + sigma2 / np.maximum(n_other, 1.0)), 0.0)

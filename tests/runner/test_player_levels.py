@@ -126,6 +126,14 @@ def test_the_shrunk_mean_of_the_other_games():
         n = others.sum()
         expected = tau ** 2 / (tau ** 2 + sigma2 / n) * residual[others].mean()
         assert got[row] == pytest.approx(expected, rel=1e-12)
+    # in sample (for judging only): over all the player's balls, the row's own too
+    got, players = pl._other_games(residual, player, game, tau, own_game=True)
+    assert players == 2
+    mine = (player == 7) & np.isfinite(residual)
+    sigma2 = np.nanvar(residual)
+    expected = tau ** 2 / (tau ** 2 + sigma2 / mine.sum()) * residual[mine].mean()
+    np.testing.assert_allclose(got[player == 7], expected, rtol=1e-12)
+    assert got[5] == pytest.approx(tau ** 2 / (tau ** 2 + sigma2) * 10.0, rel=1e-12)
 
 
 def test_the_run_reports_and_records_the_levels(tmp_path):
